@@ -1,0 +1,20 @@
+"""Exceptions raised for user mistakes.
+
+Every error a user can cause (bad parameter, unreadable file, unknown unit) is raised as a
+:class:`FingerpadError`; the command line prints its message on one line and exits non-zero,
+without a traceback. Anything else escaping is a bug in fingerpad.
+"""
+
+from __future__ import annotations
+
+
+class FingerpadError(ValueError):
+    """A user-facing error with a one-line message."""
+
+
+class ConvergenceError(RuntimeError):
+    """A solver did not reach its tolerance and the caller asked for strict behaviour."""
+
+
+class ResolutionWarning(UserWarning):
+    """A texture feature spans too few grid points to be resolved."""

@@ -1,0 +1,617 @@
+"""Frictionless, non-adhesive normal contact of an elastic half-space (the skin) with a texture.
+
+The skin is an ideal flat elastic half-space of reduced modulus E* (MODEL.md Eq. 3.4); the
+texture is a rigid height map ``h`` (its own compliance is folded into E*). With the skin's
+rest plane at ``h_max - d`` (``d`` the approach, measured from first touch), the gap is
+
+    g = u + (h_max - h) - d >= 0,     p >= 0,     p g = 0,
+
+where ``u`` is the surface displacement of the half-space under the pressure ``p``:
+
+* periodic cells: ``u_q = 2 p_q / (E* |q|)`` for q != 0 (spectral Boussinesq kernel). The mean
+  displacement of a periodic half-space is unbounded, so ``u`` is taken with zero mean and the
+  approach is measured from that mean plane;
+* finite bodies (``Texture.periodic = False``): the Boussinesq kernel integrated exactly over each
+  pixel (Love's rectangle solution), applied as a linear convolution by zero padding to twice the
+  size (no periodic images).
+
+Algorithm
+---------
+Both contact problems are bound-constrained quadratic programmes solved by a constrained
+conjugate gradient of the Polonsky-Keer (1999) family, written once for ``min 1/2 x.A x - b.x,
+x >= 0`` with an optional fixed mean of ``x``:
+
+* **primal** (``x = p``, ``A`` the compliance): the free variables are the contact pressures, so
+  it is fastest while the contact fraction is small;
+* **dual** (``x = g``, ``A`` the stiffness ``E*|q|/2``, gradient = pressure): the free variables
+  are the gaps, so it is fastest and robust near full contact, exactly where the primal method
+  stalls (its free set is almost the whole cell and the last gaps close slowly). At a fixed mean
+  pressure the dual needs no equality constraint at all: the q = 0 mode of the pressure is the
+  load.
+
+``formulation="auto"`` picks the dual for periodic cells above 50 % contact (judged from the warm
+start or from a coarse-grid solve), the primal otherwise. Cold starts are solved coarse-to-fine:
+the cell is solved on a grid halved in each direction (recursively), and the solution, repeated
+onto the fine grid, starts the fine solve with an almost-right contact set.
+
+Each iteration needs one convolution for the search direction; the operator applied to the
+iterate is updated from it (linearity) and recomputed only when the projection changed the
+active set, so a settled iteration costs one FFT pair.
+
+Convergence is measured by the relative KKT residual: the RMS over the cell of the projected
+gradient (gap error where in contact and overlap elsewhere, for the primal; pressure error off
+contact and tension in contact, for the dual) divided by the texture's peak-to-valley height
+(primal) or by the mean pressure (dual).
+
+The numerics are written against an array namespace (``array_api_compat``): a GPU array library
+can run them; the default CPU path uses NumPy with SciPy's multi-threaded FFTs.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+import warnings
+from dataclasses import dataclass, field, replace
+from typing import Any, Callable
+
+import numpy as np
+
+from .errors import FingerpadError
+from .materials import check_modulus
+from .textures import Texture
+
+__all__ = ["HalfSpaceSolver", "ContactResult", "contact_state", "FULL_CONTACT_TOL"]
+
+#: A cell is in *full contact* when at most this fraction of its pixels is out of contact.
+#: Zero: every pixel touches (discrete full contact).
+FULL_CONTACT_TOL = 0.0
+#: Pixels whose height is within this fraction of the peak-to-valley height of the lowest one form
+#: the texture's base level; touching any of them starts the *transition* state.
+BASE_LEVEL_RTOL = 1e-6
+
+_COARSE_MIN = 64  # do not coarsen below this many points along an axis
+
+
+# --------------------------------------------------------------------------------------------
+# Array backend
+# --------------------------------------------------------------------------------------------
+
+
+class _Backend:
+    """Array namespace plus real FFTs; NumPy uses SciPy's threaded FFT."""
+
+    def __init__(self, xp: Any = None, workers: int | None = None) -> None:
+        if xp is None:
+            import array_api_compat.numpy as xp_np  # noqa: PLC0415
+
+            xp = xp_np
+        self.xp = xp
+        self.is_numpy = "numpy" in getattr(xp, "__name__", "")
+        self.workers = workers or os.cpu_count() or 1
+        if self.is_numpy:
+            import scipy.fft as sfft  # noqa: PLC0415
+
+            w = self.workers
+            self.rfft2 = lambda a, s=None: sfft.rfft2(a, s=s, workers=w)
+            self.irfft2 = lambda a, s: sfft.irfft2(a, s=s, workers=w)
+        else:
+            self.rfft2 = lambda a, s=None: xp.fft.rfftn(a, s=s, axes=(0, 1))
+            self.irfft2 = lambda a, s: xp.fft.irfftn(a, s=s, axes=(0, 1))
+
+    def asarray(self, a: Any) -> Any:
+        return self.xp.asarray(a, dtype=self.xp.float64)
+
+    def to_numpy(self, a: Any) -> np.ndarray:
+        if self.is_numpy:
+            return np.asarray(a)
+        if hasattr(a, "get"):  # CuPy
+            return a.get()
+        return np.asarray(a)
+
+
+# --------------------------------------------------------------------------------------------
+# Elastic operators
+# --------------------------------------------------------------------------------------------
+
+
+def _wavenumbers(shape: tuple[int, int], spacing: tuple[float, float]) -> np.ndarray:
+    """|q| (rad/m) on the half-spectrum grid of rfft2 for a periodic cell."""
+    nx, ny = shape
+    dx, dy = spacing
+    qx = 2 * np.pi * np.fft.fftfreq(nx, d=dx)
+    qy = 2 * np.pi * np.fft.rfftfreq(ny, d=dy)
+    return np.sqrt(qx[:, None] ** 2 + qy[None, :] ** 2)
+
+
+def _love_rectangle(x: np.ndarray, y: np.ndarray, a: float, b: float) -> np.ndarray:
+    """Integral of 1/r over the rectangle |x'|<=a, |y'|<=b seen from (x, y) (Love 1929)."""
+
+    def f(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
+        # F(X, Y) = int_0^X int_0^Y ds dt / sqrt(s^2 + t^2), odd in X and in Y.
+        ax, ay = np.abs(X), np.abs(Y)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t1 = np.where(ax > 0, ax * np.arcsinh(ay / np.where(ax > 0, ax, 1.0)), 0.0)
+            t2 = np.where(ay > 0, ay * np.arcsinh(ax / np.where(ay > 0, ay, 1.0)), 0.0)
+        return np.sign(X) * np.sign(Y) * (t1 + t2)
+
+    return f(x + a, y + b) - f(x - a, y + b) - f(x + a, y - b) + f(x - a, y - b)
+
+
+class _Operator:
+    """A linear elastic operator applied by FFT (Fourier multiplier, periodic or zero-padded)."""
+
+    def __init__(self, backend: _Backend, shape: tuple[int, int], multiplier: np.ndarray, padded: bool):
+        self.b = backend
+        self.shape = shape
+        self.padded = padded
+        self.fshape = (2 * shape[0], 2 * shape[1]) if padded else shape
+        self.multiplier = backend.xp.asarray(multiplier)
+
+    def __call__(self, x: Any) -> Any:
+        b = self.b
+        if self.padded:
+            spec = b.rfft2(x, s=self.fshape)  # zero-pads to the doubled grid
+            out = b.irfft2(spec * self.multiplier, s=self.fshape)
+            return out[: self.shape[0], : self.shape[1]]
+        return b.irfft2(b.rfft2(x) * self.multiplier, s=self.shape)
+
+
+def _compliance(backend: _Backend, texture: Texture, modulus: float) -> _Operator:
+    """Pressure -> displacement operator (Boussinesq), periodic or free-space."""
+    shape = texture.shape
+    if texture.periodic:
+        q = _wavenumbers(shape, texture.spacing)
+        with np.errstate(divide="ignore"):
+            mult = np.where(q > 0, 2.0 / (modulus * np.where(q > 0, q, 1.0)), 0.0)
+        return _Operator(backend, shape, mult, padded=False)
+    nx, ny = shape
+    dx, dy = texture.spacing
+    # Offsets on the doubled grid in FFT order; the wrapped half never meets physical pixels.
+    ix = np.fft.fftfreq(2 * nx, d=1.0 / (2 * nx))
+    iy = np.fft.fftfreq(2 * ny, d=1.0 / (2 * ny))
+    X, Y = np.meshgrid(ix * dx, iy * dy, indexing="ij")
+    kernel = _love_rectangle(X, Y, dx / 2, dy / 2) / (np.pi * modulus)
+    mult = np.fft.rfft2(kernel)
+    return _Operator(backend, shape, mult, padded=True)
+
+
+def _stiffness(backend: _Backend, texture: Texture, modulus: float) -> _Operator:
+    """Displacement -> pressure operator of a periodic cell (inverse of the compliance)."""
+    q = _wavenumbers(texture.shape, texture.spacing)
+    return _Operator(backend, texture.shape, modulus * q / 2.0, padded=False)
+
+
+# --------------------------------------------------------------------------------------------
+# Results
+# --------------------------------------------------------------------------------------------
+
+
+def contact_state(contact: np.ndarray, base: np.ndarray) -> str:
+    """Contact state of a cell from its contact mask and the texture's base-level mask.
+
+    ``"asperity"``: the skin does not touch the lowest level of the texture;
+    ``"full"``: every pixel is in contact (see :data:`FULL_CONTACT_TOL`);
+    ``"transition"``: in between.
+    """
+    out_of_contact = 1.0 - float(np.count_nonzero(contact)) / contact.size
+    if out_of_contact <= FULL_CONTACT_TOL:
+        return "full"
+    if np.any(contact & base):
+        return "transition"
+    return "asperity"
+
+
+@dataclass
+class ContactResult:
+    """Solution of one contact problem on one cell (SI units).
+
+    Fields are (nx, ny) arrays: ``pressure`` (Pa), ``gap`` (m, skin to texture), ``displacement``
+    (m, skin surface displacement away from the texture, zero mean for periodic cells).
+    """
+
+    pressure: np.ndarray
+    gap: np.ndarray
+    displacement: np.ndarray
+    mean_pressure: float
+    approach: float
+    contact_fraction: float
+    real_contact_area: float
+    max_pressure: float
+    mean_gap: float
+    iterations: int
+    residual: float
+    converged: bool
+    seconds: float
+    formulation: str
+    contact_state: str
+    texture: Texture = field(repr=False)
+    modulus: float = 0.0
+    tol: float = 0.0
+
+    @property
+    def contact(self) -> np.ndarray:
+        """Boolean contact mask."""
+        return self.pressure > 0
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready scalar results (SI units)."""
+        return {
+            "mean_pressure": float(self.mean_pressure),
+            "contact_fraction": float(self.contact_fraction),
+            "real_contact_area": float(self.real_contact_area),
+            "max_pressure": float(self.max_pressure),
+            "mean_gap": float(self.mean_gap),
+            "approach": float(self.approach),
+            "contact_state": self.contact_state,
+            "iterations": int(self.iterations),
+            "residual": float(self.residual),
+            "converged": bool(self.converged),
+            "seconds": float(self.seconds),
+            "formulation": self.formulation,
+        }
+
+
+@dataclass
+class _Raw:
+    x: Any
+    iterations: int
+    residual: float
+    converged: bool
+    multiplier: float  # Lagrange multiplier of the mean constraint (0 without one)
+
+
+# --------------------------------------------------------------------------------------------
+# Constrained conjugate gradient
+# --------------------------------------------------------------------------------------------
+
+
+def _ccg(
+    xp: Any,
+    apply: Callable[[Any], Any],
+    b: Any,
+    x0: Any,
+    *,
+    mean: float | None,
+    scale: float,
+    tol: float,
+    max_iter: int,
+) -> _Raw:
+    """Minimise 1/2 x.Ax - b.x subject to x >= 0 (and mean(x) = ``mean`` if given).
+
+    Polonsky-Keer constrained conjugate gradient: conjugate directions on the free set
+    ``x > 0``, projection onto ``x >= 0``, bound points with a descent gradient released by a
+    steepest-descent step (which restarts conjugacy), and for the mean constraint a Lagrange
+    multiplier (the mean gradient on the free set) plus a rescaling. ``A x`` is carried along
+    and updated by linearity; it is recomputed only when the projection changed ``x`` off the
+    straight step.
+    """
+    n = x0.size
+    x = x0
+    ax = apply(x)
+    t = xp.zeros_like(x)
+    g_old = 1.0
+    restart = True
+    lam = 0.0
+    residual = math.inf
+    it = 0
+    for it in range(1, max_iter + 1):
+        free = x > 0
+        r = ax - b
+        nfree = int(xp.sum(free))
+        if mean is not None and nfree > 0:
+            lam = float(xp.sum(xp.where(free, r, 0.0))) / nfree
+            r = r - lam
+        rf = xp.where(free, r, 0.0)
+        g = float(xp.sum(rf * rf))
+        # KKT: zero gradient on the free set, non-negative gradient on the bound set.
+        viol = xp.where(free, 0.0, xp.minimum(r, 0.0))
+        residual = math.sqrt((g + float(xp.sum(viol * viol))) / n) / scale
+        if residual < tol:
+            return _Raw(x, it - 1, residual, True, lam)
+        if nfree == 0:
+            # Every point at its bound: release those with a descent gradient by a projected
+            # steepest-descent step of exact length.
+            t = xp.minimum(r, 0.0)
+            at = apply(t)
+            denom = float(xp.sum(at * t))
+            if denom <= 0:
+                return _Raw(x, it, residual, False, lam)
+            x = xp.maximum(x - (float(xp.sum(r * t)) / denom) * t, 0.0)
+            if mean is not None:
+                x = x * (mean / float(xp.mean(x)))
+            ax = apply(x)
+            restart = True
+            continue
+        beta = 0.0 if restart else g / g_old
+        t = rf + beta * t if beta else rf
+        g_old = g
+        at = apply(t)
+        # With a mean constraint the step must not change the multiplier's constant: use the
+        # free-set-centred operator for the step length (Polonsky-Keer).
+        at_c = at - float(xp.sum(xp.where(free, at, 0.0))) / nfree if mean is not None else at
+        denom = float(xp.sum(at_c * t))
+        if denom <= 0:
+            return _Raw(x, it, residual, False, lam)
+        tau = float(xp.sum(rf * t)) / denom
+        step = x - tau * t
+        clipped = bool(xp.any(step < 0))
+        enter = (~free) & (r < 0)
+        entering = bool(xp.any(enter))
+        if clipped:
+            step = xp.maximum(step, 0.0)
+        if entering:
+            step = xp.where(enter, -tau * r, step)
+        factor = 1.0
+        if mean is not None:
+            m = float(xp.mean(step))
+            if m <= 0:
+                return _Raw(x, it, residual, False, lam)
+            factor = mean / m
+            step = step * factor
+        # A x follows by linearity unless the projection moved x off the straight step.
+        ax = apply(step) if (clipped or entering) else (ax - tau * at) * factor
+        # Restart conjugacy whenever the active set changed (Polonsky-Keer reset only on entry;
+        # resetting on clipping too keeps the directions consistent with the current face).
+        restart = clipped or entering
+        x = step
+    return _Raw(x, it, residual, False, lam)
+
+
+# --------------------------------------------------------------------------------------------
+# Solver
+# --------------------------------------------------------------------------------------------
+
+
+class HalfSpaceSolver:
+    """Normal contact of the skin (elastic half-space) on one texture cell.
+
+    Parameters
+    ----------
+    texture
+        The counter-surface height map (periodic unit cell or finite patch).
+    modulus
+        Reduced modulus E* (Pa), MODEL.md Eq. 3.4.
+    tol
+        Relative KKT residual at which a solve stops (see module docstring).
+    max_iter
+        Iteration cap per solve; a solve that hits it returns ``converged=False`` and warns.
+    formulation
+        ``"auto"``, ``"primal"`` (pressure unknowns) or ``"dual"`` (gap unknowns, periodic only).
+    coarse_to_fine
+        Start cold solves from a coarse-grid solution.
+    xp
+        Array namespace (default: NumPy). A GPU namespace runs the same code.
+    """
+
+    def __init__(
+        self,
+        texture: Texture,
+        modulus: float,
+        *,
+        tol: float = 1e-8,
+        max_iter: int = 5000,
+        formulation: str = "auto",
+        coarse_to_fine: bool = True,
+        xp: Any = None,
+        workers: int | None = None,
+    ) -> None:
+        if not isinstance(texture, Texture):
+            raise FingerpadError("texture must be a fingerpad.Texture")
+        self.texture = texture
+        self.modulus = check_modulus(modulus, "reduced modulus")
+        if not (isinstance(tol, (int, float)) and 0 < tol < 1):
+            raise FingerpadError(f"tolerance must lie in (0, 1), got {tol!r}")
+        if not (isinstance(max_iter, int) and max_iter >= 1):
+            raise FingerpadError(f"max_iter must be a positive integer, got {max_iter!r}")
+        if formulation not in ("auto", "primal", "dual"):
+            raise FingerpadError(f"formulation must be auto, primal or dual, got {formulation!r}")
+        if formulation == "dual" and not texture.periodic:
+            raise FingerpadError("the dual (gap) formulation needs a periodic cell")
+        nx, ny = texture.shape
+        if nx < 4 or (ny < 4 and ny != 1):
+            raise FingerpadError(f"grid {nx}x{ny} is too small: use at least 4 points per axis")
+        self.tol = float(tol)
+        self.max_iter = max_iter
+        self.formulation = formulation
+        self.coarse_to_fine = coarse_to_fine
+        self.backend = _Backend(xp, workers)
+        xp_ = self.backend.xp
+        h = texture.heights
+        self.h_max = float(h.max())
+        self.h_mean = float(h.mean())
+        self.pv = max(texture.peak_to_valley, 1e-300)
+        self.h = self.backend.asarray(h)
+        self.base = h <= h.min() + BASE_LEVEL_RTOL * texture.peak_to_valley
+        self._K = _compliance(self.backend, texture, self.modulus)
+        self._S = _stiffness(self.backend, texture, self.modulus) if texture.periodic else None
+        self._Sh = self._S(self.h) if self._S is not None else None
+        self._xp = xp_
+        self._coarse: HalfSpaceSolver | None = None
+
+    # ---------------------------------------------------------------- public API
+
+    def solve_pressure(self, mean_pressure: float, initial: ContactResult | None = None) -> ContactResult:
+        """Solve at a given mean nominal pressure (Pa) over the cell."""
+        p = float(mean_pressure)
+        if not (math.isfinite(p) and p > 0):
+            raise FingerpadError(f"mean pressure must be positive, got {mean_pressure!r}")
+        return self._solve("pressure", p, initial)
+
+    def solve_approach(self, approach: float, initial: ContactResult | None = None) -> ContactResult:
+        """Solve at a given approach (rigid-body displacement, m, from first touch)."""
+        d = float(approach)
+        if not math.isfinite(d):
+            raise FingerpadError(f"approach must be finite, got {approach!r}")
+        if self.texture.periodic and d >= self.h_max - self.h_mean:
+            raise FingerpadError(
+                "approach reaches full contact of a periodic cell (pressure undetermined there): "
+                f"keep it below {self.h_max - self.h_mean:.4g} m or solve at a given pressure"
+            )
+        return self._solve("approach", d, initial)
+
+    # ---------------------------------------------------------------- internals
+
+    def _choose(self, initial: ContactResult | None, coarse: ContactResult | None) -> str:
+        if self.formulation != "auto":
+            return self.formulation
+        if not self.texture.periodic:
+            return "primal"
+        ref = initial if initial is not None else coarse
+        if ref is not None and ref.contact_fraction > 0.5:
+            return "dual"
+        return "primal"
+
+    def _coarse_solver(self) -> HalfSpaceSolver | None:
+        nx, ny = self.texture.shape
+        if not self.coarse_to_fine or nx < 2 * _COARSE_MIN or nx % 2:
+            return None
+        fy = 2 if (ny >= 2 * _COARSE_MIN and ny % 2 == 0) else 1
+        if self._coarse is None:
+            h = self.texture.heights
+            # Block averages keep the mean height; fine features survive well enough to place
+            # the contact spots for a starting guess.
+            hc = h.reshape(nx // 2, 2, ny // fy, fy).mean(axis=(1, 3))
+            tex = replace(self.texture, heights=hc)
+            self._coarse = HalfSpaceSolver(
+                tex, self.modulus, tol=max(self.tol, 1e-6) * 10, max_iter=self.max_iter,
+                formulation=self.formulation, coarse_to_fine=True, xp=self.backend.xp,
+                workers=self.backend.workers,
+            )
+            self._coarse_fy = fy
+        return self._coarse
+
+    def _prolong(self, a: np.ndarray) -> np.ndarray:
+        return np.repeat(np.repeat(a, 2, axis=0), self._coarse_fy, axis=1)
+
+    def _solve(self, mode: str, value: float, initial: ContactResult | None) -> ContactResult:
+        start = time.perf_counter()
+        xp = self._xp
+        coarse_result = None
+        if initial is not None and initial.pressure.shape != self.texture.shape:
+            raise FingerpadError("initial solution has a different grid")
+        if initial is None:
+            cs = self._coarse_solver()
+            if cs is not None:
+                coarse_result = cs._solve(mode, value, None)
+        form = self._choose(initial, coarse_result)
+        seed = initial
+        if seed is None and coarse_result is not None:
+            seed = _Seed(self._prolong(coarse_result.pressure), self._prolong(coarse_result.gap))
+        raw = self._run(form, mode, value, seed)
+        if not raw.converged and self.formulation == "auto" and self.texture.periodic:
+            # The other formulation is the fallback (e.g. near full contact for the primal).
+            other = "dual" if form == "primal" else "primal"
+            raw2 = self._run(other, mode, value, seed)
+            if raw2.converged or raw2.residual < raw.residual:
+                raw, form = raw2, other
+        result = self._finish(form, mode, value, raw, time.perf_counter() - start)
+        if not result.converged:
+            warnings.warn(
+                f"contact solve did not converge: residual {result.residual:.3g} > tol {self.tol:.3g} "
+                f"after {result.iterations} iterations ({mode} = {value:.6g})",
+                RuntimeWarning,
+                stacklevel=3,
+            )
+        return result
+
+    def _run(self, form: str, mode: str, value: float, seed: Any) -> _Raw:
+        xp = self._xp
+        be = self.backend
+        n = self.h.size
+        if form == "primal":
+            if mode == "pressure":
+                b = self.h
+                x0 = be.asarray(seed.pressure) if seed is not None else xp.full(self.h.shape, value)
+                x0 = xp.maximum(x0, 0.0)
+                m = float(xp.mean(x0))
+                x0 = x0 * (value / m) if m > 0 else xp.full(self.h.shape, value)
+                return _ccg(xp, self._K, b, x0, mean=value, scale=self.pv, tol=self.tol, max_iter=self.max_iter)
+            b = self.h - (self.h_max - value)
+            if seed is not None:
+                x0 = xp.maximum(be.asarray(seed.pressure), 0.0)
+            else:
+                x0 = xp.where(b > 0, b, 0.0) * (self.modulus / max(self.texture.size) * 4)
+            return _ccg(xp, self._K, b, x0, mean=None, scale=self.pv, tol=self.tol, max_iter=self.max_iter)
+        # dual: unknown gap, gradient = pressure
+        if mode == "pressure":
+            b = -(self._Sh + value)
+            x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else self._gap_guess(value)
+            return _ccg(xp, self._S, b, x0, mean=None, scale=value, tol=self.tol, max_iter=self.max_iter)
+        target = self.h_max - value - self.h_mean  # mean gap for a zero-mean displacement
+        b = -self._Sh
+        x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else xp.maximum(self.h_max - self.h, 0.0)
+        mx = float(xp.mean(x0))
+        x0 = x0 * (target / mx) if mx > 0 else xp.full(self.h.shape, target)
+        scale = self.modulus * self.pv / max(self.texture.size)
+        return _ccg(xp, self._S, b, x0, mean=target, scale=scale, tol=self.tol, max_iter=self.max_iter)
+
+    def _gap_guess(self, mean_pressure: float) -> Any:
+        # Rigid interpenetration guess: skin plane lowered until the overlap carries the load
+        # roughly; only a starting point for the dual.
+        xp = self._xp
+        return xp.maximum(self.h_max - self.h - 0.5 * self.pv, 0.0) + 0.0 * mean_pressure
+
+    def _finish(self, form: str, mode: str, value: float, raw: _Raw, seconds: float) -> ContactResult:
+        xp = self._xp
+        be = self.backend
+        tex = self.texture
+        if form == "primal":
+            p = raw.x
+            u = self._K(p)
+            if mode == "pressure":
+                # g = u - h + c with c fixed by the multiplier (zero gap on the contact set).
+                gap = u - self.h - raw.multiplier
+            else:
+                gap = u - self.h + self.h_max - value
+        else:
+            gap = raw.x
+            if mode == "pressure":
+                p = self._S(gap) + self._Sh + value
+            else:
+                p = self._S(gap) + self._Sh - raw.multiplier
+            # Tension of the order of the residual can remain on contact points; it is part of
+            # the reported residual, and the field itself is kept non-negative.
+            p = xp.where(gap > 0, 0.0, xp.maximum(p, 0.0))
+            u = None
+        p_np = be.to_numpy(p)
+        g_np = be.to_numpy(gap)
+        if tex.periodic:
+            mean_gap = float(g_np.mean())
+            approach = self.h_max - self.h_mean - mean_gap
+            disp = g_np + tex.heights - (self.h_max - approach)
+        else:
+            # gap = u - h - lambda = u + h_max - h - d  =>  d = h_max + lambda
+            approach = value if mode == "approach" else self.h_max + raw.multiplier
+            disp = be.to_numpy(u) if u is not None else g_np + tex.heights - (self.h_max - approach)
+            mean_gap = float(g_np.mean())
+        contact = p_np > 0
+        frac = float(np.count_nonzero(contact)) / contact.size
+        mean_p = float(p_np.mean())
+        return ContactResult(
+            pressure=p_np,
+            gap=g_np,
+            displacement=disp,
+            mean_pressure=mean_p,
+            approach=float(approach),
+            contact_fraction=frac,
+            real_contact_area=frac * tex.area,
+            max_pressure=float(p_np.max()),
+            mean_gap=mean_gap,
+            iterations=raw.iterations,
+            residual=raw.residual,
+            converged=raw.converged,
+            seconds=seconds,
+            formulation=form,
+            contact_state=contact_state(contact, self.base),
+            texture=tex,
+            modulus=self.modulus,
+            tol=self.tol,
+        )
+
+
+@dataclass
+class _Seed:
+    pressure: np.ndarray
+    gap: np.ndarray

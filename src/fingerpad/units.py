@@ -1,0 +1,131 @@
+"""Parsing of physical quantities with unit suffixes.
+
+All of fingerpad works in SI units (m, N, Pa). The command line and study files accept
+plain SI numbers (``0.002``) or numbers with a unit suffix (``50um``, ``0.3MPa``, ``2N``).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from .errors import FingerpadError
+
+#: Unit symbol -> (dimension, factor to SI).
+UNITS: dict[str, tuple[str, float]] = {
+    # length
+    "m": ("length", 1.0),
+    "cm": ("length", 1e-2),
+    "mm": ("length", 1e-3),
+    "um": ("length", 1e-6),
+    "µm": ("length", 1e-6),
+    "μm": ("length", 1e-6),
+    "micron": ("length", 1e-6),
+    "nm": ("length", 1e-9),
+    # pressure / modulus
+    "Pa": ("pressure", 1.0),
+    "kPa": ("pressure", 1e3),
+    "MPa": ("pressure", 1e6),
+    "GPa": ("pressure", 1e9),
+    # force
+    "N": ("force", 1.0),
+    "mN": ("force", 1e-3),
+    "kN": ("force", 1e3),
+    # angle
+    "deg": ("angle", math.pi / 180.0),
+    "rad": ("angle", 1.0),
+}
+
+SI_SYMBOL = {"length": "m", "pressure": "Pa", "force": "N", "angle": "rad"}
+
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*([A-Za-zµμ]*)\s*$")
+
+
+def parse_quantity(text: str | float | int, dimension: str, *, name: str = "value") -> float:
+    """Parse ``text`` as a quantity of ``dimension`` and return it in SI units.
+
+    Parameters
+    ----------
+    text
+        A number (taken as SI) or a string such as ``"50um"``, ``"0.3 MPa"``, ``"2N"``, ``"1e-3"``.
+    dimension
+        One of ``"length"``, ``"pressure"``, ``"force"``, ``"angle"``, or ``"none"``.
+    name
+        The parameter's name, used in error messages.
+
+    Raises
+    ------
+    FingerpadError
+        For unparsable text, an unknown unit or a unit of the wrong dimension.
+    """
+    if isinstance(text, bool):
+        raise FingerpadError(f"{name}: expected a number, got {text!r}")
+    if isinstance(text, (int, float)):
+        value = float(text)
+    else:
+        match = _QUANTITY.match(str(text))
+        if not match:
+            raise FingerpadError(f"{name}: cannot read {text!r} as a number with an optional unit")
+        number, unit = match.groups()
+        value = float(number)
+        if unit:
+            if unit not in UNITS:
+                known = ", ".join(k for k, v in UNITS.items() if v[0] == dimension) or "none"
+                raise FingerpadError(f"{name}: unknown unit {unit!r} in {text!r} (use one of: {known})")
+            unit_dim, factor = UNITS[unit]
+            if dimension != unit_dim:
+                raise FingerpadError(
+                    f"{name}: {text!r} is a {unit_dim}, expected a {dimension}"
+                )
+            value *= factor
+    if not math.isfinite(value):
+        raise FingerpadError(f"{name}: {text!r} is not a finite number")
+    return value
+
+
+def parse_positive(text: str | float, dimension: str, *, name: str = "value") -> float:
+    """Like :func:`parse_quantity` but the value must be strictly positive."""
+    value = parse_quantity(text, dimension, name=name)
+    if value <= 0:
+        raise FingerpadError(f"{name}: must be positive, got {text!r}")
+    return value
+
+
+def parse_range(text: str, dimension: str, *, name: str = "range", log: bool = False) -> list[float]:
+    """Parse ``START:STOP:COUNT`` into a list of SI values (log-spaced if ``log``).
+
+    A single quantity gives a one-element list.
+    """
+    import numpy as np
+
+    parts = str(text).split(":")
+    if len(parts) == 1:
+        return [parse_quantity(parts[0], dimension, name=name)]
+    if len(parts) != 3:
+        raise FingerpadError(f"{name}: expected START:STOP:COUNT, got {text!r}")
+    start = parse_quantity(parts[0], dimension, name=name)
+    stop = parse_quantity(parts[1], dimension, name=name)
+    try:
+        count = int(parts[2])
+    except ValueError:
+        raise FingerpadError(f"{name}: COUNT must be an integer, got {parts[2]!r}") from None
+    if count < 1:
+        raise FingerpadError(f"{name}: COUNT must be at least 1, got {count}")
+    if log:
+        if start <= 0 or stop <= 0:
+            raise FingerpadError(f"{name}: a log-spaced range needs positive bounds, got {text!r}")
+        return [float(v) for v in np.geomspace(start, stop, count)]
+    return [float(v) for v in np.linspace(start, stop, count)]
+
+
+def format_quantity(value: float, dimension: str, digits: int = 4) -> str:
+    """Format an SI value with an engineering prefix, e.g. ``5e-5 m -> '50 um'``."""
+    unit = SI_SYMBOL.get(dimension, "")
+    if value == 0 or not math.isfinite(value) or dimension == "angle":
+        return f"{value:.{digits}g} {unit}".strip()
+    prefixes = [(1e9, "G"), (1e6, "M"), (1e3, "k"), (1.0, ""), (1e-3, "m"), (1e-6, "u"), (1e-9, "n")]
+    for factor, prefix in prefixes:
+        if abs(value) >= factor:
+            return f"{value / factor:.{digits}g} {prefix}{unit}"
+    return f"{value:.{digits}g} {unit}"
