@@ -71,7 +71,11 @@ FULL_CONTACT_TOL = 0.0
 #: the texture's base level; touching any of them starts the *transition* state.
 BASE_LEVEL_RTOL = 1e-6
 
-_COARSE_MIN = 64  # do not coarsen below this many points along an axis
+_COARSE_MIN = 64
+RESET_ON_CLIP = True
+#: In auto mode a formulation whose residual has not halved for this many iterations hands over
+#: to the other one.
+STALL_ITERATIONS = 150  # do not coarsen below this many points along an axis
 
 
 # --------------------------------------------------------------------------------------------
@@ -277,6 +281,7 @@ def _ccg(
     scale: float,
     tol: float,
     max_iter: int,
+    stall: int | None = None,
 ) -> _Raw:
     """Minimise 1/2 x.Ax - b.x subject to x >= 0 (and mean(x) = ``mean`` if given).
 
@@ -285,7 +290,9 @@ def _ccg(
     steepest-descent step (which restarts conjugacy), and for the mean constraint a Lagrange
     multiplier (the mean gradient on the free set) plus a rescaling. ``A x`` is carried along
     and updated by linearity; it is recomputed only when the projection changed ``x`` off the
-    straight step.
+    straight step. With ``stall``, give up (not converged) once the residual has not halved for
+    that many iterations: degenerate active sets (a flat base just touching) can make one
+    formulation cycle while the other converges at once.
     """
     n = x0.size
     x = x0
@@ -295,6 +302,7 @@ def _ccg(
     restart = True
     lam = 0.0
     residual = math.inf
+    best, best_it = math.inf, 0
     it = 0
     for it in range(1, max_iter + 1):
         free = x > 0
@@ -310,6 +318,10 @@ def _ccg(
         residual = math.sqrt((g + float(xp.sum(viol * viol))) / n) / scale
         if residual < tol:
             return _Raw(x, it - 1, residual, True, lam)
+        if residual < 0.5 * best:
+            best, best_it = residual, it
+        elif stall is not None and it - best_it > stall:
+            return _Raw(x, it, residual, False, lam)
         if nfree == 0:
             # Every point at its bound: release those with a descent gradient by a projected
             # steepest-descent step of exact length.
@@ -354,7 +366,7 @@ def _ccg(
         ax = apply(step) if (clipped or entering) else (ax - tau * at) * factor
         # Restart conjugacy whenever the active set changed (Polonsky-Keer reset only on entry;
         # resetting on clipping too keeps the directions consistent with the current face).
-        restart = clipped or entering
+        restart = (clipped and RESET_ON_CLIP) or entering
         x = step
     return _Raw(x, it, residual, False, lam)
 
@@ -499,11 +511,13 @@ class HalfSpaceSolver:
         seed = initial
         if seed is None and coarse_result is not None:
             seed = _Seed(self._prolong(coarse_result.pressure), self._prolong(coarse_result.gap))
-        raw = self._run(form, mode, value, seed)
-        if not raw.converged and self.formulation == "auto" and self.texture.periodic:
+        auto = self.formulation == "auto" and self.texture.periodic
+        raw = self._run(form, mode, value, seed, stall=STALL_ITERATIONS if auto else None)
+        if not raw.converged and auto:
             # The other formulation is the fallback (e.g. near full contact for the primal).
             other = "dual" if form == "primal" else "primal"
             raw2 = self._run(other, mode, value, seed)
+            raw2.iterations += raw.iterations
             if raw2.converged or raw2.residual < raw.residual:
                 raw, form = raw2, other
         result = self._finish(form, mode, value, raw, time.perf_counter() - start)
@@ -516,7 +530,7 @@ class HalfSpaceSolver:
             )
         return result
 
-    def _run(self, form: str, mode: str, value: float, seed: Any) -> _Raw:
+    def _run(self, form: str, mode: str, value: float, seed: Any, stall: int | None = None) -> _Raw:
         xp = self._xp
         be = self.backend
         n = self.h.size
@@ -527,25 +541,25 @@ class HalfSpaceSolver:
                 x0 = xp.maximum(x0, 0.0)
                 m = float(xp.mean(x0))
                 x0 = x0 * (value / m) if m > 0 else xp.full(self.h.shape, value)
-                return _ccg(xp, self._K, b, x0, mean=value, scale=self.pv, tol=self.tol, max_iter=self.max_iter)
+                return _ccg(xp, self._K, b, x0, mean=value, scale=self.pv, tol=self.tol, max_iter=self.max_iter, stall=stall)
             b = self.h - (self.h_max - value)
             if seed is not None:
                 x0 = xp.maximum(be.asarray(seed.pressure), 0.0)
             else:
                 x0 = xp.where(b > 0, b, 0.0) * (self.modulus / max(self.texture.size) * 4)
-            return _ccg(xp, self._K, b, x0, mean=None, scale=self.pv, tol=self.tol, max_iter=self.max_iter)
+            return _ccg(xp, self._K, b, x0, mean=None, scale=self.pv, tol=self.tol, max_iter=self.max_iter, stall=stall)
         # dual: unknown gap, gradient = pressure
         if mode == "pressure":
             b = -(self._Sh + value)
             x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else self._gap_guess(value)
-            return _ccg(xp, self._S, b, x0, mean=None, scale=value, tol=self.tol, max_iter=self.max_iter)
+            return _ccg(xp, self._S, b, x0, mean=None, scale=value, tol=self.tol, max_iter=self.max_iter, stall=stall)
         target = self.h_max - value - self.h_mean  # mean gap for a zero-mean displacement
         b = -self._Sh
         x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else xp.maximum(self.h_max - self.h, 0.0)
         mx = float(xp.mean(x0))
         x0 = x0 * (target / mx) if mx > 0 else xp.full(self.h.shape, target)
         scale = self.modulus * self.pv / max(self.texture.size)
-        return _ccg(xp, self._S, b, x0, mean=target, scale=scale, tol=self.tol, max_iter=self.max_iter)
+        return _ccg(xp, self._S, b, x0, mean=target, scale=scale, tol=self.tol, max_iter=self.max_iter, stall=stall)
 
     def _gap_guess(self, mean_pressure: float) -> Any:
         # Rigid interpenetration guess: skin plane lowered until the overlap carries the load
