@@ -10,14 +10,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
 from .errors import FingerpadError
 from .halfspace import ContactResult, HalfSpaceSolver
 
-__all__ = ["LoadCurve", "load_curve", "CriticalPressure", "critical_pressure", "full_contact_pressure"]
+if TYPE_CHECKING:
+    from .cache import CurveCache
+    from .textures import Texture
+
+__all__ = ["BEMUnitCell", "LoadCurve", "load_curve", "CriticalPressure", "critical_pressure", "full_contact_pressure"]
 
 Progress = Callable[[int, int], None]
 
@@ -174,3 +178,243 @@ def full_contact_pressure(
 ) -> CriticalPressure:
     """Bracket the mean pressure at which the cell reaches full contact (every pixel touching)."""
     return _bracket(solver, lambda r: r.contact_state == "full", "full", rtol, progress, max_solves)
+
+
+# --------------------------------------------------------------------------------------------
+# Numerical unit-cell response for the coupling (MODEL.md [completion])
+# --------------------------------------------------------------------------------------------
+
+#: Computed pressures lie on the global grid p_k = 10**(k / POINTS_PER_DECADE) Pa, so curves
+#: computed for different load ranges (or by different processes) merge in the cache.
+POINTS_PER_DECADE = 12
+#: Highest pressure, as a multiple of E*, searched for full contact: beyond it small-strain
+#: elasticity has no meaning and the full-contact pressure is reported as infinite.
+FULL_CONTACT_SEARCH_LIMIT = 10.0
+
+
+class BEMUnitCell:
+    """The unit cell's real-to-nominal area fraction psi(p) from the half-space solver.
+
+    Implements the ``UnitCellResponse`` protocol of :mod:`fingerpad.coupling`: call
+    :meth:`prepare` with the range of local pressures the pad produces, then
+    :meth:`contact_fraction` interpolates the computed curve (PCHIP in log p, monotone, no
+    overshoot) and :attr:`interpolation_error` bounds the interpolation error by leave-one-out.
+    Below the lowest computed pressure psi follows the power law of the two lowest points
+    (Hertz-like asperity contact); at and above the full-contact pressure psi = 1.
+
+    Parameters
+    ----------
+    texture
+        Periodic unit cell.
+    modulus
+        Reduced modulus E* (Pa), Eq. 3.4.
+    tol, max_iter
+        Solver settings (part of the cache key).
+    cache
+        A :class:`~fingerpad.cache.CurveCache`, ``None`` for the default folder, ``False`` for none.
+    rtol
+        Relative width of the transition and full-contact pressure brackets.
+    """
+
+    def __init__(
+        self,
+        texture: "Texture",
+        modulus: float,
+        *,
+        tol: float = 1e-8,
+        max_iter: int = 5000,
+        cache: "CurveCache | None | bool" = None,
+        rtol: float = 1e-3,
+    ) -> None:
+        from .cache import CurveCache, content_key
+
+        if not texture.periodic:
+            raise FingerpadError("a unit-cell response needs a periodic texture (use --periodic or periodize)")
+        self.texture = texture
+        self.solver = HalfSpaceSolver(texture, modulus, tol=tol, max_iter=max_iter)
+        self.modulus = self.solver.modulus
+        self.rtol = rtol
+        self.cache = CurveCache() if cache is None else (cache or None)
+        self.key = content_key(
+            texture.heights, size=texture.size, modulus=self.modulus, tol=tol, max_iter=max_iter,
+            ppd=POINTS_PER_DECADE, rtol=rtol,
+        )
+        self.points: dict[float, dict[str, Any]] = {}
+        self.transition: tuple[float, float] | None = None
+        self.full: tuple[float, float] | None = None
+        self.flat = texture.peak_to_valley <= 0
+        self.solves = 0
+        self._interp = None
+        if self.cache is not None:
+            self._absorb(self.cache.load(self.key))
+
+    # ---------------------------------------------------------------- cache plumbing
+
+    def _absorb(self, entry: dict[str, Any]) -> None:
+        for p, row in entry.get("points", {}).items():
+            self.points[float(p)] = row
+        if entry.get("transition"):
+            self.transition = tuple(entry["transition"])  # type: ignore[assignment]
+        if "full" in entry and entry["full"] is not None:
+            self.full = tuple(entry["full"])  # type: ignore[assignment]
+        self._interp = None
+
+    def _store(self, new_points: dict[float, dict[str, Any]], **extra: Any) -> None:
+        payload: dict[str, Any] = {"points": {repr(p): row for p, row in new_points.items()}, **extra}
+        if self.cache is not None:
+            self._absorb(self.cache.update(self.key, payload))
+        else:
+            self._absorb(payload)
+
+    @staticmethod
+    def _row(res: ContactResult) -> dict[str, Any]:
+        return {
+            "contact_fraction": res.contact_fraction, "mean_gap": res.mean_gap,
+            "max_pressure": res.max_pressure, "contact_state": res.contact_state,
+            "converged": res.converged, "iterations": res.iterations,
+        }
+
+    # ---------------------------------------------------------------- computing
+
+    def prepare(self, p_min: float, p_max: float, progress: Progress | None = None) -> "BEMUnitCell":
+        """Make sure psi(p) is computed over [p_min, p_max] Pa, plus the state pressures."""
+        if self.flat:
+            return self
+        if not (0 < p_min <= p_max and math.isfinite(p_max)):
+            raise FingerpadError(f"bad pressure range [{p_min!r}, {p_max!r}]")
+        k0 = math.floor(math.log10(p_min) * POINTS_PER_DECADE) - 1
+        k1 = math.ceil(math.log10(p_max) * POINTS_PER_DECADE) + 1
+        wanted = [10 ** (k / POINTS_PER_DECADE) for k in range(k0, k1 + 1)]
+        todo = [p for p in wanted if not any(math.isclose(p, q, rel_tol=1e-9) for q in self.points)]
+        need_states = self.transition is None or self.full is None
+        total = len(todo) + (2 if self.transition is None else 0)
+        done = 0
+        new: dict[float, dict[str, Any]] = {}
+        previous: ContactResult | None = None
+        for p in todo:
+            res = self.solver.solve_pressure(p, initial=previous)
+            previous = res
+            new[p] = self._row(res)
+            self.solves += 1
+            done += 1
+            if progress is not None:
+                progress(done, total)
+        if new:
+            self._store(new)
+        if need_states:
+            extra: dict[str, Any] = {}
+            states: dict[float, dict[str, Any]] = {}
+            if self.transition is None:
+                crit = critical_pressure(self.solver, rtol=self.rtol)
+                self.solves += crit.solves
+                extra["transition"] = [crit.lower, crit.upper]
+                for p in (crit.lower, crit.upper):
+                    states[p] = self._row(self.solver.solve_pressure(p))
+                    done += 1
+                    if progress is not None:
+                        progress(done, total)
+            if self.full is None:
+                extra["full"] = self._full_contact()
+            self._store(states, **extra)
+        return self
+
+    def _full_contact(self) -> list[float]:
+        limit = FULL_CONTACT_SEARCH_LIMIT * self.modulus
+        top = self.solver.solve_pressure(limit)
+        self.solves += 1
+        if top.contact_state != "full":
+            return [math.inf, math.inf]
+        br = full_contact_pressure(self.solver, rtol=self.rtol)
+        self.solves += br.solves
+        return [br.lower, br.upper]
+
+    # ---------------------------------------------------------------- UnitCellResponse
+
+    @property
+    def transition_pressure(self) -> float:
+        """Mean cell pressure (Pa) at which the skin first touches the texture's base."""
+        if self.flat:
+            return 0.0
+        if self.transition is None:
+            raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
+        return math.sqrt(self.transition[0] * self.transition[1])
+
+    @property
+    def full_contact_pressure(self) -> float:
+        """Mean cell pressure (Pa) at which every pixel touches (inf if beyond 10 E*)."""
+        if self.flat:
+            return 0.0
+        if self.full is None:
+            raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
+        lo, hi = self.full
+        return math.inf if math.isinf(hi) else math.sqrt(lo * hi)
+
+    def _nodes(self) -> tuple[np.ndarray, np.ndarray]:
+        ps = np.array(sorted(self.points))
+        psi = np.array([self.points[p]["contact_fraction"] for p in ps])
+        # A monotone curve by construction of the physics; enforce it against last-digit noise.
+        return ps, np.maximum.accumulate(psi)
+
+    def _build(self) -> Any:
+        from scipy.interpolate import PchipInterpolator
+
+        ps, psi = self._nodes()
+        if ps.size < 3:
+            raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
+        return PchipInterpolator(np.log(ps), psi, extrapolate=False)
+
+    def contact_fraction(self, p: "np.ndarray | float") -> np.ndarray:
+        """psi(p): real-to-nominal contact area fraction of the cell at mean pressure ``p`` (Pa)."""
+        p = np.asarray(p, dtype=float)
+        if self.flat:
+            return np.where(p > 0, 1.0, 0.0)
+        if self._interp is None:
+            self._interp = self._build()
+        ps, psi = self._nodes()
+        out = np.zeros_like(p)
+        pos = p > 0
+        lp = np.log(np.where(pos, p, 1.0))
+        inside = pos & (p >= ps[0]) & (p <= ps[-1])
+        out[inside] = self._interp(lp[inside])
+        low = pos & (p < ps[0])
+        if np.any(low):
+            slope = math.log(psi[1] / psi[0]) / math.log(ps[1] / ps[0]) if psi[0] > 0 else 2 / 3
+            out[low] = psi[0] * (p[low] / ps[0]) ** slope
+        high = p > ps[-1]
+        if np.any(high):
+            pf = self.full_contact_pressure if self.full is not None else math.inf
+            if math.isfinite(pf) and pf > ps[-1]:
+                frac = np.log(p[high] / ps[-1]) / math.log(pf / ps[-1])
+                out[high] = psi[-1] + (1 - psi[-1]) * np.clip(frac, 0, 1)
+            else:
+                out[high] = psi[-1] if not math.isfinite(pf) else 1.0
+        if self.full is not None and math.isfinite(self.full[1]):
+            out = np.where(p >= self.full[1], 1.0, out)
+        return np.clip(out, 0.0, 1.0)
+
+    @property
+    def interpolation_error(self) -> float:
+        """Leave-one-out bound on the interpolation error of psi (absolute, over interior nodes)."""
+        from scipy.interpolate import PchipInterpolator
+
+        ps, psi = self._nodes()
+        if ps.size < 4:
+            return math.nan
+        lp = np.log(ps)
+        worst = 0.0
+        for i in range(1, ps.size - 1):
+            keep = np.arange(ps.size) != i
+            f = PchipInterpolator(lp[keep], psi[keep])
+            worst = max(worst, abs(float(f(lp[i])) - psi[i]))
+        return worst
+
+    def curve(self) -> dict[str, np.ndarray]:
+        """The computed nodes: pressure (Pa), contact_fraction, mean_gap (m), max_pressure (Pa)."""
+        ps = np.array(sorted(self.points))
+        return {
+            "pressure": ps,
+            "contact_fraction": np.array([self.points[p]["contact_fraction"] for p in ps]),
+            "mean_gap": np.array([self.points[p]["mean_gap"] for p in ps]),
+            "max_pressure": np.array([self.points[p]["max_pressure"] for p in ps]),
+            "contact_state": np.array([self.points[p]["contact_state"] for p in ps]),
+        }
