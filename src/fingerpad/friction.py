@@ -1,0 +1,263 @@
+"""Friction of the finger pad: adhesion plus hysteresis (MODEL.md ch. 2.1).
+
+* adhesion ``F_adh = tau A_re`` with ``tau = tau0 + alpha p_re``, Eqs. 2.2-2.3; with the mean
+  real pressure ``p_re = F / A_re`` this is ``F_adh = tau0 A_re + alpha F``;
+* hysteresis ``F_def`` (Greenwood-Tabor), Eq. 2.4;
+* total ``F_f = F_adh + F_def``, Eq. 2.1, and ``mu = F_f / F``;
+* the flat reference sample (real area = ridge area) and the normalisation ``mu_tex / mu_ref``;
+* :func:`fit_power_law` for ``mu = k F^(n-1)``.
+
+SI units (m, N, Pa). Load arguments accept floats or arrays.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .errors import FingerpadError
+from .finger import ArrayLike, _out, as_loads
+
+if TYPE_CHECKING:
+    from .finger import Finger
+
+
+def _areas(value: ArrayLike, name: str) -> np.ndarray:
+    arr = as_loads(value, name)
+    if np.any(arr <= 0):
+        raise FingerpadError(f"{name} must be positive")
+    return arr
+
+
+def shear_strength(real_pressure: ArrayLike, tau0: float, alpha: float) -> float | np.ndarray:
+    """Interfacial shear strength ``tau = tau0 + alpha p_re``, Eq. 2.3 (Pa)."""
+    p = as_loads(real_pressure, "real contact pressure")
+    return _out(tau0 + alpha * p)
+
+
+def adhesion_force(load: ArrayLike, real_area: ArrayLike, tau0: float, alpha: float) -> float | np.ndarray:
+    """Adhesive friction ``F_adh = tau A_re``, Eqs. 2.2-2.3 (N).
+
+    With ``p_re = F / A_re`` the pressure term integrates to ``alpha F`` whatever the area, so
+    ``F_adh = tau0 A_re + alpha F``.
+
+    Parameters
+    ----------
+    load
+        Normal load F, N.
+    real_area
+        Real contact area A_re, m^2.
+    tau0, alpha
+        Shear strength at zero pressure (Pa) and its pressure coefficient.
+    """
+    f = as_loads(load, strict=True)
+    a = _areas(real_area, "real contact area")
+    return _out(tau0 * a + alpha * f)
+
+
+def hysteresis_force(load: ArrayLike, radius: float, modulus: float, beta: float) -> float | np.ndarray:
+    """Viscoelastic hysteresis friction (Greenwood-Tabor), Eq. 2.4 (N).
+
+    ``F_def = beta (9 / (128 R))^(2/3) (F^4 / E0*)^(1/3)``, identical to
+    ``beta (3/16) a F / R`` with the Hertz contact radius ``a = (3 F R / (4 E0*))^(1/3)``.
+
+    Parameters
+    ----------
+    load
+        Normal load F, N.
+    radius
+        Pad radius R_fp, m.
+    modulus
+        Pad reduced modulus E0* (= E_fp*), Pa.
+    beta
+        Viscoelastic loss fraction.
+    """
+    f = as_loads(load)
+    if not (radius > 0 and modulus > 0 and beta >= 0):
+        raise FingerpadError("hysteresis needs a positive radius and modulus and a non-negative beta")
+    return _out(beta * (9.0 / (128.0 * radius)) ** (2.0 / 3.0) * np.cbrt(f**4 / modulus))
+
+
+def friction_force(load: ArrayLike, real_area: ArrayLike, finger: Finger) -> float | np.ndarray:
+    """Total friction force ``F_f = F_adh + F_def``, Eq. 2.1 (N), with ``finger``'s parameters."""
+    adh = np.asarray(adhesion_force(load, real_area, finger.tau0, finger.alpha))
+    dfm = np.asarray(hysteresis_force(load, finger.radius, finger.modulus, finger.beta))
+    return _out(adh + dfm)
+
+
+def friction_coefficient(load: ArrayLike, real_area: ArrayLike, finger: Finger) -> float | np.ndarray:
+    """Friction coefficient ``mu = F_f / F`` (Eq. 2.1 over the load)."""
+    f = as_loads(load, strict=True)
+    return _out(np.asarray(friction_force(f, real_area, finger)) / f)
+
+
+def reference_real_area(load: ArrayLike, finger: Finger) -> float | np.ndarray:
+    """Real contact area on the flat reference sample: the skin fully touches a smooth flat, so
+    ``A_re,ref = A_fr`` (the ridge contact)."""
+    return finger.ridge_area(as_loads(load, strict=True))
+
+
+def reference_friction_coefficient(load: ArrayLike, finger: Finger) -> float | np.ndarray:
+    """``mu_ref(F)`` on the flat reference sample of the same material."""
+    f = as_loads(load, strict=True)
+    return friction_coefficient(f, reference_real_area(f, finger), finger)
+
+
+def normalised_friction(mu_texture: ArrayLike, mu_reference: ArrayLike) -> float | np.ndarray:
+    """``mu_tex / mu_ref`` (MODEL.md "Normalisation").
+
+    With the same shear strength on both samples and negligible hysteresis this equals
+    ``A_re,tex / A_re,ref``, so the person's unknown ridge-area function cancels.
+    """
+    mt = np.asarray(mu_texture, dtype=float)
+    mr = np.asarray(mu_reference, dtype=float)
+    if not (np.all(np.isfinite(mt)) and np.all(np.isfinite(mr))) or np.any(mr <= 0):
+        raise FingerpadError("normalisation needs finite friction coefficients and a positive reference")
+    return _out(mt / mr)
+
+
+# ---------------------------------------------------------------------------------------------
+# power-law fit mu = k F^(n-1)
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class PowerLawFit:
+    """Result of :func:`fit_power_law`: ``mu = k F^(n-1)``.
+
+    Attributes
+    ----------
+    k, n
+        Best estimates (k in the units of mu at 1 N).
+    k_stderr, n_stderr
+        Standard errors (``k_stderr`` by the delta method, ``k * se(ln k)``).
+    k_ci, n_ci
+        95 % confidence intervals. ``k_ci`` is ``exp`` of the interval of ``ln k``, hence
+        asymmetric about ``k``.
+    covariance
+        2x2 covariance of ``(k, n)`` (delta method).
+    log_covariance
+        2x2 covariance of ``(ln k, n - 1)``, the fitted linear parameters.
+    dof
+        Residual degrees of freedom (points - 2).
+    absolute_sigma
+        True when ``sigma`` was given and taken as absolute; False when the scatter was
+        estimated from the residuals (Student t intervals).
+    """
+
+    k: float
+    n: float
+    k_stderr: float
+    n_stderr: float
+    k_ci: tuple[float, float]
+    n_ci: tuple[float, float]
+    covariance: np.ndarray
+    log_covariance: np.ndarray
+    dof: int
+    absolute_sigma: bool
+
+    def __call__(self, load: ArrayLike) -> float | np.ndarray:
+        """Fitted ``mu`` at ``load`` (N)."""
+        f = as_loads(load, strict=True)
+        return _out(self.k * f ** (self.n - 1.0))
+
+
+def fit_power_law(loads: ArrayLike, mu: ArrayLike, sigma: ArrayLike | None = None) -> PowerLawFit:
+    """Fit ``mu = k F^(n-1)`` by weighted least squares on ``ln mu = ln k + (n-1) ln F``.
+
+    Why log-linear: the scatter of measured friction coefficients grows with their size
+    (multiplicative noise), which a fit in log space treats as constant; it is then linear, so
+    the estimate is unique and needs no starting guess. A given absolute ``sigma`` of mu is
+    carried into log space to first order, ``sigma_ln = sigma / mu``, and used as absolute
+    weights (normal 95 % intervals). Without ``sigma`` the log-space scatter is estimated from
+    the residuals (``s^2 = RSS / (N - 2)``) and the intervals use Student's t with N - 2 degrees
+    of freedom.
+
+    Parameters
+    ----------
+    loads
+        Normal loads F (N), positive.
+    mu
+        Friction coefficients, positive.
+    sigma
+        Optional standard deviations of ``mu`` (same shape), positive.
+
+    Returns
+    -------
+    PowerLawFit
+
+    Raises
+    ------
+    FingerpadError
+        Fewer than 3 points, mismatched shapes, NaN/inf, non-positive values, or all loads equal.
+    """
+    from scipy import stats
+
+    f = np.asarray(loads, dtype=float).ravel()
+    m = np.asarray(mu, dtype=float).ravel()
+    if f.shape != m.shape:
+        raise FingerpadError(f"loads and mu differ in length ({f.size} vs {m.size})")
+    if f.size < 3:
+        raise FingerpadError(f"a power-law fit needs at least 3 points, got {f.size}")
+    if not (np.all(np.isfinite(f)) and np.all(np.isfinite(m))):
+        raise FingerpadError("loads and mu must not hold NaN or infinite values")
+    if np.any(f <= 0) or np.any(m <= 0):
+        raise FingerpadError("loads and mu must be positive for a power-law fit")
+    if np.ptp(np.log(f)) == 0:
+        raise FingerpadError("a power-law fit needs at least two different loads")
+    if sigma is not None:
+        s = np.asarray(sigma, dtype=float).ravel()
+        if s.shape != m.shape:
+            raise FingerpadError(f"sigma and mu differ in length ({s.size} vs {m.size})")
+        if not np.all(np.isfinite(s)) or np.any(s <= 0):
+            raise FingerpadError("sigma must be finite and positive")
+        s_log = s / m
+    else:
+        s_log = np.ones_like(m)
+
+    x = np.log(f)
+    y = np.log(m)
+    design = np.column_stack([np.ones_like(x), x]) / s_log[:, None]
+    rhs = y / s_log
+    coef, *_ = np.linalg.lstsq(design, rhs, rcond=None)
+    dof = f.size - 2
+    cov = np.linalg.inv(design.T @ design)
+    if sigma is None:
+        resid = rhs - design @ coef
+        cov = cov * float(resid @ resid) / dof  # dof >= 1: at least 3 points
+        q = float(stats.t.ppf(0.975, dof))
+    else:
+        q = float(stats.norm.ppf(0.975))
+    ln_k, slope = (float(c) for c in coef)
+    se_lnk, se_n = (math.sqrt(max(v, 0.0)) for v in np.diag(cov))
+    k = math.exp(ln_k)
+    jac = np.diag([k, 1.0])  # d(k, n)/d(ln k, n - 1)
+    return PowerLawFit(
+        k=k,
+        n=slope + 1.0,
+        k_stderr=k * se_lnk,
+        n_stderr=se_n,
+        k_ci=(math.exp(ln_k - q * se_lnk), math.exp(ln_k + q * se_lnk)),
+        n_ci=(slope + 1.0 - q * se_n, slope + 1.0 + q * se_n),
+        covariance=jac @ cov @ jac.T,
+        log_covariance=cov,
+        dof=dof,
+        absolute_sigma=sigma is not None,
+    )
+
+
+__all__ = [
+    "PowerLawFit",
+    "adhesion_force",
+    "fit_power_law",
+    "friction_coefficient",
+    "friction_force",
+    "hysteresis_force",
+    "normalised_friction",
+    "reference_friction_coefficient",
+    "reference_real_area",
+    "shear_strength",
+]
