@@ -144,22 +144,40 @@ def _love_rectangle(x: np.ndarray, y: np.ndarray, a: float, b: float) -> np.ndar
 
 
 class _Operator:
-    """A linear elastic operator applied by FFT (Fourier multiplier, periodic or zero-padded)."""
+    """A symmetric linear elastic operator applied by FFT (periodic or zero-padded).
+
+    Besides ``A x`` it exposes the spectral pieces the solver combines to save transforms:
+    ``forward`` (the real FFT of a field, zero-padded for finite bodies), ``apply_hat`` (``A x``
+    from that spectrum) and ``quad`` (``t.A t`` from the spectrum of ``t`` by Parseval).
+    """
 
     def __init__(self, backend: _Backend, shape: tuple[int, int], multiplier: np.ndarray, padded: bool):
         self.b = backend
         self.shape = shape
         self.padded = padded
         self.fshape = (2 * shape[0], 2 * shape[1]) if padded else shape
-        self.multiplier = backend.xp.asarray(multiplier)
+        xp = backend.xp
+        self.multiplier = xp.asarray(multiplier)
+        # Parseval on the half spectrum: interior columns stand for two conjugate modes.
+        w = np.full(multiplier.shape, 2.0)
+        w[:, 0] = 1.0
+        if self.fshape[1] % 2 == 0:
+            w[:, -1] = 1.0
+        self.quad_weights = xp.asarray(w * np.real(multiplier) / (self.fshape[0] * self.fshape[1]))
+
+    def forward(self, x: Any) -> Any:
+        return self.b.rfft2(x, s=self.fshape) if self.padded else self.b.rfft2(x)
+
+    def apply_hat(self, xh: Any) -> Any:
+        out = self.b.irfft2(xh * self.multiplier, s=self.fshape)
+        return out[: self.shape[0], : self.shape[1]] if self.padded else out
+
+    def quad(self, th: Any) -> float:
+        xp = self.b.xp
+        return float(xp.sum(self.quad_weights * (xp.real(th) ** 2 + xp.imag(th) ** 2)))
 
     def __call__(self, x: Any) -> Any:
-        b = self.b
-        if self.padded:
-            spec = b.rfft2(x, s=self.fshape)  # zero-pads to the doubled grid
-            out = b.irfft2(spec * self.multiplier, s=self.fshape)
-            return out[: self.shape[0], : self.shape[1]]
-        return b.irfft2(b.rfft2(x) * self.multiplier, s=self.shape)
+        return self.apply_hat(self.forward(x))
 
 
 def _compliance(backend: _Backend, texture: Texture, modulus: float) -> _Operator:
@@ -273,7 +291,7 @@ class _Raw:
 
 def _ccg(
     xp: Any,
-    apply: Callable[[Any], Any],
+    op: _Operator,
     b: Any,
     x0: Any,
     *,
@@ -287,16 +305,24 @@ def _ccg(
 
     Polonsky-Keer constrained conjugate gradient: conjugate directions on the free set
     ``x > 0``, projection onto ``x >= 0``, bound points with a descent gradient released by a
-    steepest-descent step (which restarts conjugacy), and for the mean constraint a Lagrange
-    multiplier (the mean gradient on the free set) plus a rescaling. ``A x`` is carried along
-    and updated by linearity; it is recomputed only when the projection changed ``x`` off the
-    straight step. With ``stall``, give up (not converged) once the residual has not halved for
-    that many iterations: degenerate active sets (a flat base just touching) can make one
-    formulation cycle while the other converges at once.
+    steepest-descent step (which restarts conjugacy). With the mean constraint the direction is
+    centred on the free set, so the straight step keeps the mean and the multiplier is the mean
+    gradient on the free set; after a projection the iterate is rescaled to the mean.
+
+    Transforms per iteration: the forward FFT of the direction ``t`` gives ``t.A t`` by
+    Parseval (exact line search); the spectrum of ``x`` follows by linearity and one inverse FFT
+    gives ``A x``. Only when the projection moved ``x`` off the straight step is ``x``
+    transformed afresh: one FFT pair per settled iteration, one and a half otherwise.
+
+    With ``stall``, give up (not converged) once the residual has not halved for that many
+    iterations: degenerate active sets (a flat base just touching) can make one formulation
+    cycle while the other converges at once.
     """
     n = x0.size
     x = x0
-    ax = apply(x)
+    xh = op.forward(x)
+    ax = op.apply_hat(xh)
+    fresh = True  # ax computed from x itself (not by linear updates)
     t = xp.zeros_like(x)
     g_old = 1.0
     restart = True
@@ -304,7 +330,7 @@ def _ccg(
     residual = math.inf
     best, best_it = math.inf, 0
     it = 0
-    for it in range(1, max_iter + 1):
+    while it <= max_iter:
         free = x > 0
         r = ax - b
         nfree = int(xp.sum(free))
@@ -312,12 +338,21 @@ def _ccg(
             lam = float(xp.sum(xp.where(free, r, 0.0))) / nfree
             r = r - lam
         rf = xp.where(free, r, 0.0)
-        g = float(xp.sum(rf * rf))
+        g = float(xp.vecdot(xp.reshape(rf, (-1,)), xp.reshape(rf, (-1,))))
         # KKT: zero gradient on the free set, non-negative gradient on the bound set.
         viol = xp.where(free, 0.0, xp.minimum(r, 0.0))
         residual = math.sqrt((g + float(xp.sum(viol * viol))) / n) / scale
         if residual < tol:
-            return _Raw(x, it - 1, residual, True, lam)
+            if fresh:
+                return _Raw(x, it, residual, True, lam)
+            # Confirm on A x recomputed from x: linear updates carry rounding drift.
+            xh = op.forward(x)
+            ax = op.apply_hat(xh)
+            fresh = True
+            continue
+        it += 1
+        if it > max_iter:
+            break
         if residual < 0.5 * best:
             best, best_it = residual, it
         elif stall is not None and it - best_it > stall:
@@ -326,27 +361,28 @@ def _ccg(
             # Every point at its bound: release those with a descent gradient by a projected
             # steepest-descent step of exact length.
             t = xp.minimum(r, 0.0)
-            at = apply(t)
-            denom = float(xp.sum(at * t))
-            if denom <= 0:
+            tat = op.quad(op.forward(t))
+            if tat <= 0:
                 return _Raw(x, it, residual, False, lam)
-            x = xp.maximum(x - (float(xp.sum(r * t)) / denom) * t, 0.0)
+            x = xp.maximum(x - (float(xp.sum(r * t)) / tat) * t, 0.0)
             if mean is not None:
                 x = x * (mean / float(xp.mean(x)))
-            ax = apply(x)
+            xh = op.forward(x)
+            ax = op.apply_hat(xh)
+            fresh = True
             restart = True
             continue
         beta = 0.0 if restart else g / g_old
         t = rf + beta * t if beta else rf
+        if mean is not None:
+            # Feasible directions keep the mean: centre t on the free set.
+            t = xp.where(free, t - float(xp.sum(t)) / nfree, 0.0)
         g_old = g
-        at = apply(t)
-        # With a mean constraint the step must not change the multiplier's constant: use the
-        # free-set-centred operator for the step length (Polonsky-Keer).
-        at_c = at - float(xp.sum(xp.where(free, at, 0.0))) / nfree if mean is not None else at
-        denom = float(xp.sum(at_c * t))
-        if denom <= 0:
+        th = op.forward(t)
+        tat = op.quad(th)
+        if tat <= 0:
             return _Raw(x, it, residual, False, lam)
-        tau = float(xp.sum(rf * t)) / denom
+        tau = float(xp.sum(rf * t)) / tat
         step = x - tau * t
         clipped = bool(xp.any(step < 0))
         enter = (~free) & (r < 0)
@@ -355,20 +391,20 @@ def _ccg(
             step = xp.maximum(step, 0.0)
         if entering:
             step = xp.where(enter, -tau * r, step)
-        factor = 1.0
-        if mean is not None:
-            m = float(xp.mean(step))
-            if m <= 0:
-                return _Raw(x, it, residual, False, lam)
-            factor = mean / m
-            step = step * factor
-        # A x follows by linearity unless the projection moved x off the straight step.
-        ax = apply(step) if (clipped or entering) else (ax - tau * at) * factor
+        if clipped or entering:
+            if mean is not None:
+                step = step * (mean / float(xp.mean(step)))
+            xh = op.forward(step)
+            fresh = True
+        else:
+            xh = xh - tau * th
+            fresh = False
+        ax = op.apply_hat(xh)
         # Restart conjugacy whenever the active set changed (Polonsky-Keer reset only on entry;
         # resetting on clipping too keeps the directions consistent with the current face).
         restart = (clipped and RESET_ON_CLIP) or entering
         x = step
-    return _Raw(x, it, residual, False, lam)
+    return _Raw(x, max_iter, residual, False, lam)
 
 
 # --------------------------------------------------------------------------------------------
