@@ -1,0 +1,432 @@
+"""Saving solutions as NetCDF (xarray + h5netcdf) and writing files atomically.
+
+Layout of a saved unit-cell solution (all SI, every variable carries a ``units`` attribute):
+
+* coordinates ``x`` (nx,) and ``y`` (ny,): pixel positions in m;
+* fields ``pressure`` (Pa), ``gap`` (m), ``displacement`` (m), ``contact`` (1 = in contact,
+  ``pressure > 0``) on ``(x, y)`` -- with a leading ``mean_pressure`` dimension (Pa) when several
+  loads are saved together (:func:`save_results`, :func:`save_load_curve`);
+* ``heights`` (m) on ``(x, y)``: the texture, never stacked;
+* scalar results ``mean_pressure``, ``approach``, ``contact_fraction``, ``real_contact_area``,
+  ``max_pressure``, ``mean_gap``, ``iterations``, ``residual``, ``converged`` (0/1), ``seconds``,
+  ``contact_state`` (0-d, or 1-D along ``mean_pressure``);
+* ``formulation`` (string, per result): the solver formulation used (primal or dual);
+* global attributes: every input (``texture_name``, ``texture_<param>``, ``texture_size_x/_y``,
+  ``texture_nx/_ny``, ``texture_periodic``, ``modulus``, ``tol``) and whatever the caller passes in
+  ``attrs``. NetCDF attributes hold only strings and numbers, so ``None`` becomes ``"none"``,
+  booleans ``"true"``/``"false"``, nested dicts are flattened to ``outer_inner`` keys and lists of
+  non-numbers are stored as JSON text.
+
+Every writer goes through :func:`atomic_write`: the file is written to a temporary name in the
+target directory and moved into place with :func:`os.replace` only once complete, so an error
+never leaves a partial file behind.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import math
+import os
+import re
+import tempfile
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import FingerpadError
+
+ENGINE = "h5netcdf"
+
+#: Scalar results of a ContactResult: name -> (units, long name).
+SCALARS: dict[str, tuple[str, str]] = {
+    "mean_pressure": ("Pa", "mean (nominal) pressure over the unit cell"),
+    "approach": ("m", "rigid-body approach of the skin"),
+    "contact_fraction": ("1", "real-to-nominal contact area ratio psi"),
+    "real_contact_area": ("m2", "real contact area in the whole cell"),
+    "max_pressure": ("Pa", "largest local contact pressure"),
+    "mean_gap": ("m", "mean gap between skin and texture"),
+    "iterations": ("1", "solver iterations"),
+    "residual": ("1", "final relative residual"),
+    "converged": ("1", "1 if the solver reached its tolerance"),
+    "seconds": ("s", "wall-clock solve time"),
+}
+
+#: Fields of a ContactResult: name -> (units, long name).
+FIELDS: dict[str, tuple[str, str]] = {
+    "pressure": ("Pa", "local contact pressure"),
+    "gap": ("m", "gap between deformed skin and texture"),
+    "displacement": ("m", "normal surface displacement of the skin"),
+}
+
+
+# ---------------------------------------------------------------------------------------------
+# atomic writes
+# ---------------------------------------------------------------------------------------------
+
+
+def check_writable(path: str | os.PathLike[str], what: str = "output") -> Path:
+    """Raise a :class:`FingerpadError` early if ``path`` cannot be written (missing directory,
+    path is a directory, directory not writable). Returns the path."""
+    p = Path(path)
+    parent = p.parent if str(p.parent) else Path(".")
+    if p.is_dir():
+        raise FingerpadError(f"{what} {str(p)!r} is a directory, expected a file name")
+    if not parent.is_dir():
+        raise FingerpadError(f"cannot write {what} {str(p)!r}: directory {str(parent)!r} does not exist")
+    if not os.access(parent, os.W_OK):
+        raise FingerpadError(f"cannot write {what} {str(p)!r}: directory {str(parent)!r} is not writable")
+    return p
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
+    """Yield a temporary path next to ``path``; on normal exit move it onto ``path``.
+
+    On an exception the temporary file is removed and ``path`` is left untouched.
+    """
+    target = Path(path)
+    check_writable(target)
+    fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent or ".")
+    os.close(fd)
+    tmp = Path(tmp_name)
+    try:
+        yield tmp
+        with contextlib.suppress(OSError):
+            os.chmod(tmp, 0o666 & ~_umask())
+        os.replace(tmp, target)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        raise
+
+
+def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], Any]) -> Path:
+    """Call ``writer(tmp_path)`` and move the file onto ``path`` only if it succeeds."""
+    with atomic_path(path) as tmp:
+        try:
+            writer(tmp)
+        except OSError as exc:
+            raise FingerpadError(f"cannot write {str(path)!r}: {exc.strerror or exc}") from exc
+    return Path(path)
+
+
+def write_text(path: str | os.PathLike[str], text: str) -> Path:
+    """Atomically write ``text`` (UTF-8) to ``path``."""
+    return atomic_write(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+
+
+# ---------------------------------------------------------------------------------------------
+# attributes
+# ---------------------------------------------------------------------------------------------
+
+_BAD_KEY = re.compile(r"[^A-Za-z0-9_]+")
+
+
+def _attr_key(key: Any) -> str:
+    text = _BAD_KEY.sub("_", str(key)).strip("_")
+    if not text:
+        text = "attr"
+    if text[0].isdigit():
+        text = "_" + text
+    return text
+
+
+def _attr_value(value: Any) -> str | int | float | np.ndarray:
+    """Convert one value to something NetCDF accepts as an attribute."""
+    if value is None:
+        return "none"
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        return v if math.isfinite(v) else str(v)
+    if isinstance(value, str):
+        return value
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    if isinstance(value, np.ndarray) and value.dtype.kind in "iuf" and value.ndim <= 1:
+        if value.size == 0:
+            return "[]"
+        return value.astype(float if value.dtype.kind == "f" else np.int64)
+    if isinstance(value, (list, tuple, np.ndarray)):
+        items = list(value)
+        if items and all(
+            isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_))
+            for v in items
+        ):
+            arr = np.asarray(items, dtype=float)
+            if np.all(np.isfinite(arr)):
+                return arr
+        return json.dumps(_jsonable(items))
+    return str(value)
+
+
+def _jsonable(value: Any) -> Any:
+    """Recursively convert numpy scalars/arrays, paths and non-finite floats for json.dumps."""
+    if isinstance(value, Mapping):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _jsonable(value.tolist())
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    if value is None or isinstance(value, str):
+        return value
+    return str(value)
+
+
+def to_jsonable(value: Any) -> Any:
+    """Public alias of the JSON conversion used by the command line (NaN/inf -> None)."""
+    return _jsonable(value)
+
+
+def flatten_attrs(attrs: Mapping[str, Any] | None, prefix: str = "") -> dict[str, Any]:
+    """Flatten ``attrs`` (nested dicts joined with ``_``) into NetCDF-safe attributes."""
+    out: dict[str, Any] = {}
+    for key, value in (attrs or {}).items():
+        name = _attr_key(f"{prefix}_{key}" if prefix else key)
+        if isinstance(value, Mapping):
+            if value:
+                out.update(flatten_attrs(value, name))
+            else:
+                out[name] = "{}"
+        else:
+            out[name] = _attr_value(value)
+    return out
+
+
+def _input_attrs(result: Any) -> dict[str, Any]:
+    texture = result.texture
+    attrs: dict[str, Any] = {
+        "texture_name": getattr(texture, "name", "custom"),
+        "texture_size_x": float(texture.size[0]),
+        "texture_size_y": float(texture.size[1]),
+        "texture_nx": int(texture.shape[0]),
+        "texture_ny": int(texture.shape[1]),
+        "texture_periodic": bool(texture.periodic),
+        "modulus": float(result.modulus),
+        "tol": float(result.tol),
+    }
+    for key, value in dict(getattr(texture, "params", {}) or {}).items():
+        if isinstance(value, Mapping):
+            attrs.update(flatten_attrs(value, f"texture_{key}"))
+        else:
+            attrs[f"texture_{key}"] = value
+    return attrs
+
+
+def _global_attrs(result: Any, attrs: Mapping[str, Any] | None, title: str) -> dict[str, Any]:
+    from . import __version__
+
+    merged = {
+        "title": title,
+        "Conventions": "CF-1.8",
+        "source": f"fingerpad {__version__}",
+        "units_system": "SI",
+    }
+    merged.update(flatten_attrs(_input_attrs(result)))
+    merged.update(flatten_attrs(attrs))
+    return merged
+
+
+# ---------------------------------------------------------------------------------------------
+# datasets
+# ---------------------------------------------------------------------------------------------
+
+
+def _coords(texture: Any) -> dict[str, Any]:
+    import xarray as xr
+
+    x, y = texture.coordinates()
+    return {
+        "x": xr.Variable("x", np.asarray(x, float), {"units": "m", "long_name": "x position of pixel"}),
+        "y": xr.Variable("y", np.asarray(y, float), {"units": "m", "long_name": "y position of pixel"}),
+    }
+
+
+def _check_result(result: Any) -> None:
+    missing = [n for n in ("pressure", "gap", "displacement", "texture", "modulus", "tol") if not hasattr(result, n)]
+    if missing:
+        raise FingerpadError(f"not a contact result (missing {', '.join(missing)})")
+
+
+def result_dataset(result: Any, attrs: Mapping[str, Any] | None = None):
+    """The :class:`xarray.Dataset` of one contact result (see the module docstring)."""
+    import xarray as xr
+
+    _check_result(result)
+    dims = ("x", "y")
+    data: dict[str, Any] = {}
+    for name, (units, long_name) in FIELDS.items():
+        data[name] = xr.Variable(dims, np.asarray(getattr(result, name), float), {"units": units, "long_name": long_name})
+    data["contact"] = xr.Variable(
+        dims,
+        (np.asarray(result.pressure) > 0).astype(np.int8),
+        {"units": "1", "long_name": "contact mask (1 where pressure > 0)"},
+    )
+    data["heights"] = xr.Variable(
+        dims, np.asarray(result.texture.heights, float), {"units": "m", "long_name": "texture height (toward the skin)"}
+    )
+    for name, (units, long_name) in SCALARS.items():
+        value = getattr(result, name, np.nan)
+        if name == "converged":
+            value = np.int8(bool(value))
+        elif name == "iterations":
+            value = np.int64(value)
+        else:
+            value = float(value)
+        data[name] = xr.Variable((), value, {"units": units, "long_name": long_name})
+    data["contact_state"] = xr.Variable(
+        (), str(getattr(result, "contact_state", "")), {"units": "1", "long_name": "contact state: asperity, transition or full"}
+    )
+    data["formulation"] = xr.Variable(
+        (), str(getattr(result, "formulation", "")), {"units": "1", "long_name": "solver formulation used (primal or dual)"}
+    )
+    return xr.Dataset(data, coords=_coords(result.texture), attrs=_global_attrs(result, attrs, "fingerpad unit-cell contact solution"))
+
+
+def results_dataset(results: Sequence[Any], attrs: Mapping[str, Any] | None = None):
+    """Several results on the same texture, stacked along a ``mean_pressure`` dimension."""
+    import xarray as xr
+
+    results = list(results)
+    if not results:
+        raise FingerpadError("no results to save")
+    for r in results:
+        _check_result(r)
+    first = results[0]
+    shape = first.texture.shape
+    for r in results[1:]:
+        if r.texture.shape != shape or r.texture.size != first.texture.size:
+            raise FingerpadError("results to save together must share one texture (same grid and size)")
+    dims = ("mean_pressure", "x", "y")
+    mp = np.array([float(r.mean_pressure) for r in results])
+    data: dict[str, Any] = {}
+    for name, (units, long_name) in FIELDS.items():
+        stack = np.stack([np.asarray(getattr(r, name), float) for r in results])
+        data[name] = xr.Variable(dims, stack, {"units": units, "long_name": long_name})
+    data["contact"] = xr.Variable(
+        dims,
+        np.stack([(np.asarray(r.pressure) > 0) for r in results]).astype(np.int8),
+        {"units": "1", "long_name": "contact mask (1 where pressure > 0)"},
+    )
+    data["heights"] = xr.Variable(
+        ("x", "y"), np.asarray(first.texture.heights, float), {"units": "m", "long_name": "texture height (toward the skin)"}
+    )
+    for name, (units, long_name) in SCALARS.items():
+        if name == "mean_pressure":
+            continue
+        values = [getattr(r, name, np.nan) for r in results]
+        if name == "converged":
+            arr = np.array([bool(v) for v in values], dtype=np.int8)
+        elif name == "iterations":
+            arr = np.array(values, dtype=np.int64)
+        else:
+            arr = np.array(values, dtype=float)
+        data[name] = xr.Variable(("mean_pressure",), arr, {"units": units, "long_name": long_name})
+    data["contact_state"] = xr.Variable(
+        ("mean_pressure",),
+        np.array([str(getattr(r, "contact_state", "")) for r in results], dtype=object),
+        {"units": "1", "long_name": "contact state: asperity, transition or full"},
+    )
+    data["formulation"] = xr.Variable(
+        ("mean_pressure",),
+        np.array([str(getattr(r, "formulation", "")) for r in results], dtype=object),
+        {"units": "1", "long_name": "solver formulation used (primal or dual)"},
+    )
+    coords = _coords(first.texture)
+    coords["mean_pressure"] = xr.Variable(
+        "mean_pressure", mp, {"units": "Pa", "long_name": SCALARS["mean_pressure"][1]}
+    )
+    return xr.Dataset(data, coords=coords, attrs=_global_attrs(first, attrs, "fingerpad unit-cell load curve"))
+
+
+def _to_netcdf(ds: Any, path: str | os.PathLike[str]) -> Path:
+    encoding: dict[str, dict[str, Any]] = {}
+    for name, var in ds.variables.items():
+        if var.dtype == object:
+            encoding[name] = {"dtype": str}
+        elif var.ndim >= 2:
+            # Contact fields are mostly zeros or smooth: gzip shrinks them several times.
+            encoding[name] = {"zlib": True, "complevel": 4}
+    return atomic_write(path, lambda tmp: ds.to_netcdf(tmp, engine=ENGINE, encoding=encoding or None))
+
+
+def save_result(result: Any, path: str | os.PathLike[str], attrs: Mapping[str, Any] | None = None) -> Path:
+    """Write one :class:`~fingerpad.halfspace.ContactResult` to NetCDF (atomically).
+
+    ``attrs`` (any JSON-like mapping) is added to the global attributes after conversion.
+    """
+    return _to_netcdf(result_dataset(result, attrs), path)
+
+
+def save_results(results: Sequence[Any], path: str | os.PathLike[str], attrs: Mapping[str, Any] | None = None) -> Path:
+    """Write several results on one texture, stacked along ``mean_pressure`` (atomically)."""
+    return _to_netcdf(results_dataset(results, attrs), path)
+
+
+def load_curve_dataset(curve: Any, attrs: Mapping[str, Any] | None = None):
+    """Dataset of a :class:`~fingerpad.unitcell.LoadCurve` (fields stacked by mean pressure)."""
+    import xarray as xr
+
+    results = list(getattr(curve, "results", None) or [])
+    if results:
+        return results_dataset(results, attrs)
+    # A curve without kept fields: scalar arrays only.
+    mp = np.asarray(curve.mean_pressure, float)
+    if mp.size == 0:
+        raise FingerpadError("empty load curve: nothing to save")
+    data = {}
+    for name in ("contact_fraction", "mean_gap", "max_pressure", "iterations", "converged", "seconds"):
+        units, long_name = SCALARS[name]
+        arr = np.asarray(getattr(curve, name))
+        if name == "converged":
+            arr = arr.astype(bool).astype(np.int8)
+        data[name] = xr.Variable(("mean_pressure",), arr, {"units": units, "long_name": long_name})
+    data["contact_state"] = xr.Variable(
+        ("mean_pressure",), np.array([str(s) for s in curve.contact_state], dtype=object),
+        {"units": "1", "long_name": "contact state: asperity, transition or full"},
+    )
+    coords = {"mean_pressure": xr.Variable("mean_pressure", mp, {"units": "Pa", "long_name": SCALARS["mean_pressure"][1]})}
+    from . import __version__
+
+    g = {"title": "fingerpad unit-cell load curve", "Conventions": "CF-1.8", "source": f"fingerpad {__version__}"}
+    g.update(flatten_attrs(attrs))
+    return xr.Dataset(data, coords=coords, attrs=g)
+
+
+def save_load_curve(curve: Any, path: str | os.PathLike[str], attrs: Mapping[str, Any] | None = None) -> Path:
+    """Write a :class:`~fingerpad.unitcell.LoadCurve` to NetCDF (atomically)."""
+    return _to_netcdf(load_curve_dataset(curve, attrs), path)
+
+
+def load_dataset(path: str | os.PathLike[str]):
+    """Read a file written by this module fully into memory (the file is closed on return)."""
+    import xarray as xr
+
+    p = Path(path)
+    if not p.is_file():
+        raise FingerpadError(f"cannot read {str(p)!r}: no such file")
+    try:
+        return xr.load_dataset(p, engine=ENGINE)
+    except OSError as exc:
+        raise FingerpadError(f"cannot read {str(p)!r} as NetCDF: {exc}") from exc
