@@ -780,8 +780,13 @@ def ridge_model_curves(
     ridge_radius: float = 0.1e-3,
     fraction: float = 0.5,
     power_exponent: float = 0.45,
+    bem_loads: ArrayLike | None = None,
 ) -> dict[str, np.ndarray]:
     """Gross and ridge areas (m^2) of every model on the same inputs, for a plot or a table.
+
+    With ``bem_loads`` the BEM fingerprint model (:class:`fingerpad.fingerprint.FingerprintBEMRidges`,
+    whorl ridges of the same wavelength and height, width 2/3 of the wavelength) is solved at
+    those loads (a few seconds each) and returned as ``BEM load`` / ``BEM``.
 
     The power-law ridge model is anchored to the constant-fraction one at 1 N
     (``k = fraction * A_g(1 N)``) with the mid-range exponent ``power_exponent``.
@@ -805,6 +810,16 @@ def ridge_model_curves(
     out = {"load": f, "gross (Hertz)": ag}
     for label, model in models.items():
         out[label] = np.asarray(model.area(f, ag))
+    if bem_loads is not None:
+        from .fingerprint import FingerprintBEMRidges
+
+        fb = as_loads(bem_loads, strict=True).ravel()
+        bem = FingerprintBEMRidges(
+            pad_radius=radius, modulus=skin_modulus, wavelength=wavelength, width=2 * wavelength / 3,
+            height=2 * amplitude, max_load=float(fb.max()),
+        )
+        out["BEM load"] = fb
+        out["BEM"] = np.asarray(bem.area(fb))
     return out
 
 
@@ -817,6 +832,7 @@ def ridge_models_figure(
     wavelength: float = 0.45e-3,
     amplitude: float = 30e-6,
     ridge_radius: float = 0.1e-3,
+    bem_loads: ArrayLike | None = None,
     dpi: int = 120,
 ) -> Path:
     """Plot gross area and the ridge-area models against load (idea of thesis Fig. 2.4).
@@ -831,6 +847,8 @@ def ridge_models_figure(
         Output PNG path.
     loads
         Loads, N (default 30 log-spaced from 0.1 to 4 N, the exploration range).
+    bem_loads
+        Loads at which to add the BEM fingerprint model (markers; seconds per load).
 
     Returns
     -------
@@ -845,9 +863,10 @@ def ridge_models_figure(
         loads = np.geomspace(0.1, 4.0, 30)
     curves = ridge_model_curves(
         loads, skin_modulus=skin_modulus, radius=radius, wavelength=wavelength,
-        amplitude=amplitude, ridge_radius=ridge_radius,
+        amplitude=amplitude, ridge_radius=ridge_radius, bem_loads=bem_loads,
     )
     f = curves.pop("load")
+    bem_f, bem_a = curves.pop("BEM load", None), curves.pop("BEM", None)
     order = np.argsort(f)
     ag = curves["gross (Hertz)"]
     fig = Figure(figsize=(10, 4.2), layout="constrained")
@@ -857,6 +876,10 @@ def ridge_models_figure(
         ax_area.plot(f[order], area[order] * 1e6, style, label=label)
         if not label.startswith("gross"):
             ax_frac.plot(f[order], (area / ag)[order] * 100, "-", label=label)
+    if bem_f is not None:
+        hertz_bem = HertzArea(radius, skin_modulus).area(bem_f)
+        ax_area.plot(bem_f, bem_a * 1e6, "ko", mfc="none", label="BEM fingerprint")
+        ax_frac.plot(bem_f, bem_a / hertz_bem * 100, "ko", mfc="none", label="BEM fingerprint")
     ax_area.set_xlabel("normal load F (N)")
     ax_area.set_ylabel("contact area (mm²)")
     ax_area.set_title("gross and ridge contact area")
