@@ -279,3 +279,15 @@ def test_bad_numerics() -> None:
         HalfSpaceSolver(tex, E).solve_approach(1.0)
     with pytest.raises(FingerpadError, match="periodic"):
         HalfSpaceSolver(paraboloid(32, 1e-4, 1e-3, periodic=False), E, formulation="dual")
+
+
+@pytest.mark.parametrize("formulation", ["primal", "dual"])
+def test_compiled_kernels_match_array_kernels(formulation: str) -> None:
+    pytest.importorskip("numba")
+    tex = random_rough(64, 1e-4, 1e-6, seed=5)
+    pbar = 0.3 * E * tex.peak_to_valley / tex.size[0]
+    a = HalfSpaceSolver(tex, E, formulation=formulation, kernels="array").solve_pressure(pbar)
+    b = HalfSpaceSolver(tex, E, formulation=formulation, kernels="numba").solve_pressure(pbar)
+    assert a.iterations == b.iterations
+    assert np.array_equal(a.contact, b.contact)
+    np.testing.assert_allclose(a.pressure, b.pressure, rtol=0, atol=1e-9 * a.max_pressure)

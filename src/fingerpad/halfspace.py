@@ -58,6 +58,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from ._kernels import ArrayKernels, kernels_for
 from .errors import FingerpadError
 from .materials import check_modulus
 from .textures import Texture
@@ -75,7 +76,9 @@ _COARSE_MIN = 64
 RESET_ON_CLIP = True
 #: In auto mode a formulation whose residual has not halved for this many iterations hands over
 #: to the other one.
-STALL_ITERATIONS = 150  # do not coarsen below this many points along an axis
+STALL_ITERATIONS = 150
+#: Grids from this many points on use the compiled kernels (their load time is ~2 s).
+NUMBA_MIN_SIZE = 512 * 512  # do not coarsen below this many points along an axis
 
 
 # --------------------------------------------------------------------------------------------
@@ -290,7 +293,7 @@ class _Raw:
 
 
 def _ccg(
-    xp: Any,
+    kern: ArrayKernels,
     op: _Operator,
     b: Any,
     x0: Any,
@@ -312,14 +315,16 @@ def _ccg(
     Transforms per iteration: the forward FFT of the direction ``t`` gives ``t.A t`` by
     Parseval (exact line search); the spectrum of ``x`` follows by linearity and one inverse FFT
     gives ``A x``. Only when the projection moved ``x`` off the straight step is ``x``
-    transformed afresh: one FFT pair per settled iteration, one and a half otherwise.
+    transformed afresh: one FFT pair per settled iteration, one and a half otherwise. The
+    element-wise work is fused into a few passes (:mod:`fingerpad._kernels`).
 
     With ``stall``, give up (not converged) once the residual has not halved for that many
     iterations: degenerate active sets (a flat base just touching) can make one formulation
     cycle while the other converges at once.
     """
+    xp = kern.xp
     n = x0.size
-    x = x0
+    x = xp.asarray(x0, copy=True)  # updated in place by the kernels
     xh = op.forward(x)
     ax = op.apply_hat(xh)
     fresh = True  # ax computed from x itself (not by linear updates)
@@ -331,17 +336,16 @@ def _ccg(
     best, best_it = math.inf, 0
     it = 0
     while it <= max_iter:
-        free = x > 0
-        r = ax - b
-        nfree = int(xp.sum(free))
+        nfree, s1, s2 = kern.free_stats(ax, b, x, lam if mean is not None else 0.0)
         if mean is not None and nfree > 0:
-            lam = float(xp.sum(xp.where(free, r, 0.0))) / nfree
-            r = r - lam
-        rf = xp.where(free, r, 0.0)
-        g = float(xp.vecdot(xp.reshape(rf, (-1,)), xp.reshape(rf, (-1,))))
+            lam += s1 / nfree
+            g = max(s2 - s1 * s1 / nfree, 0.0)
+        else:
+            g = s2
+        beta = 0.0 if (restart or nfree == 0) else g / g_old
+        t, viol2, sum_t, rf_t = kern.direction(ax, b, x, lam, t, beta)
         # KKT: zero gradient on the free set, non-negative gradient on the bound set.
-        viol = xp.where(free, 0.0, xp.minimum(r, 0.0))
-        residual = math.sqrt((g + float(xp.sum(viol * viol))) / n) / scale
+        residual = math.sqrt((g + viol2) / n) / scale
         if residual < tol:
             if fresh:
                 return _Raw(x, it, residual, True, lam)
@@ -349,6 +353,7 @@ def _ccg(
             xh = op.forward(x)
             ax = op.apply_hat(xh)
             fresh = True
+            restart = True
             continue
         it += 1
         if it > max_iter:
@@ -360,6 +365,7 @@ def _ccg(
         if nfree == 0:
             # Every point at its bound: release those with a descent gradient by a projected
             # steepest-descent step of exact length.
+            r = ax - b - lam
             t = xp.minimum(r, 0.0)
             tat = op.quad(op.forward(t))
             if tat <= 0:
@@ -371,39 +377,31 @@ def _ccg(
             ax = op.apply_hat(xh)
             fresh = True
             restart = True
+            t = xp.zeros_like(x)
             continue
-        beta = 0.0 if restart else g / g_old
-        t = rf + beta * t if beta else rf
         if mean is not None:
-            # Feasible directions keep the mean: centre t on the free set.
-            t = xp.where(free, t - float(xp.sum(t)) / nfree, 0.0)
+            # Feasible directions keep the mean: centre t on the free set. r_free sums to zero
+            # there, so r_free . t is unchanged.
+            t = kern.centre(t, x, sum_t / nfree)
         g_old = g
         th = op.forward(t)
-        tat = op.quad(th)
+        tat = kern.quad(op.quad_weights, th)
         if tat <= 0:
             return _Raw(x, it, residual, False, lam)
-        tau = float(xp.sum(rf * t)) / tat
-        step = x - tau * t
-        clipped = bool(xp.any(step < 0))
-        enter = (~free) & (r < 0)
-        entering = bool(xp.any(enter))
-        if clipped:
-            step = xp.maximum(step, 0.0)
-        if entering:
-            step = xp.where(enter, -tau * r, step)
+        tau = rf_t / tat
+        x, clipped, entering, total = kern.step(x, t, tau, ax, b, lam)
         if clipped or entering:
             if mean is not None:
-                step = step * (mean / float(xp.mean(step)))
-            xh = op.forward(step)
+                x = kern.scale(x, mean * n / total)
+            xh = op.forward(x)
             fresh = True
         else:
-            xh = xh - tau * th
+            xh = kern.axpy_spectrum(xh, tau, th)
             fresh = False
         ax = op.apply_hat(xh)
         # Restart conjugacy whenever the active set changed (Polonsky-Keer reset only on entry;
         # resetting on clipping too keeps the directions consistent with the current face).
         restart = (clipped and RESET_ON_CLIP) or entering
-        x = step
     return _Raw(x, max_iter, residual, False, lam)
 
 
@@ -431,6 +429,12 @@ class HalfSpaceSolver:
         Start cold solves from a coarse-grid solution.
     xp
         Array namespace (default: NumPy). A GPU namespace runs the same code.
+    workers
+        FFT threads (default: all cores).
+    kernels
+        ``"auto"``: fused Numba loops for NumPy grids of at least :data:`NUMBA_MIN_SIZE` points
+        when Numba is installed; ``"numba"``: always those; ``"array"``: plain array-namespace
+        operations.
     """
 
     def __init__(
@@ -444,6 +448,7 @@ class HalfSpaceSolver:
         coarse_to_fine: bool = True,
         xp: Any = None,
         workers: int | None = None,
+        kernels: str = "auto",
     ) -> None:
         if not isinstance(texture, Texture):
             raise FingerpadError("texture must be a fingerpad.Texture")
@@ -476,6 +481,12 @@ class HalfSpaceSolver:
         self._S = _stiffness(self.backend, texture, self.modulus) if texture.periodic else None
         self._Sh = self._S(self.h) if self._S is not None else None
         self._xp = xp_
+        if kernels not in ("auto", "array", "numba"):
+            raise FingerpadError(f"kernels must be auto, array or numba, got {kernels!r}")
+        self._kernels_choice = kernels
+        # Compiled kernels pay a one-off load (seconds) that small grids never earn back.
+        use_numba = self.backend.is_numpy and (kernels == "numba" or (kernels == "auto" and h.size >= NUMBA_MIN_SIZE))
+        self._kern = kernels_for(xp_, use_numba)
         self._coarse: HalfSpaceSolver | None = None
 
     # ---------------------------------------------------------------- public API
@@ -525,7 +536,7 @@ class HalfSpaceSolver:
             self._coarse = HalfSpaceSolver(
                 tex, self.modulus, tol=max(self.tol, 1e-6) * 10, max_iter=self.max_iter,
                 formulation=self.formulation, coarse_to_fine=True, xp=self.backend.xp,
-                workers=self.backend.workers,
+                workers=self.backend.workers, kernels=self._kernels_choice,
             )
             self._coarse_fy = fy
         return self._coarse
@@ -577,25 +588,25 @@ class HalfSpaceSolver:
                 x0 = xp.maximum(x0, 0.0)
                 m = float(xp.mean(x0))
                 x0 = x0 * (value / m) if m > 0 else xp.full(self.h.shape, value)
-                return _ccg(xp, self._K, b, x0, mean=value, scale=self.pv, tol=self.tol, max_iter=self.max_iter, stall=stall)
+                return _ccg(self._kern, self._K, b, x0, mean=value, scale=self.pv, tol=self.tol, max_iter=self.max_iter, stall=stall)
             b = self.h - (self.h_max - value)
             if seed is not None:
                 x0 = xp.maximum(be.asarray(seed.pressure), 0.0)
             else:
                 x0 = xp.where(b > 0, b, 0.0) * (self.modulus / max(self.texture.size) * 4)
-            return _ccg(xp, self._K, b, x0, mean=None, scale=self.pv, tol=self.tol, max_iter=self.max_iter, stall=stall)
+            return _ccg(self._kern, self._K, b, x0, mean=None, scale=self.pv, tol=self.tol, max_iter=self.max_iter, stall=stall)
         # dual: unknown gap, gradient = pressure
         if mode == "pressure":
             b = -(self._Sh + value)
             x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else self._gap_guess(value)
-            return _ccg(xp, self._S, b, x0, mean=None, scale=value, tol=self.tol, max_iter=self.max_iter, stall=stall)
+            return _ccg(self._kern, self._S, b, x0, mean=None, scale=value, tol=self.tol, max_iter=self.max_iter, stall=stall)
         target = self.h_max - value - self.h_mean  # mean gap for a zero-mean displacement
         b = -self._Sh
         x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else xp.maximum(self.h_max - self.h, 0.0)
         mx = float(xp.mean(x0))
         x0 = x0 * (target / mx) if mx > 0 else xp.full(self.h.shape, target)
         scale = self.modulus * self.pv / max(self.texture.size)
-        return _ccg(xp, self._S, b, x0, mean=target, scale=scale, tol=self.tol, max_iter=self.max_iter, stall=stall)
+        return _ccg(self._kern, self._S, b, x0, mean=target, scale=scale, tol=self.tol, max_iter=self.max_iter, stall=stall)
 
     def _gap_guess(self, mean_pressure: float) -> Any:
         # Rigid interpenetration guess: skin plane lowered until the overlap carries the load
