@@ -29,10 +29,11 @@ x >= 0`` with an optional fixed mean of ``x``:
   pressure the dual needs no equality constraint at all: the q = 0 mode of the pressure is the
   load.
 
-``formulation="auto"`` picks the dual for periodic cells above 50 % contact (judged from the warm
-start or from a coarse-grid solve), the primal otherwise. Cold starts are solved coarse-to-fine:
-the cell is solved on a grid halved in each direction (recursively), and the solution, repeated
-onto the fine grid, starts the fine solve with an almost-right contact set.
+``formulation="auto"`` picks the dual for periodic cells above 75 % contact (judged from the warm
+start, or for a cold start from a solve of the cell block-averaged to ~128 points per axis), the
+primal otherwise; a formulation that stalls hands over to the other. The coarse solution,
+repeated onto the fine grid, starts the dual; the primal starts from uniform pressure, which
+measured as fast as any coarse guess.
 
 Each iteration needs one convolution for the search direction; the operator applied to the
 iterate is updated from it (linearity) and recomputed only when the projection changed the
@@ -72,11 +73,14 @@ FULL_CONTACT_TOL = 0.0
 #: the texture's base level; touching any of them starts the *transition* state.
 BASE_LEVEL_RTOL = 1e-6
 
-_COARSE_MIN = 64
+_COARSE_MIN = 64  # coarsest level of the dual's coarse-to-fine start
+_PROBE_MIN = 128  # the cold-start probe of the contact fraction solves at about this size
 RESET_ON_CLIP = True
 #: In auto mode a formulation whose residual has not halved for this many iterations hands over
 #: to the other one.
 STALL_ITERATIONS = 150
+#: Contact fraction above which auto mode solves the dual (gap) problem.
+DUAL_ABOVE = 0.75
 #: Grids from this many points on use the compiled kernels (their load time is ~2 s).
 NUMBA_MIN_SIZE = 512 * 512  # do not coarsen below this many points along an axis
 
@@ -487,7 +491,8 @@ class HalfSpaceSolver:
         # Compiled kernels pay a one-off load (seconds) that small grids never earn back.
         use_numba = self.backend.is_numpy and (kernels == "numba" or (kernels == "auto" and h.size >= NUMBA_MIN_SIZE))
         self._kern = kernels_for(xp_, use_numba)
-        self._coarse: HalfSpaceSolver | None = None
+        self._coarse: dict[str, HalfSpaceSolver | None] = {}
+        self._factors = (1, 1)
 
     # ---------------------------------------------------------------- public API
 
@@ -512,52 +517,70 @@ class HalfSpaceSolver:
 
     # ---------------------------------------------------------------- internals
 
-    def _choose(self, initial: ContactResult | None, coarse: ContactResult | None) -> str:
+    def _choose(self, mode: str, value: float, initial: ContactResult | None) -> str:
         if self.formulation != "auto":
             return self.formulation
         if not self.texture.periodic:
             return "primal"
-        ref = initial if initial is not None else coarse
-        if ref is not None and ref.contact_fraction > 0.5:
-            return "dual"
-        return "primal"
+        if initial is None:
+            probe = self._coarse_solver("probe")
+            if probe is None:
+                return "primal"  # small cell: the stall hand-over covers near-full contact
+            initial = probe._solve(mode, value, None)
+        return "dual" if initial.contact_fraction > DUAL_ABOVE else "primal"
 
-    def _coarse_solver(self) -> HalfSpaceSolver | None:
-        nx, ny = self.texture.shape
-        if not self.coarse_to_fine or nx < 2 * _COARSE_MIN or nx % 2:
+    @staticmethod
+    def _coarsening(n: int, limit: int, minimum: int) -> int:
+        """Largest power-of-two factor f <= limit with n % f == 0 and n / f >= minimum."""
+        f = 1
+        while 2 * f <= limit and n % (2 * f) == 0 and n // (2 * f) >= minimum:
+            f *= 2
+        return f
+
+    def _coarse_solver(self, kind: str) -> HalfSpaceSolver | None:
+        """The cell block-averaged by 2 (``"half"``, a coarse-to-fine level) or to about
+        _COARSE_MIN points per axis (``"probe"``, to judge the contact fraction); None if the
+        cell is too small."""
+        if not self.coarse_to_fine:
             return None
-        fy = 2 if (ny >= 2 * _COARSE_MIN and ny % 2 == 0) else 1
-        if self._coarse is None:
+        if kind not in self._coarse:
+            nx, ny = self.texture.shape
+            limit, minimum = (2, _COARSE_MIN) if kind == "half" else (nx, _PROBE_MIN)
+            fx, fy = self._coarsening(nx, limit, minimum), self._coarsening(ny, limit, minimum)
+            if fx < 2:
+                self._coarse[kind] = None
+                return None
             h = self.texture.heights
-            # Block averages keep the mean height; fine features survive well enough to place
-            # the contact spots for a starting guess.
-            hc = h.reshape(nx // 2, 2, ny // fy, fy).mean(axis=(1, 3))
-            tex = replace(self.texture, heights=hc)
-            self._coarse = HalfSpaceSolver(
-                tex, self.modulus, tol=max(self.tol, 1e-6) * 10, max_iter=self.max_iter,
-                formulation=self.formulation, coarse_to_fine=True, xp=self.backend.xp,
-                workers=self.backend.workers, kernels=self._kernels_choice,
+            # Block averages keep the mean height; the features survive well enough to place
+            # the contact spots and to judge the contact fraction.
+            hc = h.reshape(nx // fx, fx, ny // fy, fy).mean(axis=(1, 3))
+            solver = HalfSpaceSolver(
+                replace(self.texture, heights=hc), self.modulus, tol=max(self.tol, 1e-6) * 10,
+                max_iter=self.max_iter, formulation=self.formulation, coarse_to_fine=kind == "half",
+                xp=self.backend.xp, workers=self.backend.workers, kernels=self._kernels_choice,
             )
-            self._coarse_fy = fy
-        return self._coarse
+            solver._factors = (fx, fy)
+            self._coarse[kind] = solver
+        return self._coarse[kind]
 
-    def _prolong(self, a: np.ndarray) -> np.ndarray:
-        return np.repeat(np.repeat(a, 2, axis=0), self._coarse_fy, axis=1)
-
-    def _solve(self, mode: str, value: float, initial: ContactResult | None) -> ContactResult:
+    def _solve(
+        self, mode: str, value: float, initial: ContactResult | None, form: str | None = None
+    ) -> ContactResult:
         start = time.perf_counter()
-        xp = self._xp
-        coarse_result = None
         if initial is not None and initial.pressure.shape != self.texture.shape:
             raise FingerpadError("initial solution has a different grid")
-        if initial is None:
-            cs = self._coarse_solver()
-            if cs is not None:
-                coarse_result = cs._solve(mode, value, None)
-        form = self._choose(initial, coarse_result)
-        seed = initial
-        if seed is None and coarse_result is not None:
-            seed = _Seed(self._prolong(coarse_result.pressure), self._prolong(coarse_result.gap))
+        if form is None:
+            form = self._choose(mode, value, initial)
+        seed: Any = initial
+        if seed is None and form == "dual":
+            # The dual converges much faster from a coarse-to-fine start (recursive halving);
+            # the primal's uniform-pressure cold start finds the contact set as fast as any guess.
+            half = self._coarse_solver("half")
+            if half is not None:
+                coarse = half._solve(mode, value, None, form="dual")
+                fx, fy = half._factors
+                rep = lambda a: np.repeat(np.repeat(a, fx, axis=0), fy, axis=1)  # noqa: E731
+                seed = _Seed(rep(coarse.pressure), rep(coarse.gap))
         auto = self.formulation == "auto" and self.texture.periodic
         raw = self._run(form, mode, value, seed, stall=STALL_ITERATIONS if auto else None)
         if not raw.converged and auto:
