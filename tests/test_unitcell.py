@@ -88,3 +88,15 @@ def test_unprepared_cell_says_so() -> None:
     cell = BEMUnitCell(caps64(), E, cache=False)
     with pytest.raises(FingerpadError, match="prepare"):
         cell.contact_fraction(1e3)
+
+
+def test_modulus_scaling_matches_direct_solves(tmp_path) -> None:
+    """psi depends on p/E* only: a cell computed at E* answers for 2.5 E* without solving."""
+    tex = caps64()
+    cell = BEMUnitCell(tex, E, cache=CurveCache(tmp_path)).prepare(1e2, 1e5)
+    scaled = cell.at_modulus(2.5 * E)
+    solver = HalfSpaceSolver(tex, 2.5 * E)
+    for p in (2.5e3, 2.5e4):
+        assert abs(float(scaled.contact_fraction(p)) - solver.solve_pressure(p).contact_fraction) <= max(
+            cell.interpolation_error, 2.0 / tex.heights.size)
+    assert scaled.transition_pressure == pytest.approx(2.5 * cell.transition_pressure)

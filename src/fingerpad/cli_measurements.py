@@ -239,8 +239,11 @@ def simulate_command(
     radius: Annotated[str, _opt("--radius", panel=_INPUT, metavar="R")] = "50um",
     height: Annotated[str, _opt("--height", panel=_INPUT, metavar="H")] = "18um",
     spacing: Annotated[str, _opt("--spacing", panel=_INPUT, metavar="LAMBDA")] = "100um",
+    micro_model: Annotated[str, _opt("--micro-model", panel=_INPUT, metavar="bem|hertz",
+                                     help="Unit-cell model the recordings follow.")] = "bem",
     full_contact_ratio: Annotated[str, _opt("--full-contact-ratio", panel=_INPUT, metavar="RATIO",
-                                            help="Full contact at RATIO x the transition pressure.")] = "1.5",
+                                            help="Hertz model only: full contact at RATIO x the "
+                                                 "transition pressure (empirical).")] = "",
     skin_modulus: Annotated[str, _opt("--skin-modulus", panel=_INPUT, metavar="LOW:HIGH",
                                       help="Range of the participants' E_s.")] = "0.25MPa:0.4MPa",
     sampling_rate: Annotated[str, _opt("--sampling-rate", panel=_INPUT, metavar="HZ")] = "200",
@@ -262,7 +265,9 @@ def simulate_command(
             radius=parse_quantity(radius, "length", name="--radius"),
             height=parse_quantity(height, "length", name="--height"),
             spacing=parse_quantity(spacing, "length", name="--spacing"),
-            full_contact_ratio=_number(full_contact_ratio, "--full-contact-ratio", low=1.0 + 1e-9),
+            full_contact_ratio=(_number(full_contact_ratio, "--full-contact-ratio", low=1.0 + 1e-9)
+                                if full_contact_ratio else None),
+            micro_model=micro_model,
         )
         config = m.SimulationConfig(
             participants=_integer(participants, "--participants"),

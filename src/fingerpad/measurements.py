@@ -17,7 +17,7 @@ The pipeline follows MODEL.md ("Friction", "Using it"):
 4. **Transition and modulus**: the change of trend in the normalised friction
    (:func:`find_breakpoint`, segmented regression with a profile-likelihood or bootstrap
    interval), and the skin micro-modulus E_s per participant, either by fitting an injected
-   model (:func:`estimate_skin_modulus`, default :func:`hertz_texture_model` on
+   model (:func:`estimate_skin_modulus`, default :func:`bem_texture_model` on
    :mod:`fingerpad.coupling`; its interval includes the reference curve's uncertainty and the
    clustering of strokes in files) or in closed form from the transition load
    (:func:`modulus_from_transition`, Eq. 3.6; the breakpoint interval maps to an E_s interval).
@@ -75,7 +75,9 @@ __all__ = [
     "find_breakpoint",
     "fit_curves",
     "flag_outliers",
+    "bem_texture_model",
     "hertz_texture_model",
+    "texture_model",
     "load_bin_edges",
     "load_spec",
     "load_study",
@@ -1339,11 +1341,13 @@ def find_breakpoint(
 
 @dataclass(frozen=True)
 class TextureGeometry:
-    """A Hertzian bump texture (MODEL.md 3.1-3.6) and its material, SI units.
+    """A spherical-cap bump texture (square lattice) and its material, SI units.
 
-    ``material_modulus=None`` means a rigid counter-surface. ``full_contact_ratio`` selects the
-    micro-model of :func:`hertz_texture_model` (``None``: pure Hertz; a number:
-    :class:`BaseContactCell` with full contact at that multiple of the transition pressure).
+    ``material_modulus=None`` means a rigid counter-surface. ``micro_model`` picks the unit-cell
+    model: ``"bem"`` (default, :func:`bem_texture_model`: the half-space solver through the
+    asperity, transition and full-contact states) or ``"hertz"`` (:func:`hertz_texture_model`,
+    MODEL.md 3.1-3.6, asperity tops only). ``full_contact_ratio`` (Hertz only) adds the empirical
+    :class:`BaseContactCell` growth past the transition.
     """
 
     radius: float
@@ -1352,8 +1356,13 @@ class TextureGeometry:
     material_modulus: float | None = None
     material_poisson: float = 0.35
     full_contact_ratio: float | None = None
+    micro_model: str = "bem"
 
     def __post_init__(self) -> None:
+        if self.micro_model not in ("bem", "hertz"):
+            raise FingerpadError(f"micro model must be 'bem' or 'hertz', got {self.micro_model!r}")
+        if self.full_contact_ratio is not None and self.micro_model != "hertz":
+            raise FingerpadError("full_contact_ratio applies to the 'hertz' micro model only")
         for name in ("radius", "height", "spacing"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
@@ -1366,7 +1375,7 @@ class TextureGeometry:
 
 def read_textures(path: str | os.PathLike[str]) -> dict[str, TextureGeometry | None]:
     """Read a sample table (CSV): ``sample, radius, height, spacing`` and optional
-    ``material_modulus``, ``material_poisson``, ``full_contact_ratio``.
+    ``material_modulus``, ``material_poisson``, ``micro_model`` (bem/hertz), ``full_contact_ratio``.
 
     Values may carry units (``50um``, ``0.5GPa``). A sample with empty geometry is flat.
 
@@ -1401,6 +1410,7 @@ def read_textures(path: str | os.PathLike[str]) -> dict[str, TextureGeometry | N
                 material_modulus=parse_quantity(em, "pressure", name="material_modulus") if em else None,
                 material_poisson=float(rec.get("material_poisson") or 0.35),
                 full_contact_ratio=float(rec["full_contact_ratio"]) if rec.get("full_contact_ratio") else None,
+                micro_model=rec.get("micro_model") or ("hertz" if rec.get("full_contact_ratio") else "bem"),
             )
         except (FingerpadError, ValueError) as exc:
             raise FingerpadError(f"{p}, row {line}: {exc}") from None
@@ -1513,7 +1523,7 @@ def hertz_texture_model(
     """
     from . import coupling
 
-    geometry = TextureGeometry(radius, height, spacing, material_modulus, material_poisson, full_contact_ratio)
+    geometry = TextureGeometry(radius, height, spacing, material_modulus, material_poisson, full_contact_ratio, "hertz")
     base = _resolve_finger(finger)
 
     def model(loads: np.ndarray, skin_modulus: float) -> np.ndarray:
@@ -1530,6 +1540,94 @@ def hertz_texture_model(
     model.geometry = geometry  # type: ignore[attr-defined]
     model.finger = base  # type: ignore[attr-defined]
     return model
+
+
+def bem_texture_model(
+    radius: float,
+    height: float,
+    spacing: float,
+    finger: Any = None,
+    material_modulus: float | None = None,
+    *,
+    material_poisson: float = 0.35,
+    grid: int = 64,
+    modulus_range: tuple[float, float] = (0.05e6, 5e6),
+    load_range: tuple[float, float] = (0.01, 20.0),
+    cache: Any = None,
+    n_rings: int = 6,
+) -> Model:
+    """Normalised-friction model with the numerical unit cell (the model of ``fingerpad predict``).
+
+    One :class:`fingerpad.unitcell.BEMUnitCell` of the cap texture is computed (or read from the
+    cache) at the finger's own E1*, over the local pressures that loads in ``load_range`` produce
+    for any skin modulus in ``modulus_range``; every trial E_s then reuses it by the p/E* scaling
+    of the contact problem (:meth:`~fingerpad.unitcell.BEMUnitCell.at_modulus`), so a fit costs
+    no further solves. Unlike the Hertz cell it covers the transition and full contact, which is
+    where the change of trend in friction comes from.
+
+    Parameters
+    ----------
+    radius, height, spacing
+        Cap radius R, height h and square-lattice spacing lambda, m.
+    finger
+        Preset name, :class:`fingerpad.finger.Finger`, or ``None`` (default finger).
+    material_modulus, material_poisson
+        Counter-surface elasticity (``None`` = rigid), Eq. 3.4.
+    grid
+        Unit-cell grid points per side.
+    modulus_range, load_range
+        Skin moduli (Pa) and loads (N) the model must answer for.
+    cache
+        Passed to :class:`~fingerpad.unitcell.BEMUnitCell` (``None``: default cache folder).
+
+    Returns
+    -------
+    callable
+        ``model(loads, skin_modulus) -> mu_normalised``, with ``geometry``, ``finger`` and ``cell``.
+    """
+    from . import coupling
+    from .textures import spherical_caps
+    from .unitcell import BEMUnitCell
+
+    geometry = TextureGeometry(radius, height, spacing, material_modulus, material_poisson)
+    base = _resolve_finger(finger)
+    lo_e, hi_e = (float(v) for v in modulus_range)
+    lo_f, hi_f = (float(v) for v in load_range)
+    if not (0 < lo_e < hi_e and 0 < lo_f < hi_f):
+        raise FingerpadError("modulus_range and load_range must be increasing positive pairs")
+
+    def e1(skin_modulus: float) -> float:
+        return float(base.with_overrides(skin_modulus=skin_modulus).micro_modulus(material_modulus, material_poisson))
+
+    e_ref = e1(base.skin_modulus)
+    ridge = np.asarray(base.ridge_area(np.array([lo_f, hi_f])), dtype=float)
+    p_lo, p_hi = 0.02 * lo_f / ridge[0], 1.5 * hi_f / ridge[1]
+    texture = spherical_caps(radius=radius, height=height, spacing=spacing, grid=grid)
+    cell = BEMUnitCell(texture, e_ref, cache=cache).prepare(p_lo * e_ref / e1(hi_e), p_hi * e_ref / e1(lo_e))
+
+    def model(loads: np.ndarray, skin_modulus: float) -> np.ndarray:
+        f = base.with_overrides(skin_modulus=float(skin_modulus))
+        scaled = cell.at_modulus(float(f.micro_modulus(material_modulus, material_poisson)))
+        curve = coupling.predict_curve(np.asarray(loads, dtype=float), f, scaled, n_rings=n_rings)
+        return np.asarray(curve.mu_normalised, dtype=float)
+
+    model.geometry = geometry  # type: ignore[attr-defined]
+    model.finger = base  # type: ignore[attr-defined]
+    model.cell = cell  # type: ignore[attr-defined]
+    return model
+
+
+def texture_model(geometry: TextureGeometry, finger: Any = None) -> Model:
+    """The normalised-friction model that ``geometry.micro_model`` names."""
+    if geometry.micro_model == "bem":
+        return bem_texture_model(
+            geometry.radius, geometry.height, geometry.spacing, finger, geometry.material_modulus,
+            material_poisson=geometry.material_poisson,
+        )
+    return hertz_texture_model(
+        geometry.radius, geometry.height, geometry.spacing, finger, geometry.material_modulus,
+        material_poisson=geometry.material_poisson, full_contact_ratio=geometry.full_contact_ratio,
+    )
 
 
 @dataclass(frozen=True)
@@ -2130,10 +2228,7 @@ def analyse_study(
     all_models: dict[str, Model] = {}
     for sample, geom in textures.items():
         if geom is not None and sample != opts.reference:
-            all_models[sample] = hertz_texture_model(
-                geom.radius, geom.height, geom.spacing, finger, geom.material_modulus,
-                material_poisson=geom.material_poisson, full_contact_ratio=geom.full_contact_ratio,
-            )
+            all_models[sample] = texture_model(geom, finger)
     all_models.update(models or {})
 
     usable = strokes[~strokes["outlier"]]
@@ -2288,7 +2383,7 @@ class SimulationConfig:
     reference: str = "flat"
     textures: Mapping[str, TextureGeometry] = field(
         default_factory=lambda: {
-            "bumps": TextureGeometry(radius=50e-6, height=18e-6, spacing=100e-6, full_contact_ratio=1.5)
+            "bumps": TextureGeometry(radius=50e-6, height=18e-6, spacing=100e-6)
         }
     )
     skin_modulus_range: tuple[float, float] = (0.25e6, 0.4e6)
@@ -2417,7 +2512,7 @@ def simulate_study(
     seed
         Random seed; the same seed gives the same files.
     model_factory
-        ``(geometry, finger) -> model``; default :func:`hertz_texture_model`.
+        ``(geometry, finger) -> model``; default :func:`texture_model` (BEM unless the geometry says hertz).
 
     Returns
     -------
@@ -2426,9 +2521,7 @@ def simulate_study(
     """
     rng = np.random.default_rng(seed)
     finger = _resolve_finger(config.finger)
-    factory = model_factory or (lambda g, f: hertz_texture_model(
-        g.radius, g.height, g.spacing, f, g.material_modulus, material_poisson=g.material_poisson,
-        full_contact_ratio=g.full_contact_ratio))
+    factory = model_factory or texture_model
     models = {name: factory(geom, finger) for name, geom in config.textures.items()}
     grid = np.geomspace(config.load_range[0] / 10, config.load_range[1] * 2, 64)
     width = max(2, len(str(config.participants)))
@@ -2464,9 +2557,10 @@ def simulate_study(
                     manifest.append((name, pid, sample, rep))
         _write_csv(tmp / "manifest.csv", ["file", "participant", "sample", "repetition"], manifest)
         _write_csv(tmp / "samples.csv",
-                   ["sample", "radius", "height", "spacing", "material_modulus", "full_contact_ratio"],
-                   [(config.reference, "", "", "", "", "")]
-                   + [(name, g.radius, g.height, g.spacing, g.material_modulus or "", g.full_contact_ratio or "")
+                   ["sample", "radius", "height", "spacing", "material_modulus", "micro_model", "full_contact_ratio"],
+                   [(config.reference, "", "", "", "", "", "")]
+                   + [(name, g.radius, g.height, g.spacing, g.material_modulus or "", g.micro_model,
+                       g.full_contact_ratio or "")
                       for name, g in config.textures.items()])
         truth["files"] = [m[0] for m in manifest]
         (tmp / "truth.json").write_text(json.dumps(truth, indent=2), encoding="utf-8")

@@ -408,6 +408,12 @@ class BEMUnitCell:
             worst = max(worst, abs(float(f(lp[i])) - psi[i]))
         return worst
 
+    def at_modulus(self, modulus: float) -> "ScaledResponse":
+        """psi(p) of this cell at reduced modulus ``modulus`` (Pa), by p/E* scaling (no solves)."""
+        if not (math.isfinite(modulus) and modulus > 0):
+            raise FingerpadError(f"modulus must be positive, got {modulus!r}")
+        return ScaledResponse(self, modulus / self.modulus)
+
     def curve(self) -> dict[str, np.ndarray]:
         """The computed nodes: pressure (Pa), contact_fraction, mean_gap (m), max_pressure (Pa)."""
         ps = np.array(sorted(self.points))
@@ -418,3 +424,31 @@ class BEMUnitCell:
             "max_pressure": np.array([self.points[p]["max_pressure"] for p in ps]),
             "contact_state": np.array([self.points[p]["contact_state"] for p in ps]),
         }
+
+
+@dataclass(frozen=True)
+class ScaledResponse:
+    """A cell's psi(p) at another reduced modulus, without new solves.
+
+    For a rigid (or E*-folded) texture on an elastic half-space the contact problem scales with
+    p / E*: the contact fraction at modulus E* and pressure p equals the base curve's at
+    ``p E*_base / E*``. So one computed curve serves every skin modulus, e.g. when fitting E_s to
+    friction measurements.
+    """
+
+    base: BEMUnitCell
+    factor: float  # E*_new / E*_base
+
+    def contact_fraction(self, p: "np.ndarray | float") -> np.ndarray:
+        return self.base.contact_fraction(np.asarray(p, dtype=float) / self.factor)
+
+    @property
+    def transition_pressure(self) -> float:
+        return self.base.transition_pressure * self.factor
+
+    @property
+    def full_contact_pressure(self) -> float:
+        return self.base.full_contact_pressure * self.factor
+
+
+__all__ += ["ScaledResponse"]
