@@ -1,5 +1,7 @@
 """Command line (`fingerpad solve`, `textures`, `run-default`), NetCDF output and plots.
 
+`fingerpad predict` itself is tested in test_study.py.
+
 Grids are kept at 32 points so that the whole module runs in a few seconds.
 """
 
@@ -353,11 +355,13 @@ def test_textures_command_lists_generators():
 @needs_generators
 def test_run_default_small(tmp_path):
     out = tmp_path / "out"
-    res = invoke("run-default", "--out", out, "--grid", "32", "--pressure", "1kPa:100kPa:3")
+    res = invoke("run-default", "--out", out, "--grid", "32", "--loads", "0.5N:2N:3", "--cache", tmp_path / "cache")
     assert res.exit_code == 0, res.output
-    assert files_in(out) == ["solve.json", "solve.nc", "solve.png"]
-    data = json.loads((out / "solve.json").read_text())
+    assert files_in(out) == ["areas.png", "friction.png", "predict.json", "predict.nc", "ridge_models.png",
+                             "zones.png"]
+    data = json.loads((out / "predict.json").read_text())
     assert len(data["results"]) == 3
+    assert data["inputs"]["model"] == "both" and data["critical_load"]["hertz"] > 0
 
 
 def test_console_script_user_error(tmp_path):

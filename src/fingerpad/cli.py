@@ -6,9 +6,15 @@ Commands
     Solve the skin/texture contact on one unit cell at one or more mean pressures.
 ``fingerpad textures``
     List the texture generators and their parameters.
+``fingerpad predict [STUDY.toml]``
+    The main job: contact areas, contact zones and friction of a finger on a texture against
+    load (BEM unit cell and/or per-asperity Hertz), written to ``--out`` as ``predict.json``,
+    ``predict.nc``, ``areas.png``, ``friction.png`` and ``zones.png``.
 ``fingerpad run-default``
-    Solve a default texture over a log range of pressures and write ``solve.json``,
-    ``solve.nc`` and ``solve.png`` into ``--out`` (the target of ``make run``).
+    ``predict`` on the default study (hot-embossed PE foil with spherical caps, default finger,
+    0.1-4 N), plus ``ridge_models.png`` (the target of ``make run``).
+``fingerpad finger-models``
+    The ridge-area models compared in ``ridge_models.png``.
 
 Every quantity accepts plain SI numbers or unit suffixes (``50um``, ``0.3MPa``, ``20kPa``).
 
@@ -35,7 +41,7 @@ import pickle
 import sys
 import uuid
 import warnings
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Annotated, Any
@@ -837,49 +843,432 @@ def textures_command() -> None:
 
 
 # ---------------------------------------------------------------------------------------------
-# run-default: the target of `make run`.
-# >>> The lead replaces this with a prediction (`predict`, `run-default`); keep the signature. <<<
+# predict: areas, contact zones and friction against load (the package's main job), and
+# run-default (the target of `make run`): predict on a documented default study.
 # ---------------------------------------------------------------------------------------------
 
-#: Default texture of `run-default`: hexagonal spherical caps, R = 50 um, h = 10 um, 200 um apart
-#: (the scale of the thesis' bump textures), skin 0.3 MPa on a rigid surface.
-DEFAULT_TEXTURE = {"radius": "50um", "height": "10um", "spacing": "200um", "lattice": "hexagonal"}
-DEFAULT_PRESSURES = "100Pa:300kPa:16"
+_STUDY, _FINGER = "Study", "Finger"
+
+_PREDICT_HELP = {
+    "--texture": _HELP["--texture"],
+    "--surface": _HELP["--surface"],
+    "--size": _HELP["--size"],
+    "--height-unit": _HELP["--height-unit"],
+    "--fill-missing": _HELP["--fill-missing"],
+    "--periodic": "Take the texture as one period of a periodic surface (generated textures: yes).",
+    "--periodize": "Mirror a --surface map into a periodic cell (needed by the BEM unless the map is one period).",
+    "--material-modulus": "Counter-surface Young's modulus, or 'rigid' (default rigid), e.g. 0.5GPa.",
+    "--material-poisson": "Counter-surface Poisson ratio (default 0.35).",
+    "--skin-modulus": "Micro-scale skin modulus E_s (overrides the finger's skin_modulus), e.g. 0.3MPa.",
+    "--skin-poisson": "Skin Poisson ratio (overrides the finger's skin_poisson).",
+    "--finger": "Finger preset (default 'default'); see fingerpad.finger.FINGER_PRESETS.",
+    "--finger-param": "Finger override NAME=VALUE (radius, modulus, beta, tau0, alpha, skin_modulus, "
+                      "skin_poisson); repeatable, e.g. --finger-param radius=8mm.",
+    "--loads": "Normal loads: START:STOP:COUNT or one load; repeatable (default 0.1N:4N:40, log).",
+    "--log": "Log-spaced load ranges (--linear: evenly spaced).",
+    "--model": "Unit-cell model: bem (numerical), hertz (per-asperity Hertz, spherical caps only) or both.",
+    "--grid": "Grid points along x of the generated unit cell (default: the generator's choice).",
+    "--tol": "Relative residual at which a unit-cell solve stops (default 1e-8).",
+    "--max-iter": "Iteration cap per unit-cell solve (default 5000).",
+    "--cache": "Folder of cached unit-cell curves (default $FINGERPAD_CACHE or ~/.cache/fingerpad).",
+    "--zones-at": "Load of the zone map zones.png (default: the largest load).",
+    "--out": "Output directory for predict.json, predict.nc, areas.png, friction.png, zones.png.",
+    "--json": "Also write the JSON to PATH ('-' for stdout, which replaces the table).",
+}
+
+
+def _popt(*decls: str, panel: str, metavar: str | None = None, **kw: Any) -> Any:
+    return typer.Option(*decls, help=_PREDICT_HELP[decls[0].split("/")[0]], rich_help_panel=panel,
+                        metavar=metavar, **kw)
+
+
+def _split_study_args(args: Sequence[str]) -> tuple[str | None, list[str]]:
+    """Separate the optional study file (a bare word) from the texture's ``--NAME VALUE`` pairs."""
+    positional: list[str] = []
+    rest: list[str] = []
+    args = list(args)
+    i = 0
+    while i < len(args):
+        tok = args[i]
+        if tok.startswith("--") and len(tok) > 2:
+            if "=" in tok:
+                rest.append(tok)
+                i += 1
+            elif i + 1 < len(args) and not args[i + 1].startswith("--"):
+                rest += [tok, args[i + 1]]
+                i += 2
+            else:
+                rest.append(tok)  # split_extra_options reports the missing value
+                i += 1
+        else:
+            positional.append(tok)
+            i += 1
+    if len(positional) > 1:
+        raise FingerpadError(f"unexpected argument(s) {' '.join(positional[1:])!r}: give at most one study file")
+    return (positional[0] if positional else None), rest
+
+
+def build_study(
+    *, ctx_args: Sequence[str], texture: str | None = None, surface: str | None = None, size: str | None = None,
+    height_unit: str | None = None, fill_missing: bool = False, periodic: bool | None = None,
+    periodize: bool = False, material_modulus: str | None = None, material_poisson: str | None = None,
+    skin_modulus: str | None = None, skin_poisson: str | None = None, finger: str | None = None,
+    finger_param: Sequence[str] = (), loads: Sequence[str] = (), log: bool | None = None,
+    model: str | None = None, grid: str | None = None, tol: str | None = None, max_iter: str | None = None,
+    cache: str | None = None, zones_at: str | None = None, base: Mapping[str, Mapping[str, Any]] | None = None,
+):
+    """A :class:`fingerpad.study.Study` from an optional study file (first bare argument in
+    ``ctx_args``, or ``base``) with the flags laid over it; checked and with its texture built."""
+    from .finger import _FIELD_DIMENSIONS
+    from .study import MODELS, read_study_file, study_from_dict
+
+    study_file, extra = _split_study_args(ctx_args)
+    if study_file is not None and base is not None:
+        raise FingerpadError(f"unexpected argument {study_file!r}")
+    data: dict[str, dict[str, Any]] = {k: dict(v) for k, v in (base or {}).items()}
+    if study_file is not None:
+        data = read_study_file(study_file)
+
+    # texture: --texture/--surface replace the file's section, the other options update it
+    if texture is not None and surface is not None:
+        raise FingerpadError("give either --texture NAME or --surface FILE, not both")
+    tex = data.get("texture", {})
+    if texture is not None:
+        tex = {"name": texture}
+    elif surface is not None:
+        tex = {"surface": surface}
+    pairs = split_extra_options(extra)
+    if pairs and not tex:
+        raise FingerpadError(f"unexpected option --{pairs[0][0].replace('_', '-')} "
+                             "(texture parameters follow --texture NAME)")
+    for key, value in pairs:
+        if key in ("name", "surface"):
+            raise FingerpadError(f"use --texture or --surface, not --{key}")
+        tex[key] = value
+    for key, value in (("size", size), ("height_unit", height_unit), ("periodic", periodic)):
+        if value is not None:
+            tex[key] = value
+    if fill_missing:
+        tex["fill_missing"] = True
+    if periodize:
+        tex["periodize"] = True
+    if tex:
+        data["texture"] = tex
+
+    # material (the flags are parsed here so that messages name them)
+    if material_modulus is not None or material_poisson is not None:
+        mat = data.setdefault("material", {})
+        if material_modulus is not None:
+            if material_modulus.strip().lower() in ("rigid", "inf", "infinity"):
+                mat["modulus"] = "rigid"
+                mat.pop("poisson", None)
+            else:
+                mat["modulus"] = check_modulus(
+                    parse_quantity(material_modulus, "pressure", name="--material-modulus"), "--material-modulus")
+        if material_poisson is not None:
+            if mat.get("modulus") in (None, "rigid"):
+                raise FingerpadError("--material-poisson needs --material-modulus (the default material is rigid)")
+            mat["poisson"] = check_poisson(_parse_float(material_poisson, "--material-poisson"), "--material-poisson")
+
+    # finger
+    fin = data.setdefault("finger", {})
+    if finger is not None:
+        fin["preset"] = finger
+    for item in finger_param:
+        if "=" not in item:
+            raise FingerpadError(f"--finger-param: expected NAME=VALUE, got {item!r}")
+        name, value = (s.strip() for s in item.split("=", 1))
+        name = name.replace("-", "_")
+        if name not in _FIELD_DIMENSIONS:
+            raise FingerpadError(f"--finger-param: unknown finger parameter {name!r} "
+                                 f"(known: {', '.join(_FIELD_DIMENSIONS)})")
+        fin[name] = value
+    if skin_modulus is not None:
+        fin["skin_modulus"] = check_modulus(parse_quantity(skin_modulus, "pressure", name="--skin-modulus"),
+                                            "--skin-modulus")
+    if skin_poisson is not None:
+        fin["skin_poisson"] = check_poisson(_parse_float(skin_poisson, "--skin-poisson"), "--skin-poisson")
+
+    # loads
+    lsec = data.setdefault("loads", {})
+    if loads:
+        use_log = bool(log) if log is not None else False
+        values: list[float] = []
+        for text in loads:
+            for value in parse_range(text, "force", name="--loads", log=use_log):
+                if not (math.isfinite(value) and value > 0):
+                    raise FingerpadError(f"--loads: loads must be positive, got {text!r}")
+                values.append(value)
+        lsec.pop("range", None)
+        lsec["values"] = values
+        lsec["log"] = use_log
+    elif log is not None:
+        lsec["log"] = log
+    if zones_at is not None:
+        lsec["zones_at"] = parse_positive(zones_at, "force", name="--zones-at")
+
+    # model and numerics
+    msec = data.setdefault("model", {})
+    if model is not None:
+        if model.strip().lower() not in MODELS:
+            raise FingerpadError(f"--model must be one of {', '.join(MODELS)}, got {model!r}")
+        msec["kind"] = model.strip().lower()
+    if grid is not None:
+        msec["grid"] = _parse_int(grid, "--grid", minimum=4)
+        data.get("texture", {}).pop("grid", None)
+    if tol is not None:
+        tol_v = _parse_float(tol, "--tol")
+        if not 0 < tol_v < 1:
+            raise FingerpadError(f"--tol must lie in (0, 1), got {tol!r}")
+        msec["tol"] = tol_v
+    if max_iter is not None:
+        msec["max_iter"] = _parse_int(max_iter, "--max-iter")
+    if cache is not None:
+        msec["cache"] = cache
+    study = study_from_dict(data)
+    study.check()
+    return study
+
+
+class _CellProgress:
+    """Rich progress bar on stderr, started on the first unit-cell solve (none when cached)."""
+
+    def __init__(self, console: Any) -> None:
+        self.console = console
+        self.bar: Any = None
+        self.task: Any = None
+
+    def __call__(self, i: int, n: int) -> None:
+        if self.bar is None:
+            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+            self.bar = Progress(TextColumn("unit cell ψ(p)"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                                console=self.console)
+            self.bar.start()
+            self.task = self.bar.add_task("cell", total=n)
+        self.bar.update(self.task, completed=min(i, n), total=n)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+            self.bar = None
+
+
+def _zone_text(row: Mapping[str, Any]) -> str:
+    parts = []
+    for key, label in (("full_contact_radius", "full"), ("transition_radius", "trans"), ("ridge_radius", "asp")):
+        r = row.get(key)
+        if r:
+            parts.append(f"{label}<{r * 1e3:.2f}")
+    return " ".join(parts) + " mm" if parts else "-"
+
+
+def _fmt(value: Any, spec: str) -> str:
+    return "-" if value is None else format(value, spec)
+
+
+def _print_prediction(payload: Mapping[str, Any]) -> None:
+    from rich import box
+    from rich.console import Console
+    from rich.table import Table
+
+    tex = payload["inputs"]["texture"]
+    both = bool(payload["results"]) and "hertz" in payload["results"][0]
+    shown = "bem (the Hertz curves are in predict.json)" if both else payload["model"]
+    table = Table(title=f"{tex['description']}\nmodel: {shown}", box=box.SIMPLE_HEAD)
+    for col in ("load (N)", "A_g (mm²)", "A_fr (mm²)", "A_re (mm²)", "A_re/A_fr", "zones (centre→edge)",
+                "μ", "μ_ref", "μ_norm"):
+        table.add_column(col, justify="left" if col.startswith("zones") else "right", no_wrap=True)
+    for row in payload["results"]:
+        table.add_row(
+            f"{row['load']:.3g}", f"{row['gross_area'] * 1e6:.4g}", f"{row['ridge_area'] * 1e6:.4g}",
+            f"{row['real_area'] * 1e6:.4g}", f"{row['area_ratio']:.4f}", _zone_text(row),
+            f"{row['mu']:.4f}", _fmt(row["mu_ref"], ".4f"), _fmt(row["mu_normalised"], ".4f"),
+        )
+    console = Console(file=sys.stdout, highlight=False)
+    if not console.is_terminal:
+        console = Console(file=sys.stdout, width=max(console.width, 130), highlight=False)
+    console.print(table)
+    crit = payload["critical_load"]
+    texts = []
+    for model, label in (("bem", "BEM"), ("hertz", "Hertz (Eq. 3.6)")):
+        if model in crit and (crit[model] is not None or model == payload["model"]):
+            texts.append(f"{label} {crit[model]:.4g} N" if crit[model] is not None else f"{label} none in 1e-6..1e3 N")
+    if texts:
+        console.print("critical load (pad centre reaches the transition): " + ", ".join(texts), markup=False)
+    full = payload.get("full_contact_load", {}).get("bem")
+    if payload["model"] == "bem":
+        console.print("full contact at the pad centre from: "
+                      + (f"{full:.4g} N" if full is not None else "never (below 1e3 N)"), markup=False)
+
+
+def run_prediction(study: Any, out: str, json_path: str | None) -> int:
+    """Run ``study``, write its outputs into ``out`` (all or none), report. Returns the exit code."""
+    from .io import check_writable, to_jsonable
+    from .study import OUTPUT_FILES, prediction_json, run_study, write_outputs
+
+    out_dir = Path(out)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise FingerpadError(f"--out {out!r} exists and is not a directory")
+    if json_path is not None and json_path != "-":
+        check_writable(json_path, "--json")
+        if Path(json_path).resolve().parent == out_dir.resolve() and Path(json_path).name in OUTPUT_FILES:
+            raise FingerpadError(f"--json {json_path!r} would overwrite an output of --out")
+    err = _stderr_console()
+    bar = _CellProgress(err)
+    with _warnings_to(err):
+        warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
+        try:
+            pred = run_study(study, progress=bar)
+        finally:
+            bar.close()
+        paths = write_outputs(pred, out_dir)
+    payload = to_jsonable(prediction_json(pred))
+    text = json.dumps(payload, indent=2) + "\n"
+    if json_path == "-":
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    else:
+        if json_path is not None:
+            from .io import write_text
+
+            write_text(json_path, text)
+        _print_prediction(payload)
+    for note in pred.notes:
+        err.print(f"note: {note}", markup=False, highlight=False, soft_wrap=True)
+    cell = payload["cell"]
+    err.print(
+        f"unit cell: {cell['model']}, {cell['solves']} solves ({'cached' if cell['cached'] else 'computed'}) in "
+        f"{pred.timings['cell']:.2f} s; coupling {pred.timings['coupling']:.3f} s",
+        markup=False, highlight=False, soft_wrap=True,
+    )
+    err.print("wrote " + ", ".join(str(p) for p in paths), markup=False, highlight=False, soft_wrap=True)
+    if pred.unconverged:
+        err.print(f"warning: {pred.unconverged} unit-cell solve(s) did not converge (exit code 1)",
+                  markup=False, highlight=False, soft_wrap=True)
+        return EXIT_UNCONVERGED
+    return 0
+
+
+@app.command(context_settings=_EXTRA)
+def predict(
+    ctx: typer.Context,
+    texture: Annotated[str | None, _popt("--texture", "-t", panel=_SURFACE, metavar="NAME")] = None,
+    surface: Annotated[str | None, _popt("--surface", panel=_SURFACE, metavar="FILE")] = None,
+    size: Annotated[str | None, _popt("--size", panel=_SURFACE, metavar="LX[,LY]")] = None,
+    height_unit: Annotated[str | None, _popt("--height-unit", panel=_SURFACE, metavar="UNIT")] = None,
+    fill_missing: Annotated[bool, _popt("--fill-missing", panel=_SURFACE)] = False,
+    periodic: Annotated[bool | None, _popt("--periodic/--no-periodic", panel=_SURFACE, show_default=False)] = None,
+    periodize: Annotated[bool, _popt("--periodize", panel=_SURFACE)] = False,
+    material_modulus: Annotated[str | None, _popt("--material-modulus", panel=_MATERIALS, metavar="E")] = None,
+    material_poisson: Annotated[str | None, _popt("--material-poisson", panel=_MATERIALS, metavar="NU")] = None,
+    skin_modulus: Annotated[str | None, _popt("--skin-modulus", panel=_MATERIALS, metavar="E")] = None,
+    skin_poisson: Annotated[str | None, _popt("--skin-poisson", panel=_MATERIALS, metavar="NU")] = None,
+    finger: Annotated[str | None, _popt("--finger", panel=_FINGER, metavar="PRESET")] = None,
+    finger_param: Annotated[list[str] | None, _popt("--finger-param", panel=_FINGER, metavar="NAME=VALUE")] = None,
+    loads: Annotated[list[str] | None, _popt("--loads", "-F", panel=_LOADS, metavar="START:STOP:COUNT")] = None,
+    log: Annotated[bool | None, _popt("--log/--linear", panel=_LOADS, show_default=False)] = None,
+    zones_at: Annotated[str | None, _popt("--zones-at", panel=_LOADS, metavar="LOAD")] = None,
+    model: Annotated[str | None, _popt("--model", panel=_NUMERICS, metavar="bem|hertz|both")] = None,
+    grid: Annotated[str | None, _popt("--grid", panel=_NUMERICS, metavar="N")] = None,
+    tol: Annotated[str | None, _popt("--tol", panel=_NUMERICS, metavar="TOL")] = None,
+    max_iter: Annotated[str | None, _popt("--max-iter", panel=_NUMERICS, metavar="N")] = None,
+    cache: Annotated[str | None, _popt("--cache", panel=_NUMERICS, metavar="DIR")] = None,
+    out: Annotated[str, _popt("--out", "-o", panel=_OUTPUT, metavar="DIR")] = "out",
+    json_path: Annotated[str | None, _popt("--json", panel=_OUTPUT, metavar="PATH|-")] = None,
+) -> None:
+    """Predict contact areas, contact zones and friction of a finger on a texture against load.
+
+    Usage: fingerpad predict [STUDY.toml] [OPTIONS]; the options override the study file
+    (see examples/study.toml). Example: fingerpad predict --texture caps --radius 100um
+    --height 20um --spacing 175um --lattice hexagonal --material-modulus 0.5GPa
+    --material-poisson 0.4 --loads 0.1N:4N:40 --log --model both --out out
+
+    Writes DIR/predict.json, predict.nc, areas.png, friction.png and zones.png (all or none).
+    Exit code 0 on success, 1 if a unit-cell solve did not converge (outputs still written),
+    2 on a user error (nothing written).
+    """
+    with user_errors():
+        err = _stderr_console()
+        with _warnings_to(err):
+            study = build_study(
+                ctx_args=list(ctx.args), texture=texture, surface=surface, size=size, height_unit=height_unit,
+                fill_missing=fill_missing, periodic=periodic, periodize=periodize,
+                material_modulus=material_modulus, material_poisson=material_poisson,
+                skin_modulus=skin_modulus, skin_poisson=skin_poisson, finger=finger,
+                finger_param=finger_param or [], loads=loads or [], log=log, model=model, grid=grid, tol=tol,
+                max_iter=max_iter, cache=cache, zones_at=zones_at,
+            )
+        code = run_prediction(study, out, json_path)
+    if code:
+        raise typer.Exit(code)
+
+
+#: The study of `run-default` (also in examples/study.toml). A hot-embossed polyethylene foil:
+#: E = 0.5 GPa, nu = 0.4 (MODEL.md: PE foil 0.2-1 GPa), with spherical-cap bumps R = 100 um,
+#: h = 20 um on a hexagonal lattice of spacing 175 um (base diameter 120 um, gaps of 55 um):
+#: dimensions a hot-embossing mould reproduces easily, at the ~160 um spacing where textures start
+#: to be felt. With the default finger (E_s = 0.3 MPa, so E1* = 0.395 MPa) both critical loads fall
+#: inside the 0.1-4 N exploration range -- Hertz (Eq. 3.6) about 0.18 N, the BEM about 1.1 N --
+#: so the figures show the asperity, transition and (BEM) transition-zone growth states.
+DEFAULT_STUDY: dict[str, dict[str, Any]] = {
+    "texture": {"name": "caps", "radius": "100um", "height": "20um", "spacing": "175um", "lattice": "hexagonal"},
+    "material": {"modulus": "0.5GPa", "poisson": 0.4},
+    "finger": {"preset": "default"},
+    "loads": {"range": "0.1N:4N:40", "log": True},
+    "model": {"kind": "both"},
+}
+#: Grid of the default unit cell (points along x; the hexagonal cell has 1.73x as many along y).
+DEFAULT_GRID = "64"
 
 
 @app.command("run-default")
 def run_default(
     out: Annotated[str, typer.Option("--out", metavar="DIR", help="Output directory (created if missing).")] = "out",
-    grid: Annotated[str, typer.Option("--grid", metavar="N", help="Grid points per axis.")] = "128",
-    pressure: Annotated[
-        str, typer.Option("--pressure", metavar="START:STOP:COUNT", help="Log-spaced pressure range.")
-    ] = DEFAULT_PRESSURES,
+    grid: Annotated[str, typer.Option("--grid", metavar="N", help="Grid points along x of the unit cell.")] = DEFAULT_GRID,
+    loads: Annotated[
+        str, typer.Option("--loads", metavar="START:STOP:COUNT", help="Log-spaced load range.")
+    ] = "0.1N:4N:40",
+    cache: Annotated[str | None, typer.Option("--cache", metavar="DIR", help=_PREDICT_HELP["--cache"])] = None,
 ) -> None:
-    """Solve a default texture over a log range of pressures into DIR/solve.json, .nc, .png.
+    """Predict the default study into DIR: predict.json, .nc, areas/friction/zones.png, ridge_models.png.
 
-    The texture: hexagonal spherical caps R=50um, h=10um, spacing 200um; skin 0.3MPa on a rigid surface.
+    The study: a hot-embossed polyethylene foil (E = 0.5 GPa, nu = 0.4) with hexagonal spherical caps
+    R = 100um, h = 20um, spacing 175um; the default finger; loads 0.1-4 N (40, log); BEM and Hertz.
     """
     with user_errors():
+        err = _stderr_console()
+        with _warnings_to(err):
+            study = build_study(ctx_args=[], base=DEFAULT_STUDY, loads=[loads], log=True, grid=grid, cache=cache)
+        code = run_prediction(study, out, None)
+        from .finger import ridge_models_figure
+
+        path = ridge_models_figure(Path(out) / "ridge_models.png")
+        err.print(f"wrote {path}", markup=False, highlight=False, soft_wrap=True)
+    if code:
+        raise typer.Exit(code)
+
+
+@app.command("finger-models")
+def finger_models(
+    out: Annotated[str, typer.Option("--out", metavar="DIR", help="Output directory (created if missing).")] = "out",
+    loads: Annotated[
+        str, typer.Option("--loads", metavar="START:STOP:COUNT", help="Log-spaced load range.")
+    ] = "0.1N:4N:30",
+) -> None:
+    """Compare the ridge-area models (idea of the thesis Fig. 2.4) in DIR/ridge_models.png."""
+    with user_errors():
+        values = parse_range(loads, "force", name="--loads", log=True)
+        if min(values) <= 0:
+            raise FingerpadError("--loads: loads must be positive")
         out_dir = Path(out)
         if out_dir.exists() and not out_dir.is_dir():
             raise FingerpadError(f"--out {out!r} exists and is not a directory")
-        extra: list[str] = []
-        for k, v in DEFAULT_TEXTURE.items():
-            extra += [f"--{k}", v]
-        job = build_job(
-            ctx_args=extra, texture="caps", surface=None, size=None, height_unit=None, periodic=None, grid=grid,
-            modulus=None, skin_modulus=None, skin_poisson=None, material_modulus=None, material_poisson=None,
-            pressure=[pressure], log=True, tol="1e-8", max_iter="5000", formulation="auto",
-            json_path=None, save=None, plot=None,
-        )
         out_dir.mkdir(parents=True, exist_ok=True)
-        job.json_path = str(out_dir / "solve.json")
-        job.save_path = str(out_dir / "solve.nc")
-        job.plot_path = str(out_dir / "solve.png")
-        code = run_job(job)
-        sys.stderr.write(f"wrote {job.json_path}, {job.save_path}, {job.plot_path}\n")
-    if code:
-        raise typer.Exit(code)
+        from .finger import ridge_models_figure
+
+        path = ridge_models_figure(out_dir / "ridge_models.png", values)
+        sys.stderr.write(f"wrote {path}\n")
 
 
 def _version_callback(value: bool) -> None:

@@ -365,8 +365,9 @@ def _check_cell(cell: Any) -> tuple[float, float, tuple[float, ...]]:
             "transition_pressure, full_contact_pressure)"
         )
     pt, pf = float(cell.transition_pressure), float(cell.full_contact_pressure)
-    if not (pt > 0 and pf > 0) or math.isnan(pt) or math.isnan(pf):
-        raise FingerpadError(f"unit cell pressures must be positive (transition {pt!r}, full {pf!r})")
+    # 0 is allowed: a flat cell (BEMUnitCell on a flat texture) is in full contact at any pressure.
+    if not (pt >= 0 and pf >= 0) or math.isnan(pt) or math.isnan(pf):
+        raise FingerpadError(f"unit cell pressures must not be negative (transition {pt!r}, full {pf!r})")
     if pf < pt:
         raise FingerpadError(f"unit cell full-contact pressure {pf:.4g} Pa is below its transition {pt:.4g} Pa")
     extra = tuple(float(b) for b in getattr(cell, "breakpoints", ()) or ())
