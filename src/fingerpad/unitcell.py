@@ -187,9 +187,10 @@ def full_contact_pressure(
 #: Computed pressures lie on the global grid p_k = 10**(k / POINTS_PER_DECADE) Pa, so curves
 #: computed for different load ranges (or by different processes) merge in the cache.
 POINTS_PER_DECADE = 12
-#: Highest pressure, as a multiple of E*, searched for full contact: beyond it small-strain
-#: elasticity has no meaning and the full-contact pressure is reported as infinite.
-FULL_CONTACT_SEARCH_LIMIT = 10.0
+#: Adjacent nodes of psi(p) differ by at most this much (steep stretches get extra nodes) ...
+MAX_PSI_STEP = 0.04
+#: ... using at most this many extra solves per prepare().
+MAX_REFINE_SOLVES = 40
 
 
 class BEMUnitCell:
@@ -245,6 +246,7 @@ class BEMUnitCell:
         self.flat = texture.peak_to_valley <= 0
         self.solves = 0
         self._interp = None
+        self._progress: tuple[Progress | None, int, int] = (None, 0, 0)
         if self.cache is not None:
             self._absorb(self.cache.load(self.key))
 
@@ -277,7 +279,13 @@ class BEMUnitCell:
     # ---------------------------------------------------------------- computing
 
     def prepare(self, p_min: float, p_max: float, progress: Progress | None = None) -> "BEMUnitCell":
-        """Make sure psi(p) is computed over [p_min, p_max] Pa, plus the state pressures."""
+        """Make sure psi(p) is computed over [p_min, p_max] Pa, with the state pressures.
+
+        The transition pressure is bracketed to ``rtol`` (searching below the range if needed);
+        the full-contact pressure only if full contact occurs within the range (otherwise it is
+        recorded as lying beyond the range's top). Bracketing solves become nodes of the curve,
+        so the kinks of psi at the state changes are resolved.
+        """
         if self.flat:
             return self
         if not (0 < p_min <= p_max and math.isfinite(p_max)):
@@ -286,62 +294,109 @@ class BEMUnitCell:
         k1 = math.ceil(math.log10(p_max) * POINTS_PER_DECADE) + 1
         wanted = [10 ** (k / POINTS_PER_DECADE) for k in range(k0, k1 + 1)]
         todo = [p for p in wanted if not any(math.isclose(p, q, rel_tol=1e-9) for q in self.points)]
-        need_states = self.transition is None or self.full is None
-        total = len(todo) + (2 if self.transition is None else 0)
-        done = 0
+        per_bracket = int(math.ceil(math.log2(math.log(10 ** (1 / POINTS_PER_DECADE)) / self.rtol))) + 1
+        self._progress = (progress, 0, len(todo) + 2 * per_bracket)
         new: dict[float, dict[str, Any]] = {}
         previous: ContactResult | None = None
         for p in todo:
-            res = self.solver.solve_pressure(p, initial=previous)
-            previous = res
-            new[p] = self._row(res)
-            self.solves += 1
-            done += 1
-            if progress is not None:
-                progress(done, total)
+            previous = self._solve_node(p, previous, new)
         if new:
             self._store(new)
-        if need_states:
-            extra: dict[str, Any] = {}
-            states: dict[float, dict[str, Any]] = {}
-            if self.transition is None:
-                crit = critical_pressure(self.solver, rtol=self.rtol)
-                self.solves += crit.solves
-                extra["transition"] = [crit.lower, crit.upper]
-                for p in (crit.lower, crit.upper):
-                    states[p] = self._row(self.solver.solve_pressure(p))
-                    done += 1
-                    if progress is not None:
-                        progress(done, total)
-            if self.full is None:
-                extra["full"] = self._full_contact()
-            self._store(states, **extra)
+        top = max(self.points)
+        extra: dict[str, Any] = {}
+        if not self._bracket_known(self.transition, top):
+            extra["transition"] = self._bracket_from_nodes(lambda st: st != "asperity")
+        if not self._bracket_known(self.full, top):
+            extra["full"] = self._bracket_from_nodes(lambda st: st == "full")
+        if extra:
+            self._store({}, **extra)
+        self._refine(p_min, p_max)
+        self._progress = (None, 0, 0)
         return self
 
-    def _full_contact(self) -> list[float]:
-        limit = FULL_CONTACT_SEARCH_LIMIT * self.modulus
-        top = self.solver.solve_pressure(limit)
+    def _refine(self, p_min: float, p_max: float) -> None:
+        """Add nodes where psi rises steeply (just past the transition the skin floods the base):
+        bisect (in log p) every interval inside the range whose psi step exceeds MAX_PSI_STEP."""
+        new: dict[float, dict[str, Any]] = {}
+        for _ in range(MAX_REFINE_SOLVES):
+            ps, psi = self._nodes()
+            steps = np.diff(psi)
+            ok = (ps[1:] >= p_min) & (ps[:-1] <= p_max) & (ps[1:] / ps[:-1] > 1 + 2 * self.rtol)
+            bad = np.flatnonzero(ok & (steps > MAX_PSI_STEP))
+            if bad.size == 0:
+                break
+            i = int(bad[np.argmax(steps[bad])])
+            self._solve_node(math.sqrt(ps[i] * ps[i + 1]), None, new)
+            self._store(new)
+            new = {}
+
+    def _solve_node(self, p: float, initial: ContactResult | None, sink: dict[float, dict[str, Any]]) -> ContactResult:
+        res = self.solver.solve_pressure(p, initial=initial)
+        sink[p] = self._row(res)
         self.solves += 1
-        if top.contact_state != "full":
-            return [math.inf, math.inf]
-        br = full_contact_pressure(self.solver, rtol=self.rtol)
-        self.solves += br.solves
-        return [br.lower, br.upper]
+        callback, done, total = self._progress
+        if callback is not None:
+            done += 1
+            callback(done, max(total, done))
+            self._progress = (callback, done, total)
+        return res
+
+    def _bracket_known(self, bracket: tuple[float, float] | None, top: float) -> bool:
+        if bracket is None:
+            return False
+        lo, hi = bracket
+        return math.isfinite(hi) or lo >= top  # a finite bracket, or "beyond" a range that still covers
+
+    def _bracket_from_nodes(self, reached: Callable[[str], bool]) -> list[float]:
+        """Bracket [lo, hi] of the pressure where ``reached(state)`` starts, refined from the
+        computed nodes by geometric bisection; [top, inf] if no node reaches it."""
+        nodes = sorted(self.points)
+        hits = [p for p in nodes if reached(self.points[p]["contact_state"])]
+        if not hits:
+            return [nodes[-1], math.inf]
+        hi = hits[0]
+        below = [p for p in nodes if p < hi]
+        new: dict[float, dict[str, Any]] = {}
+        if below:
+            lo = below[-1]
+            lo_res = self._solve_node(lo, None, new)
+        else:
+            lo, lo_res = hi, None
+            floor = 1e-9 * self.modulus
+            while True:
+                lo /= 4.0
+                if lo < floor:
+                    raise FingerpadError("the cell is past its transition at any pressure (a flat texture?)")
+                lo_res = self._solve_node(lo, None, new)
+                if not reached(lo_res.contact_state):
+                    break
+                hi = lo
+        while (hi - lo) / hi > self.rtol:
+            mid = math.sqrt(lo * hi)
+            res = self._solve_node(mid, lo_res, new)
+            if reached(res.contact_state):
+                hi = mid
+            else:
+                lo, lo_res = mid, res
+        self._store(new)
+        return [lo, hi]
 
     # ---------------------------------------------------------------- UnitCellResponse
 
     @property
     def transition_pressure(self) -> float:
-        """Mean cell pressure (Pa) at which the skin first touches the texture's base."""
+        """Mean cell pressure (Pa) at which the skin first touches the texture's base (inf if
+        beyond the prepared range)."""
         if self.flat:
             return 0.0
         if self.transition is None:
             raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
-        return math.sqrt(self.transition[0] * self.transition[1])
+        lo, hi = self.transition
+        return math.inf if math.isinf(hi) else math.sqrt(lo * hi)
 
     @property
     def full_contact_pressure(self) -> float:
-        """Mean cell pressure (Pa) at which every pixel touches (inf if beyond 10 E*)."""
+        """Mean cell pressure (Pa) at which every pixel touches (inf if beyond the prepared range)."""
         if self.flat:
             return 0.0
         if self.full is None:
@@ -355,13 +410,37 @@ class BEMUnitCell:
         # A monotone curve by construction of the physics; enforce it against last-digit noise.
         return ps, np.maximum.accumulate(psi)
 
+    def _pieces(self) -> list[np.ndarray]:
+        """Index sets of the nodes on either side of the transition kink (PCHIP per piece)."""
+        ps, _ = self._nodes()
+        if self.transition is None or not math.isfinite(self.transition[1]):
+            return [np.arange(ps.size)]
+        lo, hi = self.transition
+        left = np.flatnonzero(ps <= lo * (1 + 1e-12))
+        right = np.flatnonzero(ps >= hi * (1 - 1e-12))
+        return [piece for piece in (left, right) if piece.size]
+
     def _build(self) -> Any:
         from scipy.interpolate import PchipInterpolator
 
         ps, psi = self._nodes()
         if ps.size < 3:
             raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
-        return PchipInterpolator(np.log(ps), psi, extrapolate=False)
+        lp = np.log(ps)
+        parts = []
+        for idx in self._pieces():
+            if idx.size >= 2:
+                parts.append((lp[idx[0]], lp[idx[-1]], PchipInterpolator(lp[idx], psi[idx])))
+
+        def interp(x: np.ndarray) -> np.ndarray:
+            # linear in log p across the (rtol-narrow) transition bracket, PCHIP on each side
+            out = np.interp(x, lp, psi)
+            for a, b, f in parts:
+                sel = (x >= a) & (x <= b)
+                out[sel] = f(x[sel])
+            return out
+
+        return interp
 
     def contact_fraction(self, p: "np.ndarray | float") -> np.ndarray:
         """psi(p): real-to-nominal contact area fraction of the cell at mean pressure ``p`` (Pa)."""
@@ -382,30 +461,28 @@ class BEMUnitCell:
             out[low] = psi[0] * (p[low] / ps[0]) ** slope
         high = p > ps[-1]
         if np.any(high):
-            pf = self.full_contact_pressure if self.full is not None else math.inf
-            if math.isfinite(pf) and pf > ps[-1]:
-                frac = np.log(p[high] / ps[-1]) / math.log(pf / ps[-1])
-                out[high] = psi[-1] + (1 - psi[-1]) * np.clip(frac, 0, 1)
-            else:
-                out[high] = psi[-1] if not math.isfinite(pf) else 1.0
+            # Beyond the computed range: hold the last value (psi is non-decreasing); callers
+            # prepare the range they use.
+            out[high] = psi[-1]
         if self.full is not None and math.isfinite(self.full[1]):
             out = np.where(p >= self.full[1], 1.0, out)
         return np.clip(out, 0.0, 1.0)
 
     @property
     def interpolation_error(self) -> float:
-        """Leave-one-out bound on the interpolation error of psi (absolute, over interior nodes)."""
+        """Leave-one-out bound on the interpolation error of psi (absolute, interior nodes of
+        each side of the transition): each node is predicted from its neighbours without it."""
         from scipy.interpolate import PchipInterpolator
 
         ps, psi = self._nodes()
-        if ps.size < 4:
-            return math.nan
         lp = np.log(ps)
-        worst = 0.0
-        for i in range(1, ps.size - 1):
-            keep = np.arange(ps.size) != i
-            f = PchipInterpolator(lp[keep], psi[keep])
-            worst = max(worst, abs(float(f(lp[i])) - psi[i]))
+        worst = math.nan
+        for idx in self._pieces():
+            for j in range(1, idx.size - 1):
+                keep = np.delete(idx, j)
+                f = PchipInterpolator(lp[keep], psi[keep])
+                err = abs(float(f(lp[idx[j]])) - psi[idx[j]])
+                worst = err if math.isnan(worst) else max(worst, err)
         return worst
 
     def at_modulus(self, modulus: float) -> "ScaledResponse":
