@@ -37,11 +37,9 @@ import inspect
 import json
 import math
 import os
-import pickle
 import sys
-import uuid
 import warnings
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Annotated, Any
@@ -50,8 +48,21 @@ import typer
 
 from . import __version__
 from .errors import FingerpadError
+from .inputs import (
+    GRID_NAMES,
+    describe_exception,
+    generator_params,
+    generators,
+    make_generated_texture,
+    one_line,
+    param_kind,
+    parse_int,
+    parse_size,
+    read_surface_file,
+    split_extra_options,
+)
 from .materials import DEFAULT_SKIN_MODULUS, DEFAULT_SKIN_POISSON, check_modulus, check_poisson, reduced_modulus
-from .units import UNITS, format_quantity, parse_positive, parse_quantity, parse_range
+from .units import format_quantity, parse_positive, parse_quantity, parse_range
 
 EXIT_UNCONVERGED = 1
 EXIT_USER_ERROR = 2
@@ -70,24 +81,13 @@ app = typer.Typer(
 # =============================================================================================
 
 
-def _one_line(text: str) -> str:
-    return " ".join(part.strip() for part in str(text).splitlines() if part.strip()) or "unknown error"
-
-
-def _describe_exception(exc: BaseException) -> str:
-    if isinstance(exc, OSError) and not isinstance(exc, FingerpadError):
-        what = exc.strerror or str(exc)
-        return f"{what}: {exc.filename}" if exc.filename else what
-    return str(exc)
-
-
 @contextlib.contextmanager
 def user_errors() -> Iterator[None]:
     """Turn user errors into ``error: <message>`` on one stderr line and exit code 2."""
     try:
         yield
     except (FingerpadError, OSError) as exc:
-        sys.stderr.write(f"error: {_one_line(_describe_exception(exc))}\n")
+        sys.stderr.write(f"error: {one_line(describe_exception(exc))}\n")
         sys.stderr.flush()
         raise typer.Exit(EXIT_USER_ERROR) from None
 
@@ -104,7 +104,7 @@ def _warnings_to(console: Any) -> Iterator[None]:
     seen: set[str] = set()
 
     def show(message, category, filename, lineno, file=None, line=None):  # noqa: ANN001
-        text = f"warning: {_one_line(str(message))}"
+        text = f"warning: {one_line(str(message))}"
         if text not in seen:
             seen.add(text)
             console.print(text, markup=False, highlight=False, soft_wrap=True)
@@ -124,26 +124,8 @@ def _warnings_to(console: Any) -> Iterator[None]:
 # =============================================================================================
 
 
-def _parse_int(text: str, name: str, minimum: int = 1) -> int:
-    try:
-        value = int(str(text).strip())
-    except ValueError:
-        raise FingerpadError(f"{name}: expected an integer, got {text!r}") from None
-    if value < minimum:
-        raise FingerpadError(f"{name}: must be at least {minimum}, got {value}")
-    return value
-
-
 def _parse_float(text: str, name: str) -> float:
     return parse_quantity(text, "none", name=name)
-
-
-def _parse_size(text: str) -> tuple[float, float]:
-    parts = [p for p in str(text).split(",")]
-    if len(parts) not in (1, 2) or any(not p.strip() for p in parts):
-        raise FingerpadError(f"--size: expected LX or LX,LY, got {text!r}")
-    values = [parse_positive(p, "length", name="--size") for p in parts]
-    return (values[0], values[-1])
 
 
 def _parse_pressures(texts: Sequence[str], log: bool) -> list[float]:
@@ -221,229 +203,6 @@ def parse_materials(
     return MaterialsSpec(modulus=e_star, skin_modulus=es, skin_poisson=nus, material_modulus=em, material_poisson=num)
 
 
-# --------------------------------------------------------------------------------------------
-# texture parameters given as extra options
-
-
-_ANGLE_NAMES = {"orientation", "angle", "rotation", "theta", "phi", "direction"}
-_INT_NAMES = {"n", "nx", "ny", "grid", "count", "seed", "points", "resolution", "harmonics"}
-_DIMENSIONLESS_NAMES = {"fraction", "ratio", "aspect", "aspect_ratio", "fill", "fill_fraction", "exponent",
-                        "duty", "duty_cycle", "coverage", "density"}
-_STR_NAMES = {"lattice", "profile", "shape", "kind", "pattern", "mode", "name"}
-_GRID_NAMES = ("grid", "n", "resolution", "points", "nx")
-
-
-def _annotation_text(annotation: Any) -> str:
-    if annotation is inspect.Parameter.empty:
-        return ""
-    return annotation if isinstance(annotation, str) else getattr(annotation, "__name__", str(annotation))
-
-
-def param_kind(name: str, param: inspect.Parameter | None = None) -> str:
-    """How a generator parameter is read from the command line:
-    ``length``, ``angle``, ``pressure``, ``none`` (plain float), ``int``, ``bool``, ``str``,
-    or ``lengths`` (a comma-separated tuple of lengths)."""
-    default = param.default if param is not None else inspect.Parameter.empty
-    ann = _annotation_text(param.annotation) if param is not None else ""
-    if isinstance(default, bool) or ann.startswith("bool"):
-        return "bool"
-    if isinstance(default, str) or ann in ("str", "str | None", "Literal") or ann.startswith("Literal"):
-        return "str"
-    if name in _STR_NAMES:
-        return "str"
-    if isinstance(default, tuple) or ann.startswith("tuple") or ann.startswith("Sequence"):
-        return "lengths"
-    if name in _ANGLE_NAMES or name.endswith("_angle") or name.endswith("_deg"):
-        return "angle"
-    if (isinstance(default, int) and not isinstance(default, bool)) or ann in ("int", "int | None") or name in _INT_NAMES:
-        return "int"
-    if name in _DIMENSIONLESS_NAMES or name.endswith("_fraction") or name.endswith("_ratio"):
-        return "none"
-    if name.endswith("modulus") or name.endswith("pressure"):
-        return "pressure"
-    return "length"
-
-
-def parse_param_value(name: str, text: str, kind: str) -> Any:
-    label = "--" + name.replace("_", "-")
-    if kind == "str":
-        return text
-    if kind == "bool":
-        low = text.strip().lower()
-        if low in ("1", "true", "yes", "on"):
-            return True
-        if low in ("0", "false", "no", "off"):
-            return False
-        raise FingerpadError(f"{label}: expected true or false, got {text!r}")
-    if kind == "int":
-        return _parse_int(text, label, minimum=-(2**62))
-    if kind == "lengths":
-        parts = str(text).split(",")
-        return tuple(parse_quantity(p, "length", name=label) for p in parts)
-    if "," in str(text):
-        return tuple(parse_quantity(p, kind, name=label) for p in str(text).split(","))
-    return parse_quantity(text, kind, name=label)
-
-
-def split_extra_options(args: Sequence[str]) -> list[tuple[str, str]]:
-    """``["--radius", "50um", "--lattice=hex"]`` -> ``[("radius", "50um"), ("lattice", "hex")]``."""
-    pairs: list[tuple[str, str]] = []
-    i = 0
-    args = list(args)
-    while i < len(args):
-        token = args[i]
-        if not token.startswith("--") or len(token) <= 2:
-            raise FingerpadError(f"unexpected argument {token!r} (texture parameters are given as --NAME VALUE)")
-        body = token[2:]
-        if "=" in body:
-            key, value = body.split("=", 1)
-            i += 1
-        else:
-            key = body
-            if i + 1 >= len(args) or args[i + 1].startswith("--"):
-                raise FingerpadError(f"option {token} needs a value")
-            value = args[i + 1]
-            i += 2
-        pairs.append((key.replace("-", "_"), value))
-    return pairs
-
-
-def _generators() -> dict[str, Callable[..., Any]]:
-    from . import textures
-
-    gens = getattr(textures, "GENERATORS", None)
-    if not gens:
-        raise FingerpadError("no texture generators available in this version of fingerpad")
-    return dict(gens)
-
-
-def _signature(fn: Callable[..., Any]) -> dict[str, inspect.Parameter]:
-    try:
-        return dict(inspect.signature(fn).parameters)
-    except (TypeError, ValueError):
-        return {}
-
-
-def generator_params(fn: Callable[..., Any]) -> dict[str, inspect.Parameter]:
-    """Keyword parameters of a generator (no ``*args``/``**kwargs``)."""
-    return {
-        k: p
-        for k, p in _signature(fn).items()
-        if p.kind in (inspect.Parameter.POSITIONAL_OR_KEYWORD, inspect.Parameter.KEYWORD_ONLY)
-    }
-
-
-def _accepts_any_kwargs(fn: Callable[..., Any]) -> bool:
-    return any(p.kind is inspect.Parameter.VAR_KEYWORD for p in _signature(fn).values())
-
-
-def build_texture_params(
-    name: str, extra: Sequence[str], grid: int | None = None, size: tuple[float, float] | None = None
-) -> tuple[Callable[..., Any], dict[str, Any]]:
-    """Generator and its keyword arguments (SI) from ``--texture NAME`` and the extra options."""
-    gens = _generators()
-    key = name.strip().lower()
-    if key not in gens:
-        raise FingerpadError(f"unknown texture {name!r} (choose from: {', '.join(sorted(gens))})")
-    fn = gens[key]
-    params = generator_params(fn)
-    anykw = _accepts_any_kwargs(fn)
-    kwargs: dict[str, Any] = {}
-    for pname, text in split_extra_options(extra):
-        if pname not in params and not anykw:
-            known = ", ".join("--" + k.replace("_", "-") for k in params if k not in _GRID_NAMES) or "none"
-            raise FingerpadError(f"texture {key!r} has no parameter --{pname.replace('_', '-')} (its parameters: {known})")
-        if pname in kwargs:
-            raise FingerpadError(f"texture parameter --{pname.replace('_', '-')} given twice")
-        kwargs[pname] = parse_param_value(pname, text, param_kind(pname, params.get(pname)))
-    if grid is not None:
-        gname = next((g for g in _GRID_NAMES if g in params), None)
-        if gname is None:
-            if not anykw:
-                raise FingerpadError(f"texture {key!r} takes no grid size")
-            gname = "grid"
-        if gname in kwargs:
-            raise FingerpadError(f"give the grid size once (--grid), not as --{gname}")
-        kwargs[gname] = grid
-    if size is not None:
-        if "size" not in params and not anykw:
-            raise FingerpadError(
-                f"--size applies to --surface files; texture {key!r} sets its own cell size from its parameters"
-            )
-        kwargs["size"] = size
-    return fn, kwargs
-
-
-def make_generated_texture(name: str, extra: Sequence[str], grid: int | None, size: tuple[float, float] | None):
-    """Build a generated texture from ``--texture NAME`` and its ``--PARAM VALUE`` options."""
-    from . import textures
-
-    fn, kwargs = build_texture_params(name, extra, grid, size)
-    missing = [
-        "--" + k.replace("_", "-")
-        for k, p in generator_params(fn).items()
-        if p.default is inspect.Parameter.empty and k not in kwargs
-    ]
-    if missing:
-        raise FingerpadError(f"texture {name.strip().lower()!r} needs {', '.join(missing)}")
-    maker = getattr(textures, "make_texture", None)
-    if maker is not None:
-        return maker(name.strip().lower(), **kwargs)
-    return fn(**kwargs)
-
-
-_PLAIN_FORMATS = {".npy", ".txt", ".csv", ".dat", ".asc", ".tsv"}
-
-
-def read_surface_file(
-    path: str, size: tuple[float, float] | None, height_unit: str | None, periodic: bool,
-    fill_missing: bool = False,
-):
-    """Read a measured or designed height map (see :func:`fingerpad.textures.read_surface`)."""
-    from . import textures
-
-    p = Path(path)
-    if not p.exists():
-        raise FingerpadError(f"cannot read surface {path!r}: no such file")
-    if p.is_dir():
-        raise FingerpadError(f"cannot read surface {path!r}: it is a directory")
-    if not os.access(p, os.R_OK):
-        raise FingerpadError(f"cannot read surface {path!r}: permission denied")
-    if p.suffix.lower() in _PLAIN_FORMATS:
-        missing = [opt for opt, v in (("--size", size), ("--height-unit", height_unit)) if v is None]
-        if missing:
-            raise FingerpadError(
-                f"surface {p.name!r} stores bare numbers: give {' and '.join(missing)} "
-                "(e.g. --size 200um,200um --height-unit um)"
-            )
-    factor: float | None = None
-    if height_unit is not None:
-        unit = height_unit.strip()
-        if unit not in UNITS or UNITS[unit][0] != "length":
-            known = ", ".join(k for k, v in UNITS.items() if v[0] == "length")
-            raise FingerpadError(f"--height-unit: unknown length unit {height_unit!r} (use one of: {known})")
-        factor = UNITS[unit][1]
-    reader = getattr(textures, "read_surface", None)
-    if reader is None:
-        raise FingerpadError("reading surface files is not available in this version of fingerpad")
-    try:
-        return reader(p, size=size, height_unit=factor, periodic=periodic, level=True, fill_missing=fill_missing)
-    except FingerpadError as exc:
-        # Name the command-line option rather than the Python keyword.
-        text = str(exc).replace("pass fill_missing=True", "give --fill-missing")
-        text = text.replace("pass size=(Lx, Ly) in metres", "give --size LX[,LY]")
-        text = text.replace("pass height_unit", "give --height-unit")
-        if text != str(exc):
-            raise FingerpadError(text) from None
-        raise
-    except (OSError, ValueError, EOFError, pickle.UnpicklingError) as exc:
-        raise FingerpadError(f"cannot read surface {path!r}: {_one_line(_describe_exception(exc))}") from None
-    except Exception as exc:
-        # SurfaceTopography's readers raise their own exception types on a bad file.
-        if type(exc).__module__.split(".")[0] == "SurfaceTopography":
-            raise FingerpadError(f"cannot read surface {path!r}: {_one_line(str(exc))}") from None
-        raise
-
 
 # =============================================================================================
 # Solving and writing
@@ -517,30 +276,6 @@ def _check_outputs(job: SolveJob) -> None:
             raise FingerpadError(f"{opt} and {seen[key]} name the same file {path!r}")
         seen[key] = opt
         check_writable(path, opt)
-
-
-class _Staging:
-    """Write every output to a hidden temporary name first; move all into place at the end."""
-
-    def __init__(self) -> None:
-        self.staged: list[tuple[Path, Path]] = []
-
-    def stage(self, final: str, write: Callable[[Path], Any]) -> None:
-        target = Path(final)
-        tmp = target.parent / f".{target.name}.{uuid.uuid4().hex[:8]}.part"
-        self.staged.append((tmp, target))
-        write(tmp)
-
-    def commit(self) -> None:
-        for tmp, target in self.staged:
-            os.replace(tmp, target)
-        self.staged.clear()
-
-    def discard(self) -> None:
-        for tmp, _ in self.staged:
-            with contextlib.suppress(OSError):
-                tmp.unlink()
-        self.staged.clear()
 
 
 def _solve_curve(job: SolveJob, err_console: Any):
@@ -623,7 +358,7 @@ def run_job(job: SolveJob) -> int:
         curve = _solve_curve(job, err)
     results = list(curve.results)
     payload = _results_json(job, results)
-    staging = _Staging()
+    staging = fio.Staging()
     try:
         if job.json_path is not None and job.json_path != "-":
             text = json.dumps(payload, indent=2) + "\n"
@@ -765,11 +500,11 @@ def build_job(
     tol_v = _parse_float(tol, "--tol")
     if not (0 < tol_v < 1):
         raise FingerpadError(f"--tol must lie in (0, 1), got {tol!r}")
-    max_iter_v = _parse_int(max_iter, "--max-iter")
+    max_iter_v = parse_int(max_iter, "--max-iter")
     if formulation not in ("auto", "primal", "dual"):
         raise FingerpadError(f"--formulation must be auto, primal or dual, got {formulation!r}")
-    grid_v = _parse_int(grid, "--grid") if grid is not None else None
-    size_v = _parse_size(size) if size is not None else None
+    grid_v = parse_int(grid, "--grid") if grid is not None else None
+    size_v = parse_size(size) if size is not None else None
     plot_at_v = parse_positive(plot_at, "pressure", name="--plot-at") if plot_at is not None else None
     if plot_at_v is not None and plot is None:
         raise FingerpadError("--plot-at needs --plot")
@@ -808,7 +543,7 @@ def textures_command() -> None:
     from rich.table import Table
 
     with user_errors():
-        gens = _generators()
+        gens = generators()
     from rich.markup import escape
 
     table = Table(title="texture generators: fingerpad solve --texture NAME --PARAM VALUE ...", show_lines=True)
@@ -820,7 +555,7 @@ def textures_command() -> None:
     for name, fn in gens.items():
         lines = []
         for pname, p in generator_params(fn).items():
-            if pname in _GRID_NAMES:
+            if pname in GRID_NAMES:
                 opt, meta = "--grid", "N"
             else:
                 opt, meta = "--" + pname.replace("_", "-"), metavars.get(param_kind(pname, p), "VALUE")
@@ -1014,7 +749,7 @@ def build_study(
             raise FingerpadError(f"--model must be one of {', '.join(MODELS)}, got {model!r}")
         msec["kind"] = model.strip().lower()
     if grid is not None:
-        msec["grid"] = _parse_int(grid, "--grid", minimum=4)
+        msec["grid"] = parse_int(grid, "--grid", minimum=4)
         data.get("texture", {}).pop("grid", None)
     if tol is not None:
         tol_v = _parse_float(tol, "--tol")
@@ -1022,7 +757,7 @@ def build_study(
             raise FingerpadError(f"--tol must lie in (0, 1), got {tol!r}")
         msec["tol"] = tol_v
     if max_iter is not None:
-        msec["max_iter"] = _parse_int(max_iter, "--max-iter")
+        msec["max_iter"] = parse_int(max_iter, "--max-iter")
     if cache is not None:
         msec["cache"] = cache
     study = study_from_dict(data)

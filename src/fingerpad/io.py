@@ -20,6 +20,8 @@ Layout of a saved unit-cell solution (all SI, every variable carries a ``units``
 Every writer goes through :func:`atomic_write`: the file is written to a temporary name in the
 target directory and moved into place with :func:`os.replace` only once complete, so an error
 never leaves a partial file behind.
+:class:`Staging` does the same for a set of files that belong together (a command's outputs):
+either all of them are moved into place or none.
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ import math
 import os
 import re
 import tempfile
+import uuid
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -122,6 +125,48 @@ def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], Any]) ->
 def write_text(path: str | os.PathLike[str], text: str) -> Path:
     """Atomically write ``text`` (UTF-8) to ``path``."""
     return atomic_write(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+
+
+class Staging:
+    """Write a set of output files all or none.
+
+    Each output is first written to a hidden temporary file next to its final name
+    (``.NAME.XXXXXXXX.part``, :meth:`stage`); :meth:`commit` moves all of them into place with
+    :func:`os.replace` once every one is complete; :meth:`discard` removes the temporary files
+    still staged (nothing after a :meth:`commit`). Call :meth:`discard` on every way out, so that an
+    error while writing any output leaves neither partial files nor earlier outputs of the set::
+
+        staging = Staging()
+        try:
+            staging.stage("out.json", lambda tmp: write_text(tmp, text))
+            staging.stage("out.nc", lambda tmp: save_result(result, tmp))
+            staging.commit()
+        finally:
+            staging.discard()
+    """
+
+    def __init__(self) -> None:
+        self.staged: list[tuple[Path, Path]] = []
+
+    def stage(self, final: str, write: Callable[[Path], Any]) -> None:
+        """Call ``write(tmp)`` to write the output meant for ``final`` to a temporary file."""
+        target = Path(final)
+        tmp = target.parent / f".{target.name}.{uuid.uuid4().hex[:8]}.part"
+        self.staged.append((tmp, target))
+        write(tmp)
+
+    def commit(self) -> None:
+        """Move every staged file onto its final name."""
+        for tmp, target in self.staged:
+            os.replace(tmp, target)
+        self.staged.clear()
+
+    def discard(self) -> None:
+        """Remove the temporary files still staged (after an error; harmless after :meth:`commit`)."""
+        for tmp, _ in self.staged:
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+        self.staged.clear()
 
 
 # ---------------------------------------------------------------------------------------------
@@ -360,7 +405,8 @@ def results_dataset(results: Sequence[Any], attrs: Mapping[str, Any] | None = No
     return xr.Dataset(data, coords=coords, attrs=_global_attrs(first, attrs, "fingerpad unit-cell load curve"))
 
 
-def _to_netcdf(ds: Any, path: str | os.PathLike[str]) -> Path:
+def to_netcdf(ds: Any, path: str | os.PathLike[str]) -> Path:
+    """Write a dataset of this module to NetCDF (atomically; object variables as strings, fields gzipped)."""
     encoding: dict[str, dict[str, Any]] = {}
     for name, var in ds.variables.items():
         if var.dtype == object:
@@ -376,12 +422,12 @@ def save_result(result: Any, path: str | os.PathLike[str], attrs: Mapping[str, A
 
     ``attrs`` (any JSON-like mapping) is added to the global attributes after conversion.
     """
-    return _to_netcdf(result_dataset(result, attrs), path)
+    return to_netcdf(result_dataset(result, attrs), path)
 
 
 def save_results(results: Sequence[Any], path: str | os.PathLike[str], attrs: Mapping[str, Any] | None = None) -> Path:
     """Write several results on one texture, stacked along ``mean_pressure`` (atomically)."""
-    return _to_netcdf(results_dataset(results, attrs), path)
+    return to_netcdf(results_dataset(results, attrs), path)
 
 
 def load_curve_dataset(curve: Any, attrs: Mapping[str, Any] | None = None):
@@ -416,7 +462,7 @@ def load_curve_dataset(curve: Any, attrs: Mapping[str, Any] | None = None):
 
 def save_load_curve(curve: Any, path: str | os.PathLike[str], attrs: Mapping[str, Any] | None = None) -> Path:
     """Write a :class:`~fingerpad.unitcell.LoadCurve` to NetCDF (atomically)."""
-    return _to_netcdf(load_curve_dataset(curve, attrs), path)
+    return to_netcdf(load_curve_dataset(curve, attrs), path)
 
 
 def load_dataset(path: str | os.PathLike[str]):

@@ -70,6 +70,7 @@ import numpy as np
 from .coupling import CurvePrediction, HertzUnitCell, predict_curve
 from .errors import FingerpadError
 from .finger import _FIELD_DIMENSIONS, FINGER_PRESETS, Finger, get_finger
+from .inputs import make_generated_texture, parse_size, read_surface_file
 from .materials import check_modulus, check_poisson
 from .textures import Texture
 from .units import parse_quantity, parse_range
@@ -240,18 +241,14 @@ class TextureSpec:
         return {"source": "generator", "file": None}
 
     def _size(self) -> tuple[float, float] | None:
-        from .cli import _parse_size
-
         if self.size is None:
             return None
         if isinstance(self.size, (tuple, list)) and all(isinstance(v, float) for v in self.size):
             return (float(self.size[0]), float(self.size[-1]))
-        return _parse_size(_text(self.size))
+        return parse_size(_text(self.size))
 
     def build(self, grid: int | None = None) -> Texture:
         """The :class:`~fingerpad.textures.Texture` (``grid``: points along x, generators only)."""
-        from .cli import make_generated_texture, read_surface_file
-
         size = self._size()
         if self.name is not None:
             for key, value in (("height_unit", self.height_unit), ("periodize", self.periodize),
@@ -1187,7 +1184,6 @@ def write_outputs(pred: Prediction, out_dir: str | os.PathLike[str], *, dpi: int
     import json
 
     from . import io as fio
-    from .cli import _Staging
 
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
@@ -1199,13 +1195,13 @@ def write_outputs(pred: Prediction, out_dir: str | os.PathLike[str], *, dpi: int
         raise FingerpadError(f"cannot create output directory {str(out)!r}: {exc.strerror or exc}") from None
     if not os.access(out, os.W_OK):
         raise FingerpadError(f"output directory {str(out)!r} is not writable")
-    staging = _Staging()
+    staging = fio.Staging()
     paths = [out / name for name in OUTPUT_FILES]
     try:
         text = json.dumps(prediction_json(pred), indent=2) + "\n"
         staging.stage(str(paths[0]), lambda tmp: fio.write_text(tmp, text))
         ds = prediction_dataset(pred)
-        staging.stage(str(paths[1]), lambda tmp: fio._to_netcdf(ds, tmp))
+        staging.stage(str(paths[1]), lambda tmp: fio.to_netcdf(ds, tmp))
         for path, maker in zip(paths[2:], (figure_areas, figure_friction, figure_zones), strict=True):
             fig = maker(pred)
             staging.stage(str(path), lambda tmp, fig=fig: fio.atomic_write(tmp, lambda t: fig.savefig(t, format="png", dpi=dpi)))
