@@ -1292,10 +1292,14 @@ def find_breakpoint(
     a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
     x0, rss_min = float(grid[i]), float(rss[i])
     if b > a:
-        res = optimize.minimize_scalar(lambda t: float(_hinge_profile(x, y, np.array([t]), trend)[0]),
-                                       bounds=(a, b), method="bounded",
-                                       options={"xatol": 1e-6 * max(1.0, abs(x0))})
-        if res.fun < rss_min:
+        # The trend filter makes the profile infinite where the curve turns the other way; the
+        # bounded search then does inf - inf internally. Its result is only taken if it improves
+        # on the grid minimum, so the warnings are noise.
+        with np.errstate(invalid="ignore"):
+            res = optimize.minimize_scalar(lambda t: float(_hinge_profile(x, y, np.array([t]), trend)[0]),
+                                           bounds=(a, b), method="bounded",
+                                           options={"xatol": 1e-6 * max(1.0, abs(x0))})
+        if np.isfinite(res.fun) and res.fun < rss_min:
             x0, rss_min = float(res.x), float(res.fun)
     _, coef = _hinge_fit(x, y, x0)
     line = np.polyfit(x, y, 1)
