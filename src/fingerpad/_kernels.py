@@ -43,7 +43,7 @@ class ArrayKernels:
         r = ax - b - lam
         rf = xp.where(free, r, 0.0)
         viol = xp.where(free, 0.0, xp.minimum(r, 0.0))
-        t_new = rf + beta * t if beta else rf
+        t_new = xp.where(free, rf + beta * t, 0.0) if beta else rf
         return (
             t_new,
             float(xp.sum(viol * viol)),

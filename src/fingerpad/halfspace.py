@@ -75,7 +75,7 @@ BASE_LEVEL_RTOL = 1e-6
 
 _COARSE_MIN = 64  # coarsest level of the dual's coarse-to-fine start
 _PROBE_MIN = 128  # the cold-start probe of the contact fraction solves at about this size
-RESET_ON_CLIP = True
+RESET_ON_CLIP = False
 #: In auto mode a formulation whose residual has not halved for this many iterations hands over
 #: to the other one.
 STALL_ITERATIONS = 150
@@ -492,6 +492,7 @@ class HalfSpaceSolver:
         use_numba = self.backend.is_numpy and (kernels == "numba" or (kernels == "auto" and h.size >= NUMBA_MIN_SIZE))
         self._kern = kernels_for(xp_, use_numba)
         self._coarse: dict[str, HalfSpaceSolver | None] = {}
+        self._coarse_tol = min(max(self.tol, 1e-6) * 10, 1e-3)
         self._factors = (1, 1)
 
     # ---------------------------------------------------------------- public API
@@ -554,12 +555,15 @@ class HalfSpaceSolver:
             # Block averages keep the mean height; the features survive well enough to place
             # the contact spots and to judge the contact fraction.
             hc = h.reshape(nx // fx, fx, ny // fy, fy).mean(axis=(1, 3))
+            # Coarse levels only place the contact set: one loose tolerance for the whole chain
+            # (not compounded level by level).
             solver = HalfSpaceSolver(
-                replace(self.texture, heights=hc), self.modulus, tol=max(self.tol, 1e-6) * 10,
+                replace(self.texture, heights=hc), self.modulus, tol=self._coarse_tol,
                 max_iter=self.max_iter, formulation=self.formulation, coarse_to_fine=kind == "half",
                 xp=self.backend.xp, workers=self.backend.workers, kernels=self._kernels_choice,
             )
             solver._factors = (fx, fy)
+            solver._coarse_tol = self._coarse_tol
             self._coarse[kind] = solver
         return self._coarse[kind]
 
