@@ -21,7 +21,8 @@ test-slow: $(STAMP)
 	$(PY) -m pytest -q -m slow
 
 bench: $(STAMP)
-	$(PY) benchmarks/bench_solver.py
+	$(PY) -m pip install --quiet --disable-pip-version-check -e ".[bench]"
+	$(PY) benchmarks/bench_solver.py --grids 256,512,1024,2048 --peer-grids 256,512,1024,2048 --memory 4096
 
 clean:
 	rm -rf $(VENV) out .pytest_cache

@@ -28,6 +28,7 @@ from typing import Annotated, Any
 import typer
 
 from .errors import FingerpadError
+from .inputs import parse_int
 from .units import parse_quantity
 
 EXIT_USER_ERROR = 2
@@ -61,16 +62,6 @@ def _number(text: str, name: str, *, low: float | None = None, high: float | Non
     if not math.isfinite(value) or (low is not None and value < low) or (high is not None and value > high):
         bounds = f"[{low if low is not None else '-inf'}, {high if high is not None else 'inf'}]"
         raise FingerpadError(f"{name}: must be a number in {bounds}, got {text!r}")
-    return value
-
-
-def _integer(text: str, name: str, minimum: int = 1) -> int:
-    try:
-        value = int(str(text).strip())
-    except ValueError:
-        raise FingerpadError(f"{name}: expected an integer, got {text!r}") from None
-    if value < minimum:
-        raise FingerpadError(f"{name}: must be at least {minimum}, got {value}")
     return value
 
 
@@ -173,19 +164,19 @@ def analyse_command(
             trim=_number(trim, "--trim", low=0.0, high=0.45),
             direction_source=_choice(direction_source, "--direction-source",
                                      ("auto", "velocity", "position", "friction")),  # type: ignore[arg-type]
-            min_strokes=_integer(min_strokes, "--min-strokes"),
+            min_strokes=parse_int(min_strokes, "--min-strokes"),
         )
         options = m.AnalysisOptions(
             reference=reference,
             strokes=stroke_opts,
             outlier_z=_number(outlier_z, "--outlier-z", low=0.5),
-            n_bins=_integer(bins, "--bins"),
+            n_bins=parse_int(bins, "--bins"),
             breakpoint_space=_choice(breakpoint_space, "--breakpoint-space", ("log", "linear")),  # type: ignore[arg-type]
             breakpoint_method=_choice(breakpoint_method, "--breakpoint-method",
                                       ("profile", "bootstrap")),  # type: ignore[arg-type]
             breakpoint_trend=_choice(trend, "--trend", ("steeper", "flatter", "any")),  # type: ignore[arg-type]
             level=_number(level, "--level", low=0.5, high=0.999),
-            seed=_integer(seed, "--seed", minimum=0),
+            seed=parse_int(seed, "--seed", minimum=0),
             finger=get_finger(finger),
             fit_scale=fit_scale,
         )
@@ -270,16 +261,16 @@ def simulate_command(
             micro_model=micro_model,
         )
         config = m.SimulationConfig(
-            participants=_integer(participants, "--participants"),
-            repetitions=_integer(repetitions, "--repetitions"),
-            strokes_per_file=_integer(strokes, "--strokes", minimum=2),
+            participants=parse_int(participants, "--participants"),
+            repetitions=parse_int(repetitions, "--repetitions"),
+            strokes_per_file=parse_int(strokes, "--strokes", minimum=2),
             load_range=_load_range(loads),
             reference=reference,
             textures={texture: geometry},
             skin_modulus_range=e_range,  # type: ignore[arg-type]
             sampling_rate=_number(sampling_rate, "--sampling-rate", low=1.0),
         )
-        truth = m.simulate_study(out, config, seed=_integer(seed, "--seed", minimum=0))
+        truth = m.simulate_study(out, config, seed=parse_int(seed, "--seed", minimum=0))
     from rich.console import Console
 
     console = Console(highlight=False, soft_wrap=True)
