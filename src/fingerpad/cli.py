@@ -48,6 +48,7 @@ import typer
 
 from . import __version__
 from .errors import FingerpadError
+from .study import DEFAULT_GRID, DEFAULT_STUDY
 from .inputs import (
     GRID_NAMES,
     describe_exception,
@@ -939,22 +940,6 @@ def predict(
         raise typer.Exit(code)
 
 
-#: The study of `run-default` (also in examples/study.toml). A hot-embossed polyethylene foil:
-#: E = 0.5 GPa, nu = 0.4 (MODEL.md: PE foil 0.2-1 GPa), with spherical-cap bumps R = 100 um,
-#: h = 20 um on a hexagonal lattice of spacing 175 um (base diameter 120 um, gaps of 55 um):
-#: dimensions a hot-embossing mould reproduces easily, at the ~160 um spacing where textures start
-#: to be felt. With the default finger (E_s = 0.3 MPa, so E1* = 0.395 MPa) both critical loads fall
-#: inside the 0.1-4 N exploration range -- Hertz (Eq. 3.6) about 0.18 N, the BEM about 1.1 N --
-#: so the figures show the asperity, transition and (BEM) transition-zone growth states.
-DEFAULT_STUDY: dict[str, dict[str, Any]] = {
-    "texture": {"name": "caps", "radius": "100um", "height": "20um", "spacing": "175um", "lattice": "hexagonal"},
-    "material": {"modulus": "0.5GPa", "poisson": 0.4},
-    "finger": {"preset": "default"},
-    "loads": {"range": "0.1N:4N:40", "log": True},
-    "model": {"kind": "both"},
-}
-#: Grid of the default unit cell (points along x; the hexagonal cell has 1.73x as many along y).
-DEFAULT_GRID = "64"
 
 
 @app.command("run-default")
