@@ -31,13 +31,15 @@ x >= 0`` with an optional fixed mean of ``x``:
 
 ``formulation="auto"`` picks the dual for periodic cells above 75 % contact (judged from the warm
 start, or for a cold start from a solve of the cell block-averaged to ~128 points per axis), the
-primal otherwise; a formulation that stalls hands over to the other. The coarse solution,
-repeated onto the fine grid, starts the dual; the primal starts from uniform pressure, which
-measured as fast as any coarse guess.
+primal otherwise; a formulation that stalls hands over to the other. The dual starts from a
+coarse-to-fine chain (the cell halved recursively, each solution repeated onto the next grid);
+the primal starts from uniform pressure, which measured as fast as any coarse guess.
 
-Each iteration needs one convolution for the search direction; the operator applied to the
-iterate is updated from it (linearity) and recomputed only when the projection changed the
-active set, so a settled iteration costs one FFT pair.
+Each iteration transforms the search direction (its spectrum gives the exact line search by
+Parseval) and inverse-transforms the iterate's spectrum, which follows by linearity; only when
+the projection changed the active set is the iterate transformed afresh. A settled iteration
+costs one FFT pair, an unsettled one one and a half. The element-wise work is fused into a few
+parallel loops (:mod:`fingerpad._kernels`).
 
 Convergence is measured by the relative KKT residual: the RMS over the cell of the projected
 gradient (gap error where in contact and overlap elsewhere, for the primal; pressure error off
@@ -75,7 +77,6 @@ BASE_LEVEL_RTOL = 1e-6
 
 _COARSE_MIN = 64  # coarsest level of the dual's coarse-to-fine start
 _PROBE_MIN = 128  # the cold-start probe of the contact fraction solves at about this size
-RESET_ON_CLIP = False
 #: In auto mode a formulation whose residual has not halved for this many iterations hands over
 #: to the other one.
 STALL_ITERATIONS = 150
@@ -403,9 +404,9 @@ def _ccg(
             xh = kern.axpy_spectrum(xh, tau, th)
             fresh = False
         ax = op.apply_hat(xh)
-        # Restart conjugacy whenever the active set changed (Polonsky-Keer reset only on entry;
-        # resetting on clipping too keeps the directions consistent with the current face).
-        restart = (clipped and RESET_ON_CLIP) or entering
+        # Restart conjugacy when bound points were released (Polonsky-Keer). Keeping it through
+        # clipping measured fewer iterations (1024^2 caps, 31 % contact: 120 against 170).
+        restart = entering
     return _Raw(x, max_iter, residual, False, lam)
 
 
@@ -625,7 +626,7 @@ class HalfSpaceSolver:
         # dual: unknown gap, gradient = pressure
         if mode == "pressure":
             b = -(self._Sh + value)
-            x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else self._gap_guess(value)
+            x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else self._gap_guess()
             return _ccg(self._kern, self._S, b, x0, mean=None, scale=value, tol=self.tol, max_iter=self.max_iter, stall=stall)
         target = self.h_max - value - self.h_mean  # mean gap for a zero-mean displacement
         b = -self._Sh
@@ -635,11 +636,11 @@ class HalfSpaceSolver:
         scale = self.modulus * self.pv / max(self.texture.size)
         return _ccg(self._kern, self._S, b, x0, mean=target, scale=scale, tol=self.tol, max_iter=self.max_iter, stall=stall)
 
-    def _gap_guess(self, mean_pressure: float) -> Any:
-        # Rigid interpenetration guess: skin plane lowered until the overlap carries the load
-        # roughly; only a starting point for the dual.
+    def _gap_guess(self) -> Any:
+        # Skin plane at the texture's mid-height, gaps where it does not reach: only a starting
+        # point for the dual on cells too small for a coarse-to-fine start.
         xp = self._xp
-        return xp.maximum(self.h_max - self.h - 0.5 * self.pv, 0.0) + 0.0 * mean_pressure
+        return xp.maximum(self.h_max - self.h - 0.5 * self.pv, 0.0)
 
     def _finish(self, form: str, mode: str, value: float, raw: _Raw, seconds: float) -> ContactResult:
         xp = self._xp
