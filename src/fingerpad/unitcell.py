@@ -116,7 +116,7 @@ def _initial_pressure(solver: HalfSpaceSolver) -> float:
 
 
 def _bracket(
-    solver: HalfSpaceSolver, reached: Callable[[ContactResult], bool], state: str, rtol: float,
+    solver: HalfSpaceSolver, reached_state: Callable[[str], bool], state: str, rtol: float,
     progress: Progress | None, max_solves: int,
 ) -> CriticalPressure:
     if not (0 < rtol < 1):
@@ -129,7 +129,7 @@ def _bracket(
     res = solver.solve_pressure(p)
     solves += 1
     # Go down until the state is not reached, then up until it is (factor 4 steps).
-    while reached(res):
+    while reached_state(res.contact_state):
         p /= 4.0
         if p < 1e-12 * _initial_pressure(solver):
             raise FingerpadError(f"the {state} state is reached at any load (flat texture?)")
@@ -141,24 +141,39 @@ def _bracket(
         hi *= 4.0
         res = solver.solve_pressure(hi, initial=lo_res)
         solves += 1
-        if reached(res):
+        if reached_state(res.contact_state):
             break
         lo, lo_res = hi, res
         if solves > max_solves:
             raise FingerpadError(f"no {state} state found below {hi:.3g} Pa")
-    while (hi - lo) / hi > rtol:
-        mid = math.sqrt(lo * hi)
-        res = solver.solve_pressure(mid, initial=lo_res)
+
+    def solve(p: float, initial: ContactResult | None) -> ContactResult:
+        nonlocal solves
         solves += 1
         if progress is not None:
             progress(solves, solves + int(math.ceil(math.log2(max(math.log(hi / lo) / rtol, 1.0)))))
-        if reached(res):
+        return solver.solve_pressure(p, initial=initial)
+
+    lo, hi = _bisect(solve, lo, hi, lo_res, reached_state, rtol, max_solves - solves)
+    return CriticalPressure(lower=lo, upper=hi, solves=solves, state=state)
+
+
+def _bisect(
+    solve: Callable[[float, "ContactResult | None"], ContactResult], lo: float, hi: float,
+    lo_res: "ContactResult | None", reached: Callable[[str], bool], rtol: float, max_solves: int,
+) -> tuple[float, float]:
+    """Narrow [lo, hi] (state not reached at lo, reached at hi) geometrically to ``rtol``,
+    each solve warm-started from the highest solution below the state."""
+    n = 0
+    while (hi - lo) / hi > rtol and n < max_solves:
+        mid = math.sqrt(lo * hi)
+        res = solve(mid, lo_res)
+        n += 1
+        if reached(res.contact_state):
             hi = mid
         else:
             lo, lo_res = mid, res
-        if solves > max_solves:
-            break
-    return CriticalPressure(lower=lo, upper=hi, solves=solves, state=state)
+    return lo, hi
 
 
 def critical_pressure(
@@ -170,14 +185,14 @@ def critical_pressure(
     level of the texture (end of the asperity-contact state). The micro-scale analogue of
     MODEL.md Eq. 3.3-3.6, including the neighbouring asperities that Hertz ignores.
     """
-    return _bracket(solver, lambda r: r.contact_state != "asperity", "transition", rtol, progress, max_solves)
+    return _bracket(solver, lambda st: st != "asperity", "transition", rtol, progress, max_solves)
 
 
 def full_contact_pressure(
     solver: HalfSpaceSolver, *, rtol: float = 1e-3, progress: Progress | None = None, max_solves: int = 200
 ) -> CriticalPressure:
     """Bracket the mean pressure at which the cell reaches full contact (every pixel touching)."""
-    return _bracket(solver, lambda r: r.contact_state == "full", "full", rtol, progress, max_solves)
+    return _bracket(solver, lambda st: st == "full", "full", rtol, progress, max_solves)
 
 
 # --------------------------------------------------------------------------------------------
@@ -371,13 +386,8 @@ class BEMUnitCell:
                 if not reached(lo_res.contact_state):
                     break
                 hi = lo
-        while (hi - lo) / hi > self.rtol:
-            mid = math.sqrt(lo * hi)
-            res = self._solve_node(mid, lo_res, new)
-            if reached(res.contact_state):
-                hi = mid
-            else:
-                lo, lo_res = mid, res
+        lo, hi = _bisect(lambda p, init: self._solve_node(p, init, new), lo, hi, lo_res, reached,
+                         self.rtol, max_solves=200)
         self._store(new)
         return [lo, hi]
 
