@@ -448,3 +448,26 @@ def test_plot_load_curve_equals_form_and_plot_at(tmp_path):
     assert len(data["results"]) == 4
     assert png.read_bytes()[:4] == b"\x89PNG"
     assert files_in(tmp_path) == ["curve.png"]
+
+
+def test_solve_critical_pressure_bracket(tmp_path):
+    out = tmp_path / "crit.json"
+    r = invoke("solve", "--texture", "caps", "--radius", "50um", "--height", "10um", "--spacing", "150um",
+               "--grid", "32", "--pressure", "5kPa", "--critical", "1e-3", "--json", out)
+    assert r.exit_code == 0, r.output
+    crit = json.loads(out.read_text())["critical_pressure"]
+    assert crit["lower"] < crit["estimate"] < crit["upper"]
+    assert crit["relative_width"] <= 1e-3
+    from fingerpad.halfspace import HalfSpaceSolver
+
+    tex = textures.spherical_caps(radius=50e-6, height=10e-6, spacing=150e-6, grid=32)
+    solver = HalfSpaceSolver(tex, 0.3e6 / (1 - 0.49**2))
+    assert solver.solve_pressure(crit["lower"]).contact_state == "asperity"
+    assert solver.solve_pressure(crit["upper"]).contact_state == "transition"
+
+
+def test_solve_critical_bad_width(tmp_path):
+    r = invoke("solve", "--texture", "caps", "--radius", "50um", "--height", "10um", "--spacing", "150um",
+               "--grid", "32", "--pressure", "5kPa", "--critical", "2", "--json", tmp_path / "x.json")
+    assert r.exit_code == 2 and "--critical" in r.output
+    assert not (tmp_path / "x.json").exists()

@@ -224,6 +224,7 @@ class SolveJob:
     plot_path: str | None = None
     plot_at: float | None = None  # mean pressure whose maps are plotted (nearest solved); None: last
     show_table: bool = True
+    critical_rtol: float | None = None  # bracket the transition pressure to this relative width
 
     def inputs(self) -> dict[str, Any]:
         from . import textures
@@ -279,12 +280,9 @@ def _check_outputs(job: SolveJob) -> None:
         check_writable(path, opt)
 
 
-def _solve_curve(job: SolveJob, err_console: Any):
-    from .halfspace import HalfSpaceSolver
+def _solve_curve(job: SolveJob, solver: Any, err_console: Any):
     from .unitcell import load_curve
 
-    solver = HalfSpaceSolver(job.texture, job.materials.modulus, tol=job.tol, max_iter=job.max_iter,
-                             formulation=job.formulation)
     n = len(job.pressures)
     if n == 1:
         return load_curve(solver, job.pressures)
@@ -303,16 +301,21 @@ def _solve_curve(job: SolveJob, err_console: Any):
     return curve
 
 
-def _results_json(job: SolveJob, results: Sequence[Any]) -> dict[str, Any]:
+def _results_json(job: SolveJob, results: Sequence[Any], critical: Any = None) -> dict[str, Any]:
     from .io import to_jsonable
 
-    return to_jsonable(
-        {
-            "inputs": job.inputs(),
-            "converged": all(bool(r.converged) for r in results),
-            "results": [r.summary() for r in results],
+    payload: dict[str, Any] = {
+        "inputs": job.inputs(),
+        "converged": all(bool(r.converged) for r in results),
+        "results": [r.summary() for r in results],
+    }
+    if critical is not None:
+        payload["critical_pressure"] = {
+            "lower": critical.lower, "upper": critical.upper, "estimate": critical.estimate,
+            "relative_width": critical.relative_width, "solves": critical.solves,
+            "definition": "lowest mean pressure (Pa) at which the skin touches the texture's lowest level",
         }
-    )
+    return to_jsonable(payload)
 
 
 def _print_table(results: Sequence[Any], texture: Any) -> None:
@@ -356,9 +359,18 @@ def run_job(job: SolveJob) -> int:
     with _warnings_to(err):
         # Unconverged solves are reported below, once per pressure, with the exit code.
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
-        curve = _solve_curve(job, err)
+        from .halfspace import HalfSpaceSolver
+
+        solver = HalfSpaceSolver(job.texture, job.materials.modulus, tol=job.tol, max_iter=job.max_iter,
+                                 formulation=job.formulation)
+        curve = _solve_curve(job, solver, err)
+        critical = None
+        if job.critical_rtol is not None:
+            from .unitcell import critical_pressure
+
+            critical = critical_pressure(solver, rtol=job.critical_rtol)
     results = list(curve.results)
-    payload = _results_json(job, results)
+    payload = _results_json(job, results, critical)
     staging = fio.Staging()
     try:
         if job.json_path is not None and job.json_path != "-":
@@ -385,6 +397,10 @@ def run_job(job: SolveJob) -> int:
         sys.stdout.flush()
     elif job.show_table:
         _print_table(results, job.texture)
+        if critical is not None:
+            print(f"critical (transition) pressure: {format_quantity(critical.estimate, 'pressure')} "
+                  f"(bracket {format_quantity(critical.lower, 'pressure')} - {format_quantity(critical.upper, 'pressure')}, "
+                  f"{critical.solves} solves)")
     bad = [r for r in results if not r.converged]
     for r in bad:
         err.print(
@@ -432,6 +448,8 @@ _HELP = {
     "--save": "Write the fields (pressure, gap, displacement, contact, heights) to NetCDF.",
     "--plot": "Write pressure map, contact map and psi(p) to a PNG.",
     "--plot-at": "Pressure whose maps --plot shows (the nearest solved one; default: the last given).",
+    "--critical": "Also bracket the critical (transition) pressure, where the skin first touches the texture's "
+                  "lowest level, to this relative width, e.g. 1e-3.",
 }
 
 
@@ -463,6 +481,7 @@ def solve(
     save: Annotated[str | None, _opt("--save", panel=_OUTPUT, metavar="PATH.nc")] = None,
     plot: Annotated[str | None, _opt("--plot", panel=_OUTPUT, metavar="PATH.png")] = None,
     plot_at: Annotated[str | None, _opt("--plot-at", panel=_OUTPUT, metavar="P")] = None,
+    critical: Annotated[str | None, _opt("--critical", panel=_LOADS, metavar="RTOL")] = None,
 ) -> None:
     """Solve the skin contact on one texture cell at one or more mean pressures.
 
@@ -478,7 +497,7 @@ def solve(
             periodic=periodic, fill_missing=fill_missing, grid=grid, modulus=modulus, skin_modulus=skin_modulus,
             skin_poisson=skin_poisson, material_modulus=material_modulus, material_poisson=material_poisson, pressure=pressure or [],
             log=log, tol=tol, max_iter=max_iter, formulation=formulation, json_path=json_path, save=save,
-            plot=plot, plot_at=plot_at,
+            plot=plot, plot_at=plot_at, critical=critical,
         )
         code = run_job(job)
     if code:
@@ -491,7 +510,7 @@ def build_job(
     modulus: str | None, skin_modulus: str | None, skin_poisson: str | None, material_modulus: str | None,
     material_poisson: str | None, pressure: Sequence[str], log: bool, tol: str, max_iter: str,
     formulation: str, json_path: str | None, save: str | None, plot: str | None,
-    plot_at: str | None = None,
+    plot_at: str | None = None, critical: str | None = None,
 ) -> SolveJob:
     """Validate every option of ``fingerpad solve`` (cheap checks first) and build the texture."""
     if (texture is None) == (surface is None):
@@ -509,8 +528,12 @@ def build_job(
     plot_at_v = parse_positive(plot_at, "pressure", name="--plot-at") if plot_at is not None else None
     if plot_at_v is not None and plot is None:
         raise FingerpadError("--plot-at needs --plot")
+    critical_v = _parse_float(critical, "--critical") if critical is not None else None
+    if critical_v is not None and not (0 < critical_v < 1):
+        raise FingerpadError(f"--critical: the relative bracket width must lie in (0, 1), got {critical!r}")
     job = SolveJob(texture=None, materials=materials, pressures=pressures, tol=tol_v, max_iter=max_iter_v,
-                   formulation=formulation, json_path=json_path, save_path=save, plot_path=plot, plot_at=plot_at_v)
+                   formulation=formulation, json_path=json_path, save_path=save, plot_path=plot, plot_at=plot_at_v,
+                   critical_rtol=critical_v)
     _check_outputs(job)
     err = _stderr_console()
     with _warnings_to(err):
