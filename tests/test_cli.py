@@ -453,14 +453,14 @@ def test_plot_load_curve_equals_form_and_plot_at(tmp_path):
 def test_solve_critical_pressure_bracket(tmp_path):
     out = tmp_path / "crit.json"
     r = invoke("solve", "--texture", "caps", "--radius", "50um", "--height", "10um", "--spacing", "150um",
-               "--grid", "32", "--pressure", "5kPa", "--critical", "1e-3", "--json", out)
+               "--grid", "48", "--pressure", "5kPa", "--critical", "1e-3", "--json", out)
     assert r.exit_code == 0, r.output
     crit = json.loads(out.read_text())["critical_pressure"]
     assert crit["lower"] < crit["estimate"] < crit["upper"]
     assert crit["relative_width"] <= 1e-3
     from fingerpad.halfspace import HalfSpaceSolver
 
-    tex = textures.spherical_caps(radius=50e-6, height=10e-6, spacing=150e-6, grid=32)
+    tex = textures.spherical_caps(radius=50e-6, height=10e-6, spacing=150e-6, grid=48)
     solver = HalfSpaceSolver(tex, 0.3e6 / (1 - 0.49**2))
     assert solver.solve_pressure(crit["lower"]).contact_state == "asperity"
     assert solver.solve_pressure(crit["upper"]).contact_state == "transition"
