@@ -353,8 +353,8 @@ def spherical_caps(
         ``"hexagonal"``: exactly periodic rectangular cell ``Lx = spacing``,
         ``Ly = sqrt(3) spacing`` holding two caps, at ``(0, 0)`` and ``(Lx/2, Ly/2)``; every cap
         has six neighbours at ``spacing``. ``ny`` = round(nx sqrt(3)) moved to the nearest even
-        7-smooth size (fast FFTs), so pixels
-        are nearly square (``dy / dx`` within 2 % of 1 from 64 points on).
+        7-smooth size (fast FFTs), so pixels are nearly square (``dy / dx`` within 2 % of 1
+        from 64 points on).
     grid
         Grid points along x (even, >= 8). Default: base radius over at least 16 pixels
         (64 ... 2048).
