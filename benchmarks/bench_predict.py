@@ -24,7 +24,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from fingerpad.study import DEFAULT_GRID, DEFAULT_STUDY, run_study, study_from_dict
+from fingerpad.study.run import run_study
+from fingerpad.study.spec import DEFAULT_GRID, DEFAULT_STUDY, study_from_dict
 
 
 def _study(cache: str, loads: str) -> object:

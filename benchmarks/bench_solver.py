@@ -1,4 +1,4 @@
-"""Benchmark of fingerpad's periodic contact solver (``fingerpad.halfspace.HalfSpaceSolver``).
+"""Benchmark of fingerpad's periodic contact solver (``fingerpad.contact.HalfSpaceSolver``).
 
 Run::
 
@@ -31,7 +31,7 @@ the same run (median of repetitions taken after a warm-up, before and after the 
 An ideal settled CCG iteration costs one FFT pair plus a few O(N) array passes, so cost/it is
 a machine-independent measure of the per-iteration overhead (and of the coarse-grid share).
 
-Convergence criterion (see the module docstring of ``fingerpad/halfspace.py``): the relative
+Convergence criterion (see the module docstring of ``fingerpad/contact/solver.py``): the relative
 KKT residual, i.e. the RMS over the cell of the projected gradient -- gap error in contact and
 overlap elsewhere for the primal (divided by the texture's peak-to-valley height), pressure
 error off contact and tension in contact for the dual (divided by the mean pressure) -- must
@@ -144,7 +144,7 @@ def fft_pair_samples(n: int, reps: int, warmup: int = 2) -> list[float]:
 
 
 def solve_ours(tex, mean_pressure: float, tol: float, max_iter: int, coarse_to_fine: bool = True) -> dict[str, Any]:
-    from fingerpad.halfspace import HalfSpaceSolver  # noqa: PLC0415
+    from fingerpad.contact import HalfSpaceSolver  # noqa: PLC0415
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -288,7 +288,7 @@ def memory_run(grid: int, tol: float, max_iter: int, coarse_to_fine: bool = True
 
 def calibrate(grids: list[int], tol: float) -> None:
     """Contact fraction against mean pressure (scan), to choose the two loads."""
-    from fingerpad.halfspace import HalfSpaceSolver  # noqa: PLC0415
+    from fingerpad.contact import HalfSpaceSolver  # noqa: PLC0415
 
     print("| grid | p (kPa) | contact fraction | state | formulation | iterations |")
     print("|---:|---:|---:|---|---|---:|")
@@ -536,7 +536,7 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     with contextlib.redirect_stdout(sys.stderr):
         solve_ours(texture(64), LOADS["mid"], args.tol, args.max_iter)
-        from fingerpad.halfspace import HalfSpaceSolver  # noqa: PLC0415
+        from fingerpad.contact import HalfSpaceSolver  # noqa: PLC0415
 
         if "kernels" in inspect.signature(HalfSpaceSolver).parameters:
             with warnings.catch_warnings():

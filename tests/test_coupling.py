@@ -9,25 +9,21 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from fingerpad.coupling import (
+from fingerpad.coupling import adhesion_integral, couple, critical_load, predict_curve
+from fingerpad.errors import FingerpadError
+from fingerpad.finger import get_finger
+from fingerpad.micro.hertz import (
     HertzUnitCell,
-    PowerLawUnitCell,
-    UnitCellResponse,
-    adhesion_integral,
     asperity_count,
     asperity_force,
     centre_asperity_force,
-    couple,
     critical_asperity_force,
-    critical_load,
     critical_load_hertz,
     hertz_approach,
-    predict_curve,
     transition_area_fraction,
     transition_radius,
 )
-from fingerpad.errors import FingerpadError
-from fingerpad.finger import get_finger
+from fingerpad.micro.response import PowerLawUnitCell, UnitCellResponse
 
 E1 = 0.3e6 / (1 - 0.49**2)  # skin on a rigid texture, Eq. 3.4
 LOADS = np.geomspace(0.1, 4.0, 15)

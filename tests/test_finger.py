@@ -9,21 +9,11 @@ import pytest
 from scipy.integrate import quad
 
 from fingerpad.errors import FingerpadError
-from fingerpad.finger import (
-    FINGER_PRESETS,
-    CircularRidges,
-    ConstantFractionRidges,
-    DzidekArea,
-    Finger,
-    HertzArea,
-    PowerLawArea,
-    PowerLawRidges,
-    SinusoidalRidges,
-    TwoRegimePowerLawArea,
-    get_finger,
-    pad_pressure,
-    ridge_models_figure,
-)
+from fingerpad.finger import FINGER_PRESETS, Finger, get_finger
+from fingerpad.macro.gross import DzidekArea, HertzArea, PowerLawArea, TwoRegimePowerLawArea
+from fingerpad.macro.pressure import pad_pressure
+from fingerpad.meso.ridges import CircularRidges, ConstantFractionRidges, PowerLawRidges, SinusoidalRidges
+from fingerpad.plotting.ridges import ridge_models_figure
 
 R_FP, E_FP = 9e-3, 40e3
 LOADS = np.geomspace(0.05, 5.0, 25)

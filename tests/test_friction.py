@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from fingerpad.coupling import PowerLawUnitCell, predict_curve
+from fingerpad.coupling import predict_curve
 from fingerpad.errors import FingerpadError
 from fingerpad.finger import HertzArea, get_finger
 from fingerpad.friction import (
@@ -20,6 +20,7 @@ from fingerpad.friction import (
     reference_real_area,
     shear_strength,
 )
+from fingerpad.micro.response import PowerLawUnitCell
 
 LOADS = np.geomspace(0.1, 4.0, 12)
 

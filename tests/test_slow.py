@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from fingerpad.halfspace import HalfSpaceSolver
+from fingerpad.contact import HalfSpaceSolver
+from fingerpad.micro.loadcurve import critical_pressure
 from fingerpad.textures import Texture, spherical_caps
-from fingerpad.unitcell import critical_pressure
 
 pytestmark = pytest.mark.slow
 E = 1.0e6

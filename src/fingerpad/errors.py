@@ -18,3 +18,16 @@ class ConvergenceError(RuntimeError):
 
 class ResolutionWarning(UserWarning):
     """A texture feature spans too few grid points to be resolved."""
+
+
+def one_line(text: str) -> str:
+    """``text`` on one line (for ``error: ...`` and ``warning: ...`` messages)."""
+    return " ".join(part.strip() for part in str(text).splitlines() if part.strip()) or "unknown error"
+
+
+def describe_exception(exc: BaseException) -> str:
+    """The message of ``exc``; for an :class:`OSError`, its reason and file name without the errno."""
+    if isinstance(exc, OSError) and not isinstance(exc, FingerpadError):
+        what = exc.strerror or str(exc)
+        return f"{what}: {exc.filename}" if exc.filename else what
+    return str(exc)

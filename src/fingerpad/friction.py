@@ -18,8 +18,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .checks import ArrayLike, as_loads, scalar_out
 from .errors import FingerpadError
-from .finger import ArrayLike, _out, as_loads
 
 if TYPE_CHECKING:
     from .finger import Finger
@@ -35,7 +35,7 @@ def _areas(value: ArrayLike, name: str) -> np.ndarray:
 def shear_strength(real_pressure: ArrayLike, tau0: float, alpha: float) -> float | np.ndarray:
     """Interfacial shear strength ``tau = tau0 + alpha p_re``, Eq. 2.3 (Pa)."""
     p = as_loads(real_pressure, "real contact pressure")
-    return _out(tau0 + alpha * p)
+    return scalar_out(tau0 + alpha * p)
 
 
 def adhesion_force(load: ArrayLike, real_area: ArrayLike, tau0: float, alpha: float) -> float | np.ndarray:
@@ -55,7 +55,7 @@ def adhesion_force(load: ArrayLike, real_area: ArrayLike, tau0: float, alpha: fl
     """
     f = as_loads(load, strict=True)
     a = _areas(real_area, "real contact area")
-    return _out(tau0 * a + alpha * f)
+    return scalar_out(tau0 * a + alpha * f)
 
 
 def hysteresis_force(load: ArrayLike, radius: float, modulus: float, beta: float) -> float | np.ndarray:
@@ -78,20 +78,20 @@ def hysteresis_force(load: ArrayLike, radius: float, modulus: float, beta: float
     f = as_loads(load)
     if not (radius > 0 and modulus > 0 and beta >= 0):
         raise FingerpadError("hysteresis needs a positive radius and modulus and a non-negative beta")
-    return _out(beta * (9.0 / (128.0 * radius)) ** (2.0 / 3.0) * np.cbrt(f**4 / modulus))
+    return scalar_out(beta * (9.0 / (128.0 * radius)) ** (2.0 / 3.0) * np.cbrt(f**4 / modulus))
 
 
 def friction_force(load: ArrayLike, real_area: ArrayLike, finger: Finger) -> float | np.ndarray:
     """Total friction force ``F_f = F_adh + F_def``, Eq. 2.1 (N), with ``finger``'s parameters."""
     adh = np.asarray(adhesion_force(load, real_area, finger.tau0, finger.alpha))
     dfm = np.asarray(hysteresis_force(load, finger.radius, finger.modulus, finger.beta))
-    return _out(adh + dfm)
+    return scalar_out(adh + dfm)
 
 
 def friction_coefficient(load: ArrayLike, real_area: ArrayLike, finger: Finger) -> float | np.ndarray:
     """Friction coefficient ``mu = F_f / F`` (Eq. 2.1 over the load)."""
     f = as_loads(load, strict=True)
-    return _out(np.asarray(friction_force(f, real_area, finger)) / f)
+    return scalar_out(np.asarray(friction_force(f, real_area, finger)) / f)
 
 
 def reference_real_area(load: ArrayLike, finger: Finger) -> float | np.ndarray:
@@ -116,7 +116,7 @@ def normalised_friction(mu_texture: ArrayLike, mu_reference: ArrayLike) -> float
     mr = np.asarray(mu_reference, dtype=float)
     if not (np.all(np.isfinite(mt)) and np.all(np.isfinite(mr))) or np.any(mr <= 0):
         raise FingerpadError("normalisation needs finite friction coefficients and a positive reference")
-    return _out(mt / mr)
+    return scalar_out(mt / mr)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -162,7 +162,7 @@ class PowerLawFit:
     def __call__(self, load: ArrayLike) -> float | np.ndarray:
         """Fitted ``mu`` at ``load`` (N)."""
         f = as_loads(load, strict=True)
-        return _out(self.k * f ** (self.n - 1.0))
+        return scalar_out(self.k * f ** (self.n - 1.0))
 
 
 def fit_power_law(loads: ArrayLike, mu: ArrayLike, sigma: ArrayLike | None = None) -> PowerLawFit:

@@ -280,7 +280,7 @@ def _input_attrs(result: Any) -> dict[str, Any]:
 
 
 def _global_attrs(result: Any, attrs: Mapping[str, Any] | None, title: str) -> dict[str, Any]:
-    from . import __version__
+    from ._version import __version__
 
     merged = {
         "title": title,
@@ -453,7 +453,7 @@ def load_curve_dataset(curve: Any, attrs: Mapping[str, Any] | None = None):
         {"units": "1", "long_name": "contact state: asperity, transition or full"},
     )
     coords = {"mean_pressure": xr.Variable("mean_pressure", mp, {"units": "Pa", "long_name": SCALARS["mean_pressure"][1]})}
-    from . import __version__
+    from ._version import __version__
 
     g = {"title": "fingerpad unit-cell load curve", "Conventions": "CF-1.8", "source": f"fingerpad {__version__}"}
     g.update(flatten_attrs(attrs))
@@ -476,3 +476,48 @@ def load_dataset(path: str | os.PathLike[str]):
         return xr.load_dataset(p, engine=ENGINE)
     except OSError as exc:
         raise FingerpadError(f"cannot read {str(p)!r} as NetCDF: {exc}") from exc
+
+
+# ---------------------------------------------------------------------------------------------
+# output folders written all at once
+# ---------------------------------------------------------------------------------------------
+
+
+def existing_parent(path: Path) -> Path:
+    """The nearest existing ancestor folder of ``path`` (temporary folders go there, same disk)."""
+    parent = path.absolute().parent
+    while not parent.exists():
+        parent = parent.parent
+    return parent
+
+
+def move_into_place(tmp: Path, out: Path) -> None:
+    """Move the contents of the finished folder ``tmp`` to ``out``.
+
+    A missing ``out`` is created by one rename; into an existing folder every file is moved
+    with :func:`os.replace` (atomic per file), replacing files of the same name and leaving
+    others alone.
+    """
+    out = out.absolute()
+    if out.exists() and not out.is_dir():
+        raise FingerpadError(f"{out}: exists and is not a folder")
+    if not out.exists():
+        out.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            os.replace(tmp, out)
+        except OSError:
+            out.mkdir(parents=True, exist_ok=True)
+        else:
+            # mkdtemp made the folder private (0700); give it the permissions of a plain mkdir
+            umask = os.umask(0)
+            os.umask(umask)
+            out.chmod(0o777 & ~umask)
+            tmp.mkdir()  # the caller removes its temporary folder afterwards
+            return
+    for src in sorted(tmp.rglob("*")):
+        dst = out / src.relative_to(tmp)
+        if src.is_dir():
+            dst.mkdir(parents=True, exist_ok=True)
+        else:
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            os.replace(src, dst)

@@ -129,3 +129,25 @@ def format_quantity(value: float, dimension: str, digits: int = 4) -> str:
         if abs(value) >= factor:
             return f"{value / factor:.{digits}g} {prefix}{unit}"
     return f"{value:.{digits}g} {unit}"
+
+
+def parse_int(text: str | int, name: str, minimum: int = 1) -> int:
+    """An integer of at least ``minimum`` from ``text``; errors name the option ``name``."""
+    if isinstance(text, bool):
+        raise FingerpadError(f"{name}: expected an integer, got {text!r}")
+    try:
+        value = int(str(text).strip())
+    except ValueError:
+        raise FingerpadError(f"{name}: expected an integer, got {text!r}") from None
+    if value < minimum:
+        raise FingerpadError(f"{name}: must be at least {minimum}, got {value}")
+    return value
+
+
+def parse_size(text: str, name: str = "--size") -> tuple[float, float]:
+    """``LX`` or ``LX,LY`` (lengths with units) -> ``(lx, ly)`` in m; errors name ``name``."""
+    parts = [p for p in str(text).split(",")]
+    if len(parts) not in (1, 2) or any(not p.strip() for p in parts):
+        raise FingerpadError(f"{name}: expected LX or LX,LY, got {text!r}")
+    values = [parse_positive(p, "length", name=name) for p in parts]
+    return (values[0], values[-1])

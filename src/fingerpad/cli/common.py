@@ -1,0 +1,113 @@
+"""What every command shares: one-line user errors, warnings as one line, consoles, option help.
+
+Kept free of heavy imports: the command line's start-up (``fingerpad --help``) imports only
+Typer, this module and the command modules.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import sys
+import warnings
+from collections.abc import Iterator
+from typing import Any
+
+import typer
+
+from ..errors import FingerpadError, describe_exception, one_line
+
+EXIT_UNCONVERGED = 1
+EXIT_USER_ERROR = 2
+
+#: Typer settings of commands that take a texture's own ``--NAME VALUE`` options.
+EXTRA_ARGS = {"allow_extra_args": True, "ignore_unknown_options": True}
+
+
+@contextlib.contextmanager
+def user_errors() -> Iterator[None]:
+    """Turn user errors into ``error: <message>`` on one stderr line and exit code 2."""
+    try:
+        yield
+    except (FingerpadError, OSError) as exc:
+        sys.stderr.write(f"error: {one_line(describe_exception(exc))}\n")
+        sys.stderr.flush()
+        raise typer.Exit(EXIT_USER_ERROR) from None
+
+
+def stderr_console() -> Any:
+    """A Rich console on stderr (progress, notes, warnings)."""
+    from rich.console import Console
+
+    return Console(file=sys.stderr, soft_wrap=True, highlight=False)
+
+
+def stdout_console(min_width: int = 0) -> Any:
+    """A Rich console on stdout; when piped, at least ``min_width`` columns wide."""
+    from rich.console import Console
+
+    console = Console(file=sys.stdout, highlight=False)
+    if not console.is_terminal and min_width:
+        console = Console(file=sys.stdout, width=max(console.width, min_width), highlight=False)
+    return console
+
+
+def say(console: Any, text: str) -> None:
+    """Print plain text (no markup) on ``console``."""
+    console.print(text, markup=False, highlight=False, soft_wrap=True)
+
+
+@contextlib.contextmanager
+def warnings_to(console: Any) -> Iterator[None]:
+    """Show Python warnings as single ``warning: ...`` lines on ``console`` (stderr)."""
+    seen: set[str] = set()
+
+    def show(message, category, filename, lineno, file=None, line=None):  # noqa: ANN001
+        text = f"warning: {one_line(str(message))}"
+        if text not in seen:
+            seen.add(text)
+            say(console, text)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        warnings.filterwarnings("ignore", category=DeprecationWarning)
+        warnings.filterwarnings("ignore", category=PendingDeprecationWarning)
+        # SurfaceTopography's MPI layer announces its serial fallback on import: not for users.
+        warnings.filterwarnings("ignore", message=".*mpi4py")
+        warnings.showwarning = show
+        yield
+
+
+def option(*decls: str, help_texts: dict[str, str], panel: str, metavar: str | None = None, **kw: Any) -> Any:
+    """A Typer option whose help text is looked up by its first name in ``help_texts``."""
+    return typer.Option(*decls, help=help_texts[decls[0].split("/")[0]], rich_help_panel=panel, metavar=metavar, **kw)
+
+
+class ProgressBar:
+    """A Rich progress bar on stderr, started on the first call ``bar(i, n)`` (none if never called)."""
+
+    def __init__(self, console: Any, label: str) -> None:
+        self.console = console
+        self.label = label
+        self.bar: Any = None
+        self.task: Any = None
+
+    def __call__(self, i: int, n: int) -> None:
+        if self.bar is None:
+            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+            self.bar = Progress(TextColumn(self.label), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                                console=self.console)
+            self.bar.start()
+            self.task = self.bar.add_task(self.label, total=n)
+        self.bar.update(self.task, completed=min(i, n), total=n)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+            self.bar = None
+
+    def __enter__(self) -> ProgressBar:
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()

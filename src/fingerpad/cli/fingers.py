@@ -1,0 +1,64 @@
+"""``fingerpad fingers`` (the finger presets) and ``fingerpad finger-models`` (ridge-area models)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..errors import FingerpadError
+from .common import say, stdout_console, user_errors
+
+
+def fingers_command() -> None:
+    """List the finger presets and their parameters (use them with --finger NAME)."""
+    from rich.table import Table
+
+    from ..finger import FINGER_PRESETS
+    from ..units import format_quantity
+
+    table = Table(title="finger presets: fingerpad predict --finger NAME [--finger-param NAME=VALUE]",
+                  show_lines=True)
+    for col in ("preset", "R_fp", "E_fp*", "gross area", "ridge area", "E_s", "nu_s", "tau0", "alpha", "beta"):
+        table.add_column(col, no_wrap=col not in ("gross area", "ridge area"))
+    for name, f in FINGER_PRESETS.items():
+        table.add_row(
+            f"{name}\n{f.description}", format_quantity(f.radius, "length"), format_quantity(f.modulus, "pressure"),
+            repr(f.gross_model), repr(f.ridges), format_quantity(f.skin_modulus, "pressure"), f"{f.skin_poisson:g}",
+            format_quantity(f.tau0, "pressure"), f"{f.alpha:g}", f"{f.beta:g}",
+        )
+    console = stdout_console(160)
+    console.print(table)
+    say(console, "R_fp pad radius, E_fp* pad reduced modulus (Eqs. 2.4-2.5), E_s/nu_s micro-scale skin modulus and "
+                 "Poisson ratio (Eq. 3.4), tau0 + alpha p interfacial shear strength (Eq. 2.3), beta hysteresis loss "
+                 "fraction (Eq. 2.4).")
+
+
+def finger_models(
+    out: Annotated[str, typer.Option("--out", metavar="DIR", help="Output directory (created if missing).")] = "out",
+    loads: Annotated[
+        str, typer.Option("--loads", metavar="START:STOP:COUNT", help="Log-spaced load range.")
+    ] = "0.1N:4N:30",
+) -> None:
+    """Compare the ridge-area models (idea of the thesis Fig. 2.4) in DIR/ridge_models.png."""
+    from ..units import parse_range
+
+    with user_errors():
+        values = parse_range(loads, "force", name="--loads", log=True)
+        if min(values) <= 0:
+            raise FingerpadError("--loads: loads must be positive")
+        out_dir = Path(out)
+        if out_dir.exists() and not out_dir.is_dir():
+            raise FingerpadError(f"--out {out!r} exists and is not a directory")
+        out_dir.mkdir(parents=True, exist_ok=True)
+        from ..plotting.ridges import ridge_models_figure
+
+        path = ridge_models_figure(out_dir / "ridge_models.png", values)
+        sys.stderr.write(f"wrote {path}\n")
+
+
+def register(app: typer.Typer) -> None:
+    app.command("fingers")(fingers_command)
+    app.command("finger-models")(finger_models)

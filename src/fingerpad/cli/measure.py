@@ -1,0 +1,279 @@
+"""Command-line commands for tribometer measurements: ``analyse`` and ``simulate-measurement``.
+
+``fingerpad analyse DATA... --reference SAMPLE --out DIR``
+    Read recordings (files, folders with ``manifest.csv`` or matching file names, manifests),
+    split strokes, fit mu = k F^(n-1), normalise by the reference sample, locate the contact
+    transition and estimate the skin micro-modulus; write tables, figures, NetCDF curves and an
+    HTML report into DIR (all at once: nothing is written if anything fails).
+``fingerpad simulate-measurement --out DIR``
+    Write a synthetic study (recordings, ``manifest.csv``, ``samples.csv``, ``truth.json``).
+
+Options take text, so that every mistake is a one-line ``error: ...`` on stderr, exit code 2.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from ..errors import FingerpadError
+from ..units import parse_int, parse_quantity
+
+EXIT_USER_ERROR = 2
+_INPUT, _STROKES, _ANALYSIS, _OUTPUT = "Input", "Strokes", "Analysis", "Output"
+
+
+@contextlib.contextmanager
+def _user_errors() -> Iterator[None]:
+    """``error: <message>`` on one stderr line and exit code 2 for user errors."""
+    try:
+        yield
+    except (FingerpadError, OSError) as exc:
+        text = str(exc)
+        if isinstance(exc, OSError) and not isinstance(exc, FingerpadError):
+            text = f"{exc.strerror or exc}: {exc.filename}" if exc.filename else (exc.strerror or str(exc))
+        line = " ".join(part.strip() for part in text.splitlines() if part.strip()) or "unknown error"
+        sys.stderr.write(f"error: {line}\n")
+        sys.stderr.flush()
+        raise typer.Exit(EXIT_USER_ERROR) from None
+
+
+def _opt(*names: str, panel: str, **kw: Any) -> Any:
+    return typer.Option(*names, rich_help_panel=panel, **kw)
+
+
+def _number(text: str, name: str, *, low: float | None = None, high: float | None = None) -> float:
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        raise FingerpadError(f"{name}: expected a number, got {text!r}") from None
+    if not math.isfinite(value) or (low is not None and value < low) or (high is not None and value > high):
+        bounds = f"[{low if low is not None else '-inf'}, {high if high is not None else 'inf'}]"
+        raise FingerpadError(f"{name}: must be a number in {bounds}, got {text!r}")
+    return value
+
+
+def _choice(text: str, name: str, choices: tuple[str, ...]) -> str:
+    value = str(text).strip().lower()
+    if value not in choices:
+        raise FingerpadError(f"{name}: expected one of {', '.join(choices)}, got {text!r}")
+    return value
+
+
+def _load_range(text: str) -> tuple[float, float]:
+    parts = str(text).split(":")
+    if len(parts) != 2:
+        raise FingerpadError(f"--loads: expected LOW:HIGH, e.g. 0.1N:5N, got {text!r}")
+    lo, hi = (parse_quantity(p, "force", name="--loads") for p in parts)
+    if not 0 < lo < hi:
+        raise FingerpadError(f"--loads: need 0 < LOW < HIGH, got {text!r}")
+    return lo, hi
+
+
+def _find_samples_table(data: list[str]) -> Path | None:
+    """``samples.csv`` beside the data (a folder's or a manifest's), if there is exactly one."""
+    found = []
+    for item in data:
+        p = Path(item)
+        folder = p if p.is_dir() else p.parent
+        if (folder / "samples.csv").is_file():
+            found.append((folder / "samples.csv").resolve())
+    unique = sorted(set(found))
+    return unique[0] if len(unique) == 1 else None
+
+
+def analyse_command(
+    data: Annotated[list[str], typer.Argument(metavar="DATA...", help="Recordings, folders or manifest CSVs.",
+                                              show_default=False)],
+    reference: Annotated[str, _opt("--reference", "-r", panel=_INPUT, metavar="SAMPLE",
+                                   help="Flat reference sample every participant slid on.")],
+    out: Annotated[str, _opt("--out", "-o", panel=_OUTPUT, metavar="DIR", help="Output folder.")],
+    spec: Annotated[str | None, _opt("--spec", panel=_INPUT, metavar="TOML",
+                                     help="Column/unit/file spec ([columns], [units], [files]).")] = None,
+    pattern: Annotated[str | None, _opt("--pattern", panel=_INPUT, metavar="TEMPLATE",
+                                        help="File-name template, e.g. '{participant}_{sample}_{repetition}.csv'.")] = None,
+    samples: Annotated[str | None, _opt("--samples", panel=_INPUT, metavar="CSV",
+                                        help="Texture table (sample,radius,height,spacing,...); default: "
+                                             "samples.csv beside the data.")] = None,
+    normal_column: Annotated[str | None, _opt("--normal-column", panel=_INPUT, metavar="NAME")] = None,
+    friction_column: Annotated[str | None, _opt("--friction-column", panel=_INPUT, metavar="NAME")] = None,
+    time_column: Annotated[str | None, _opt("--time-column", panel=_INPUT, metavar="NAME")] = None,
+    position_column: Annotated[str | None, _opt("--position-column", panel=_INPUT, metavar="NAME")] = None,
+    velocity_column: Annotated[str | None, _opt("--velocity-column", panel=_INPUT, metavar="NAME")] = None,
+    force_unit: Annotated[str | None, _opt("--force-unit", panel=_INPUT, metavar="UNIT",
+                                           help="Unit of both forces (N, mN).")] = None,
+    position_unit: Annotated[str | None, _opt("--position-unit", panel=_INPUT, metavar="UNIT")] = None,
+    time_unit: Annotated[str | None, _opt("--time-unit", panel=_INPUT, metavar="UNIT")] = None,
+    velocity_unit: Annotated[str | None, _opt("--velocity-unit", panel=_INPUT, metavar="UNIT")] = None,
+    invert_normal: Annotated[bool, _opt("--invert-normal", panel=_INPUT,
+                                        help="Negate the normal force (compression recorded negative).")] = False,
+    drop_nan: Annotated[bool, _opt("--drop-nan", panel=_INPUT, help="Skip rows with missing values.")] = False,
+    trim: Annotated[str, _opt("--trim", panel=_STROKES, metavar="FRACTION",
+                              help="Fraction of each stroke dropped at each end.")] = "0.2",
+    direction_source: Annotated[str, _opt("--direction-source", panel=_STROKES,
+                                          metavar="auto|velocity|position|friction")] = "auto",
+    min_strokes: Annotated[str, _opt("--min-strokes", panel=_STROKES, metavar="N",
+                                     help="Fewest strokes per file.")] = "2",
+    outlier_z: Annotated[str, _opt("--outlier-z", panel=_STROKES, metavar="Z")] = "3.5",
+    bins: Annotated[str, _opt("--bins", panel=_ANALYSIS, metavar="N", help="Load bins.")] = "8",
+    breakpoint_space: Annotated[str, _opt("--breakpoint-space", panel=_ANALYSIS, metavar="log|linear")] = "log",
+    breakpoint_method: Annotated[str, _opt("--breakpoint-method", panel=_ANALYSIS,
+                                           metavar="profile|bootstrap")] = "profile",
+    trend: Annotated[str, _opt("--trend", panel=_ANALYSIS, metavar="steeper|flatter|any",
+                               help="Change of trend sought in the normalised friction.")] = "steeper",
+    level: Annotated[str, _opt("--level", panel=_ANALYSIS, metavar="P", help="Confidence level.")] = "0.95",
+    finger: Annotated[str, _opt("--finger", panel=_ANALYSIS, metavar="PRESET",
+                                help="Finger preset of the micro-model.")] = "default",
+    fit_scale: Annotated[bool, _opt("--fit-scale", panel=_ANALYSIS,
+                                    help="Fit an amplitude factor along with E_s.")] = False,
+    seed: Annotated[str, _opt("--seed", panel=_ANALYSIS, metavar="N")] = "0",
+    no_figures: Annotated[bool, _opt("--no-figures", panel=_OUTPUT)] = False,
+    title: Annotated[str, _opt("--title", panel=_OUTPUT, metavar="TEXT")] = "Finger friction study",
+) -> None:
+    """Analyse tribometer recordings: friction curves, normalisation, transition, skin modulus.
+
+    Example: fingerpad analyse data/ --reference flat --out results/
+    """
+    with _user_errors():
+        from .. import measure as m
+        from ..finger import get_finger
+        from ..measure.report import write_report
+
+        base = m.load_spec(spec) if spec else m.ColumnSpec()
+        column_spec = base.with_options(
+            columns={"normal": normal_column, "friction": friction_column, "time": time_column,
+                     "position": position_column, "velocity": velocity_column},
+            units={"normal": force_unit, "friction": force_unit, "position": position_unit, "time": time_unit,
+                   "velocity": velocity_unit},
+            invert_normal=True if invert_normal else None,
+            nan_policy="drop" if drop_nan else None,
+        )
+        stroke_opts = m.StrokeOptions(
+            trim=_number(trim, "--trim", low=0.0, high=0.45),
+            direction_source=_choice(direction_source, "--direction-source",
+                                     ("auto", "velocity", "position", "friction")),  # type: ignore[arg-type]
+            min_strokes=parse_int(min_strokes, "--min-strokes"),
+        )
+        options = m.AnalysisOptions(
+            reference=reference,
+            strokes=stroke_opts,
+            outlier_z=_number(outlier_z, "--outlier-z", low=0.5),
+            n_bins=parse_int(bins, "--bins"),
+            breakpoint_space=_choice(breakpoint_space, "--breakpoint-space", ("log", "linear")),  # type: ignore[arg-type]
+            breakpoint_method=_choice(breakpoint_method, "--breakpoint-method",
+                                      ("profile", "bootstrap")),  # type: ignore[arg-type]
+            breakpoint_trend=_choice(trend, "--trend", ("steeper", "flatter", "any")),  # type: ignore[arg-type]
+            level=_number(level, "--level", low=0.5, high=0.999),
+            seed=parse_int(seed, "--seed", minimum=0),
+            finger=get_finger(finger),
+            fit_scale=fit_scale,
+        )
+        table = Path(samples) if samples else _find_samples_table(data)
+        textures = m.read_textures(table) if table else None
+        recordings = m.load_study(data, column_spec, pattern=pattern)
+        result = m.analyse_study(recordings, options, textures=textures)
+        written = write_report(result, out, figures=not no_figures, title=title)
+    _print_summary(result, written, Path(out))
+
+
+def _print_summary(result: Any, written: list[Path], out: Path) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    console = Console(highlight=False, soft_wrap=True)
+    s = result.strokes
+    console.print(f"{s['participant'].nunique()} participants, {s['sample'].nunique()} samples, "
+                  f"{s['file'].nunique()} files, {len(s)} strokes ({int(s['outlier'].sum())} outliers)")
+    parts = result.participants
+    if "skin_modulus" in parts:
+        table = Table(title="skin micro-modulus E_s per participant")
+        for col in ("participant", "reference k", "reference n", "E_s (MPa)", f"{100 * result.options.level:.0f} % CI"):
+            table.add_column(col)
+        for row in parts.to_dict("records"):
+            e = row.get("skin_modulus", math.nan)
+            ok = isinstance(e, float) and math.isfinite(e)
+            table.add_row(row["participant"], f"{row['ref_k']:.3g}", f"{row['ref_n']:.3g}",
+                          f"{e / 1e6:.3g}" if ok else "-",
+                          f"{row['skin_modulus_ci_low'] / 1e6:.3g} - {row['skin_modulus_ci_high'] / 1e6:.3g}" if ok else "-")
+        console.print(table)
+    for row in result.spread_summary.to_dict("records"):
+        if not row["is_reference"] and math.isfinite(row["reduction"]):
+            label = row["sample"] + (f"/{row['direction']}" if row["direction"] else "")
+            console.print(f"{label}: spread between people CV {100 * row['cv_raw']:.1f} % -> "
+                          f"{100 * row['cv_norm']:.1f} % after normalising")
+    console.print(f"wrote {len(written)} files to {out} (report: {out / 'report.html'})")
+
+
+def simulate_command(
+    out: Annotated[str, _opt("--out", "-o", panel=_OUTPUT, metavar="DIR", help="Output folder.")],
+    seed: Annotated[str, _opt("--seed", panel=_INPUT, metavar="N", help="Random seed.")] = "0",
+    participants: Annotated[str, _opt("--participants", panel=_INPUT, metavar="N")] = "4",
+    repetitions: Annotated[str, _opt("--repetitions", panel=_INPUT, metavar="N",
+                                     help="Files per participant and sample.")] = "2",
+    strokes: Annotated[str, _opt("--strokes", panel=_INPUT, metavar="N", help="Strokes per file.")] = "12",
+    loads: Annotated[str, _opt("--loads", panel=_INPUT, metavar="LOW:HIGH")] = "0.1N:5N",
+    reference: Annotated[str, _opt("--reference", panel=_INPUT, metavar="NAME")] = "flat",
+    texture: Annotated[str, _opt("--texture", panel=_INPUT, metavar="NAME",
+                                 help="Name of the textured sample.")] = "bumps",
+    radius: Annotated[str, _opt("--radius", panel=_INPUT, metavar="R")] = "50um",
+    height: Annotated[str, _opt("--height", panel=_INPUT, metavar="H")] = "18um",
+    spacing: Annotated[str, _opt("--spacing", panel=_INPUT, metavar="LAMBDA")] = "100um",
+    micro_model: Annotated[str, _opt("--micro-model", panel=_INPUT, metavar="bem|hertz",
+                                     help="Unit-cell model the recordings follow.")] = "bem",
+    full_contact_ratio: Annotated[str, _opt("--full-contact-ratio", panel=_INPUT, metavar="RATIO",
+                                            help="Hertz model only: full contact at RATIO x the "
+                                                 "transition pressure (empirical).")] = "",
+    skin_modulus: Annotated[str, _opt("--skin-modulus", panel=_INPUT, metavar="LOW:HIGH",
+                                      help="Range of the participants' E_s.")] = "0.25MPa:0.4MPa",
+    sampling_rate: Annotated[str, _opt("--sampling-rate", panel=_INPUT, metavar="HZ")] = "200",
+) -> None:
+    """Write synthetic tribometer recordings with known skin modulus and friction law.
+
+    Example: fingerpad simulate-measurement --out sim/ --seed 1 && fingerpad analyse sim/ --reference flat --out res/
+    """
+    with _user_errors():
+        from .. import measure as m
+
+        parts = skin_modulus.split(":")
+        if len(parts) != 2:
+            raise FingerpadError(f"--skin-modulus: expected LOW:HIGH, got {skin_modulus!r}")
+        e_range = tuple(parse_quantity(p, "pressure", name="--skin-modulus") for p in parts)
+        if not 0 < e_range[0] <= e_range[1]:
+            raise FingerpadError(f"--skin-modulus: need 0 < LOW <= HIGH, got {skin_modulus!r}")
+        geometry = m.TextureGeometry(
+            radius=parse_quantity(radius, "length", name="--radius"),
+            height=parse_quantity(height, "length", name="--height"),
+            spacing=parse_quantity(spacing, "length", name="--spacing"),
+            full_contact_ratio=(_number(full_contact_ratio, "--full-contact-ratio", low=1.0 + 1e-9)
+                                if full_contact_ratio else None),
+            micro_model=micro_model,
+        )
+        config = m.SimulationConfig(
+            participants=parse_int(participants, "--participants"),
+            repetitions=parse_int(repetitions, "--repetitions"),
+            strokes_per_file=parse_int(strokes, "--strokes", minimum=2),
+            load_range=_load_range(loads),
+            reference=reference,
+            textures={texture: geometry},
+            skin_modulus_range=e_range,  # type: ignore[arg-type]
+            sampling_rate=_number(sampling_rate, "--sampling-rate", low=1.0),
+        )
+        truth = m.simulate_study(out, config, seed=parse_int(seed, "--seed", minimum=0))
+    from rich.console import Console
+
+    console = Console(highlight=False, soft_wrap=True)
+    for pid, p in truth["participants"].items():
+        console.print(f"{pid}: E_s = {p['skin_modulus'] / 1e6:.3f} MPa, k = {p['k']:.3f}, n = {p['n']:.3f}")
+    console.print(f"wrote {len(truth['files'])} recordings, manifest.csv, samples.csv and truth.json to {out}")
+
+
+def register(app: typer.Typer) -> None:
+    """Add ``analyse`` and ``simulate-measurement`` to the Typer ``app``."""
+    app.command("analyse")(analyse_command)
+    app.command("simulate-measurement")(simulate_command)

@@ -1,0 +1,292 @@
+"""``fingerpad predict`` (the main job) and ``fingerpad run-default`` (the target of ``make run``).
+
+The command parses its flags, lays them over the study file (:mod:`fingerpad.study.overrides`),
+lets :func:`fingerpad.study.spec.study_from_dict` check everything once, runs the study and prints.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from ..errors import FingerpadError
+from .common import (
+    EXIT_UNCONVERGED,
+    EXTRA_ARGS,
+    ProgressBar,
+    option,
+    say,
+    stderr_console,
+    stdout_console,
+    user_errors,
+    warnings_to,
+)
+from .solve import _HELP
+
+_SURFACE, _MATERIALS, _FINGER, _LOADS, _NUMERICS, _OUTPUT = "Surface", "Materials", "Finger", "Loads", "Numerics", "Output"
+
+_STUDY, _FINGER = "Study", "Finger"
+
+_PREDICT_HELP = {
+    "--texture": _HELP["--texture"],
+    "--surface": _HELP["--surface"],
+    "--size": _HELP["--size"],
+    "--height-unit": _HELP["--height-unit"],
+    "--fill-missing": _HELP["--fill-missing"],
+    "--periodic": "Take the texture as one period of a periodic surface (generated textures: yes).",
+    "--periodize": "Mirror a --surface map into a periodic cell (needed by the BEM unless the map is one period).",
+    "--material-modulus": "Counter-surface Young's modulus, or 'rigid' (default rigid), e.g. 0.5GPa.",
+    "--material-poisson": "Counter-surface Poisson ratio (default 0.35).",
+    "--skin-modulus": "Micro-scale skin modulus E_s (overrides the finger's skin_modulus), e.g. 0.3MPa.",
+    "--skin-poisson": "Skin Poisson ratio (overrides the finger's skin_poisson).",
+    "--finger": "Finger preset (default 'default'); see fingerpad.finger.FINGER_PRESETS.",
+    "--finger-param": "Finger override NAME=VALUE (radius, modulus, beta, tau0, alpha, skin_modulus, "
+                      "skin_poisson); repeatable, e.g. --finger-param radius=8mm.",
+    "--loads": "Normal loads: START:STOP:COUNT or one load; repeatable (default 0.1N:4N:40, log).",
+    "--log": "Log-spaced load ranges (--linear: evenly spaced).",
+    "--model": "Unit-cell model: bem (numerical), hertz (per-asperity Hertz, spherical caps only) or both.",
+    "--grid": "Grid points along x of the generated unit cell (default: the generator's choice).",
+    "--tol": "Relative residual at which a unit-cell solve stops (default 1e-8).",
+    "--max-iter": "Iteration cap per unit-cell solve (default 5000).",
+    "--cache": "Folder of cached unit-cell curves (default $FINGERPAD_CACHE or ~/.cache/fingerpad).",
+    "--zones-at": "Load of the zone map zones.png (default: the largest load).",
+    "--out": "Output directory for predict.json, predict.nc, areas.png, friction.png, zones.png.",
+    "--json": "Also write the JSON to PATH ('-' for stdout, which replaces the table).",
+}
+
+
+def _popt(*decls: str, panel: str, metavar: str | None = None, **kw: Any) -> Any:
+    return option(*decls, help_texts=_PREDICT_HELP, panel=panel, metavar=metavar, **kw)
+
+
+def _split_study_args(args: Sequence[str]) -> tuple[str | None, list[str]]:
+    """Separate the optional study file (a bare word) from the texture's ``--NAME VALUE`` pairs."""
+    positional: list[str] = []
+    rest: list[str] = []
+    args = list(args)
+    i = 0
+    while i < len(args):
+        tok = args[i]
+        if tok.startswith("--") and len(tok) > 2:
+            if "=" in tok:
+                rest.append(tok)
+                i += 1
+            elif i + 1 < len(args) and not args[i + 1].startswith("--"):
+                rest += [tok, args[i + 1]]
+                i += 2
+            else:
+                rest.append(tok)  # split_extra_options reports the missing value
+                i += 1
+        else:
+            positional.append(tok)
+            i += 1
+    if len(positional) > 1:
+        raise FingerpadError(f"unexpected argument(s) {' '.join(positional[1:])!r}: give at most one study file")
+    return (positional[0] if positional else None), rest
+
+
+def build_study(
+    *, ctx_args: Sequence[str], flags: Mapping[str, Any] | None = None, finger_param: Sequence[str] = (),
+    base: Mapping[str, Mapping[str, Any]] | None = None,
+) -> Any:
+    """A checked :class:`fingerpad.study.Study` from an optional study file (the first bare
+    argument in ``ctx_args``, or ``base``) with the flags (see
+    :data:`fingerpad.study.overrides.FLAGS`) laid over it; its texture is built."""
+    from ..study.overrides import apply_flags, split_texture_options
+    from ..study.spec import read_study_file, study_from_dict
+
+    study_file, extra = _split_study_args(ctx_args)
+    if study_file is not None and base is not None:
+        raise FingerpadError(f"unexpected argument {study_file!r}")
+    data: dict[str, dict[str, Any]] = {k: dict(v) for k, v in (base or {}).items()}
+    if study_file is not None:
+        data = read_study_file(study_file)
+    merged, labels = apply_flags(data, dict(flags or {}), texture_options=split_texture_options(extra),
+                                 finger_params=finger_param)
+    study = study_from_dict(merged, labels)
+    study.check()
+    return study
+
+
+def _zone_text(row: Mapping[str, Any]) -> str:
+    parts = []
+    for key, label in (("full_contact_radius", "full"), ("transition_radius", "trans"), ("ridge_radius", "asp")):
+        r = row.get(key)
+        if r:
+            parts.append(f"{label}<{r * 1e3:.2f}")
+    return " ".join(parts) + " mm" if parts else "-"
+
+
+def _fmt(value: Any, spec: str) -> str:
+    return "-" if value is None else format(value, spec)
+
+
+def _print_prediction(payload: Mapping[str, Any]) -> None:
+    from rich import box
+    from rich.table import Table
+
+    tex = payload["inputs"]["texture"]
+    both = bool(payload["results"]) and "hertz" in payload["results"][0]
+    shown = "bem (the Hertz curves are in predict.json)" if both else payload["model"]
+    table = Table(title=f"{tex['description']}\nmodel: {shown}", box=box.SIMPLE_HEAD)
+    for col in ("load (N)", "A_g (mm²)", "A_fr (mm²)", "A_re (mm²)", "A_re/A_fr", "zones (centre→edge)",
+                "μ", "μ_ref", "μ_norm"):
+        table.add_column(col, justify="left" if col.startswith("zones") else "right", no_wrap=True)
+    for row in payload["results"]:
+        table.add_row(
+            f"{row['load']:.3g}", f"{row['gross_area'] * 1e6:.4g}", f"{row['ridge_area'] * 1e6:.4g}",
+            f"{row['real_area'] * 1e6:.4g}", f"{row['area_ratio']:.4f}", _zone_text(row),
+            f"{row['mu']:.4f}", _fmt(row["mu_ref"], ".4f"), _fmt(row["mu_normalised"], ".4f"),
+        )
+    console = stdout_console(130)
+    console.print(table)
+    crit = payload["critical_load"]
+    texts = []
+    for model, label in (("bem", "BEM"), ("hertz", "Hertz (Eq. 3.6)")):
+        if model in crit and (crit[model] is not None or model == payload["model"]):
+            texts.append(f"{label} {crit[model]:.4g} N" if crit[model] is not None else f"{label} none in 1e-6..1e3 N")
+    if texts:
+        console.print("critical load (pad centre reaches the transition): " + ", ".join(texts), markup=False)
+    full = payload.get("full_contact_load", {}).get("bem")
+    if payload["model"] == "bem":
+        console.print("full contact at the pad centre from: "
+                      + (f"{full:.4g} N" if full is not None else "never (below 1e3 N)"), markup=False)
+
+
+def run_prediction(study: Any, out: str, json_path: str | None) -> int:
+    """Run ``study``, write its outputs into ``out`` (all or none), report. Returns the exit code."""
+    from ..io import check_writable, to_jsonable, write_text
+    from ..study.outputs import OUTPUT_FILES, prediction_json, write_outputs
+    from ..study.run import run_study
+
+    out_dir = Path(out)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise FingerpadError(f"--out {out!r} exists and is not a directory")
+    if json_path is not None and json_path != "-":
+        check_writable(json_path, "--json")
+        if Path(json_path).resolve().parent == out_dir.resolve() and Path(json_path).name in OUTPUT_FILES:
+            raise FingerpadError(f"--json {json_path!r} would overwrite an output of --out")
+    import warnings
+
+    err = stderr_console()
+    with warnings_to(err):
+        warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
+        with ProgressBar(err, "unit cell ψ(p)") as bar:
+            pred = run_study(study, progress=bar)
+        paths = write_outputs(pred, out_dir)
+    payload = to_jsonable(prediction_json(pred))
+    text = json.dumps(payload, indent=2) + "\n"
+    if json_path == "-":
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    else:
+        if json_path is not None:
+            write_text(json_path, text)
+        _print_prediction(payload)
+    for note in pred.notes:
+        say(err, f"note: {note}")
+    cell = payload["cell"]
+    say(err, f"unit cell: {cell['model']}, {cell['solves']} solves ({'cached' if cell['cached'] else 'computed'}) "
+             f"in {pred.timings['cell']:.2f} s; coupling {pred.timings['coupling']:.3f} s")
+    say(err, "wrote " + ", ".join(str(p) for p in paths))
+    if pred.unconverged:
+        say(err, f"warning: {pred.unconverged} unit-cell solve(s) did not converge (exit code 1)")
+        return EXIT_UNCONVERGED
+    return 0
+
+
+
+def predict(
+    ctx: typer.Context,
+    texture: Annotated[str | None, _popt("--texture", "-t", panel=_SURFACE, metavar="NAME")] = None,
+    surface: Annotated[str | None, _popt("--surface", panel=_SURFACE, metavar="FILE")] = None,
+    size: Annotated[str | None, _popt("--size", panel=_SURFACE, metavar="LX[,LY]")] = None,
+    height_unit: Annotated[str | None, _popt("--height-unit", panel=_SURFACE, metavar="UNIT")] = None,
+    fill_missing: Annotated[bool, _popt("--fill-missing", panel=_SURFACE)] = False,
+    periodic: Annotated[bool | None, _popt("--periodic/--no-periodic", panel=_SURFACE, show_default=False)] = None,
+    periodize: Annotated[bool, _popt("--periodize", panel=_SURFACE)] = False,
+    material_modulus: Annotated[str | None, _popt("--material-modulus", panel=_MATERIALS, metavar="E")] = None,
+    material_poisson: Annotated[str | None, _popt("--material-poisson", panel=_MATERIALS, metavar="NU")] = None,
+    skin_modulus: Annotated[str | None, _popt("--skin-modulus", panel=_MATERIALS, metavar="E")] = None,
+    skin_poisson: Annotated[str | None, _popt("--skin-poisson", panel=_MATERIALS, metavar="NU")] = None,
+    finger: Annotated[str | None, _popt("--finger", panel=_FINGER, metavar="PRESET")] = None,
+    finger_param: Annotated[list[str] | None, _popt("--finger-param", panel=_FINGER, metavar="NAME=VALUE")] = None,
+    loads: Annotated[list[str] | None, _popt("--loads", "-F", panel=_LOADS, metavar="START:STOP:COUNT")] = None,
+    log: Annotated[bool | None, _popt("--log/--linear", panel=_LOADS, show_default=False)] = None,
+    zones_at: Annotated[str | None, _popt("--zones-at", panel=_LOADS, metavar="LOAD")] = None,
+    model: Annotated[str | None, _popt("--model", panel=_NUMERICS, metavar="bem|hertz|both")] = None,
+    grid: Annotated[str | None, _popt("--grid", panel=_NUMERICS, metavar="N")] = None,
+    tol: Annotated[str | None, _popt("--tol", panel=_NUMERICS, metavar="TOL")] = None,
+    max_iter: Annotated[str | None, _popt("--max-iter", panel=_NUMERICS, metavar="N")] = None,
+    cache: Annotated[str | None, _popt("--cache", panel=_NUMERICS, metavar="DIR")] = None,
+    out: Annotated[str, _popt("--out", "-o", panel=_OUTPUT, metavar="DIR")] = "out",
+    json_path: Annotated[str | None, _popt("--json", panel=_OUTPUT, metavar="PATH|-")] = None,
+) -> None:
+    """Predict contact areas, contact zones and friction of a finger on a texture against load.
+
+    Usage: fingerpad predict [STUDY.toml] [OPTIONS]; the options override the study file
+    (see examples/study.toml). Example: fingerpad predict --texture caps --radius 100um
+    --height 20um --spacing 175um --lattice hexagonal --material-modulus 0.5GPa
+    --material-poisson 0.4 --loads 0.1N:4N:40 --log --model both --out out
+
+    Writes DIR/predict.json, predict.nc, areas.png, friction.png and zones.png (all or none).
+    Exit code 0 on success, 1 if a unit-cell solve did not converge (outputs still written),
+    2 on a user error (nothing written).
+    """
+    flags = {
+        "--texture": texture, "--surface": surface, "--size": size, "--height-unit": height_unit,
+        "--fill-missing": fill_missing or None, "--periodic": periodic, "--periodize": periodize or None,
+        "--material-modulus": material_modulus, "--material-poisson": material_poisson,
+        "--skin-modulus": skin_modulus, "--skin-poisson": skin_poisson, "--finger": finger,
+        "--loads": loads or None, "--log": log, "--zones-at": zones_at, "--model": model, "--grid": grid,
+        "--tol": tol, "--max-iter": max_iter, "--cache": cache,
+    }
+    with user_errors():
+        with warnings_to(stderr_console()):
+            study = build_study(ctx_args=list(ctx.args), flags=flags, finger_param=finger_param or [])
+        code = run_prediction(study, out, json_path)
+    if code:
+        raise typer.Exit(code)
+
+
+
+
+
+def run_default(
+    out: Annotated[str, typer.Option("--out", metavar="DIR", help="Output directory (created if missing).")] = "out",
+    grid: Annotated[str, typer.Option("--grid", metavar="N", help="Grid points along x of the unit cell.")] = "64",
+    loads: Annotated[
+        str, typer.Option("--loads", metavar="START:STOP:COUNT", help="Log-spaced load range.")
+    ] = "0.1N:4N:40",
+    cache: Annotated[str | None, typer.Option("--cache", metavar="DIR", help=_PREDICT_HELP["--cache"])] = None,
+) -> None:
+    """Predict the default study into DIR: predict.json, .nc, areas/friction/zones.png, ridge_models.png.
+
+    The study: a hot-embossed polyethylene foil (E = 0.5 GPa, nu = 0.4) with hexagonal spherical caps
+    R = 100um, h = 20um, spacing 175um; the default finger; loads 0.1-4 N (40, log); BEM and Hertz.
+    """
+    from ..study.spec import DEFAULT_STUDY
+
+    with user_errors():
+        err = stderr_console()
+        with warnings_to(err):
+            study = build_study(ctx_args=[], base=DEFAULT_STUDY,
+                                flags={"--loads": [loads], "--log": True, "--grid": grid, "--cache": cache})
+        code = run_prediction(study, out, None)
+        from ..plotting.ridges import ridge_models_figure
+
+        path = ridge_models_figure(Path(out) / "ridge_models.png")
+        say(err, f"wrote {path}")
+    if code:
+        raise typer.Exit(code)
+
+
+
+def register(app: typer.Typer) -> None:
+    app.command("predict", context_settings=EXTRA_ARGS)(predict)
+    app.command("run-default")(run_default)

@@ -1,0 +1,171 @@
+"""``fingerpad solve``: the skin on one texture cell at one or more mean pressures."""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Sequence
+from typing import Annotated, Any
+
+import typer
+
+from ..materials import DEFAULT_SKIN_MODULUS, DEFAULT_SKIN_POISSON
+from .common import (
+    EXIT_UNCONVERGED,
+    EXTRA_ARGS,
+    ProgressBar,
+    option,
+    say,
+    stderr_console,
+    stdout_console,
+    user_errors,
+    warnings_to,
+)
+
+_SURFACE, _MATERIALS, _LOADS, _NUMERICS, _OUTPUT = "Surface", "Materials", "Loads", "Numerics", "Output"
+
+_HELP = {
+    "--texture": "Texture generator (see `fingerpad textures`); its parameters follow as --NAME VALUE, "
+                 "e.g. --radius 50um.",
+    "--surface": "Height-map file instead of a generator (.npy, text, or a SurfaceTopography format).",
+    "--size": "Physical size of the --surface map, e.g. 200um or 200um,150um.",
+    "--height-unit": "Unit of the heights in a --surface file (m, mm, um, nm); required for .npy and text.",
+    "--fill-missing": "Replace missing points (NaN) of a --surface map by the nearest valid height.",
+    "--periodic": "Periodic unit cell (default: yes for generated textures, no for files).",
+    "--grid": "Grid points along x, passed to the generator (default: the generator's choice).",
+    "--modulus": "Reduced modulus E* of skin and material (Eq. 3.4), e.g. 0.4MPa. Excludes the skin/material "
+                 "options.",
+    "--skin-modulus": f"Skin Young's modulus (default {DEFAULT_SKIN_MODULUS / 1e6:g}MPa).",
+    "--skin-poisson": f"Skin Poisson ratio (default {DEFAULT_SKIN_POISSON:g}).",
+    "--material-modulus": "Counter-surface Young's modulus, or 'rigid' (default rigid).",
+    "--material-poisson": "Counter-surface Poisson ratio (default 0.35).",
+    "--pressure": "Mean nominal pressure over the cell; repeat it, or give a range START:STOP:COUNT.",
+    "--log": "Log-spaced pressure ranges.",
+    "--tol": "Relative residual at which a solve stops.",
+    "--max-iter": "Iteration cap per solve.",
+    "--formulation": "auto, primal (pressure unknowns) or dual (gap unknowns).",
+    "--json": "Write results as JSON ('-' for stdout, which replaces the table).",
+    "--save": "Write the fields (pressure, gap, displacement, contact, heights) to NetCDF.",
+    "--plot": "Write pressure map, contact map and psi(p) to a PNG.",
+    "--plot-at": "Pressure whose maps --plot shows (the nearest solved one; default: the last given).",
+    "--critical": "Also bracket the critical (transition) pressure, where the skin first touches the texture's "
+                  "lowest level, to this relative width, e.g. 1e-3.",
+}
+
+
+def _opt(*decls: str, panel: str, metavar: str | None = None, **kw: Any) -> Any:
+    return option(*decls, help_texts=_HELP, panel=panel, metavar=metavar, **kw)
+
+
+def solve(
+    ctx: typer.Context,
+    texture: Annotated[str | None, _opt("--texture", "-t", panel=_SURFACE, metavar="NAME")] = None,
+    surface: Annotated[str | None, _opt("--surface", panel=_SURFACE, metavar="FILE")] = None,
+    size: Annotated[str | None, _opt("--size", panel=_SURFACE, metavar="LX[,LY]")] = None,
+    height_unit: Annotated[str | None, _opt("--height-unit", panel=_SURFACE, metavar="UNIT")] = None,
+    fill_missing: Annotated[bool, _opt("--fill-missing", panel=_SURFACE)] = False,
+    periodic: Annotated[bool | None, _opt("--periodic/--no-periodic", panel=_SURFACE, show_default=False)] = None,
+    modulus: Annotated[str | None, _opt("--modulus", panel=_MATERIALS, metavar="E*")] = None,
+    skin_modulus: Annotated[str | None, _opt("--skin-modulus", panel=_MATERIALS, metavar="E")] = None,
+    skin_poisson: Annotated[str | None, _opt("--skin-poisson", panel=_MATERIALS, metavar="NU")] = None,
+    material_modulus: Annotated[str | None, _opt("--material-modulus", panel=_MATERIALS, metavar="E")] = None,
+    material_poisson: Annotated[str | None, _opt("--material-poisson", panel=_MATERIALS, metavar="NU")] = None,
+    pressure: Annotated[list[str] | None, _opt("--pressure", "-p", panel=_LOADS, metavar="P|START:STOP:COUNT")] = None,
+    log: Annotated[bool, _opt("--log", panel=_LOADS)] = False,
+    grid: Annotated[str | None, _opt("--grid", panel=_NUMERICS, metavar="N")] = None,
+    tol: Annotated[str, _opt("--tol", panel=_NUMERICS, metavar="TOL")] = "1e-8",
+    max_iter: Annotated[str, _opt("--max-iter", panel=_NUMERICS, metavar="N")] = "5000",
+    formulation: Annotated[str, _opt("--formulation", panel=_NUMERICS, metavar="auto|primal|dual")] = "auto",
+    json_path: Annotated[str | None, _opt("--json", panel=_OUTPUT, metavar="PATH")] = None,
+    save: Annotated[str | None, _opt("--save", panel=_OUTPUT, metavar="PATH.nc")] = None,
+    plot: Annotated[str | None, _opt("--plot", panel=_OUTPUT, metavar="PATH.png")] = None,
+    plot_at: Annotated[str | None, _opt("--plot-at", panel=_OUTPUT, metavar="P")] = None,
+    critical: Annotated[str | None, _opt("--critical", panel=_LOADS, metavar="RTOL")] = None,
+) -> None:
+    """Solve the skin contact on one texture cell at one or more mean pressures.
+
+    Example: fingerpad solve --texture caps --radius 50um --height 10um --spacing 200um
+    --lattice hexagonal --pressure 1kPa:100kPa:10 --log --json out.json
+
+    Exit code 0 on success, 1 if some solve did not converge (outputs still written),
+    2 on a user error (nothing written).
+    """
+    from ..study.solve import build_solve_job
+
+    with user_errors():
+        with warnings_to(stderr_console()):
+            job = build_solve_job(
+                ctx_args=list(ctx.args), texture=texture, surface=surface, size=size, height_unit=height_unit,
+                periodic=periodic, fill_missing=fill_missing, grid=grid, modulus=modulus,
+                skin_modulus=skin_modulus, skin_poisson=skin_poisson, material_modulus=material_modulus,
+                material_poisson=material_poisson, pressure=pressure or [], log=log, tol=tol, max_iter=max_iter,
+                formulation=formulation, json_path=json_path, save=save, plot=plot, plot_at=plot_at,
+                critical=critical,
+            )
+        code = run_job(job)
+    if code:
+        raise typer.Exit(code)
+
+
+def _print_table(results: Sequence[Any], texture: Any) -> None:
+    from rich import box
+    from rich.table import Table
+
+    from ..units import format_quantity
+
+    table = Table(
+        title=f"{texture.name}: {texture.shape[0]}x{texture.shape[1]} px, "
+              f"{format_quantity(texture.size[0], 'length')} x {format_quantity(texture.size[1], 'length')}"
+              f"{'' if texture.periodic else ' (finite patch)'}",
+        box=box.SIMPLE_HEAD,
+    )
+    columns = ("mean p", "psi", "A_re (m²)", "max p", "mean gap", "state", "iter", "conv", "time (s)")
+    for col in columns:
+        table.add_column(col, justify="left" if col == "state" else "right", no_wrap=True)
+    for r in results:
+        table.add_row(
+            format_quantity(r.mean_pressure, "pressure", 3),
+            f"{r.contact_fraction:.4f}",
+            f"{r.real_contact_area:.3e}",
+            format_quantity(r.max_pressure, "pressure", 3),
+            format_quantity(r.mean_gap, "length", 3),
+            str(r.contact_state),
+            str(r.iterations),
+            "yes" if r.converged else "NO",
+            f"{r.seconds:.2f}",
+        )
+    stdout_console(120).print(table)
+
+
+def run_job(job: Any) -> int:
+    """Solve, write the outputs (all or none), report. Returns the exit code (0 or 1)."""
+    import json
+
+    from ..study.solve import run_solve, write_solve_outputs
+    from ..units import format_quantity
+
+    err = stderr_console()
+    with warnings_to(err), ProgressBar(err, "solving") as bar:
+        outcome = run_solve(job, progress=bar if len(job.pressures) > 1 else None)
+    write_solve_outputs(job, outcome)
+    results, critical = outcome.results, outcome.critical
+    if job.json_path == "-":
+        sys.stdout.write(json.dumps(outcome.payload, indent=2) + "\n")
+        sys.stdout.flush()
+    elif job.show_table:
+        _print_table(results, job.texture)
+        if critical is not None:
+            print(f"critical (transition) pressure: {format_quantity(critical.estimate, 'pressure')} "
+                  f"(bracket {format_quantity(critical.lower, 'pressure')} - {format_quantity(critical.upper, 'pressure')}, "
+                  f"{critical.solves} solves)")
+    bad = [r for r in results if not r.converged]
+    for r in bad:
+        say(err, f"warning: not converged at mean pressure {format_quantity(r.mean_pressure, 'pressure')} "
+                 f"(residual {r.residual:.3g} > tol {job.tol:.3g} after {r.iterations} iterations)")
+    if bad:
+        say(err, f"warning: {len(bad)} of {len(results)} solves did not converge (exit code 1)")
+        return EXIT_UNCONVERGED
+    return 0
+
+
+def register(app: typer.Typer) -> None:
+    app.command("solve", context_settings=EXTRA_ARGS)(solve)

@@ -1,0 +1,144 @@
+"""The constrained conjugate gradient of the contact solver (Polonsky & Keer 1999 family).
+
+One routine serves both forms of the contact problem: ``min 1/2 x.A x - b.x`` subject to
+``x >= 0`` and, optionally, a fixed mean of ``x``. The primal form has the pressures as ``x`` and
+the compliance as ``A``; the dual has the gaps as ``x`` and the stiffness as ``A``
+(:mod:`fingerpad.contact.solver` sets them up).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from .greens import FFTOperator
+from .kernels import ArrayKernels
+
+__all__ = ["CCGResult", "constrained_cg"]
+
+@dataclass
+class CCGResult:
+    """Outcome of :func:`constrained_cg`: the iterate and how the iteration ended."""
+
+    x: Any
+    iterations: int
+    residual: float
+    converged: bool
+    multiplier: float  # Lagrange multiplier of the mean constraint (0 without one)
+
+
+def constrained_cg(
+    kern: ArrayKernels,
+    op: FFTOperator,
+    b: Any,
+    x0: Any,
+    *,
+    mean: float | None,
+    scale: float,
+    tol: float,
+    max_iter: int,
+    stall: int | None = None,
+) -> CCGResult:
+    """Minimise 1/2 x.Ax - b.x subject to x >= 0 (and mean(x) = ``mean`` if given).
+
+    Polonsky-Keer constrained conjugate gradient: conjugate directions on the free set
+    ``x > 0``, projection onto ``x >= 0``, bound points with a descent gradient released by a
+    steepest-descent step (which restarts conjugacy). With the mean constraint the direction is
+    centred on the free set, so the straight step keeps the mean and the multiplier is the mean
+    gradient on the free set; after a projection the iterate is rescaled to the mean.
+
+    Transforms per iteration: the forward FFT of the direction ``t`` gives ``t.A t`` by
+    Parseval (exact line search); the spectrum of ``x`` follows by linearity and one inverse FFT
+    gives ``A x``. Only when the projection moved ``x`` off the straight step is ``x``
+    transformed afresh: one FFT pair per settled iteration, one and a half otherwise. The
+    element-wise work is fused into a few passes (:mod:`fingerpad.contact.kernels`).
+
+    With ``stall``, give up (not converged) once the residual has not halved for that many
+    iterations: degenerate active sets (a flat base just touching) can make one formulation
+    cycle while the other converges at once.
+    """
+    xp = kern.xp
+    n = x0.size
+    x = xp.asarray(x0, copy=True)  # updated in place by the kernels
+    xh = op.forward(x)
+    ax = op.apply_hat(xh)
+    fresh = True  # ax computed from x itself (not by linear updates)
+    t = xp.zeros_like(x)
+    g_old = 1.0
+    restart = True
+    lam = 0.0
+    residual = math.inf
+    best, best_it = math.inf, 0
+    it = 0
+    while it <= max_iter:
+        nfree, s1, s2 = kern.free_stats(ax, b, x, lam if mean is not None else 0.0)
+        if mean is not None and nfree > 0:
+            lam += s1 / nfree
+            g = max(s2 - s1 * s1 / nfree, 0.0)
+        else:
+            g = s2
+        beta = 0.0 if (restart or nfree == 0) else g / g_old
+        t, viol2, sum_t, rf_t = kern.direction(ax, b, x, lam, t, beta)
+        # KKT: zero gradient on the free set, non-negative gradient on the bound set.
+        residual = math.sqrt((g + viol2) / n) / scale
+        if residual < tol:
+            if fresh:
+                return CCGResult(x, it, residual, True, lam)
+            # Confirm on A x recomputed from x: linear updates carry rounding drift.
+            xh = op.forward(x)
+            ax = op.apply_hat(xh)
+            fresh = True
+            restart = True
+            continue
+        it += 1
+        if it > max_iter:
+            break
+        if residual < 0.5 * best:
+            best, best_it = residual, it
+        elif stall is not None and it - best_it > stall:
+            return CCGResult(x, it, residual, False, lam)
+        if nfree == 0:
+            # Every point at its bound: release those with a descent gradient by a projected
+            # steepest-descent step of exact length.
+            r = ax - b - lam
+            t = xp.minimum(r, 0.0)
+            tat = op.quad(op.forward(t))
+            if tat <= 0:
+                return CCGResult(x, it, residual, False, lam)
+            x = xp.maximum(x - (float(xp.sum(r * t)) / tat) * t, 0.0)
+            if mean is not None:
+                x = x * (mean / float(xp.mean(x)))
+            xh = op.forward(x)
+            ax = op.apply_hat(xh)
+            fresh = True
+            restart = True
+            t = xp.zeros_like(x)
+            continue
+        if mean is not None:
+            # Feasible directions keep the mean: centre t on the free set. r_free sums to zero
+            # there, so r_free . t is unchanged.
+            t = kern.centre(t, x, sum_t / nfree)
+        g_old = g
+        th = op.forward(t)
+        tat = kern.quad(op.quad_weights, th)
+        if tat <= 0:
+            return CCGResult(x, it, residual, False, lam)
+        tau = rf_t / tat
+        x, clipped, entering, total = kern.step(x, t, tau, ax, b, lam)
+        if clipped or entering:
+            if mean is not None:
+                x = kern.scale(x, mean * n / total)
+            xh = op.forward(x)
+            fresh = True
+        else:
+            xh = kern.axpy_spectrum(xh, tau, th)
+            fresh = False
+        ax = op.apply_hat(xh)
+        # Restart conjugacy when bound points were released (Polonsky-Keer). Keeping it through
+        # clipping measured fewer iterations (1024^2 caps, 31 % contact: 120 against 170).
+        restart = entering
+    return CCGResult(x, max_iter, residual, False, lam)
+
+
+# --------------------------------------------------------------------------------------------

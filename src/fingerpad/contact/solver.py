@@ -1,0 +1,446 @@
+"""Frictionless, non-adhesive normal contact of an elastic half-space (the skin) with a texture.
+
+The skin is an ideal flat elastic half-space of reduced modulus E* (MODEL.md Eq. 3.4); the
+texture is a rigid height map ``h`` (its own compliance is folded into E*). With the skin's
+rest plane at ``h_max - d`` (``d`` the approach, measured from first touch), the gap is
+
+    g = u + (h_max - h) - d >= 0,     p >= 0,     p g = 0,
+
+where ``u`` is the surface displacement of the half-space under the pressure ``p``:
+
+* periodic cells: ``u_q = 2 p_q / (E* |q|)`` for q != 0 (spectral Boussinesq kernel). The mean
+  displacement of a periodic half-space is unbounded, so ``u`` is taken with zero mean and the
+  approach is measured from that mean plane;
+* finite bodies (``Texture.periodic = False``): the Boussinesq kernel integrated exactly over each
+  pixel (Love's rectangle solution), applied as a linear convolution by zero padding to twice the
+  size (no periodic images).
+
+Algorithm
+---------
+Both contact problems are bound-constrained quadratic programmes solved by a constrained
+conjugate gradient of the Polonsky-Keer (1999) family, written once for ``min 1/2 x.A x - b.x,
+x >= 0`` with an optional fixed mean of ``x``:
+
+* **primal** (``x = p``, ``A`` the compliance): the free variables are the contact pressures, so
+  it is fastest while the contact fraction is small;
+* **dual** (``x = g``, ``A`` the stiffness ``E*|q|/2``, gradient = pressure): the free variables
+  are the gaps, so it is fastest and robust near full contact, exactly where the primal method
+  stalls (its free set is almost the whole cell and the last gaps close slowly). At a fixed mean
+  pressure the dual needs no equality constraint at all: the q = 0 mode of the pressure is the
+  load.
+
+``formulation="auto"`` picks the dual for periodic cells above 75 % contact (judged from the warm
+start, or for a cold start from a solve of the cell block-averaged to ~128 points per axis), the
+primal otherwise; a formulation that stalls hands over to the other. The dual starts from a
+coarse-to-fine chain (the cell halved recursively, each solution repeated onto the next grid);
+the primal starts from uniform pressure, which measured as fast as any coarse guess.
+
+Each iteration transforms the search direction (its spectrum gives the exact line search by
+Parseval) and inverse-transforms the iterate's spectrum, which follows by linearity; only when
+the projection changed the active set is the iterate transformed afresh. A settled iteration
+costs one FFT pair, an unsettled one one and a half. The element-wise work is fused into a few
+parallel loops (:mod:`fingerpad.contact.kernels`).
+
+Convergence is measured by the relative KKT residual: the RMS over the cell of the projected
+gradient (gap error where in contact and overlap elsewhere, for the primal; pressure error off
+contact and tension in contact, for the dual) divided by the texture's peak-to-valley height
+(primal) or by the mean pressure (dual).
+
+The numerics are written against an array namespace (``array_api_compat``): a GPU array library
+can run them; the default CPU path uses NumPy with SciPy's multi-threaded FFTs.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from ..errors import FingerpadError
+from ..materials import check_modulus
+from ..textures import Texture
+from .ccg import CCGResult, constrained_cg
+from .greens import Backend, compliance_operator, stiffness_operator
+from .kernels import kernels_for
+
+__all__ = ["HalfSpaceSolver", "ContactResult", "contact_state", "FULL_CONTACT_TOL"]
+
+#: A cell is in *full contact* when at most this fraction of its pixels is out of contact.
+#: Zero: every pixel touches (discrete full contact).
+FULL_CONTACT_TOL = 0.0
+#: Pixels whose height is within this fraction of the peak-to-valley height of the lowest one form
+#: the texture's base level; touching any of them starts the *transition* state.
+BASE_LEVEL_RTOL = 1e-6
+
+_COARSE_MIN = 64  # coarsest level of the dual's coarse-to-fine start
+_PROBE_MIN = 128  # the cold-start probe of the contact fraction solves at about this size
+#: In auto mode a formulation whose residual has not halved for this many iterations hands over
+#: to the other one.
+STALL_ITERATIONS = 150
+#: Contact fraction above which auto mode solves the dual (gap) problem.
+DUAL_ABOVE = 0.75
+#: Grids from this many points on use the compiled kernels (their load time is ~2 s).
+NUMBA_MIN_SIZE = 512 * 512  # do not coarsen below this many points along an axis
+
+
+def contact_state(contact: np.ndarray, base: np.ndarray) -> str:
+    """Contact state of a cell from its contact mask and the texture's base-level mask.
+
+    ``"asperity"``: the skin does not touch the lowest level of the texture;
+    ``"full"``: every pixel is in contact (see :data:`FULL_CONTACT_TOL`);
+    ``"transition"``: in between.
+    """
+    out_of_contact = 1.0 - float(np.count_nonzero(contact)) / contact.size
+    if out_of_contact <= FULL_CONTACT_TOL:
+        return "full"
+    if np.any(contact & base):
+        return "transition"
+    return "asperity"
+
+
+@dataclass
+class ContactResult:
+    """Solution of one contact problem on one cell (SI units).
+
+    Fields are (nx, ny) arrays: ``pressure`` (Pa), ``gap`` (m, skin to texture), ``displacement``
+    (m, skin surface displacement away from the texture, zero mean for periodic cells).
+    """
+
+    pressure: np.ndarray
+    gap: np.ndarray
+    displacement: np.ndarray
+    mean_pressure: float
+    approach: float
+    contact_fraction: float
+    real_contact_area: float
+    max_pressure: float
+    mean_gap: float
+    iterations: int
+    residual: float
+    converged: bool
+    seconds: float
+    formulation: str
+    contact_state: str
+    texture: Texture = field(repr=False)
+    modulus: float = 0.0
+    tol: float = 0.0
+
+    @property
+    def contact(self) -> np.ndarray:
+        """Boolean contact mask."""
+        return self.pressure > 0
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready scalar results (SI units)."""
+        return {
+            "mean_pressure": float(self.mean_pressure),
+            "contact_fraction": float(self.contact_fraction),
+            "real_contact_area": float(self.real_contact_area),
+            "max_pressure": float(self.max_pressure),
+            "mean_gap": float(self.mean_gap),
+            "approach": float(self.approach),
+            "contact_state": self.contact_state,
+            "iterations": int(self.iterations),
+            "residual": float(self.residual),
+            "converged": bool(self.converged),
+            "seconds": float(self.seconds),
+            "formulation": self.formulation,
+        }
+
+
+# Solver
+# --------------------------------------------------------------------------------------------
+
+
+class HalfSpaceSolver:
+    """Normal contact of the skin (elastic half-space) on one texture cell.
+
+    Parameters
+    ----------
+    texture
+        The counter-surface height map (periodic unit cell or finite patch).
+    modulus
+        Reduced modulus E* (Pa), MODEL.md Eq. 3.4.
+    tol
+        Relative KKT residual at which a solve stops (see module docstring).
+    max_iter
+        Iteration cap per solve; a solve that hits it returns ``converged=False`` and warns.
+    formulation
+        ``"auto"``, ``"primal"`` (pressure unknowns) or ``"dual"`` (gap unknowns, periodic only).
+    coarse_to_fine
+        Start cold solves from a coarse-grid solution.
+    xp
+        Array namespace (default: NumPy). A GPU namespace runs the same code.
+    workers
+        FFT threads (default: all cores).
+    kernels
+        ``"auto"``: fused Numba loops for NumPy grids of at least :data:`NUMBA_MIN_SIZE` points
+        when Numba is installed; ``"numba"``: always those; ``"array"``: plain array-namespace
+        operations.
+    """
+
+    def __init__(
+        self,
+        texture: Texture,
+        modulus: float,
+        *,
+        tol: float = 1e-8,
+        max_iter: int = 5000,
+        formulation: str = "auto",
+        coarse_to_fine: bool = True,
+        xp: Any = None,
+        workers: int | None = None,
+        kernels: str = "auto",
+    ) -> None:
+        if not isinstance(texture, Texture):
+            raise FingerpadError("texture must be a fingerpad.Texture")
+        self.texture = texture
+        self.modulus = check_modulus(modulus, "reduced modulus")
+        if not (isinstance(tol, (int, float)) and 0 < tol < 1):
+            raise FingerpadError(f"tolerance must lie in (0, 1), got {tol!r}")
+        if not (isinstance(max_iter, int) and max_iter >= 1):
+            raise FingerpadError(f"max_iter must be a positive integer, got {max_iter!r}")
+        if formulation not in ("auto", "primal", "dual"):
+            raise FingerpadError(f"formulation must be auto, primal or dual, got {formulation!r}")
+        if formulation == "dual" and not texture.periodic:
+            raise FingerpadError("the dual (gap) formulation needs a periodic cell")
+        nx, ny = texture.shape
+        if nx < 4 or (ny < 4 and ny != 1):
+            raise FingerpadError(f"grid {nx}x{ny} is too small: use at least 4 points per axis")
+        self.tol = float(tol)
+        self.max_iter = max_iter
+        self.formulation = formulation
+        self.coarse_to_fine = coarse_to_fine
+        self.backend = Backend(xp, workers)
+        xp_ = self.backend.xp
+        h = texture.heights
+        self.h_max = float(h.max())
+        self.h_mean = float(h.mean())
+        self.pv = max(texture.peak_to_valley, 1e-300)
+        self.h = self.backend.asarray(h)
+        self.base = h <= h.min() + BASE_LEVEL_RTOL * texture.peak_to_valley
+        self._K = compliance_operator(self.backend, texture, self.modulus)
+        self._S = stiffness_operator(self.backend, texture, self.modulus) if texture.periodic else None
+        self._Sh = self._S(self.h) if self._S is not None else None
+        self._xp = xp_
+        if kernels not in ("auto", "array", "numba"):
+            raise FingerpadError(f"kernels must be auto, array or numba, got {kernels!r}")
+        self._kernels_choice = kernels
+        # Compiled kernels pay a one-off load (seconds) that small grids never earn back.
+        use_numba = self.backend.is_numpy and (kernels == "numba" or (kernels == "auto" and h.size >= NUMBA_MIN_SIZE))
+        self._kern = kernels_for(xp_, use_numba)
+        self._coarse: dict[str, HalfSpaceSolver | None] = {}
+        self._coarse_tol = min(max(self.tol, 1e-6) * 10, 1e-3)
+        self._factors = (1, 1)
+
+    # ---------------------------------------------------------------- public API
+
+    def solve_pressure(self, mean_pressure: float, initial: ContactResult | None = None) -> ContactResult:
+        """Solve at a given mean nominal pressure (Pa) over the cell."""
+        p = float(mean_pressure)
+        if not (math.isfinite(p) and p > 0):
+            raise FingerpadError(f"mean pressure must be positive, got {mean_pressure!r}")
+        return self._solve("pressure", p, initial)
+
+    def solve_approach(self, approach: float, initial: ContactResult | None = None) -> ContactResult:
+        """Solve at a given approach (rigid-body displacement, m, from first touch)."""
+        d = float(approach)
+        if not math.isfinite(d):
+            raise FingerpadError(f"approach must be finite, got {approach!r}")
+        if self.texture.periodic and d >= self.h_max - self.h_mean:
+            raise FingerpadError(
+                "approach reaches full contact of a periodic cell (pressure undetermined there): "
+                f"keep it below {self.h_max - self.h_mean:.4g} m or solve at a given pressure"
+            )
+        return self._solve("approach", d, initial)
+
+    # ---------------------------------------------------------------- internals
+
+    def _choose(self, mode: str, value: float, initial: ContactResult | None) -> str:
+        if self.formulation != "auto":
+            return self.formulation
+        if not self.texture.periodic:
+            return "primal"
+        if initial is None:
+            probe = self._coarse_solver("probe")
+            if probe is None:
+                return "primal"  # small cell: the stall hand-over covers near-full contact
+            initial = probe._solve(mode, value, None)
+        return "dual" if initial.contact_fraction > DUAL_ABOVE else "primal"
+
+    @staticmethod
+    def _coarsening(n: int, limit: int, minimum: int) -> int:
+        """Largest power-of-two factor f <= limit with n % f == 0 and n / f >= minimum."""
+        f = 1
+        while 2 * f <= limit and n % (2 * f) == 0 and n // (2 * f) >= minimum:
+            f *= 2
+        return f
+
+    def _coarse_solver(self, kind: str) -> HalfSpaceSolver | None:
+        """The cell block-averaged by 2 (``"half"``, a coarse-to-fine level) or to about
+        _COARSE_MIN points per axis (``"probe"``, to judge the contact fraction); None if the
+        cell is too small."""
+        if not self.coarse_to_fine:
+            return None
+        if kind not in self._coarse:
+            nx, ny = self.texture.shape
+            limit, minimum = (2, _COARSE_MIN) if kind == "half" else (nx, _PROBE_MIN)
+            fx, fy = self._coarsening(nx, limit, minimum), self._coarsening(ny, limit, minimum)
+            if fx < 2:
+                self._coarse[kind] = None
+                return None
+            h = self.texture.heights
+            # Block averages keep the mean height; the features survive well enough to place
+            # the contact spots and to judge the contact fraction.
+            hc = h.reshape(nx // fx, fx, ny // fy, fy).mean(axis=(1, 3))
+            # Coarse levels only place the contact set: one loose tolerance for the whole chain
+            # (not compounded level by level).
+            solver = HalfSpaceSolver(
+                replace(self.texture, heights=hc), self.modulus, tol=self._coarse_tol,
+                max_iter=self.max_iter, formulation=self.formulation, coarse_to_fine=kind == "half",
+                xp=self.backend.xp, workers=self.backend.workers, kernels=self._kernels_choice,
+            )
+            solver._factors = (fx, fy)
+            solver._coarse_tol = self._coarse_tol
+            self._coarse[kind] = solver
+        return self._coarse[kind]
+
+    def _solve(
+        self, mode: str, value: float, initial: ContactResult | None, form: str | None = None
+    ) -> ContactResult:
+        start = time.perf_counter()
+        if initial is not None and initial.pressure.shape != self.texture.shape:
+            raise FingerpadError("initial solution has a different grid")
+        if form is None:
+            form = self._choose(mode, value, initial)
+        seed: Any = initial
+        if seed is None and form == "dual":
+            # The dual converges much faster from a coarse-to-fine start (recursive halving);
+            # the primal's uniform-pressure cold start finds the contact set as fast as any guess.
+            half = self._coarse_solver("half")
+            if half is not None:
+                coarse = half._solve(mode, value, None, form="dual")
+                fx, fy = half._factors
+                rep = lambda a: np.repeat(np.repeat(a, fx, axis=0), fy, axis=1)  # noqa: E731
+                seed = _Seed(rep(coarse.pressure), rep(coarse.gap))
+        auto = self.formulation == "auto" and self.texture.periodic
+        raw = self._run(form, mode, value, seed, stall=STALL_ITERATIONS if auto else None)
+        if not raw.converged and auto:
+            # The other formulation is the fallback (e.g. near full contact for the primal).
+            other = "dual" if form == "primal" else "primal"
+            raw2 = self._run(other, mode, value, seed)
+            raw2.iterations += raw.iterations
+            if raw2.converged or raw2.residual < raw.residual:
+                raw, form = raw2, other
+        result = self._finish(form, mode, value, raw, time.perf_counter() - start)
+        if not result.converged:
+            warnings.warn(
+                f"contact solve did not converge: residual {result.residual:.3g} > tol {self.tol:.3g} "
+                f"after {result.iterations} iterations ({mode} = {value:.6g})",
+                RuntimeWarning,
+                stacklevel=3,
+            )
+        return result
+
+    def _run(self, form: str, mode: str, value: float, seed: Any, stall: int | None = None) -> CCGResult:
+        xp = self._xp
+        be = self.backend
+        if form == "primal":
+            if mode == "pressure":
+                b = self.h
+                x0 = be.asarray(seed.pressure) if seed is not None else xp.full(self.h.shape, value)
+                x0 = xp.maximum(x0, 0.0)
+                m = float(xp.mean(x0))
+                x0 = x0 * (value / m) if m > 0 else xp.full(self.h.shape, value)
+                return constrained_cg(self._kern, self._K, b, x0, mean=value, scale=self.pv, tol=self.tol, max_iter=self.max_iter, stall=stall)
+            b = self.h - (self.h_max - value)
+            if seed is not None:
+                x0 = xp.maximum(be.asarray(seed.pressure), 0.0)
+            else:
+                x0 = xp.where(b > 0, b, 0.0) * (self.modulus / max(self.texture.size) * 4)
+            return constrained_cg(self._kern, self._K, b, x0, mean=None, scale=self.pv, tol=self.tol, max_iter=self.max_iter, stall=stall)
+        # dual: unknown gap, gradient = pressure
+        if mode == "pressure":
+            b = -(self._Sh + value)
+            x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else self._gap_guess()
+            return constrained_cg(self._kern, self._S, b, x0, mean=None, scale=value, tol=self.tol, max_iter=self.max_iter, stall=stall)
+        target = self.h_max - value - self.h_mean  # mean gap for a zero-mean displacement
+        b = -self._Sh
+        x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else xp.maximum(self.h_max - self.h, 0.0)
+        mx = float(xp.mean(x0))
+        x0 = x0 * (target / mx) if mx > 0 else xp.full(self.h.shape, target)
+        scale = self.modulus * self.pv / max(self.texture.size)
+        return constrained_cg(self._kern, self._S, b, x0, mean=target, scale=scale, tol=self.tol, max_iter=self.max_iter, stall=stall)
+
+    def _gap_guess(self) -> Any:
+        # Skin plane at the texture's mid-height, gaps where it does not reach: only a starting
+        # point for the dual on cells too small for a coarse-to-fine start.
+        xp = self._xp
+        return xp.maximum(self.h_max - self.h - 0.5 * self.pv, 0.0)
+
+    def _finish(self, form: str, mode: str, value: float, raw: CCGResult, seconds: float) -> ContactResult:
+        xp = self._xp
+        be = self.backend
+        tex = self.texture
+        if form == "primal":
+            p = raw.x
+            u = self._K(p)
+            if mode == "pressure":
+                # g = u - h + c with c fixed by the multiplier (zero gap on the contact set).
+                gap = u - self.h - raw.multiplier
+            else:
+                gap = u - self.h + self.h_max - value
+        else:
+            gap = raw.x
+            if mode == "pressure":
+                p = self._S(gap) + self._Sh + value
+            else:
+                p = self._S(gap) + self._Sh - raw.multiplier
+            # Tension of the order of the residual can remain on contact points; it is part of
+            # the reported residual, and the field itself is kept non-negative.
+            p = xp.where(gap > 0, 0.0, xp.maximum(p, 0.0))
+            u = None
+        p_np = be.to_numpy(p)
+        g_np = be.to_numpy(gap)
+        if tex.periodic:
+            mean_gap = float(g_np.mean())
+            approach = self.h_max - self.h_mean - mean_gap
+            disp = g_np + tex.heights - (self.h_max - approach)
+        else:
+            # gap = u - h - lambda = u + h_max - h - d  =>  d = h_max + lambda
+            approach = value if mode == "approach" else self.h_max + raw.multiplier
+            disp = be.to_numpy(u) if u is not None else g_np + tex.heights - (self.h_max - approach)
+            mean_gap = float(g_np.mean())
+        contact = p_np > 0
+        frac = float(np.count_nonzero(contact)) / contact.size
+        mean_p = float(p_np.mean())
+        return ContactResult(
+            pressure=p_np,
+            gap=g_np,
+            displacement=disp,
+            mean_pressure=mean_p,
+            approach=float(approach),
+            contact_fraction=frac,
+            real_contact_area=frac * tex.area,
+            max_pressure=float(p_np.max()),
+            mean_gap=mean_gap,
+            iterations=raw.iterations,
+            residual=raw.residual,
+            converged=raw.converged,
+            seconds=seconds,
+            formulation=form,
+            contact_state=contact_state(contact, self.base),
+            texture=tex,
+            modulus=self.modulus,
+            tol=self.tol,
+        )
+
+
+@dataclass
+class _Seed:
+    pressure: np.ndarray
+    gap: np.ndarray

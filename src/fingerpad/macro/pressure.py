@@ -1,0 +1,120 @@
+"""The finger pad's nominal pressure over the ridge contact and averages over the contact disc.
+
+The pad is a sphere pressed on a flat, so the nominal pressure over the ridge contact disc of
+radius ``a_fr = sqrt(A_fr/pi)`` is Hertzian (Eq. 3.7). :func:`disc_average` integrates any
+function of that pressure over the disc with a graded Gauss-Legendre rule; the coupling of the
+scales (:mod:`fingerpad.coupling`) and the profile ridge models (:mod:`fingerpad.meso.ridges`)
+use it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from functools import lru_cache
+
+import numpy as np
+
+from ..checks import ArrayLike, nonnegative, positive, scalar_out
+from ..errors import FingerpadError
+
+__all__ = ["disc_average", "pad_pressure"]
+
+
+def pad_pressure(r: ArrayLike, load: float, ridge_area: float) -> float | np.ndarray:
+    """Nominal pressure on the ridge contact at radius ``r``, Eq. 3.7.
+
+    ``p(r) = 1.5 p_mean sqrt(1 - r^2/a_fr^2)`` with ``p_mean = F/A_fr`` and
+    ``a_fr = sqrt(A_fr/pi)``; zero outside the disc.
+
+    Parameters
+    ----------
+    r
+        Radius from the pad centre, m (float or array).
+    load
+        Normal load F, N.
+    ridge_area
+        Ridge contact area A_fr, m^2.
+
+    Returns
+    -------
+    float or ndarray
+        Pressure, Pa, shaped like ``r``.
+    """
+    rr = np.asarray(r, dtype=float)
+    if np.any(rr < 0) or not np.all(np.isfinite(rr)):
+        raise FingerpadError("radius r must be finite and non-negative")
+    f = nonnegative(load, "load")
+    area = positive(ridge_area, "ridge area")
+    a = math.sqrt(area / math.pi)
+    s2 = np.clip(1.0 - (rr / a) ** 2, 0.0, None)
+    return scalar_out(1.5 * (f / area) * np.sqrt(s2))
+
+
+@lru_cache(maxsize=16)
+def _graded_rule(n_nodes: int, levels: int, ratio: float = 0.25) -> tuple[np.ndarray, np.ndarray]:
+    """Composite Gauss-Legendre rule on [0, 1], geometrically graded toward both ends.
+
+    Sub-interval edges 0, r^L, ..., r, 1 - r, ..., 1 - r^L, 1: an algebraic end singularity
+    (``p^m`` at zero pressure, ``sqrt`` at saturation) then costs only a few more levels
+    instead of ruining the convergence of a single Gauss rule (hp-quadrature).
+    """
+    left = [ratio**k for k in range(levels, 0, -1)]
+    edges = np.array([0.0, *left, *[1.0 - x for x in reversed(left)], 1.0])
+    x, w = np.polynomial.legendre.leggauss(n_nodes)
+    lo, hi = edges[:-1, None], edges[1:, None]
+    nodes = (lo + 0.5 * (hi - lo) * (x + 1.0)).ravel()
+    weights = (0.5 * (hi - lo) * w).ravel()
+    return nodes, weights
+
+
+def disc_average(
+    func: Callable[[np.ndarray], np.ndarray],
+    peak_pressure: ArrayLike,
+    breakpoints: Sequence[float] = (),
+    *,
+    n_nodes: int = 16,
+    levels: int = 12,
+) -> np.ndarray:
+    """Area-weighted mean of ``func(p(r))`` over a disc under the Hertzian pressure (3.7).
+
+    With ``s = sqrt(1 - r^2/a^2)``, ``p = p_peak s`` and ``dA = 2 pi a^2 s ds``, so the mean is
+    ``2 int_0^1 func(p_peak s) s ds``. The s-interval is split where ``p_peak s`` crosses one of
+    ``breakpoints`` (pressures where ``func`` has a kink) and each piece gets the graded
+    Gauss-Legendre rule of :func:`_graded_rule` (``(2 levels + 1) n_nodes`` nodes per piece).
+
+    Accuracy: for ``func`` analytic between breakpoints, also with algebraic end behaviour such
+    as ``p^m`` (m > -1) at zero pressure or ``sqrt`` saturation, the relative error is below
+    1e-13 with the defaults (about 1e-15 against the closed forms of the tests).
+
+    Parameters
+    ----------
+    func
+        Vectorised function of pressure (Pa) -> ndarray of the same shape.
+    peak_pressure
+        Peak (centre) pressure ``1.5 p_mean`` per load, Pa.
+    breakpoints
+        Pressures (Pa) where ``func`` has kinks; non-finite or non-positive ones are ignored.
+
+    Returns
+    -------
+    ndarray
+        Mean of ``func`` over the disc, one value per entry of ``peak_pressure`` (1-D).
+    """
+    peak = np.atleast_1d(np.asarray(peak_pressure, dtype=float)).ravel()
+    bps = sorted({float(b) for b in breakpoints if math.isfinite(b) and b > 0})
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cuts = [np.where(peak > 0, np.clip(b / peak, 0.0, 1.0), 1.0) for b in bps]
+    edges = [np.zeros_like(peak), *cuts, np.ones_like(peak)]
+    x, w = _graded_rule(int(n_nodes), int(levels))
+    s_parts, w_parts = [], []
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        width = (hi - lo)[:, None]  # zero-width pieces (breakpoint outside the disc) weigh 0
+        s_parts.append(lo[:, None] + width * x[None, :])
+        w_parts.append(width * w[None, :])
+    s = np.concatenate(s_parts, axis=1)
+    wt = np.concatenate(w_parts, axis=1)
+    values = np.asarray(func(peak[:, None] * s), dtype=float)
+    if values.shape != s.shape:
+        values = np.broadcast_to(values, s.shape)
+    return 2.0 * np.sum(wt * s * values, axis=1)

@@ -1,0 +1,97 @@
+"""Finger friction measured on a tribometer: import, strokes, curves, normalisation, skin modulus.
+
+The pipeline (``fingerpad analyse``), one module a step:
+
+1. :mod:`.columns`, :mod:`.importers`, :mod:`.recordings` - files (one importer per format) with a
+   column spec and units, file-name templates and manifests -> recordings in SI units;
+2. :mod:`.strokes` - reciprocating strokes split at direction changes, steady windows, outliers;
+3. :mod:`.curves` - power law mu = k F^(n-1) per participant and sample, normalisation by the
+   flat reference (mu_tex / mu_ref cancels the person's ridge area), spread between people;
+4. :mod:`.breakpoint` - the change of trend of the normalised friction (segmented regression);
+5. :mod:`.models`, :mod:`.modulus` - the skin micro-modulus E_s: model fits (BEM or Hertz unit
+   cell) and the closed form from the transition load (Eq. 3.6);
+6. :mod:`.analysis` - the whole study; :mod:`.report` - tables, NetCDF and the HTML report;
+   :mod:`.simulate` - synthetic recordings with known parameters.
+
+SI units throughout (N, m, Pa, s).
+"""
+
+from .analysis import AnalysisOptions, StudyResult, analyse_study
+from .breakpoint import Breakpoint, find_breakpoint
+from .columns import ColumnSpec, load_spec, parse_filename, template_regex, unit_factor
+from .curves import fit_curves, normalise, spread_summary, spread_table
+from .models import (
+    BaseContactCell,
+    TextureGeometry,
+    bem_texture_model,
+    hertz_texture_model,
+    read_textures,
+    texture_model,
+)
+from .modulus import (
+    ModelTable,
+    ModulusFit,
+    design_effect,
+    estimate_skin_modulus,
+    estimate_skin_modulus_joint,
+    modulus_from_transition,
+    transition_load,
+)
+from .recordings import Recording, load_study, read_manifest, read_recording
+from .simulate import SimulationConfig, simulate_study
+from .strokes import (
+    Stroke,
+    StrokeOptions,
+    bin_strokes,
+    detect_strokes,
+    direction_signal,
+    flag_outliers,
+    load_bin_edges,
+    measure_strokes,
+    stroke_table,
+)
+
+__all__ = [
+    "AnalysisOptions",
+    "BaseContactCell",
+    "Breakpoint",
+    "ColumnSpec",
+    "ModelTable",
+    "ModulusFit",
+    "Recording",
+    "SimulationConfig",
+    "Stroke",
+    "StrokeOptions",
+    "StudyResult",
+    "TextureGeometry",
+    "analyse_study",
+    "bem_texture_model",
+    "bin_strokes",
+    "design_effect",
+    "detect_strokes",
+    "direction_signal",
+    "estimate_skin_modulus",
+    "estimate_skin_modulus_joint",
+    "find_breakpoint",
+    "fit_curves",
+    "flag_outliers",
+    "hertz_texture_model",
+    "load_bin_edges",
+    "load_spec",
+    "load_study",
+    "measure_strokes",
+    "modulus_from_transition",
+    "normalise",
+    "parse_filename",
+    "read_manifest",
+    "read_recording",
+    "read_textures",
+    "simulate_study",
+    "spread_summary",
+    "spread_table",
+    "stroke_table",
+    "template_regex",
+    "texture_model",
+    "transition_load",
+    "unit_factor",
+]

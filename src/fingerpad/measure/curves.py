@@ -1,0 +1,170 @@
+"""Friction curves: power law mu = k F^(n-1) per participant and sample, normalisation by the flat reference (MODEL.md "Normalisation"), spread between people."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ..errors import FingerpadError
+from .strokes import GROUP, bin_index
+
+
+def _fit_power(loads: np.ndarray, mu: np.ndarray) -> Any:
+    from ..friction import fit_power_law
+
+    return fit_power_law(np.asarray(loads, float), np.asarray(mu, float))
+
+
+def _ci(obj: Any, name: str) -> tuple[float, float]:
+    ci = getattr(obj, f"{name}_ci", None)
+    if ci is None:
+        return math.nan, math.nan
+    lo, hi = ci
+    return float(lo), float(hi)
+
+
+def fit_row(fit: Any) -> dict[str, float]:
+    k_lo, k_hi = _ci(fit, "k")
+    n_lo, n_hi = _ci(fit, "n")
+    return {
+        "k": float(fit.k), "k_se": float(getattr(fit, "k_stderr", math.nan)), "k_ci_low": k_lo, "k_ci_high": k_hi,
+        "n": float(fit.n), "n_se": float(getattr(fit, "n_stderr", math.nan)), "n_ci_low": n_lo, "n_ci_high": n_hi,
+    }
+
+
+def _fit_group(g: pd.DataFrame, min_strokes: int) -> tuple[Any | None, str]:
+    g = g[~g["outlier"]]
+    if len(g) < min_strokes or g["load"].nunique() < 3:
+        return None, f"{len(g)} usable strokes at {g['load'].nunique()} loads, need {min_strokes} at 3 or more"
+    try:
+        return _fit_power(g["load"].to_numpy(), g["mu"].to_numpy()), ""
+    except FingerpadError as exc:
+        return None, str(exc)
+
+
+def fit_curves(strokes: pd.DataFrame, min_strokes: int = 4) -> tuple[pd.DataFrame, dict[tuple[str, ...], Any]]:
+    """Power-law fits ``mu = k F^(n-1)`` per participant, sample, direction and sense.
+
+    Returns
+    -------
+    table, fits
+        A table (one row per group and sense ``+``/``-``/``both``, with ``k``, ``n``, standard
+        errors, CIs, ``n_strokes``, ``note``) and the fit objects keyed by
+        ``(participant, sample, direction, sense)``.
+    """
+    rows, fits = [], {}
+    for key, g in strokes.groupby(GROUP, sort=True):
+        for sense in ("+", "-", "both"):
+            part = g if sense == "both" else g[g["sense"] == sense]
+            fit, note = _fit_group(part, min_strokes)
+            row = dict(zip(GROUP, key), sense=sense, n_strokes=int((~part["outlier"]).sum()), note=note)
+            if fit is not None:
+                fits[(*key, sense)] = fit
+                row.update(fit_row(fit))
+                row["load_min"] = float(part["load"].min())
+                row["load_max"] = float(part["load"].max())
+            rows.append(row)
+    return pd.DataFrame(rows), fits
+
+
+def normalise(strokes: pd.DataFrame, reference: str, min_strokes: int = 4) -> tuple[pd.DataFrame, dict[tuple[str, str], Any]]:
+    """Divide every stroke's mu by the participant's reference curve at the same load.
+
+    ``mu_norm = mu / mu_ref(F)`` with ``mu_ref`` the power law fitted to the participant's
+    strokes on the flat ``reference`` sample (all its directions pooled; the same sense where
+    that fit exists, else both senses). By MODEL.md "Normalisation", ``mu_norm`` estimates
+    ``A_re,tex / A_re,ref`` and no longer depends on the person's ridge area.
+
+    Returns
+    -------
+    strokes, reference_fits
+        A copy with ``mu_ref``, ``mu_norm`` and ``ref_extrapolated`` (load outside the
+        reference's measured range by more than 25 %), and the fits keyed by (participant, sense).
+
+    Raises
+    ------
+    FingerpadError
+        If the reference sample is absent, or a participant has no (or too few) strokes on it.
+    """
+    samples = sorted(set(strokes["sample"]))
+    if reference not in samples:
+        raise FingerpadError(f"reference sample {reference!r} is not in the data (samples: {', '.join(samples)})")
+    df = strokes.copy()
+    df["mu_ref"] = math.nan
+    df["ref_extrapolated"] = False
+    ref_fits: dict[tuple[str, str], Any] = {}
+    for participant, g in df.groupby("participant", sort=True):
+        ref = g[g["sample"] == reference]
+        if ref.empty:
+            files = ", ".join(sorted({Path(f).name for f in g["file"]}))
+            raise FingerpadError(
+                f"participant {participant!r} has no recordings of the reference sample {reference!r} ({files})"
+            )
+        for sense in ("+", "-", "both"):
+            part = ref if sense == "both" else ref[ref["sense"] == sense]
+            fit, note = _fit_group(part, min_strokes)
+            if fit is not None:
+                ref_fits[(participant, sense)] = fit
+        if (participant, "both") not in ref_fits:
+            files = ", ".join(sorted({Path(f).name for f in ref["file"]}))
+            raise FingerpadError(
+                f"participant {participant!r}: cannot fit the reference sample {reference!r} ({note}; files: {files})"
+            )
+        lo, hi = ref["load"].min() / 1.25, ref["load"].max() * 1.25
+        for sense, sub in g.groupby("sense"):
+            fit = ref_fits.get((participant, sense), ref_fits[(participant, "both")])
+            loads = sub["load"].to_numpy()
+            df.loc[sub.index, "mu_ref"] = np.asarray(fit(loads), dtype=float)
+            df.loc[sub.index, "ref_extrapolated"] = (loads < lo) | (loads > hi)
+    df["mu_norm"] = df["mu"] / df["mu_ref"]
+    return df, ref_fits
+
+
+def spread_table(strokes: pd.DataFrame, edges: np.ndarray, reference: str) -> pd.DataFrame:
+    """Spread between participants per sample, direction and load bin, before/after normalising.
+
+    Each participant contributes the mean of its (non-outlier) strokes in the bin; the table
+    gives the number of participants, mean, standard deviation and coefficient of variation
+    (``cv = sd / mean``) of raw ``mu`` and of ``mu_norm`` (left NaN for the reference, which is 1
+    by construction).
+    """
+    df = strokes[~strokes["outlier"]]
+    df = df.assign(bin=bin_index(df["load"].to_numpy(), edges))
+    per = df.groupby(GROUP + ["bin"]).agg(mu=("mu", "mean"), mu_norm=("mu_norm", "mean")).reset_index()
+    rows = []
+    for (sample, direction, b), g in per.groupby(["sample", "direction", "bin"], sort=True):
+        row: dict[str, Any] = {"sample": sample, "direction": direction, "bin": int(b),
+                               "bin_low": edges[b], "bin_high": edges[b + 1], "n_participants": len(g)}
+        for col in ("mu", "mu_norm"):
+            v = g[col].to_numpy()
+            mean = float(v.mean())
+            sd = float(v.std(ddof=1)) if len(v) > 1 else math.nan
+            if col == "mu_norm" and sample == reference:
+                mean = sd = math.nan
+            row[f"{col}_mean"], row[f"{col}_sd"] = mean, sd
+            row[f"{col}_cv"] = sd / mean if mean else math.nan
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def spread_summary(spread: pd.DataFrame, reference: str, min_participants: int = 2) -> pd.DataFrame:
+    """Mean coefficient of variation over load bins, before and after normalisation.
+
+    ``reduction = 1 - cv_norm / cv_raw`` (positive when normalising brings people together).
+    Only bins with at least ``min_participants`` participants count.
+    """
+    rows = []
+    if spread.empty:
+        return pd.DataFrame(columns=["sample", "direction", "n_bins", "cv_raw", "cv_norm", "reduction"])
+    ok = spread[spread["n_participants"] >= min_participants]
+    for (sample, direction), g in ok.groupby(["sample", "direction"], sort=True):
+        cv_raw = float(g["mu_cv"].mean())
+        cv_norm = float(g["mu_norm_cv"].mean()) if sample != reference else math.nan
+        rows.append({"sample": sample, "direction": direction, "is_reference": sample == reference,
+                     "n_bins": len(g), "cv_raw": cv_raw, "cv_norm": cv_norm,
+                     "reduction": 1.0 - cv_norm / cv_raw if cv_raw > 0 else math.nan})
+    return pd.DataFrame(rows)

@@ -1,0 +1,350 @@
+"""Outputs of a friction-measurement study: tables, figures, NetCDF curves and an HTML report.
+
+:func:`write_report` writes everything for a :class:`fingerpad.measurements.StudyResult` into a
+folder, all at once: the files are made in a temporary folder beside it and moved into place
+only when every one of them is complete, so an error never leaves a half-written report.
+
+Layout of ``OUT``::
+
+    summary.csv, summary.json   one row per participant, sample and direction (+ study info)
+    participants.csv            reference power law and E_s per participant
+    strokes.csv                 every stroke (load, mu, outlier flag, mu_norm)
+    fits.csv, bins.csv          power-law fits per sense; binned means
+    spread.csv                  between-participant spread per load bin, before/after
+    curves.nc                   binned and fitted curves (xarray, h5netcdf)
+    figures/participant_<P>.png, figures/sample_<S>.png
+    report.html                 one page: summary tables and the figures (embedded)
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+import math
+import os
+import re
+import shutil
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from .._version import __version__
+from ..errors import FingerpadError
+from ..io import existing_parent, move_into_place
+from ..plotting.measure import figure_participant, figure_sample, png_bytes
+from .analysis import StudyResult, condition_label, load_grid
+
+__all__ = ["curves_dataset", "html_report", "write_report"]
+
+
+def _safe(name: str) -> str:
+    """File-name-safe version of a participant or sample label."""
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", str(name)).strip("_") or "unnamed"
+
+
+
+# =============================================================================================
+# NetCDF
+# =============================================================================================
+
+
+def curves_dataset(result: StudyResult):
+    """The study's curves as an :class:`xarray.Dataset`.
+
+    Dimensions: ``participant``, ``condition`` (sample, or ``sample/direction``), ``sense``
+    (``+``, ``-``, ``both``), ``bin`` (load bins shared by the study) and ``load`` (a
+    log-spaced grid over the measured loads).
+
+    Variables: binned ``mu_mean``/``mu_sd``/``mu_n``/``mu_norm_mean``/``mu_norm_sd`` and
+    ``bin_load`` (median load per bin); power-law ``k``, ``n`` and the fitted ``mu_fit`` on the
+    grid; the reference curve ``mu_ref_fit``; per condition ``skin_modulus`` (+ CI),
+    ``breakpoint_load`` (+ CI) and the model ``mu_norm_model`` at the fitted E_s. Missing
+    combinations are NaN. All SI (N, Pa).
+    """
+    import xarray as xr
+
+    strokes = result.strokes
+    participants = sorted(strokes["participant"].unique())
+    conds = sorted({(s, d) for s, d in zip(strokes["sample"], strokes["direction"])})
+    labels = [condition_label(s, d) for s, d in conds]
+    senses = ["+", "-", "both"]
+    nbins = len(result.bin_edges) - 1
+    grid = load_grid(result)
+    shape_b = (len(participants), len(conds), len(senses), nbins)
+    binned = {k: np.full(shape_b, np.nan) for k in ("mu_mean", "mu_sd", "mu_n", "mu_norm_mean", "mu_norm_sd",
+                                                     "bin_load")}
+    pi = {p: i for i, p in enumerate(participants)}
+    ci = {c: i for i, c in enumerate(conds)}
+    si = {s: i for i, s in enumerate(senses)}
+    for row in result.bins.itertuples(index=False):
+        idx = (pi[row.participant], ci[(row.sample, row.direction)], si[row.sense], int(row.bin))
+        binned["mu_mean"][idx] = row.mu
+        binned["mu_sd"][idx] = row.mu_sd
+        binned["mu_n"][idx] = row.n
+        binned["mu_norm_mean"][idx] = getattr(row, "mu_norm", np.nan)
+        binned["mu_norm_sd"][idx] = getattr(row, "mu_norm_sd", np.nan)
+        binned["bin_load"][idx] = row.load
+    shape_f = (len(participants), len(conds), len(senses))
+    k = np.full(shape_f, np.nan)
+    n = np.full(shape_f, np.nan)
+    mu_fit = np.full((*shape_f, grid.size), np.nan)
+    for (p, s, d, sense), fit in result.power_laws.items():
+        idx = (pi[p], ci[(s, d)], si[sense])
+        k[idx], n[idx] = fit.k, fit.n
+        mu_fit[idx] = np.asarray(fit(grid), dtype=float)
+    mu_ref = np.full((len(participants), grid.size), np.nan)
+    for (p, sense), fit in result.reference_fits.items():
+        if sense == "both":
+            mu_ref[pi[p]] = np.asarray(fit(grid), dtype=float)
+    shape_c = (len(participants), len(conds))
+    per_cond = {name: np.full(shape_c, np.nan) for name in (
+        "skin_modulus", "skin_modulus_ci_low", "skin_modulus_ci_high", "breakpoint_load",
+        "breakpoint_ci_low", "breakpoint_ci_high", "skin_modulus_closed_form")}
+    mu_model = np.full((*shape_c, grid.size), np.nan)
+    for row in result.conditions.to_dict("records"):
+        idx = (pi[row["participant"]], ci[(row["sample"], row["direction"])])
+        for name in per_cond:
+            value = row.get(name)
+            if value is not None and not (isinstance(value, float) and math.isnan(value)):
+                per_cond[name][idx] = float(value)
+        table = result.tables.get(row["sample"])
+        e = row.get("skin_modulus")
+        if table is not None and e is not None and np.isfinite(e):
+            inside = (grid >= table.loads[0]) & (grid <= table.loads[-1])
+            mu_model[idx][inside] = table(grid[inside], float(e))
+    dims_b = ("participant", "condition", "sense", "bin")
+    dims_f = ("participant", "condition", "sense")
+    ds = xr.Dataset(
+        data_vars={
+            **{name: (dims_b, arr) for name, arr in binned.items()},
+            "k": (dims_f, k),
+            "n": (dims_f, n),
+            "mu_fit": ((*dims_f, "load"), mu_fit),
+            "mu_ref_fit": (("participant", "load"), mu_ref),
+            **{name: (("participant", "condition"), arr) for name, arr in per_cond.items()},
+            "mu_norm_model": (("participant", "condition", "load"), mu_model),
+        },
+        coords={
+            "participant": participants,
+            "condition": labels,
+            "sample": ("condition", [s for s, _ in conds]),
+            "direction": ("condition", [d for _, d in conds]),
+            "sense": senses,
+            "bin": np.arange(nbins),
+            "bin_low": ("bin", result.bin_edges[:-1]),
+            "bin_high": ("bin", result.bin_edges[1:]),
+            "load": grid,
+        },
+        attrs={
+            "title": "fingerpad friction measurements",
+            "fingerpad_version": __version__,
+            "reference_sample": result.options.reference,
+            "confidence_level": result.options.level,
+            "power_law": "mu = k F^(n-1)",
+        },
+    )
+    units = {"bin_load": "N", "load": "N", "bin_low": "N", "bin_high": "N", "breakpoint_load": "N",
+             "breakpoint_ci_low": "N", "breakpoint_ci_high": "N", "skin_modulus": "Pa",
+             "skin_modulus_ci_low": "Pa", "skin_modulus_ci_high": "Pa", "skin_modulus_closed_form": "Pa",
+             "k": "1", "n": "1", "mu_mean": "1", "mu_sd": "1", "mu_fit": "1", "mu_ref_fit": "1",
+             "mu_norm_mean": "1", "mu_norm_sd": "1", "mu_norm_model": "1", "mu_n": "count"}
+    for name, unit in units.items():
+        ds[name].attrs["units"] = unit
+    return ds
+
+
+
+
+# =============================================================================================
+# tables and HTML
+# =============================================================================================
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, (np.bool_, bool)):
+        return bool(value)
+    if isinstance(value, (np.integer,)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        return float(value) if math.isfinite(value) else None
+    if value is None or isinstance(value, (str, int)):
+        return value
+    return str(value)
+
+
+def _records(df: pd.DataFrame) -> list[dict[str, Any]]:
+    return [_jsonable(r) for r in df.to_dict("records")]
+
+
+def _study_info(result: StudyResult) -> dict[str, Any]:
+    s = result.strokes
+    opts = result.options
+    return {
+        "fingerpad_version": __version__,
+        "reference_sample": opts.reference,
+        "participants": sorted(s["participant"].unique()),
+        "samples": sorted(s["sample"].unique()),
+        "n_files": int(s["file"].nunique()),
+        "n_strokes": int(len(s)),
+        "n_outliers": int(s["outlier"].sum()),
+        "confidence_level": opts.level,
+        "stroke_trim": opts.strokes.trim,
+        "outlier_z": opts.outlier_z,
+        "breakpoint": {"space": opts.breakpoint_space, "method": opts.breakpoint_method,
+                       "trend": opts.breakpoint_trend},
+        "modulus_bounds_pa": list(opts.modulus_bounds),
+        "finger": getattr(opts.finger, "name", opts.finger) or "default",
+        "textures": {k: (None if v is None else vars(v)) for k, v in result.textures.items()},
+    }
+
+
+_HTML_COLUMNS = {
+    "conditions": ["participant", "sample", "direction", "n_strokes", "n_outliers", "k", "n", "n_ci_low",
+                   "n_ci_high", "mu_at_1N", "mu_norm_mean", "breakpoint_load", "breakpoint_ci_low",
+                   "breakpoint_ci_high", "skin_modulus", "skin_modulus_ci_low", "skin_modulus_ci_high",
+                   "skin_modulus_closed_form", "note"],
+    "participants": ["participant", "n_strokes", "ref_k", "ref_n", "skin_modulus", "skin_modulus_ci_low",
+                     "skin_modulus_ci_high", "n_textures"],
+    "spread": ["sample", "direction", "is_reference", "n_bins", "cv_raw", "cv_norm", "reduction"],
+}
+
+
+def _fmt(value: Any) -> str:
+    if isinstance(value, (float, np.floating)):
+        if not math.isfinite(value):
+            return ""
+        return f"{value:.4g}"
+    return html.escape(str(value))
+
+
+def _html_table(df: pd.DataFrame, columns: list[str]) -> str:
+    cols = [c for c in columns if c in df.columns]
+    head = "".join(f"<th>{html.escape(c)}</th>" for c in cols)
+    body = "".join(
+        "<tr>" + "".join(f"<td>{_fmt(v)}</td>" for v in row) + "</tr>" for row in df[cols].itertuples(index=False)
+    )
+    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+def html_report(result: StudyResult, figures: dict[str, bytes], title: str = "Finger friction study") -> str:
+    """One self-contained HTML page: study facts, summary tables, figures (base64 PNG)."""
+    info = _study_info(result)
+    parts = [
+        "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
+        f"<title>{html.escape(title)}</title><style>",
+        "body{font-family:sans-serif;margin:1.5em;max-width:1500px}table{border-collapse:collapse;"
+        "font-size:12px;margin:0.5em 0 1.5em}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}"
+        "th{background:#eee}img{max-width:100%;border:1px solid #ddd;margin:0.3em 0}"
+        "h2{border-bottom:1px solid #ccc}.facts{font-size:13px}",
+        "</style></head><body>",
+        f"<h1>{html.escape(title)}</h1>",
+        "<p class='facts'>",
+        f"{len(info['participants'])} participants, {len(info['samples'])} samples "
+        f"({', '.join(map(html.escape, info['samples']))}), reference <b>{html.escape(info['reference_sample'])}</b>; "
+        f"{info['n_files']} files, {info['n_strokes']} strokes, {info['n_outliers']} flagged as outliers "
+        f"(robust |z| &gt; {info['outlier_z']}). Friction per stroke: mean |F_t|/F_n over the steady part "
+        f"({100 * info['stroke_trim']:.0f} % trimmed at each end). Power law mu = k F<sup>n-1</sup>; "
+        f"normalised friction mu_tex/mu_ref with the participant's fitted reference curve; "
+        f"intervals at {100 * info['confidence_level']:.0f} %. SI units (N, Pa). fingerpad {__version__}.</p>",
+        "<h2>Spread between participants</h2>",
+        "<p class='facts'>Mean coefficient of variation across load bins; reduction = 1 - CV_norm / CV_raw.</p>",
+        _html_table(result.spread_summary, _HTML_COLUMNS["spread"]),
+        "<h2>Participants</h2>",
+        "<p class='facts'>Reference power law and skin micro-modulus E_s (Pa) fitted to all textures.</p>",
+        _html_table(result.participants, _HTML_COLUMNS["participants"]),
+        "<h2>Summary per participant and sample</h2>",
+        "<p class='facts'>Breakpoint: change of trend of mu_tex/mu_ref (segmented regression); "
+        "skin_modulus_closed_form from the breakpoint by Eq. 3.6.</p>",
+        _html_table(result.conditions, _HTML_COLUMNS["conditions"]),
+        "<h2>Figures</h2>",
+    ]
+    for name, png in figures.items():
+        data = base64.b64encode(png).decode("ascii")
+        parts.append(f"<h3>{html.escape(name)}</h3><img alt='{html.escape(name)}' src='data:image/png;base64,{data}'>")
+    parts.append("</body></html>")
+    return "\n".join(parts)
+
+
+# =============================================================================================
+# writing everything
+# =============================================================================================
+
+
+def write_report(
+    result: StudyResult,
+    out: str | os.PathLike[str],
+    *,
+    figures: bool = True,
+    dpi: int = 100,
+    title: str = "Finger friction study",
+) -> list[Path]:
+    """Write tables, figures, NetCDF curves and the HTML report into ``out`` (see module doc).
+
+    Everything is written into a temporary folder next to ``out`` and moved into place at the
+    end: on any error ``out`` is left as it was (absent, or with its previous files).
+
+    Returns
+    -------
+    list of Path
+        The files written, inside ``out``.
+
+    Raises
+    ------
+    FingerpadError
+        If ``out`` exists and is not a folder.
+    """
+    out_path = Path(out)
+    if out_path.exists() and not out_path.is_dir():
+        raise FingerpadError(f"{out_path}: exists and is not a folder")
+    tmp = Path(tempfile.mkdtemp(prefix=".fingerpad-report-", dir=existing_parent(out_path)))
+    try:
+        written: list[str] = []
+
+        def csv_file(name: str, df: pd.DataFrame) -> None:
+            df.to_csv(tmp / name, index=False)
+            written.append(name)
+
+        csv_file("summary.csv", result.conditions)
+        csv_file("participants.csv", result.participants)
+        csv_file("strokes.csv", result.strokes)
+        csv_file("fits.csv", result.fits)
+        csv_file("bins.csv", result.bins)
+        csv_file("spread.csv", result.spread)
+        summary = {
+            "study": _jsonable(_study_info(result)),
+            "spread": _records(result.spread_summary),
+            "participants": _records(result.participants),
+            "conditions": _records(result.conditions),
+        }
+        (tmp / "summary.json").write_text(json.dumps(summary, indent=2, allow_nan=False), encoding="utf-8")
+        written.append("summary.json")
+        ds = curves_dataset(result)
+        ds.to_netcdf(tmp / "curves.nc", engine="h5netcdf")
+        written.append("curves.nc")
+        pngs: dict[str, bytes] = {}
+        if figures:
+            (tmp / "figures").mkdir()
+            for p in sorted(result.strokes["participant"].unique()):
+                pngs[f"participant {p}"] = png = png_bytes(figure_participant(result, p), dpi)
+                name = f"figures/participant_{_safe(p)}.png"
+                (tmp / name).write_bytes(png)
+                written.append(name)
+            for s in sorted(result.strokes["sample"].unique()):
+                pngs[f"sample {s}"] = png = png_bytes(figure_sample(result, s), dpi)
+                name = f"figures/sample_{_safe(s)}.png"
+                (tmp / name).write_bytes(png)
+                written.append(name)
+        (tmp / "report.html").write_text(html_report(result, pngs, title), encoding="utf-8")
+        written.append("report.html")
+        move_into_place(tmp, out_path)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return [out_path / name for name in written]

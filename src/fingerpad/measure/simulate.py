@@ -1,0 +1,255 @@
+"""Synthetic tribometer recordings with known parameters (for tests and how-tos)."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import FingerpadError
+from ..io import existing_parent, move_into_place
+from .models import Model, TextureGeometry, resolve_finger, texture_model
+
+
+@dataclass(frozen=True)
+class SimulationConfig:
+    """A synthetic study (see :func:`simulate_study`); SI units.
+
+    Attributes
+    ----------
+    participants
+        Number of participants; each draws E_s, k, n uniformly from the ranges below.
+    repetitions
+        Files per participant and sample.
+    strokes_per_file
+        Reciprocating strokes in each file, each at its own load.
+    load_range
+        Loads (N) spread log-uniformly over the strokes of a file.
+    stroke_length, speed, dwell
+        Stroke travel (m), sliding speed (m/s) and pause at each reversal (s).
+    sampling_rate
+        Samples per second.
+    reference
+        Name of the flat reference sample.
+    textures
+        Textured samples: name -> :class:`TextureGeometry`.
+    skin_modulus_range, k_range, n_range
+        Ranges of the participants' E_s (Pa) and power law ``mu_ref = k F^(n-1)``.
+    force_noise
+        Relative noise of the friction force (stick-slip, sensor) per sample.
+    stroke_noise, file_noise
+        Log-normal spread of mu between strokes and between files (repetitions): skin
+        moisture and finger posture change from stroke to stroke and session to session.
+    drift
+        Sensor offset drift over a file, N (normal and friction).
+    outlier_rate
+        Probability that a stroke's friction is raised 1.5-2x (e.g. a moisture burst).
+    finger
+        Finger preset of the micro-model (the same for everybody, so the normalisation holds).
+    """
+
+    participants: int = 4
+    repetitions: int = 2
+    strokes_per_file: int = 12
+    load_range: tuple[float, float] = (0.1, 5.0)
+    stroke_length: float = 0.03
+    speed: float = 0.03
+    dwell: float = 0.15
+    sampling_rate: float = 200.0
+    reference: str = "flat"
+    textures: Mapping[str, TextureGeometry] = field(
+        default_factory=lambda: {
+            "bumps": TextureGeometry(radius=50e-6, height=18e-6, spacing=100e-6)
+        }
+    )
+    skin_modulus_range: tuple[float, float] = (0.25e6, 0.4e6)
+    k_range: tuple[float, float] = (0.35, 0.8)
+    n_range: tuple[float, float] = (0.6, 0.8)
+    force_noise: float = 0.03
+    stroke_noise: float = 0.05
+    file_noise: float = 0.03
+    drift: float = 0.003
+    outlier_rate: float = 0.02
+    finger: str = "default"
+
+    def __post_init__(self) -> None:
+        if self.participants < 1 or self.repetitions < 1 or self.strokes_per_file < 2:
+            raise FingerpadError("need at least 1 participant, 1 repetition and 2 strokes per file")
+        lo, hi = self.load_range
+        if not 0 < lo < hi:
+            raise FingerpadError(f"load range must satisfy 0 < low < high, got {self.load_range!r}")
+        if self.reference in self.textures:
+            raise FingerpadError(f"the reference {self.reference!r} cannot also be a textured sample")
+        for name in ("stroke_length", "speed", "sampling_rate"):
+            if not getattr(self, name) > 0:
+                raise FingerpadError(f"{name} must be positive")
+        if self.stroke_length / self.speed * self.sampling_rate < 40:
+            raise FingerpadError("a stroke must span at least 40 samples (raise the sampling rate)")
+
+
+def _smoothstep(u: np.ndarray) -> np.ndarray:
+    u = np.clip(u, 0.0, 1.0)
+    return u * u * (3.0 - 2.0 * u)
+
+
+def _simulate_file(
+    rng: np.random.Generator,
+    cfg: SimulationConfig,
+    mu_of_load: Callable[[np.ndarray], np.ndarray],
+    first_sense: int,
+) -> tuple[dict[str, np.ndarray], list[int]]:
+    """Time series of one reciprocating recording (SI) and the (1-based) outlier strokes."""
+    fs = cfg.sampling_rate
+    m = cfg.strokes_per_file
+    lo, hi = cfg.load_range
+    # loads spread over the range, shuffled, so that drift and load are not confounded
+    loads = np.exp(rng.permutation(np.linspace(math.log(lo), math.log(hi), m)) + rng.normal(0, 0.05, m))
+    t_move = cfg.stroke_length / cfg.speed
+    t_acc = 0.1 * t_move
+    n_move, n_dwell = int(round(t_move * fs)), int(round(cfg.dwell * fs))
+    pieces_v, pieces_target, pieces_phase, burst = [], [], [], []
+    bursts = rng.random(m) < cfg.outlier_rate
+    level = np.exp(cfg.file_noise * rng.standard_normal() + cfg.stroke_noise * rng.standard_normal(m))
+    for j in range(m):
+        sense = first_sense if j % 2 == 0 else -first_sense
+        # dwell: at rest while the participant adjusts the load to the next target
+        pieces_v.append(np.zeros(n_dwell))
+        prev = loads[j - 1] if j else loads[0]
+        u = np.arange(n_dwell) / max(n_dwell - 1, 1)
+        pieces_target.append(prev + (loads[j] - prev) * _smoothstep(u))
+        pieces_phase.append(np.full(n_dwell, -1.0))
+        burst.append(np.ones(n_dwell))
+        tt = np.arange(n_move) / fs
+        ramp = _smoothstep(tt / t_acc) * _smoothstep((t_move - tt) / t_acc)
+        pieces_v.append(sense * cfg.speed * ramp)
+        pieces_target.append(np.full(n_move, loads[j]))
+        pieces_phase.append(tt)
+        burst.append(np.full(n_move, level[j] * (rng.uniform(1.5, 2.0) if bursts[j] else 1.0)))
+    pieces_v.append(np.zeros(n_dwell))
+    pieces_target.append(np.full(n_dwell, loads[-1]))
+    pieces_phase.append(np.full(n_dwell, -1.0))
+    burst.append(np.ones(n_dwell))
+    v = np.concatenate(pieces_v)
+    target = np.concatenate(pieces_target)
+    phase = np.concatenate(pieces_phase)
+    factor = np.concatenate(burst)
+    n = v.size
+    t = np.arange(n) / fs
+    x = np.cumsum(v) / fs
+    # participant's load control: slow wobble and tremor around the target
+    wobble = 1.0 + 0.04 * np.sin(2 * math.pi * rng.uniform(0.5, 1.5) * t + rng.uniform(0, 2 * math.pi))
+    fn_true = target * wobble * (1.0 + 0.01 * rng.standard_normal(n))
+    mu = mu_of_load(np.clip(fn_true, lo / 10, None)) * factor
+    # static-friction peak at the start of each stroke, friction vanishing at standstill
+    peak = np.where(phase >= 0, 1.0 + 0.4 * np.exp(-np.clip(phase, 0, None) / (0.04 * t_move)), 1.0)
+    ft_true = -np.tanh(v / (0.02 * cfg.speed)) * mu * fn_true * peak
+    ft_true *= 1.0 + cfg.force_noise * rng.standard_normal(n)
+    drift_n = cfg.drift * rng.uniform(-1, 1) * t / t[-1]
+    drift_t = cfg.drift * rng.uniform(-1, 1) * t / t[-1]
+    sensor = 0.002
+    return {
+        "time": t,
+        "normal": fn_true + drift_n + sensor * rng.standard_normal(n),
+        "friction": ft_true + drift_t + sensor * rng.standard_normal(n),
+        "position": x + 2e-6 * rng.standard_normal(n),
+    }, [int(j) + 1 for j in np.flatnonzero(bursts)]
+
+
+def _write_csv(path: Path, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> None:
+    with path.open("w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        w.writerow(header)
+        w.writerows(rows)
+
+
+def simulate_study(
+    out: str | os.PathLike[str],
+    config: SimulationConfig = SimulationConfig(),
+    *,
+    seed: int = 0,
+    model_factory: Callable[[TextureGeometry, Any], Model] | None = None,
+) -> dict[str, Any]:
+    """Write a synthetic tribometer study: recordings, ``manifest.csv``, ``samples.csv``, ``truth.json``.
+
+    Each participant gets a skin modulus E_s and a reference power law ``mu_ref = k F^(n-1)``;
+    on a texture ``mu = mu_ref(F) * model(F, E_s)`` with the same micro-model as the analysis
+    (:func:`hertz_texture_model`). Recordings (``{participant}_{sample}_{repetition}.csv``:
+    ``time [s]``, ``Fn [N]``, ``Ft [mN]``, ``x [mm]``) hold reciprocating strokes at loads over
+    ``config.load_range`` with load wobble, friction noise, static-friction peaks at stroke
+    starts, sensor drift and occasional outlier strokes. Files are written into a temporary
+    folder and moved into ``out`` at the end.
+
+    Parameters
+    ----------
+    out
+        Output folder (created; existing files of the same names are replaced).
+    config
+        :class:`SimulationConfig`.
+    seed
+        Random seed; the same seed gives the same files.
+    model_factory
+        ``(geometry, finger) -> model``; default :func:`texture_model` (BEM unless the geometry says hertz).
+
+    Returns
+    -------
+    dict
+        The truth: per participant ``skin_modulus``, ``k``, ``n``; textures; files.
+    """
+    rng = np.random.default_rng(seed)
+    finger = resolve_finger(config.finger)
+    factory = model_factory or texture_model
+    models = {name: factory(geom, finger) for name, geom in config.textures.items()}
+    grid = np.geomspace(config.load_range[0] / 10, config.load_range[1] * 2, 64)
+    width = max(2, len(str(config.participants)))
+    truth: dict[str, Any] = {"seed": seed, "reference": config.reference, "finger": config.finger,
+                             "participants": {}, "textures": {k: asdict(v) for k, v in config.textures.items()},
+                             "outliers": []}
+    manifest = []
+    out_path = Path(out)
+    tmp = Path(tempfile.mkdtemp(prefix=".simulate-", dir=existing_parent(out_path)))
+    try:
+        for i in range(config.participants):
+            pid = f"P{i + 1:0{width}d}"
+            es = float(rng.uniform(*config.skin_modulus_range))
+            k = float(rng.uniform(*config.k_range))
+            n_exp = float(rng.uniform(*config.n_range))
+            truth["participants"][pid] = {"skin_modulus": es, "k": k, "n": n_exp}
+            samples: dict[str, Callable[[np.ndarray], np.ndarray]] = {
+                config.reference: (lambda f, k=k, n_exp=n_exp: k * f ** (n_exp - 1.0))
+            }
+            for name, model in models.items():
+                curve = np.log(np.clip(np.asarray(model(grid, es), float), 1e-12, None))
+                samples[name] = (lambda f, k=k, n_exp=n_exp, curve=curve:
+                                 k * f ** (n_exp - 1.0) * np.exp(np.interp(np.log(f), np.log(grid), curve)))
+            for sample, mu_of_load in samples.items():
+                for rep in range(1, config.repetitions + 1):
+                    data, bursts = _simulate_file(rng, config, mu_of_load, first_sense=1 if rep % 2 else -1)
+                    name = f"{pid}_{sample}_{rep}.csv"
+                    truth["outliers"] += [{"file": name, "stroke": b} for b in bursts]
+                    _write_csv(tmp / name, ["time [s]", "Fn [N]", "Ft [mN]", "x [mm]"],
+                               zip((f"{v:.4f}" for v in data["time"]), (f"{v:.5f}" for v in data["normal"]),
+                                   (f"{v * 1e3:.3f}" for v in data["friction"]),
+                                   (f"{v * 1e3:.4f}" for v in data["position"])))
+                    manifest.append((name, pid, sample, rep))
+        _write_csv(tmp / "manifest.csv", ["file", "participant", "sample", "repetition"], manifest)
+        _write_csv(tmp / "samples.csv",
+                   ["sample", "radius", "height", "spacing", "material_modulus", "micro_model", "full_contact_ratio"],
+                   [(config.reference, "", "", "", "", "", "")]
+                   + [(name, g.radius, g.height, g.spacing, g.material_modulus or "", g.micro_model,
+                       g.full_contact_ratio or "")
+                      for name, g in config.textures.items()])
+        truth["files"] = [m[0] for m in manifest]
+        (tmp / "truth.json").write_text(json.dumps(truth, indent=2), encoding="utf-8")
+        move_into_place(tmp, out_path)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return truth

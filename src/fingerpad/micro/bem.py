@@ -1,0 +1,368 @@
+"""The numerical (BEM) unit cell: psi(p) of a periodic texture cell from the half-space solver.
+
+This is the micro scale of the model done numerically (thesis ch. 3.2 and the coupling of
+Eq. 3.11): the unit cell of the texture is solved at the local pressures the pad produces, and
+the computed curve psi(p) is interpolated for the coupling integral. Curves are cached on disk
+(:mod:`fingerpad.micro.cache`), keyed by content, so every prediction on the same cell reuses them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Callable
+
+import numpy as np
+
+from ..contact import ContactResult, HalfSpaceSolver
+from ..errors import FingerpadError
+from .loadcurve import Progress, bisect_state
+
+if TYPE_CHECKING:
+    from ..textures import Texture
+    from .cache import CurveCache
+
+__all__ = ["BEMUnitCell", "ScaledResponse"]
+
+
+# --------------------------------------------------------------------------------------------
+# Numerical unit-cell response for the coupling (MODEL.md [completion])
+# --------------------------------------------------------------------------------------------
+
+#: Computed pressures lie on the global grid p_k = 10**(k / POINTS_PER_DECADE) Pa, so curves
+#: computed for different load ranges (or by different processes) merge in the cache.
+POINTS_PER_DECADE = 12
+#: Adjacent nodes of psi(p) differ by at most this much (steep stretches get extra nodes) ...
+MAX_PSI_STEP = 0.04
+#: ... using at most this many extra solves per prepare().
+MAX_REFINE_SOLVES = 40
+
+
+class BEMUnitCell:
+    """The unit cell's real-to-nominal area fraction psi(p) from the half-space solver.
+
+    Implements the ``UnitCellResponse`` protocol of :mod:`fingerpad.micro.response`: call
+    :meth:`prepare` with the range of local pressures the pad produces, then
+    :meth:`contact_fraction` interpolates the computed curve (PCHIP in log p, monotone, no
+    overshoot) and :attr:`interpolation_error` bounds the interpolation error by leave-one-out.
+    Below the lowest computed pressure psi follows the power law of the two lowest points
+    (Hertz-like asperity contact); at and above the full-contact pressure psi = 1.
+
+    Parameters
+    ----------
+    texture
+        Periodic unit cell.
+    modulus
+        Reduced modulus E* (Pa), Eq. 3.4.
+    tol, max_iter
+        Solver settings (part of the cache key).
+    cache
+        A :class:`~fingerpad.micro.cache.CurveCache`, ``None`` for the default folder, ``False`` for none.
+    rtol
+        Relative width of the transition and full-contact pressure brackets.
+    """
+
+    def __init__(
+        self,
+        texture: "Texture",
+        modulus: float,
+        *,
+        tol: float = 1e-8,
+        max_iter: int = 5000,
+        cache: "CurveCache | None | bool" = None,
+        rtol: float = 1e-3,
+    ) -> None:
+        from .cache import CurveCache, content_key
+
+        if not texture.periodic:
+            raise FingerpadError("a unit-cell response needs a periodic texture (use --periodic or periodize)")
+        self.texture = texture
+        self.solver = HalfSpaceSolver(texture, modulus, tol=tol, max_iter=max_iter)
+        self.modulus = self.solver.modulus
+        self.rtol = rtol
+        self.cache = CurveCache() if cache is None else (cache or None)
+        self.key = content_key(
+            texture.heights, size=texture.size, modulus=self.modulus, tol=tol, max_iter=max_iter,
+            ppd=POINTS_PER_DECADE, rtol=rtol,
+        )
+        self.points: dict[float, dict[str, Any]] = {}
+        self.transition: tuple[float, float] | None = None
+        self.full: tuple[float, float] | None = None
+        self.flat = texture.peak_to_valley <= 0
+        self.solves = 0
+        self._interp = None
+        self._progress: tuple[Progress | None, int, int] = (None, 0, 0)
+        if self.cache is not None:
+            self._absorb(self.cache.load(self.key))
+
+    # ---------------------------------------------------------------- cache plumbing
+
+    def _absorb(self, entry: dict[str, Any]) -> None:
+        for p, row in entry.get("points", {}).items():
+            self.points[float(p)] = row
+        if entry.get("transition"):
+            self.transition = tuple(entry["transition"])  # type: ignore[assignment]
+        if "full" in entry and entry["full"] is not None:
+            self.full = tuple(entry["full"])  # type: ignore[assignment]
+        self._interp = None
+
+    def _store(self, new_points: dict[float, dict[str, Any]], **extra: Any) -> None:
+        payload: dict[str, Any] = {"points": {repr(p): row for p, row in new_points.items()}, **extra}
+        if self.cache is not None:
+            self._absorb(self.cache.update(self.key, payload))
+        else:
+            self._absorb(payload)
+
+    @staticmethod
+    def _row(res: ContactResult) -> dict[str, Any]:
+        return {
+            "contact_fraction": res.contact_fraction, "mean_gap": res.mean_gap,
+            "max_pressure": res.max_pressure, "contact_state": res.contact_state,
+            "converged": res.converged, "iterations": res.iterations,
+        }
+
+    # ---------------------------------------------------------------- computing
+
+    def prepare(self, p_min: float, p_max: float, progress: Progress | None = None) -> "BEMUnitCell":
+        """Make sure psi(p) is computed over [p_min, p_max] Pa, with the state pressures.
+
+        The transition pressure is bracketed to ``rtol`` (searching below the range if needed);
+        the full-contact pressure only if full contact occurs within the range (otherwise it is
+        recorded as lying beyond the range's top). Bracketing solves become nodes of the curve,
+        so the kinks of psi at the state changes are resolved.
+        """
+        if self.flat:
+            return self
+        if not (0 < p_min <= p_max and math.isfinite(p_max)):
+            raise FingerpadError(f"bad pressure range [{p_min!r}, {p_max!r}]")
+        k0 = math.floor(math.log10(p_min) * POINTS_PER_DECADE) - 1
+        k1 = math.ceil(math.log10(p_max) * POINTS_PER_DECADE) + 1
+        wanted = [10 ** (k / POINTS_PER_DECADE) for k in range(k0, k1 + 1)]
+        todo = [p for p in wanted if not any(math.isclose(p, q, rel_tol=1e-9) for q in self.points)]
+        per_bracket = int(math.ceil(math.log2(math.log(10 ** (1 / POINTS_PER_DECADE)) / self.rtol))) + 1
+        self._progress = (progress, 0, len(todo) + 2 * per_bracket)
+        new: dict[float, dict[str, Any]] = {}
+        previous: ContactResult | None = None
+        for p in todo:
+            previous = self._solve_node(p, previous, new)
+        if new:
+            self._store(new)
+        top = max(self.points)
+        extra: dict[str, Any] = {}
+        if not self._bracket_known(self.transition, top):
+            extra["transition"] = self._bracket_from_nodes(lambda st: st != "asperity")
+        if not self._bracket_known(self.full, top):
+            extra["full"] = self._bracket_from_nodes(lambda st: st == "full")
+        if extra:
+            self._store({}, **extra)
+        self._refine(p_min, p_max)
+        self._progress = (None, 0, 0)
+        return self
+
+    def _refine(self, p_min: float, p_max: float) -> None:
+        """Add nodes where psi rises steeply (just past the transition the skin floods the base):
+        bisect (in log p) every interval inside the range whose psi step exceeds MAX_PSI_STEP."""
+        new: dict[float, dict[str, Any]] = {}
+        for _ in range(MAX_REFINE_SOLVES):
+            ps, psi = self._nodes()
+            steps = np.diff(psi)
+            ok = (ps[1:] >= p_min) & (ps[:-1] <= p_max) & (ps[1:] / ps[:-1] > 1 + 2 * self.rtol)
+            bad = np.flatnonzero(ok & (steps > MAX_PSI_STEP))
+            if bad.size == 0:
+                break
+            i = int(bad[np.argmax(steps[bad])])
+            self._solve_node(math.sqrt(ps[i] * ps[i + 1]), None, new)
+            self._store(new)
+            new = {}
+
+    def _solve_node(self, p: float, initial: ContactResult | None, sink: dict[float, dict[str, Any]]) -> ContactResult:
+        res = self.solver.solve_pressure(p, initial=initial)
+        sink[p] = self._row(res)
+        self.solves += 1
+        callback, done, total = self._progress
+        if callback is not None:
+            done += 1
+            callback(done, max(total, done))
+            self._progress = (callback, done, total)
+        return res
+
+    def _bracket_known(self, bracket: tuple[float, float] | None, top: float) -> bool:
+        if bracket is None:
+            return False
+        lo, hi = bracket
+        return math.isfinite(hi) or lo >= top  # a finite bracket, or "beyond" a range that still covers
+
+    def _bracket_from_nodes(self, reached: Callable[[str], bool]) -> list[float]:
+        """Bracket [lo, hi] of the pressure where ``reached(state)`` starts, refined from the
+        computed nodes by geometric bisection; [top, inf] if no node reaches it."""
+        nodes = sorted(self.points)
+        hits = [p for p in nodes if reached(self.points[p]["contact_state"])]
+        if not hits:
+            return [nodes[-1], math.inf]
+        hi = hits[0]
+        below = [p for p in nodes if p < hi]
+        new: dict[float, dict[str, Any]] = {}
+        if below:
+            lo = below[-1]
+            lo_res = self._solve_node(lo, None, new)
+        else:
+            lo, lo_res = hi, None
+            floor = 1e-9 * self.modulus
+            while True:
+                lo /= 4.0
+                if lo < floor:
+                    raise FingerpadError("the cell is past its transition at any pressure (a flat texture?)")
+                lo_res = self._solve_node(lo, None, new)
+                if not reached(lo_res.contact_state):
+                    break
+                hi = lo
+        lo, hi = bisect_state(lambda p, init: self._solve_node(p, init, new), lo, hi, lo_res, reached,
+                         self.rtol, max_solves=200)
+        self._store(new)
+        return [lo, hi]
+
+    # ---------------------------------------------------------------- UnitCellResponse
+
+    @property
+    def transition_pressure(self) -> float:
+        """Mean cell pressure (Pa) at which the skin first touches the texture's base (inf if
+        beyond the prepared range)."""
+        if self.flat:
+            return 0.0
+        if self.transition is None:
+            raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
+        lo, hi = self.transition
+        return math.inf if math.isinf(hi) else math.sqrt(lo * hi)
+
+    @property
+    def full_contact_pressure(self) -> float:
+        """Mean cell pressure (Pa) at which every pixel touches (inf if beyond the prepared range)."""
+        if self.flat:
+            return 0.0
+        if self.full is None:
+            raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
+        lo, hi = self.full
+        return math.inf if math.isinf(hi) else math.sqrt(lo * hi)
+
+    def _nodes(self) -> tuple[np.ndarray, np.ndarray]:
+        ps = np.array(sorted(self.points))
+        psi = np.array([self.points[p]["contact_fraction"] for p in ps])
+        # A monotone curve by construction of the physics; enforce it against last-digit noise.
+        return ps, np.maximum.accumulate(psi)
+
+    def _pieces(self) -> list[np.ndarray]:
+        """Index sets of the nodes on either side of the transition kink (PCHIP per piece)."""
+        ps, _ = self._nodes()
+        if self.transition is None or not math.isfinite(self.transition[1]):
+            return [np.arange(ps.size)]
+        lo, hi = self.transition
+        left = np.flatnonzero(ps <= lo * (1 + 1e-12))
+        right = np.flatnonzero(ps >= hi * (1 - 1e-12))
+        return [piece for piece in (left, right) if piece.size]
+
+    def _build(self) -> Any:
+        from scipy.interpolate import PchipInterpolator
+
+        ps, psi = self._nodes()
+        if ps.size < 3:
+            raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
+        lp = np.log(ps)
+        parts = []
+        for idx in self._pieces():
+            if idx.size >= 2:
+                parts.append((lp[idx[0]], lp[idx[-1]], PchipInterpolator(lp[idx], psi[idx])))
+
+        def interp(x: np.ndarray) -> np.ndarray:
+            # linear in log p across the (rtol-narrow) transition bracket, PCHIP on each side
+            out = np.interp(x, lp, psi)
+            for a, b, f in parts:
+                sel = (x >= a) & (x <= b)
+                out[sel] = f(x[sel])
+            return out
+
+        return interp
+
+    def contact_fraction(self, p: "np.ndarray | float") -> np.ndarray:
+        """psi(p): real-to-nominal contact area fraction of the cell at mean pressure ``p`` (Pa)."""
+        p = np.asarray(p, dtype=float)
+        if self.flat:
+            return np.where(p > 0, 1.0, 0.0)
+        if self._interp is None:
+            self._interp = self._build()
+        ps, psi = self._nodes()
+        out = np.zeros_like(p)
+        pos = p > 0
+        lp = np.log(np.where(pos, p, 1.0))
+        inside = pos & (p >= ps[0]) & (p <= ps[-1])
+        out[inside] = self._interp(lp[inside])
+        low = pos & (p < ps[0])
+        if np.any(low):
+            slope = math.log(psi[1] / psi[0]) / math.log(ps[1] / ps[0]) if psi[0] > 0 else 2 / 3
+            out[low] = psi[0] * (p[low] / ps[0]) ** slope
+        high = p > ps[-1]
+        if np.any(high):
+            # Beyond the computed range: hold the last value (psi is non-decreasing); callers
+            # prepare the range they use.
+            out[high] = psi[-1]
+        if self.full is not None and math.isfinite(self.full[1]):
+            out = np.where(p >= self.full[1], 1.0, out)
+        return np.clip(out, 0.0, 1.0)
+
+    @property
+    def interpolation_error(self) -> float:
+        """Leave-one-out bound on the interpolation error of psi (absolute, interior nodes of
+        each side of the transition): each node is predicted from its neighbours without it."""
+        from scipy.interpolate import PchipInterpolator
+
+        ps, psi = self._nodes()
+        lp = np.log(ps)
+        worst = math.nan
+        for idx in self._pieces():
+            for j in range(1, idx.size - 1):
+                keep = np.delete(idx, j)
+                f = PchipInterpolator(lp[keep], psi[keep])
+                err = abs(float(f(lp[idx[j]])) - psi[idx[j]])
+                worst = err if math.isnan(worst) else max(worst, err)
+        return worst
+
+    def at_modulus(self, modulus: float) -> "ScaledResponse":
+        """psi(p) of this cell at reduced modulus ``modulus`` (Pa), by p/E* scaling (no solves)."""
+        if not (math.isfinite(modulus) and modulus > 0):
+            raise FingerpadError(f"modulus must be positive, got {modulus!r}")
+        return ScaledResponse(self, modulus / self.modulus)
+
+    def curve(self) -> dict[str, np.ndarray]:
+        """The computed nodes: pressure (Pa), contact_fraction, mean_gap (m), max_pressure (Pa)."""
+        ps = np.array(sorted(self.points))
+        return {
+            "pressure": ps,
+            "contact_fraction": np.array([self.points[p]["contact_fraction"] for p in ps]),
+            "mean_gap": np.array([self.points[p]["mean_gap"] for p in ps]),
+            "max_pressure": np.array([self.points[p]["max_pressure"] for p in ps]),
+            "contact_state": np.array([self.points[p]["contact_state"] for p in ps]),
+        }
+
+
+@dataclass(frozen=True)
+class ScaledResponse:
+    """A cell's psi(p) at another reduced modulus, without new solves.
+
+    For a rigid (or E*-folded) texture on an elastic half-space the contact problem scales with
+    p / E*: the contact fraction at modulus E* and pressure p equals the base curve's at
+    ``p E*_base / E*``. So one computed curve serves every skin modulus, e.g. when fitting E_s to
+    friction measurements.
+    """
+
+    base: BEMUnitCell
+    factor: float  # E*_new / E*_base
+
+    def contact_fraction(self, p: "np.ndarray | float") -> np.ndarray:
+        return self.base.contact_fraction(np.asarray(p, dtype=float) / self.factor)
+
+    @property
+    def transition_pressure(self) -> float:
+        return self.base.transition_pressure * self.factor
+
+    @property
+    def full_contact_pressure(self) -> float:
+        return self.base.full_contact_pressure * self.factor

@@ -1,0 +1,9 @@
+"""Every figure of fingerpad (matplotlib's object API and the Agg canvas; no pyplot state).
+
+Physics modules draw nothing: they return numbers, and these modules turn them into figures.
+
+* :mod:`.solution` - pressure and contact maps of a solved cell, psi(p);
+* :mod:`.prediction` - areas, friction and contact zones against load (``fingerpad predict``);
+* :mod:`.ridges` - the ridge-area models side by side (thesis Fig. 2.4 idea);
+* :mod:`.measure` - friction-measurement figures per participant and sample.
+"""

@@ -1,0 +1,231 @@
+"""Running a prediction study: texture + materials + finger + loads -> areas, zones, friction.
+
+:func:`run_study` chains the scales: ``E1* = finger.micro_modulus(material)`` (Eq. 3.4); for the
+BEM a periodic unit cell of the texture is solved over the local pressures the pad produces
+(:class:`~fingerpad.micro.bem.BEMUnitCell`, cached on disk), for Hertz the asperities are treated
+one by one (:class:`~fingerpad.micro.hertz.HertzUnitCell`, Eqs. 3.1-3.6); both are coupled to the
+pad by :func:`~fingerpad.coupling.predict_curve` (Eqs. 3.7, 3.11).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..coupling import CurvePrediction, predict_curve
+from ..errors import FingerpadError
+from ..finger import Finger
+from ..micro.hertz import HertzUnitCell, hertz_cell_for, supports_hertz
+from ..textures import Texture
+from .spec import Study
+
+__all__ = ["P_HIGH", "P_LOW", "Prediction", "centre_state", "run_study"]
+
+#: Local pressures solved on the BEM cell: [P_LOW * min(F/A_fr), P_HIGH * max(F/A_fr)]. The pad
+#: pressure (Eq. 3.7) runs from 0 at the disc edge to 1.5 F/A_fr at the centre; below the lowest
+#: computed node psi follows the power law of the two lowest nodes (asperity contact).
+P_LOW, P_HIGH = 0.02, 1.5
+
+
+@dataclass
+class Prediction:
+    """Result of :func:`run_study` (SI units).
+
+    Attributes
+    ----------
+    study, texture
+        The inputs and the built texture.
+    reduced_modulus
+        E1*, Pa (Eq. 3.4).
+    bem, hertz
+        Curves against load by the BEM unit cell and by per-asperity Hertz (``None`` if not run).
+    cell, hertz_cell
+        The unit-cell responses used.
+    critical_load
+        ``{"bem": F, "hertz": F}``: load (N) at which the pad centre reaches the transition
+        (BEM: :func:`~fingerpad.coupling.critical_load`; Hertz: Eq. 3.6); ``None`` if that model
+        did not run, NaN if no solution in 1e-6 ... 1e3 N.
+    full_contact_load
+        ``{"bem": F}``: load at which the centre reaches full contact (NaN if never).
+    zones
+        The zone radii at :attr:`Study.zone_load`.
+    pressure_range
+        Local pressures (Pa) over which the BEM cell was prepared.
+    timings
+        ``{"cell": s, "coupling": s}``.
+    notes
+        Remarks (hexagonal spacing used by Hertz, model skipped, ...).
+    """
+
+    study: Study
+    texture: Texture
+    reduced_modulus: float
+    bem: CurvePrediction | None
+    hertz: CurvePrediction | None
+    cell: Any
+    hertz_cell: HertzUnitCell | None
+    critical_load: dict[str, float | None]
+    full_contact_load: dict[str, float | None]
+    zones: dict[str, Any]
+    pressure_range: tuple[float, float]
+    timings: dict[str, float]
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def primary(self) -> CurvePrediction:
+        """The BEM curve when computed, else the Hertz curve."""
+        return self.bem if self.bem is not None else self.hertz  # type: ignore[return-value]
+
+    @property
+    def primary_model(self) -> str:
+        return "bem" if self.bem is not None else "hertz"
+
+    @property
+    def primary_cell(self) -> Any:
+        return self.cell if self.bem is not None else self.hertz_cell
+
+    def states(self, which: str | None = None) -> list[str]:
+        """Contact state at the pad centre for each load (``asperity``/``transition``/``full``)."""
+        curve, cell = (self.hertz, self.hertz_cell) if which == "hertz" else (self.primary, self.primary_cell)
+        assert curve is not None and cell is not None
+        return [centre_state(p, cell) for p in 1.5 * curve.load / curve.ridge_area]
+
+    @property
+    def unconverged(self) -> int:
+        if self.cell is None or not getattr(self.cell, "points", None):
+            return 0
+        return sum(1 for row in self.cell.points.values() if not row.get("converged", True))
+
+
+def centre_state(peak_pressure: float, cell: Any) -> str:
+    """State of the contact at the pad centre for its pressure ``1.5 F/A_fr`` (Pa)."""
+    pt, pf = float(cell.transition_pressure), float(cell.full_contact_pressure)
+    if peak_pressure >= pf:
+        return "full"
+    if peak_pressure >= pt:
+        return "transition"
+    return "asperity"
+
+
+def _load_at_centre_pressure(finger: Finger, pressure: float) -> float:
+    """Load (N) at which the centre pressure ``1.5 F / A_fr(F)`` equals ``pressure`` (NaN if none)."""
+    from scipy.optimize import brentq
+
+    from ..micro.response import DEFAULT_LOAD_RANGE
+
+    if not (math.isfinite(pressure) and pressure > 0):
+        return math.nan
+    lo, hi = DEFAULT_LOAD_RANGE
+
+    def g(f: float) -> float:
+        return 1.5 * f / float(finger.ridge_area(f)) - pressure
+
+    try:
+        if np.sign(g(lo)) == np.sign(g(hi)):
+            return math.nan
+        return float(brentq(g, lo, hi, rtol=1e-12))
+    except (FingerpadError, ValueError):
+        return math.nan
+
+
+def _zones(study: Study, cell: Any, hertz_cell: Any) -> dict[str, Any]:
+    """Zone radii of the ridge-contact disc at the zone load (primary cell; Hertz radius too)."""
+    from ..coupling import couple
+
+    f = study.zone_load
+    ar = float(study.finger.ridge_area(f))
+    res = couple(f, ar, cell)
+    out = {
+        "load": f,
+        "ridge_area": ar,
+        "ridge_radius": float(res.ridge_radius),
+        "transition_radius": float(res.transition_radius),
+        "full_contact_radius": float(res.full_contact_radius),
+        "mean_pressure": float(res.mean_pressure),
+        "peak_pressure": float(res.peak_pressure),
+        "area_ratio": float(res.area_ratio),
+        "contact_state": centre_state(float(res.peak_pressure), cell),
+        "hertz_transition_radius": None,
+    }
+    if hertz_cell is not None and hertz_cell is not cell:
+        out["hertz_transition_radius"] = float(couple(f, ar, hertz_cell).transition_radius)
+    return out
+
+
+def run_study(study: Study, progress: Callable[[int, int], None] | None = None) -> Prediction:
+    """Run the prediction of ``study`` (see the module docstring).
+
+    Parameters
+    ----------
+    study
+        The inputs.
+    progress
+        ``progress(i, n)`` after each unit-cell solve (BEM only; not called when cached).
+
+    Raises
+    ------
+    FingerpadError
+        Non-periodic texture for the BEM (suggests ``periodize``), Hertz on a texture that is not
+        spherical caps, bad values.
+    """
+    from ..micro.bem import BEMUnitCell
+
+    study.check()
+    tex = study.build_texture()
+    finger = study.finger
+    e1 = study.reduced_modulus
+    loads = study.loads
+    p_mean = loads / np.asarray(finger.ridge_area(loads), dtype=float)
+    p_range = (P_LOW * float(p_mean.min()), P_HIGH * float(p_mean.max()))
+    notes: list[str] = []
+
+    run_hertz = study.model in ("hertz", "both") and supports_hertz(tex)
+    if study.model == "both" and not run_hertz:
+        notes.append(f"Hertz (Eqs. 3.1-3.6) needs an asperity radius: texture {tex.name!r} runs the BEM only")
+    hertz_cell = None
+    if run_hertz:
+        hertz_cell, note = hertz_cell_for(tex, e1)
+        if note:
+            notes.append(note)
+
+    cell = bem = hertz = None
+    t_cell = t_coupling = 0.0
+    if study.model in ("bem", "both"):
+        t0 = time.perf_counter()
+        cell = BEMUnitCell(tex, e1, tol=study.tol, max_iter=study.max_iter, cache=study.curve_cache())
+        cell.prepare(*p_range, progress=progress)
+        t_cell = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        bem = predict_curve(loads, finger, cell)
+        t_coupling += time.perf_counter() - t0
+        if cell.flat:
+            notes.append("flat texture: full contact at any load (A_re = A_fr), no critical load")
+    if hertz_cell is not None:
+        t0 = time.perf_counter()
+        hertz = predict_curve(loads, finger, hertz_cell)
+        t_coupling += time.perf_counter() - t0
+
+    crit: dict[str, float | None] = {
+        "bem": bem.critical_load if bem is not None else None,
+        "hertz": hertz.critical_load_hertz if hertz is not None else None,
+    }
+    full: dict[str, float | None] = {"bem": None}
+    if cell is not None and not cell.flat:
+        full["bem"] = _load_at_centre_pressure(finger, cell.full_contact_pressure)
+    elif cell is not None:
+        full["bem"] = 0.0
+    primary_cell = cell if cell is not None else hertz_cell
+    pred = Prediction(
+        study=study, texture=tex, reduced_modulus=e1, bem=bem, hertz=hertz, cell=cell, hertz_cell=hertz_cell,
+        critical_load=crit, full_contact_load=full, zones=_zones(study, primary_cell, hertz_cell),
+        pressure_range=p_range, timings={"cell": t_cell, "coupling": t_coupling}, notes=notes,
+    )
+    if pred.unconverged:
+        notes.append(f"{pred.unconverged} unit-cell solve(s) did not reach the tolerance {study.tol:g}")
+    return pred
+

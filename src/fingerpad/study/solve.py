@@ -1,0 +1,297 @@
+"""The one-cell job of ``fingerpad solve``: a texture, the materials, mean pressures -> contact.
+
+:func:`build_solve_job` checks every input once (cheap checks first, then the texture is built);
+:func:`run_solve` solves the cell at each pressure (warm-started) and, if asked, brackets the
+critical pressure; :func:`write_solve_outputs` writes the JSON, NetCDF and plot, all or none.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+import warnings
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+from .._version import __version__
+from ..errors import FingerpadError
+from ..materials import DEFAULT_SKIN_MODULUS, DEFAULT_SKIN_POISSON, check_modulus, check_poisson, reduced_modulus
+from ..units import parse_int, parse_positive, parse_quantity, parse_range, parse_size
+
+__all__ = ["MaterialsSpec", "SolveJob", "SolveOutcome", "build_solve_job", "parse_materials", "run_solve",
+           "write_solve_outputs"]
+
+
+def _parse_float(text: str, name: str) -> float:
+    return parse_quantity(text, "none", name=name)
+
+
+def _parse_pressures(texts: Sequence[str], log: bool) -> list[float]:
+    pressures: list[float] = []
+    for text in texts:
+        for value in parse_range(text, "pressure", name="--pressure", log=log):
+            if not (math.isfinite(value) and value > 0):
+                raise FingerpadError(f"--pressure: must be positive, got {text!r}")
+            pressures.append(value)
+    if not pressures:
+        raise FingerpadError("give at least one --pressure (e.g. --pressure 20kPa or --pressure 1kPa:100kPa:10 --log)")
+    return pressures
+
+
+# --------------------------------------------------------------------------------------------
+# materials
+
+@dataclass
+class MaterialsSpec:
+    modulus: float  # reduced modulus E* (Pa)
+    skin_modulus: float | None = None
+    skin_poisson: float | None = None
+    material_modulus: float | None = None  # None: rigid
+    material_poisson: float | None = None
+
+    def as_dict(self) -> dict[str, Any]:
+        return {
+            "reduced_modulus": self.modulus,
+            "skin_modulus": self.skin_modulus,
+            "skin_poisson": self.skin_poisson,
+            "material_modulus": self.material_modulus,
+            "material_poisson": self.material_poisson,
+            "material_rigid": self.skin_modulus is not None and self.material_modulus is None,
+        }
+
+
+def parse_materials(
+    modulus: str | None,
+    skin_modulus: str | None,
+    skin_poisson: str | None,
+    material_modulus: str | None,
+    material_poisson: str | None,
+) -> MaterialsSpec:
+    """Either ``--modulus`` (reduced E*) or the skin/material constants (Eq. 3.4), never both."""
+    others = {
+        "--skin-modulus": skin_modulus,
+        "--skin-poisson": skin_poisson,
+        "--material-modulus": material_modulus,
+        "--material-poisson": material_poisson,
+    }
+    given = [k for k, v in others.items() if v is not None]
+    if modulus is not None:
+        if given:
+            raise FingerpadError(
+                f"give either --modulus (the reduced modulus E*) or {', '.join(given)}, not both"
+            )
+        e = parse_quantity(modulus, "pressure", name="--modulus")
+        check_modulus(e, "--modulus")
+        return MaterialsSpec(modulus=e)
+    es = DEFAULT_SKIN_MODULUS if skin_modulus is None else parse_quantity(skin_modulus, "pressure", name="--skin-modulus")
+    check_modulus(es, "--skin-modulus")
+    nus = DEFAULT_SKIN_POISSON if skin_poisson is None else _parse_float(skin_poisson, "--skin-poisson")
+    check_poisson(nus, "--skin-poisson")
+    em: float | None = None
+    num: float | None = None
+    if material_modulus is not None and material_modulus.strip().lower() not in ("rigid", "inf", "infinity"):
+        em = parse_quantity(material_modulus, "pressure", name="--material-modulus")
+        check_modulus(em, "--material-modulus")
+        num = 0.35 if material_poisson is None else _parse_float(material_poisson, "--material-poisson")
+        check_poisson(num, "--material-poisson")
+    elif material_poisson is not None:
+        raise FingerpadError("--material-poisson needs --material-modulus (the default material is rigid)")
+    e_star = reduced_modulus(es, nus, em, num if num is not None else 0.35)
+    return MaterialsSpec(modulus=e_star, skin_modulus=es, skin_poisson=nus, material_modulus=em, material_poisson=num)
+
+
+
+@dataclass
+class SolveJob:
+    texture: Any
+    materials: MaterialsSpec
+    pressures: list[float]
+    tol: float = 1e-8
+    max_iter: int = 5000
+    formulation: str = "auto"
+    texture_source: dict[str, Any] = field(default_factory=dict)
+    json_path: str | None = None
+    save_path: str | None = None
+    plot_path: str | None = None
+    plot_at: float | None = None  # mean pressure whose maps are plotted (nearest solved); None: last
+    show_table: bool = True
+    critical_rtol: float | None = None  # bracket the transition pressure to this relative width
+
+    def inputs(self) -> dict[str, Any]:
+        from ..textures import describe
+
+        tex = self.texture
+        return {
+            "texture": {
+                "name": tex.name,
+                "description": describe(tex),
+                **self.texture_source,
+                "params": dict(tex.params),
+                "size": list(tex.size),
+                "grid": list(tex.shape),
+                "periodic": bool(tex.periodic),
+            },
+            "materials": self.materials.as_dict(),
+            "modulus": self.materials.modulus,
+            "pressures": list(self.pressures),
+            "tol": self.tol,
+            "max_iter": self.max_iter,
+            "formulation": self.formulation,
+            "fingerpad_version": __version__,
+        }
+
+    def netcdf_attrs(self) -> dict[str, Any]:
+        m = self.materials.as_dict()
+        attrs: dict[str, Any] = {k: v for k, v in m.items() if k != "reduced_modulus"}
+        attrs.update(
+            {
+                "texture_source": self.texture_source.get("source", "generator"),
+                "surface_file": self.texture_source.get("file"),
+                "requested_pressures": list(self.pressures),
+                "max_iter": self.max_iter,
+                "requested_formulation": self.formulation,
+                "command": " ".join(["fingerpad", *sys.argv[1:]]) if sys.argv else "fingerpad",
+            }
+        )
+        return attrs
+
+
+def _check_outputs(job: SolveJob) -> None:
+    from ..io import check_writable
+
+    seen: dict[str, str] = {}
+    for opt, path in (("--json", job.json_path), ("--save", job.save_path), ("--plot", job.plot_path)):
+        if path is None or (opt == "--json" and path == "-"):
+            continue
+        key = os.path.abspath(path)
+        if key in seen:
+            raise FingerpadError(f"{opt} and {seen[key]} name the same file {path!r}")
+        seen[key] = opt
+        check_writable(path, opt)
+
+
+@dataclass
+class SolveOutcome:
+    """What :func:`run_solve` computed: the load curve, the critical-pressure bracket, the JSON."""
+
+    curve: Any
+    critical: Any
+    payload: dict[str, Any]
+
+    @property
+    def results(self) -> list[Any]:
+        return list(self.curve.results)
+
+
+def run_solve(job: SolveJob, progress: Callable[[int, int], None] | None = None) -> SolveOutcome:
+    """Solve the cell at each pressure of ``job`` (and bracket the critical pressure if asked)."""
+    from ..contact import HalfSpaceSolver
+    from ..micro.loadcurve import critical_pressure, load_curve
+
+    with warnings.catch_warnings():
+        # Unconverged solves are reported by the caller, once per pressure, with the exit code.
+        warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
+        solver = HalfSpaceSolver(job.texture, job.materials.modulus, tol=job.tol, max_iter=job.max_iter,
+                                 formulation=job.formulation)
+        curve = load_curve(solver, job.pressures, progress=progress)
+        critical = critical_pressure(solver, rtol=job.critical_rtol) if job.critical_rtol is not None else None
+    return SolveOutcome(curve, critical, _results_json(job, list(curve.results), critical))
+
+
+def write_solve_outputs(job: SolveJob, outcome: SolveOutcome) -> None:
+    """Write the JSON (unless to stdout), NetCDF and plot of ``job``: all of them or none."""
+    import json
+
+    from .. import io as fio
+
+    results = outcome.results
+    staging = fio.Staging()
+    try:
+        if job.json_path is not None and job.json_path != "-":
+            text = json.dumps(outcome.payload, indent=2) + "\n"
+            staging.stage(job.json_path, lambda tmp: fio.write_text(tmp, text))
+        if job.save_path is not None:
+            attrs = job.netcdf_attrs()
+            if len(results) == 1:
+                staging.stage(job.save_path, lambda tmp: fio.save_result(results[0], tmp, attrs))
+            else:
+                staging.stage(job.save_path, lambda tmp: fio.save_load_curve(outcome.curve, tmp, attrs))
+        if job.plot_path is not None:
+            from ..plotting.solution import plot_solution
+
+            index = -1
+            if job.plot_at is not None:
+                index = min(range(len(results)), key=lambda i: abs(math.log(results[i].mean_pressure / job.plot_at)))
+            staging.stage(job.plot_path, lambda tmp: plot_solution(results, tmp, index=index))
+        staging.commit()
+    finally:
+        staging.discard()
+
+
+def _results_json(job: SolveJob, results: Sequence[Any], critical: Any = None) -> dict[str, Any]:
+    from ..io import to_jsonable
+
+    payload: dict[str, Any] = {
+        "inputs": job.inputs(),
+        "converged": all(bool(r.converged) for r in results),
+        "results": [r.summary() for r in results],
+    }
+    if critical is not None:
+        payload["critical_pressure"] = {
+            "lower": critical.lower, "upper": critical.upper, "estimate": critical.estimate,
+            "relative_width": critical.relative_width, "solves": critical.solves,
+            "definition": "lowest mean pressure (Pa) at which the skin touches the texture's lowest level",
+        }
+    return to_jsonable(payload)
+
+
+def build_solve_job(
+    *, ctx_args: Sequence[str] = (), texture: str | None, surface: str | None, size: str | None,
+    height_unit: str | None, periodic: bool | None, fill_missing: bool = False, grid: str | None,
+    modulus: str | None, skin_modulus: str | None, skin_poisson: str | None, material_modulus: str | None,
+    material_poisson: str | None, pressure: Sequence[str], log: bool, tol: str, max_iter: str,
+    formulation: str, json_path: str | None, save: str | None, plot: str | None,
+    plot_at: str | None = None, critical: str | None = None,
+) -> SolveJob:
+    """Validate every option of ``fingerpad solve`` (cheap checks first) and build the texture."""
+    if (texture is None) == (surface is None):
+        raise FingerpadError("give exactly one of --texture NAME or --surface FILE")
+    materials = parse_materials(modulus, skin_modulus, skin_poisson, material_modulus, material_poisson)
+    pressures = _parse_pressures(pressure, log)
+    tol_v = _parse_float(tol, "--tol")
+    if not (0 < tol_v < 1):
+        raise FingerpadError(f"--tol must lie in (0, 1), got {tol!r}")
+    max_iter_v = parse_int(max_iter, "--max-iter")
+    if formulation not in ("auto", "primal", "dual"):
+        raise FingerpadError(f"--formulation must be auto, primal or dual, got {formulation!r}")
+    grid_v = parse_int(grid, "--grid") if grid is not None else None
+    size_v = parse_size(size) if size is not None else None
+    plot_at_v = parse_positive(plot_at, "pressure", name="--plot-at") if plot_at is not None else None
+    if plot_at_v is not None and plot is None:
+        raise FingerpadError("--plot-at needs --plot")
+    critical_v = _parse_float(critical, "--critical") if critical is not None else None
+    if critical_v is not None and not (0 < critical_v < 1):
+        raise FingerpadError(f"--critical: the relative bracket width must lie in (0, 1), got {critical!r}")
+    job = SolveJob(texture=None, materials=materials, pressures=pressures, tol=tol_v, max_iter=max_iter_v,
+                   formulation=formulation, json_path=json_path, save_path=save, plot_path=plot, plot_at=plot_at_v,
+                   critical_rtol=critical_v)
+    _check_outputs(job)
+    from .overrides import split_texture_options
+    from .spec import TextureSpec
+
+    if surface is not None and ctx_args:
+        raise FingerpadError(f"unexpected arguments {' '.join(ctx_args)!r} (texture parameters need --texture)")
+    params = dict(split_texture_options(ctx_args))
+    if "grid" in params:
+        raise FingerpadError("give the grid size once, as --grid")
+    spec = TextureSpec(name=texture, surface=surface, params=params, size=size_v, height_unit=height_unit,
+                       periodic=periodic, fill_missing=fill_missing)
+    tex = spec.build(grid_v)
+    if periodic is False and texture is not None:
+        tex = replace(tex, periodic=False)
+    job.texture_source = spec.source
+    job.texture = tex
+    return job
+

@@ -1,0 +1,124 @@
+"""Reading study values: TOML values and command-line text alike (numbers SI, strings with units).
+
+Every reader takes the name to show in its error message, so that a mistake in a study file names
+``study.toml [loads] range`` and the same mistake on the command line names ``--loads``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from ..errors import FingerpadError
+from ..materials import check_modulus, check_poisson
+from ..units import parse_quantity, parse_range
+
+__all__ = ["boolean", "integer", "material", "parse_loads", "quantity", "text"]
+
+#: Most load values one study may ask for (each costs a coupling evaluation and a table row).
+MAX_LOADS = 100_000
+
+
+def quantity(value: Any, dimension: str, name: str) -> float:
+    """A number (SI) or a quantity with a unit such as ``"1N"``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        raise FingerpadError(f"{name}: expected a number or a quantity such as '1N', got {value!r}")
+    return parse_quantity(value, dimension, name=name)
+
+
+def integer(value: Any, name: str, minimum: int = 1) -> int:
+    """An integer of at least ``minimum`` (TOML integer, integral float or digits)."""
+    if isinstance(value, bool):
+        raise FingerpadError(f"{name}: expected an integer, got {value!r}")
+    if isinstance(value, float) and value.is_integer():
+        value = int(value)
+    if isinstance(value, str) and value.strip().lstrip("+").isdigit():
+        value = int(value.strip())
+    if not isinstance(value, int):
+        raise FingerpadError(f"{name}: expected an integer, got {value!r}")
+    if value < minimum:
+        raise FingerpadError(f"{name}: must be at least {minimum}, got {value}")
+    return value
+
+
+def boolean(value: Any, name: str) -> bool:
+    """``true``/``false`` (also yes/no, on/off, 1/0 as text)."""
+    if isinstance(value, bool):
+        return value
+    if isinstance(value, str) and value.strip().lower() in ("1", "true", "yes", "on", "0", "false", "no", "off"):
+        return value.strip().lower() in ("1", "true", "yes", "on")
+    raise FingerpadError(f"{name}: expected true or false, got {value!r}")
+
+
+def text(value: Any) -> str:
+    """A TOML value as the text the command line would give (lists: comma-separated)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, (list, tuple)):
+        return ",".join(text(v) for v in value)
+    return str(value)
+
+
+def _positive_loads(values: Sequence[float], name: str) -> np.ndarray:
+    arr = np.asarray(list(values), dtype=float).ravel()
+    if arr.size == 0:
+        raise FingerpadError(f"{name}: no loads given")
+    if not np.all(np.isfinite(arr)):
+        raise FingerpadError(f"{name}: loads must be finite")
+    if np.any(arr <= 0):
+        raise FingerpadError(f"{name}: loads must be positive, got {arr.min():.4g} N")
+    return arr
+
+
+def _range_count(spec: str, name: str) -> None:
+    parts = spec.split(":")
+    if len(parts) == 3:
+        try:
+            count = int(parts[2])
+        except ValueError:
+            return  # parse_range reports it
+        if count > MAX_LOADS:
+            raise FingerpadError(f"{name}: {count} loads asked for; at most {MAX_LOADS} are allowed")
+
+
+def _check_order(spec: str, name: str) -> None:
+    """A range runs upward: ``STOP`` below ``START`` is a mistake, not a reversed sweep."""
+    parts = spec.split(":")
+    if len(parts) == 3:
+        start = parse_quantity(parts[0], "force", name=name)
+        stop = parse_quantity(parts[1], "force", name=name)
+        if stop < start:
+            raise FingerpadError(f"{name}: STOP {parts[1]!r} is below START {parts[0]!r} in {spec!r}")
+
+
+def parse_loads(spec: Any, log: bool, name: str = "loads") -> np.ndarray:
+    """Loads (N) from ``"START:STOP:COUNT"`` (log-spaced if ``log``), one quantity, or a list of
+    either (a list of ranges and values is concatenated)."""
+    items = list(spec) if isinstance(spec, (list, tuple, np.ndarray)) else [spec]
+    values: list[float] = []
+    for item in items:
+        if isinstance(item, str) and ":" in item:
+            _range_count(item, name)
+            _check_order(item, name)
+            values += parse_range(item, "force", name=name, log=log)
+        else:
+            values.append(quantity(item, "force", name))
+        if len(values) > MAX_LOADS:
+            raise FingerpadError(f"{name}: more than {MAX_LOADS} loads asked for")
+    return _positive_loads(values, name)
+
+
+def material(modulus: Any, poisson: Any, modulus_name: str, poisson_name: str) -> tuple[float | None, float | None]:
+    """Counter-surface (E, nu); ``None`` modulus or ``"rigid"`` = rigid (then no Poisson ratio)."""
+    rigid = modulus is None or (isinstance(modulus, str) and modulus.strip().lower() in ("rigid", "inf", "infinity"))
+    if rigid:
+        if poisson is not None:
+            raise FingerpadError(f"{poisson_name}: a Poisson ratio needs a material modulus (the default material is rigid)")
+        return None, None
+    em = check_modulus(quantity(modulus, "pressure", modulus_name), modulus_name)
+    num = 0.35 if poisson is None else check_poisson(quantity(poisson, "none", poisson_name), poisson_name)
+    return em, num

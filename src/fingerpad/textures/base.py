@@ -1,0 +1,411 @@
+"""The texture data type, declared generator parameters and the registry of texture families.
+
+A texture *family* (spherical caps, ridges, ...) lives in one file of this package that defines
+``FAMILIES = (TextureFamily(...),)``: the generator function, its parameters declared with their
+kind and unit (:class:`Param`), and, where it applies, the asperity seen by the per-asperity
+Hertz model. :mod:`fingerpad.textures` collects every such file, so a new texture is added by
+adding one file. The command line and study files read parameter values through the declared
+kinds (``--orientation 30`` is 30 degrees, ``--radius 50um`` a length), never by guessing from
+names.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import lazy_loader
+
+# NumPy loads on first use: listing the texture families (`fingerpad textures`) must start fast.
+np = lazy_loader.load("numpy")
+
+from ..errors import FingerpadError
+from ..units import UNITS, parse_quantity
+from .geometry import fmt_length, parse_size
+
+
+@dataclass(frozen=True, eq=False)
+class Texture:
+    """A height map over a rectangle of known physical size.
+
+    Attributes
+    ----------
+    heights
+        2-D float array (nx, ny), metres, z positive toward the skin.
+    size
+        (Lx, Ly) physical size of the map, metres.
+    periodic
+        True for a unit cell of a periodic texture; False for a finite patch (measured map,
+        single asperity), solved with zero-padded linear convolution.
+    name
+        Generator or file name.
+    params
+        Generator parameters in SI units (recorded as NetCDF attributes).
+    family
+        Name of the :class:`TextureFamily` that generated the map (``None`` for measured maps
+        and hand-made arrays); it says which analytic models (e.g. the Hertz cell) apply.
+    """
+
+    heights: np.ndarray
+    size: tuple[float, float]
+    periodic: bool = True
+    name: str = "custom"
+    params: dict[str, Any] = field(default_factory=dict)
+    family: str | None = None
+
+    def __post_init__(self) -> None:
+        h = np.asarray(self.heights, dtype=float)
+        if h.ndim == 1:
+            h = h[:, None]
+        if h.ndim != 2:
+            raise FingerpadError(f"texture {self.name!r}: height map must be 2-D, got shape {h.shape}")
+        if h.size == 0:
+            raise FingerpadError(f"texture {self.name!r}: empty height map")
+        if not np.all(np.isfinite(h)):
+            bad = int(np.count_nonzero(~np.isfinite(h)))
+            raise FingerpadError(f"texture {self.name!r}: height map holds {bad} NaN or infinite values")
+        lx, ly = (float(s) for s in self.size)
+        if not (math.isfinite(lx) and math.isfinite(ly) and lx > 0 and ly > 0):
+            raise FingerpadError(f"texture {self.name!r}: size must be positive, got {self.size!r}")
+        object.__setattr__(self, "heights", h)
+        object.__setattr__(self, "size", (lx, ly))
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.heights.shape  # type: ignore[return-value]
+
+    @property
+    def spacing(self) -> tuple[float, float]:
+        """Grid spacing (dx, dy), metres."""
+        return self.size[0] / self.shape[0], self.size[1] / self.shape[1]
+
+    @property
+    def area(self) -> float:
+        """Nominal (projected) area of the map, m^2."""
+        return self.size[0] * self.size[1]
+
+    @property
+    def peak_to_valley(self) -> float:
+        return float(self.heights.max() - self.heights.min())
+
+    def coordinates(self) -> tuple[np.ndarray, np.ndarray]:
+        """1-D pixel coordinates x (nx,) and y (ny,), metres."""
+        dx, dy = self.spacing
+        return np.arange(self.shape[0]) * dx, np.arange(self.shape[1]) * dy
+
+
+# ------------------------------------------------------------------------------------------------
+# Declared parameters
+# ------------------------------------------------------------------------------------------------
+
+#: Parameter kinds: unit shown to users and the placeholder of the command line.
+KINDS: dict[str, tuple[str, str]] = {
+    "length": ("m", "LENGTH"),
+    "angle": ("deg", "ANGLE"),
+    "count": ("1", "INT"),
+    "ratio": ("1", "NUMBER"),
+    "choice": ("", "TEXT"),
+    "size": ("m", "LX[,LY]"),
+    "grid": ("points", "N"),
+}
+
+
+class _Required:
+    def __repr__(self) -> str:
+        return "required"
+
+
+#: Default of a parameter that must be given.
+REQUIRED: Any = _Required()
+
+
+@dataclass(frozen=True)
+class Param:
+    """One declared parameter of a texture generator.
+
+    Attributes
+    ----------
+    name
+        Keyword of the generator (``--name-with-dashes`` on the command line).
+    kind
+        ``"length"`` (m), ``"angle"`` (degrees by default from user input), ``"count"`` (integer),
+        ``"ratio"`` (dimensionless number), ``"choice"`` (one of ``choices``), ``"size"``
+        (``LX[,LY]``, m) or ``"grid"`` (grid points, given as ``--grid``).
+    doc
+        One-line meaning, shown by ``fingerpad textures``.
+    default
+        :data:`REQUIRED`, ``None`` (chosen automatically) or a value.
+    choices
+        Allowed values of a ``"choice"``.
+    """
+
+    name: str
+    kind: str
+    doc: str
+    default: Any = REQUIRED
+    choices: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"unknown parameter kind {self.kind!r}")
+
+    @property
+    def option(self) -> str:
+        """The command-line option, e.g. ``--semi-axis-x``."""
+        return "--grid" if self.kind == "grid" else "--" + self.name.replace("_", "-")
+
+    @property
+    def unit(self) -> str:
+        return KINDS[self.kind][0]
+
+    @property
+    def metavar(self) -> str:
+        return KINDS[self.kind][1]
+
+    @property
+    def required(self) -> bool:
+        return self.default is REQUIRED
+
+    def parse(self, value: Any, where: str | None = None) -> Any:
+        """The generator's value for user input ``value`` (text from the command line or a
+        study-file value).
+
+        Lengths: SI numbers or quantities with a unit (``50um``). Angles: a bare number is in
+        degrees; ``30deg`` and ``0.5rad`` are explicit. Counts: integers. Ratios: numbers.
+        Choices: case-insensitive names. Sizes: ``LX`` or ``LX,LY``.
+
+        Raises
+        ------
+        FingerpadError
+            Naming ``where`` (default: the option) and the expected form.
+        """
+        label = where or self.option
+        if isinstance(value, bool):
+            raise FingerpadError(f"{label}: expected a {self.kind}, got {value!r}")
+        if self.kind == "length":
+            return parse_quantity(value, "length", name=label)
+        if self.kind == "angle":
+            return parse_angle(value, label)
+        if self.kind in ("count", "grid"):
+            text = str(value).strip()
+            try:
+                number = float(text)
+            except ValueError:
+                raise FingerpadError(f"{label}: expected an integer, got {value!r}") from None
+            if not number.is_integer():
+                raise FingerpadError(f"{label}: expected an integer, got {value!r}")
+            return int(number)
+        if self.kind == "ratio":
+            return parse_quantity(value, "none", name=label)
+        if self.kind == "choice":
+            text = str(value).strip().lower()
+            if text not in self.choices:
+                raise FingerpadError(f"{label}: must be one of {', '.join(self.choices)}, got {value!r}")
+            return text
+        return parse_size(value, label)  # size
+
+
+def parse_angle(value: Any, name: str) -> float:
+    """Radians from user input: a bare number is in degrees, ``deg``/``rad`` suffixes explicit."""
+    if isinstance(value, (int, float, np.number)) and not isinstance(value, bool):
+        return math.radians(float(value))
+    text = str(value).strip()
+    try:
+        return math.radians(float(text))
+    except ValueError:
+        pass
+    unit = text.lstrip("+-.0123456789eE ")
+    if unit and unit in UNITS and UNITS[unit][0] != "angle":
+        raise FingerpadError(f"{name}: {value!r} is a {UNITS[unit][0]}, expected an angle (e.g. 30deg)")
+    return parse_quantity(text, "angle", name=name)
+
+
+# ------------------------------------------------------------------------------------------------
+# Families and their registry
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class HertzAsperity:
+    """What the per-asperity Hertz model (Eqs. 3.1-3.6) needs from a texture (SI units).
+
+    ``spacing`` is the square-lattice spacing of Eq. 3.1 (for other lattices, the square
+    spacing of the same asperity density); ``note`` says how it was obtained, if not directly.
+    """
+
+    radius: float
+    height: float
+    spacing: float
+    lattice_spacing: float
+    lattice: str = "square"
+    note: str | None = None
+
+
+@dataclass(frozen=True)
+class TextureFamily:
+    """A texture generator with its declared parameters.
+
+    Attributes
+    ----------
+    name
+        Name on the command line and in study files (``--texture caps``).
+    generator
+        Function of keyword arguments returning a periodic :class:`Texture`.
+    params
+        Declared parameters, in the generator's keyword names.
+    summary
+        One line for ``fingerpad textures``.
+    hertz
+        ``hertz(texture) -> HertzAsperity``, for families whose asperities the per-asperity
+        Hertz model (Eqs. 3.1-3.6) describes (an asperity radius and height); ``None`` otherwise.
+    """
+
+    name: str
+    generator: Callable[..., Texture]
+    params: tuple[Param, ...]
+    summary: str
+    hertz: Callable[[Texture], HertzAsperity] | None = None
+
+    def param(self, name: str) -> Param | None:
+        return next((p for p in self.params if p.name == name), None)
+
+    @property
+    def grid_param(self) -> Param | None:
+        return next((p for p in self.params if p.kind == "grid"), None)
+
+    def user_params(self) -> tuple[Param, ...]:
+        """Parameters given as ``--NAME VALUE`` (not the grid, which is ``--grid``)."""
+        return tuple(p for p in self.params if p.kind != "grid")
+
+    def build(
+        self,
+        values: Mapping[str, Any],
+        *,
+        grid: int | None = None,
+        size: Any = None,
+        label: Callable[[Param], str] | None = None,
+    ) -> Texture:
+        """Generate the texture from user values (text or study-file values), read through the
+        declared kinds.
+
+        Parameters
+        ----------
+        values
+            Parameter values by keyword name (``semi_axis_x``), as text or numbers.
+        grid
+            Grid points along x (``--grid``), or ``None`` for the family's default.
+        size
+            The ``size`` parameter of families that take one (``flat``).
+        label
+            How to name a parameter in messages (default: its option, ``--radius``).
+
+        Raises
+        ------
+        FingerpadError
+            Unknown, missing or malformed parameters (the message lists the family's options),
+            or any error of the generator.
+        """
+        name_of = label or (lambda p: p.option)
+        kwargs: dict[str, Any] = {}
+        for key, value in values.items():
+            par = self.param(key)
+            if par is None or par.kind == "grid":
+                known = ", ".join(p.option for p in self.user_params()) or "none"
+                shown = "--" + str(key).replace("_", "-")
+                hint = " (give the grid once, as --grid)" if par is not None else ""
+                raise FingerpadError(f"texture {self.name!r} has no parameter {shown}{hint} (its parameters: {known})")
+            kwargs[key] = par.parse(value, name_of(par))
+        if grid is not None:
+            gp = self.grid_param
+            if gp is None:
+                raise FingerpadError(f"texture {self.name!r} takes no grid size")
+            kwargs[gp.name] = grid
+        if size is not None:
+            if self.param("size") is None:
+                raise FingerpadError(
+                    f"--size applies to --surface files; texture {self.name!r} sets its own cell size from its parameters"
+                )
+            kwargs["size"] = size
+        missing = [name_of(p) for p in self.params if p.required and p.name not in kwargs]
+        if missing:
+            raise FingerpadError(f"texture {self.name!r} needs {', '.join(missing)}")
+        return self.generator(**kwargs)
+
+
+_REGISTRY: dict[str, TextureFamily] = {}
+
+
+def register(family: TextureFamily) -> TextureFamily:
+    """Add a family to the registry (its name must be new)."""
+    key = family.name.strip().lower()
+    if key in _REGISTRY and _REGISTRY[key] is not family:
+        raise ValueError(f"a texture family named {key!r} is already registered")
+    _REGISTRY[key] = family
+    return family
+
+
+def registry() -> dict[str, TextureFamily]:
+    """The registered families by name (filled when :mod:`fingerpad.textures` is imported)."""
+    return dict(_REGISTRY)
+
+
+def get_family(name: str) -> TextureFamily:
+    """The family called ``name`` (case-insensitive); a FingerpadError lists the known ones."""
+    key = str(name).strip().lower()
+    if key not in _REGISTRY:
+        raise FingerpadError(f"unknown texture {name!r} (choose from: {', '.join(sorted(_REGISTRY))})")
+    return _REGISTRY[key]
+
+
+# ------------------------------------------------------------------------------------------------
+# Helpers
+# ------------------------------------------------------------------------------------------------
+
+
+def base_mask(texture: Texture, rel_tol: float = 1e-6) -> np.ndarray:
+    """Boolean (nx, ny) mask of the pixels at the lowest level of the texture.
+
+    A pixel belongs to the base when ``height <= min + rel_tol * peak_to_valley`` (all pixels for
+    a flat texture). For bumps, pillars and ridges this is the flat base between features; for
+    dimples it is the dimple bottoms.
+    """
+    h = texture.heights
+    lowest = float(h.min())
+    return h <= lowest + float(rel_tol) * texture.peak_to_valley
+
+
+_LENGTH_KEYS = {
+    "radius", "height", "depth", "spacing", "width", "top_width", "semi_axis_x", "semi_axis_y",
+    "spacing_x", "spacing_y", "diameter", "amplitude", "wavelength",
+}
+_HIDDEN_KEYS = {"grid", "ny", "size", "height_factor", "filled_points"}
+
+
+def describe(texture: Texture) -> str:
+    """One-line human description, e.g. ``caps (radius=50 um, ...): periodic cell 100 um x ...``."""
+    parts = []
+    for key, value in texture.params.items():
+        if key in _HIDDEN_KEYS:
+            continue
+        if key in _LENGTH_KEYS and isinstance(value, (int, float)):
+            parts.append(f"{key}={fmt_length(float(value))}")
+        elif key == "orientation" and isinstance(value, (int, float)):
+            parts.append(f"orientation={math.degrees(value):.4g} deg")
+        elif key == "level":
+            parts.append("levelled" if value else "not levelled")
+        elif key == "path":
+            parts.append(f"from {value}")
+        else:
+            parts.append(f"{key}={value}")
+    if texture.params.get("filled_points"):
+        parts.append(f"{texture.params['filled_points']} missing points filled")
+    lx, ly = texture.size
+    nx, ny = texture.shape
+    kind = "periodic cell" if texture.periodic else "finite patch"
+    head = f"{texture.name} ({', '.join(parts)})" if parts else texture.name
+    return (
+        f"{head}: {kind} {fmt_length(lx)} x {fmt_length(ly)}, {nx} x {ny} px, "
+        f"peak-to-valley {fmt_length(texture.peak_to_valley)}"
+    )

@@ -1,0 +1,113 @@
+"""Half-ellipsoid asperities on a rectangular lattice (directional textures, Paper C).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import lazy_loader
+
+# NumPy loads on first use: listing the texture families (`fingerpad textures`) must start fast.
+np = lazy_loader.load("numpy")
+
+from ..units import parse_quantity
+from .base import Param, Texture, TextureFamily
+from .geometry import (
+    centred_field,
+    check_length,
+    check_resolution,
+    check_touching,
+    even_smooth,
+    fmt_length,
+    resolve_grid,
+)
+
+
+def ellipsoids(
+    *,
+    semi_axis_x: Any,
+    semi_axis_y: Any,
+    height: Any,
+    spacing_x: Any,
+    spacing_y: Any,
+    orientation: Any = 0.0,
+    grid: Any = None,
+) -> Texture:
+    """Half-ellipsoid asperities on a rectangular lattice, one unit cell.
+
+    ``z = h sqrt(1 - (x'/a)^2 - (y'/b)^2)`` with ``(x', y')`` the coordinates rotated by
+    ``orientation`` about the asperity centre ``(Lx/2, Ly/2)``.
+
+    Parameters
+    ----------
+    semi_axis_x, semi_axis_y
+        Semi-axes a and b of the footprint ellipse, m, along x and y before rotation.
+    height
+        Asperity height h, m.
+    spacing_x, spacing_y
+        Lattice periods along x and y, m (the cell is ``spacing_x x spacing_y``).
+    orientation
+        Rotation of the ellipse in the x-y plane, radians (or a string such as ``"30deg"``),
+        counter-clockwise from x.
+    grid
+        Grid points along x (even, >= 8). Default: the smaller semi-axis over at least 16 pixels
+        (64 ... 2048). ``ny = round(nx spacing_y / spacing_x)`` moved to the nearest even
+        7-smooth size.
+
+    Returns
+    -------
+    Texture
+        Periodic cell, heights (m) with the base at 0 and asperity tops at h.
+
+    Raises
+    ------
+    FingerpadError
+        When the bounding box of the rotated footprint, ``2 sqrt((a cos t)^2 + (b sin t)^2)`` by
+        ``2 sqrt((a sin t)^2 + (b cos t)^2)``, exceeds the spacings (neighbouring asperities
+        overlap), or for non-positive dimensions.
+    """
+    a = check_length(semi_axis_x, "semi_axis_x")
+    b = check_length(semi_axis_y, "semi_axis_y")
+    h = check_length(height, "height")
+    sx = check_length(spacing_x, "spacing_x")
+    sy = check_length(spacing_y, "spacing_y")
+    theta = parse_quantity(orientation, "angle", name="orientation")
+    c, s = math.cos(theta), math.sin(theta)
+    ex = math.hypot(a * c, b * s)
+    ey = math.hypot(a * s, b * c)
+    check_touching(2 * ex, sx, f"ellipsoids overlap along x: footprint extent {fmt_length(2 * ex)} exceeds spacing_x {fmt_length(sx)}")
+    check_touching(2 * ey, sy, f"ellipsoids overlap along y: footprint extent {fmt_length(2 * ey)} exceeds spacing_y {fmt_length(sy)}")
+    feature = min(a, b)
+    nx = resolve_grid(grid, sx, feature, "smaller ellipsoid semi-axis")
+    ny = even_smooth(nx * sy / sx)
+    if sy / ny > sx / nx:  # coarser along y (rounding of ny): check that direction too
+        check_resolution(feature, sy / ny, "smaller ellipsoid semi-axis")
+
+    def shape(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        xp = (x * c + y * s) / a
+        yp = (y * c - x * s) / b
+        return h * np.sqrt(np.maximum(1.0 - xp * xp - yp * yp, 0.0))
+
+    heights = centred_field(shape, nx, ny, sx / nx, sy / ny)
+    params = {"semi_axis_x": a, "semi_axis_y": b, "height": h, "spacing_x": sx, "spacing_y": sy,
+              "orientation": theta, "grid": nx}
+    return Texture(heights, (sx, sy), periodic=True, name="ellipsoids", params=params, family="ellipsoids")
+
+
+FAMILIES = (
+    TextureFamily(
+        name="ellipsoids",
+        generator=ellipsoids,
+        params=(
+            Param("semi_axis_x", "length", "footprint semi-axis a along x (before rotation)"),
+            Param("semi_axis_y", "length", "footprint semi-axis b along y (before rotation)"),
+            Param("height", "length", "asperity height h"),
+            Param("spacing_x", "length", "lattice period along x"),
+            Param("spacing_y", "length", "lattice period along y"),
+            Param("orientation", "angle", "rotation of the ellipse, counter-clockwise from x", 0.0),
+            Param("grid", "grid", "grid points along x of the cell (even; default: the smallest feature over 16 pixels)", None),
+        ),
+        summary="Half-ellipsoid asperities on a rectangular lattice.",
+    ),
+)
