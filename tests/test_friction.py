@@ -90,7 +90,7 @@ def test_normalisation_equals_area_ratio_without_hysteresis_and_alpha():
 
 def test_power_law_fit_recovers_parameters_within_ci():
     rng = np.random.default_rng(12345)
-    k, n = 0.5, 0.2  # n - 1 = -0.8 (dry finger on glass, MODEL.md)
+    k, n = 0.5, 0.2  # n - 1 = -0.8 (dry finger on glass, docs/model.md)
     loads = np.geomspace(0.2, 4.0, 20)
     mu = k * loads ** (n - 1) * np.exp(rng.normal(0, 0.05, loads.size))
     fit = fit_power_law(loads, mu)

@@ -91,7 +91,7 @@ def couple(
     load: ArrayLike, ridge_area: ArrayLike, cell: UnitCellResponse, n_rings: int = 16
 ) -> CouplingResult:
     """Real contact area of the pad on a texture: the unit-cell response integrated over the
-    ridge contact disc under the spherical pad pressure (Eq. 3.7, MODEL.md [completion]).
+    ridge contact disc under the spherical pad pressure (Eqs. 3.7, 3.11).
 
     With ``s = sqrt(1 - r^2/a_fr^2)``, ``p = 1.5 p_mean s`` and ``dA = 2 pi a_fr^2 s ds``:
     ``A_re = 2 pi a_fr^2 int_0^1 psi(1.5 p_mean s) s ds``. The integral is split where the

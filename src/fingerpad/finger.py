@@ -1,7 +1,7 @@
 """The finger: one person's pad (macro), fingerprint ridges (meso) and skin/interface parameters.
 
 The finger pad is a sphere of radius ``R_fp`` and reduced modulus ``E_fp*`` pressed on a flat
-(MODEL.md, ch. 2.2.1); its gross contact ``A_g`` is covered in part by the fingerprint ridges,
+(docs/model.md, ch. 2.2.1); its gross contact ``A_g`` is covered in part by the fingerprint ridges,
 whose contact ``A_fr`` (ch. 2.2.2) is the nominal area seen by the micro scale (ch. 3.2).
 
 Two small interfaces, so that new models plug in without touching callers:
@@ -72,7 +72,7 @@ class Finger:
     skin_modulus
         Effective micro-scale skin modulus E_s, Pa (thesis: 0.2-0.5 MPa), used in Eq. 3.4.
     skin_poisson
-        Skin Poisson ratio (MODEL.md: 0.48-0.5).
+        Skin Poisson ratio (docs/model.md: 0.48-0.5).
     name, description
         Labels.
     """
@@ -185,16 +185,16 @@ class Finger:
         }
 
 
-# Default finger, values and sources (MODEL.md, "Macro", "Meso", "Friction", "Micro"):
+# Default finger, values and sources (docs/model.md, "Macro", "Meso", "Friction", "Micro"):
 #   R_fp = 9 mm        middle of the 7-11 mm equivalent pad radius;
 #   E_fp* = 40 kPa     the typical value of the 10-100 kPa range;
 #   ridges 50 %        constant fraction after Duvefelt;
 #   E_s = 0.3 MPa      inside the 0.2-0.5 MPa micro-scale modulus found by the thesis;
 #   nu_s = 0.49        skin Poisson ratio 0.48-0.5;
-#   beta = 0.1         assumed: MODEL.md gives no value; friction is "mostly adhesive", so the
+#   beta = 0.1         assumed: docs/model.md gives no value; friction is "mostly adhesive", so the
 #                      hysteresis term is kept small (1.2 % of the load at 1 N);
-#   alpha = 0.1        assumed small pressure coefficient (no value in MODEL.md);
-#   tau0 = 8.1 kPa     calibrated to dry mu ~ 0.5 on smooth surfaces (MODEL.md): on a flat sample
+#   alpha = 0.1        assumed small pressure coefficient (no value in docs/model.md);
+#   tau0 = 8.1 kPa     calibrated to dry mu ~ 0.5 on smooth surfaces (docs/model.md): on a flat sample
 #                      A_re = A_fr, so mu(F) = tau0 A_fr/F + alpha + beta (3/16) a/R_fp. At 1 N:
 #                      a = (3 * 1 * 9e-3 / (4 * 40e3))^(1/3) = 5.53 mm, A_g = 95.9 mm^2,
 #                      A_fr = 48.0 mm^2, beta (3/16) a/R = 0.0115, hence
@@ -203,18 +203,18 @@ _DEFAULT = Finger(name="default", description="typical dry finger: R_fp 9 mm, E*
 
 #: Named fingers. Values not listed in a preset's comment are those of "default"; tau0, alpha and
 #: beta are kept (interface properties), so mu on a smooth flat at 1 N differs by person:
-#: default 0.50, soft 1.24 (wet-like, MODEL.md: > 1), stiff 0.29, stiffening 0.45, ridged 0.50.
+#: default 0.50, soft 1.24 (wet-like, docs/model.md: > 1), stiff 0.29, stiffening 0.45, ridged 0.50.
 FINGER_PRESETS: dict[str, Finger] = {
     "default": _DEFAULT,
-    # soft, large pad: the soft/large ends of MODEL.md's ranges (E* 10 kPa, R_fp 11 mm).
+    # soft, large pad: the soft/large ends of the documented ranges (E* 10 kPa, R_fp 11 mm).
     "soft": _DEFAULT.with_overrides(
         name="soft", radius=11e-3, modulus=10e3,
-        description="soft, large pad: R_fp 11 mm, E* 10 kPa (ends of MODEL.md ranges)",
+        description="soft, large pad: R_fp 11 mm, E* 10 kPa (ends of the typical ranges)",
     ),
-    # stiff, small pad: the stiff/small ends of MODEL.md's ranges (E* 100 kPa, R_fp 7 mm).
+    # stiff, small pad: the stiff/small ends of the documented ranges (E* 100 kPa, R_fp 7 mm).
     "stiff": _DEFAULT.with_overrides(
         name="stiff", radius=7e-3, modulus=100e3,
-        description="stiff, small pad: R_fp 7 mm, E* 100 kPa (ends of MODEL.md ranges)",
+        description="stiff, small pad: R_fp 7 mm, E* 100 kPa (ends of the typical ranges)",
     ),
     # Dzidek stiffening (Eqs. 2.6-2.7), C = 5: the largest C for which the strain estimate
     # eps = 0.2 a/R_fp stays inside eps < 1/C whenever a < R_fp; phi = 0.23 /N.
@@ -222,9 +222,9 @@ FINGER_PRESETS: dict[str, Finger] = {
         name="stiffening", gross=DzidekArea(9e-3, 40e3, 5.0),
         description="default pad with Dzidek secant-modulus stiffening, C = 5, eta = 3",
     ),
-    # Sinusoidal ridges: lambda_r = 0.45 mm (MODEL.md 0.4-0.5 mm), E* = 100 kPa (thesis Fig. 2.4
+    # Sinusoidal ridges: lambda_r = 0.45 mm (docs/model.md 0.4-0.5 mm), E* = 100 kPa (thesis Fig. 2.4
     # input); amplitude 30 um is assumed, chosen so that A_fr/A_g runs from ~30 % at 0.1 N to
-    # ~73 % at 4 N on this pad, i.e. inside MODEL.md's 10-70 % range over the exploration loads.
+    # ~73 % at 4 N on this pad, i.e. inside the documented 10-70 % range over the exploration loads.
     "ridged": _DEFAULT.with_overrides(
         name="ridged", ridges=SinusoidalRidges(wavelength=0.45e-3, modulus=100e3, amplitude=30e-6),
         description="default pad with sinusoidal (Westergaard) fingerprint ridges, 0.45 mm, 30 um",

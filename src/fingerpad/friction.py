@@ -1,4 +1,4 @@
-"""Friction of the finger pad: adhesion plus hysteresis (MODEL.md ch. 2.1).
+"""Friction of the finger pad: adhesion plus hysteresis (thesis ch. 2.1).
 
 * adhesion ``F_adh = tau A_re`` with ``tau = tau0 + alpha p_re``, Eqs. 2.2-2.3; with the mean
   real pressure ``p_re = F / A_re`` this is ``F_adh = tau0 A_re + alpha F``;
@@ -107,7 +107,7 @@ def reference_friction_coefficient(load: ArrayLike, finger: Finger) -> float | n
 
 
 def normalised_friction(mu_texture: ArrayLike, mu_reference: ArrayLike) -> float | np.ndarray:
-    """``mu_tex / mu_ref`` (MODEL.md "Normalisation").
+    """``mu_tex / mu_ref`` (docs/model.md "Normalisation").
 
     With the same shear strength on both samples and negligible hysteresis this equals
     ``A_re,tex / A_re,ref``, so the person's unknown ridge-area function cancels.

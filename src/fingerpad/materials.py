@@ -1,4 +1,4 @@
-"""Elastic materials of the skin and the counter-surface (MODEL.md Eq. 3.4)."""
+"""Elastic materials of the skin and the counter-surface (Eq. 3.4)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from .errors import FingerpadError
 
-#: Effective micro-scale skin modulus found by the thesis: 0.2-0.5 MPa (MODEL.md, micro scale).
+#: Effective micro-scale skin modulus found by the thesis: 0.2-0.5 MPa (docs/model.md, micro scale).
 DEFAULT_SKIN_MODULUS = 0.3e6
 DEFAULT_SKIN_POISSON = 0.49
 

@@ -37,9 +37,9 @@ class HertzArea:
     Attributes
     ----------
     radius
-        Equivalent pad radius R_fp, m (MODEL.md: 7-11 mm).
+        Equivalent pad radius R_fp, m (docs/model.md: 7-11 mm).
     modulus
-        Reduced modulus E_fp*, Pa (MODEL.md: 10-100 kPa, 40 kPa typical).
+        Reduced modulus E_fp*, Pa (docs/model.md: 10-100 kPa, 40 kPa typical).
     """
 
     #: Field -> dimension, so study files can give "9mm", "40kPa", ...
@@ -81,7 +81,7 @@ class DzidekArea:
     stiffening
         Dzidek's C (dimensionless; strain range ``eps < 1/C``).
     exponent
-        eta (MODEL.md: 3).
+        eta (docs/model.md: 3).
     """
 
     #: Field -> dimension, so study files can give "9mm", "40kPa", ...
@@ -120,7 +120,7 @@ class DzidekArea:
 
 @dataclass(frozen=True)
 class PowerLawArea:
-    """Empirical gross area ``A_g = c F^m`` (per-person fit; MODEL.md: m = 0.1-0.5 measured).
+    """Empirical gross area ``A_g = c F^m`` (per-person fit; docs/model.md: m = 0.1-0.5 measured).
 
     Attributes
     ----------
@@ -161,7 +161,7 @@ class TwoRegimePowerLawArea:
     exponent_low, exponent_high
         m1 below and m2 above the break load.
     break_load
-        F_b, N (MODEL.md: ~2 N).
+        F_b, N (docs/model.md: ~2 N).
     """
 
     #: Field -> dimension, so study files can give "9mm", "40kPa", ...

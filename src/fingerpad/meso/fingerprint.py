@@ -1,4 +1,4 @@
-"""Fingerprint ridge contact by the boundary element method (meso scale, MODEL.md ch. 2.2.2).
+"""Fingerprint ridge contact by the boundary element method (meso scale, thesis ch. 2.2.2).
 
 The most detailed ridge model of the thesis: the finger pad's surface, a sphere of radius
 ``R_fp`` carrying the fingerprint ridges, pressed on a flat rigid plate and solved with the
@@ -46,7 +46,7 @@ def fingerprint_topography(
     Parameters
     ----------
     pad_radius
-        Equivalent radius of the finger pad R_fp, m (MODEL.md: 7-11 mm).
+        Equivalent radius of the finger pad R_fp, m (docs/model.md: 7-11 mm).
     wavelength, width, height
         Ridge wavelength (0.4-0.5 mm), ridge base width (<= wavelength) and ridge height, m.
     extent

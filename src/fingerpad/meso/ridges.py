@@ -55,7 +55,7 @@ class ConstantFractionRidges:
     Attributes
     ----------
     fraction
-        A_fr / A_g in (0, 1] (MODEL.md: 0.5 after Duvefelt).
+        A_fr / A_g in (0, 1] (docs/model.md: 0.5 after Duvefelt).
     """
 
     #: Field -> dimension, so study files can give "9mm", "40kPa", ...
@@ -76,7 +76,7 @@ class ConstantFractionRidges:
 
 @dataclass(frozen=True)
 class PowerLawRidges:
-    """Empirical ridge area ``A_fr = k F^n`` (MODEL.md: n = 0.2-0.7, fitted per person).
+    """Empirical ridge area ``A_fr = k F^n`` (docs/model.md: n = 0.2-0.7, fitted per person).
 
     Capped at the gross area, since ridges cannot touch outside the gross contact.
 
@@ -165,7 +165,7 @@ class SinusoidalRidges(_ProfileRidges):
     Attributes
     ----------
     wavelength
-        Ridge wavelength lambda_r, m (MODEL.md: 0.4-0.5 mm).
+        Ridge wavelength lambda_r, m (docs/model.md: 0.4-0.5 mm).
     amplitude
         Sinusoid amplitude h_r (half the peak-to-valley height), m.
     modulus

@@ -26,7 +26,7 @@ __all__ = ["BEMUnitCell", "ScaledResponse"]
 
 
 # --------------------------------------------------------------------------------------------
-# Numerical unit-cell response for the coupling (MODEL.md [completion])
+# Numerical unit-cell response for the coupling (Eq. 3.11 of docs/model.md)
 # --------------------------------------------------------------------------------------------
 
 #: Computed pressures lie on the global grid p_k = 10**(k / POINTS_PER_DECADE) Pa, so curves

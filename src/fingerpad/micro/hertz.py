@@ -165,7 +165,7 @@ class HertzUnitCell:
     The transition is where the Hertz approach reaches the cap height (Eq. 3.3):
     ``p_t = (4/3) E1* sqrt(R h^3) / lambda^2``. Hertz ignores the neighbours and cannot follow the
     skin onto the base, so past ``p_t`` psi is the asperity-only extrapolation and
-    ``full_contact_pressure`` is ``inf`` (MODEL.md ch. 3.1).
+    ``full_contact_pressure`` is ``inf`` (thesis ch. 3.1).
 
     Attributes
     ----------

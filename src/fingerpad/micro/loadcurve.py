@@ -1,6 +1,6 @@
 """Load curves of a texture cell: contact fraction psi(p), contact state, critical pressure.
 
-The *contact state* of a cell (asperity / transition / full, MODEL.md micro scale) is defined in
+The *contact state* of a cell (asperity / transition / full, docs/model.md, micro scale) is defined in
 :func:`fingerpad.contact.contact_state`: *transition* starts when the skin touches the lowest
 level of the texture (the base between bumps, the bottom of a dimple or a ridge valley), *full*
 contact when every pixel of the cell is in contact.
@@ -180,7 +180,7 @@ def critical_pressure(
 
     The critical pressure is the lowest mean nominal pressure at which the skin touches the lowest
     level of the texture (end of the asperity-contact state). The micro-scale analogue of
-    MODEL.md Eq. 3.3-3.6, including the neighbouring asperities that Hertz ignores.
+    Eq. 3.3-3.6, including the neighbouring asperities that Hertz ignores.
     """
     return _bracket(solver, lambda st: st != "asperity", "transition", rtol, progress, max_solves)
 
