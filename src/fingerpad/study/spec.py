@@ -70,7 +70,7 @@ from ..finger import FINGER_FIELDS, FINGER_PRESETS, Finger, get_finger, model_fr
 from ..materials import check_modulus, check_poisson
 from ..textures import Texture
 from ..units import parse_size
-from .values import boolean, integer, material, parse_loads, quantity, text
+from .values import boolean, integer, material, parse_loads, positive_loads, quantity, text
 
 __all__ = [
     "DEFAULT_GRID",
@@ -259,13 +259,11 @@ class Study:
     _texture: Texture | None = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        from .values import _positive_loads
-
         if not isinstance(self.texture, (TextureSpec, Texture)):
             raise FingerpadError(f"texture must be a TextureSpec or a Texture, got {type(self.texture).__name__}")
         if not isinstance(self.finger, Finger):
             raise FingerpadError(f"finger must be a Finger, got {type(self.finger).__name__}")
-        self.loads = _positive_loads(np.atleast_1d(np.asarray(self.loads, dtype=float)), "loads")
+        self.loads = positive_loads(np.atleast_1d(np.asarray(self.loads, dtype=float)), "loads")
         if self.model not in MODELS:
             raise FingerpadError(f"model must be one of {', '.join(MODELS)}, got {self.model!r}")
         if self.material_modulus is None:

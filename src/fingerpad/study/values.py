@@ -63,7 +63,7 @@ def text(value: Any) -> str:
     return str(value)
 
 
-def _positive_loads(values: Sequence[float], name: str) -> np.ndarray:
+def positive_loads(values: Sequence[float], name: str) -> np.ndarray:
     arr = np.asarray(list(values), dtype=float).ravel()
     if arr.size == 0:
         raise FingerpadError(f"{name}: no loads given")
@@ -109,7 +109,7 @@ def parse_loads(spec: Any, log: bool, name: str = "loads") -> np.ndarray:
             values.append(quantity(item, "force", name))
         if len(values) > MAX_LOADS:
             raise FingerpadError(f"{name}: more than {MAX_LOADS} loads asked for")
-    return _positive_loads(values, name)
+    return positive_loads(values, name)
 
 
 def material(modulus: Any, poisson: Any, modulus_name: str, poisson_name: str) -> tuple[float | None, float | None]:
