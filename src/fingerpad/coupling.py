@@ -304,10 +304,13 @@ def predict_curve(
         mu_ref = np.asarray(reference_friction_coefficient(f, finger), dtype=float)
         mu_norm = mu / mu_ref
 
-    try:
-        f_crit = critical_load(cell, finger.ridge_area)
-    except FingerpadError:  # no crossing in range (or no transition): report as NaN
-        f_crit = math.nan
+    if math.isinf(float(cell.transition_pressure)):
+        f_crit = math.inf  # the cell never reaches its transition (a state search found none)
+    else:
+        try:
+            f_crit = critical_load(cell, finger.ridge_area)
+        except FingerpadError:  # no crossing in the (very wide) load range: report as NaN
+            f_crit = math.nan
     f_hertz: float | None = None
     if isinstance(cell, HertzUnitCell):
         try:

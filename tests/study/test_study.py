@@ -123,7 +123,7 @@ def test_flags_override_the_study_file(tmp_path):
 
 def test_example_study_file_loads():
     study = load_study_file(EXAMPLE)
-    assert study.model == "both" and study.grid == 64 and study.material_modulus == 0.5e9
+    assert study.model == "both" and study.grid is None and study.accuracy == 0.02 and study.material_modulus == 0.5e9
     assert study.loads.size == 40 and study.loads[0] == pytest.approx(0.1) and study.loads[-1] == pytest.approx(4.0)
     assert study.build_texture().params["lattice"] == "hexagonal"
 

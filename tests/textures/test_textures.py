@@ -414,10 +414,15 @@ def test_read_npy_round_trip(tmp_path):
     assert tex.shape == (24, 16) and tex.size == (240 * UM, 160 * UM)
     np.testing.assert_allclose(tex.heights, (h - h.min()) * 1e-6, rtol=1e-12, atol=1e-20)
     assert tex.params["height_factor"] == 1e-6
-    square = read_surface(path, size="1mm", height_unit=1e-9, level=False)
-    assert square.size == (1e-3, 1e-3)
+    # a size of the wrong aspect would stretch the map: refused (issue 8), the pixel size is the way out
+    with pytest.raises(FingerpadError, match="aspect"):
+        read_surface(path, size="1mm", height_unit=1e-9, level=False)
+    square = read_surface(path, pixel_size="10um", height_unit=1e-9, level=False)
+    assert square.size == pytest.approx((240e-6, 160e-6))
     np.testing.assert_allclose(square.heights, (h - h.min()) * 1e-9, rtol=1e-12)
     assert "finite patch" in describe(square)
+    stretched = read_surface(path, pixel_size=("10um", "15um"), height_unit="um", level=False)
+    assert stretched.size == pytest.approx((240e-6, 240e-6))
 
 
 @pytest.mark.parametrize("suffix, delimiter", [(".txt", " "), (".csv", ","), (".dat", "\t"), (".asc", ";")])
@@ -455,8 +460,8 @@ def test_missing_points(tmp_path):
     path = tmp_path / "holes.npy"
     np.save(path, h)
     with pytest.raises(FingerpadError, match="2 of 384 height values are missing"):
-        read_surface(path, size=1e-3, height_unit="um")
-    tex = read_surface(path, size=1e-3, height_unit="um", level=False, fill_missing=True)
+        read_surface(path, size=(240e-6, 160e-6), height_unit="um")
+    tex = read_surface(path, size=(240e-6, 160e-6), height_unit="um", level=False, fill_missing=True)
     assert np.all(np.isfinite(tex.heights))
     assert tex.params["filled_points"] == 2
     # filled from a nearest valid neighbour
@@ -565,7 +570,7 @@ def test_read_x3p_written_by_surface_topography(tmp_path):
     np.testing.assert_allclose(tex.heights, (h - h.min()) * UM, rtol=1e-9, atol=1e-18)
     assert not tex.periodic
     # a size given explicitly overrides the file's
-    assert read_surface(path, size=1e-3, level=False).size == (1e-3, 1e-3)
+    assert read_surface(path, size=(1e-3, 0.6e-3), level=False).size == (1e-3, 0.6e-3)
 
     masked = np.ma.masked_array(h, mask=np.zeros_like(h, dtype=bool))
     masked.mask[5, 5] = True

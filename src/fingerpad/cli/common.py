@@ -77,6 +77,16 @@ def warnings_to(console: Any) -> Iterator[None]:
         yield
 
 
+def flag_pair(on: bool, off: bool, on_name: str, off_name: str) -> bool | None:
+    """The value of a pair of opposite flags: True, False, or None when neither is given.
+
+    Both given is a contradiction, reported as a user error rather than letting the last win.
+    """
+    if on and off:
+        raise FingerpadError(f"{on_name} and {off_name} contradict each other: give one of them")
+    return True if on else False if off else None
+
+
 def option(*decls: str, help_texts: dict[str, str], panel: str, metavar: str | None = None, **kw: Any) -> Any:
     """A Typer option whose help text is looked up by its first name in ``help_texts``."""
     return typer.Option(*decls, help=help_texts[decls[0].split("/")[0]], rich_help_panel=panel, metavar=metavar, **kw)

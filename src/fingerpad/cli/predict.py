@@ -19,6 +19,7 @@ from .common import (
     EXIT_UNCONVERGED,
     EXTRA_ARGS,
     ProgressBar,
+    flag_pair,
     option,
     say,
     stderr_console,
@@ -39,6 +40,10 @@ _PREDICT_HELP = {
     "--height-unit": _HELP["--height-unit"],
     "--fill-missing": _HELP["--fill-missing"],
     "--periodic": "Take the texture as one period of a periodic surface (generated textures: yes).",
+    "--no-periodic": "Take a --surface map as a finite patch.",
+    "--pixel-size": "Pixel size DX[,DY] of a --surface map, instead of --size (for non-square pixels).",
+    "--base-quantile": "Share of the pixels of a --surface map below its base level, whose touching starts the "
+                       "transition (default 0.05).",
     "--periodize": "Mirror a --surface map into a periodic cell (needed by the BEM unless the map is one period).",
     "--material-modulus": "Counter-surface Young's modulus, or 'rigid' (default rigid), e.g. 0.5GPa.",
     "--material-poisson": "Counter-surface Poisson ratio (default 0.35).",
@@ -48,9 +53,12 @@ _PREDICT_HELP = {
     "--finger-param": "Finger override NAME=VALUE (radius, modulus, beta, tau0, alpha, skin_modulus, "
                       "skin_poisson); repeatable, e.g. --finger-param radius=8mm.",
     "--loads": "Normal loads: START:STOP:COUNT or one load; repeatable (default 0.1N:4N:40, log).",
-    "--log": "Log-spaced load ranges (--linear: evenly spaced).",
+    "--log": "Log-spaced load ranges (the default, also when a study file says nothing).",
+    "--linear": "Evenly spaced load ranges.",
     "--model": "Unit-cell model: bem (numerical), hertz (per-asperity Hertz, spherical caps only) or both.",
-    "--grid": "Grid points along x of the generated unit cell (default: the generator's choice).",
+    "--grid": "Grid points along x of the generated unit cell (default: doubled from the generator's choice "
+              "until the estimated error of A_re/A_fr is below --accuracy, 2 %).",
+    "--accuracy": "Target of the estimated relative error of A_re/A_fr when the grid is automatic (default 0.02).",
     "--tol": "Relative residual at which a unit-cell solve stops (default 1e-8).",
     "--max-iter": "Iteration cap per unit-cell solve (default 5000).",
     "--cache": "Folder of cached unit-cell curves (default $FINGERPAD_CACHE or ~/.cache/fingerpad).",
@@ -208,7 +216,10 @@ def predict(
     size: Annotated[str | None, _popt("--size", panel=_SURFACE, metavar="LX[,LY]")] = None,
     height_unit: Annotated[str | None, _popt("--height-unit", panel=_SURFACE, metavar="UNIT")] = None,
     fill_missing: Annotated[bool, _popt("--fill-missing", panel=_SURFACE)] = False,
-    periodic: Annotated[bool | None, _popt("--periodic/--no-periodic", panel=_SURFACE, show_default=False)] = None,
+    periodic: Annotated[bool, _popt("--periodic", panel=_SURFACE)] = False,
+    no_periodic: Annotated[bool, _popt("--no-periodic", panel=_SURFACE)] = False,
+    pixel_size: Annotated[str | None, _popt("--pixel-size", panel=_SURFACE, metavar="DX[,DY]")] = None,
+    base_quantile: Annotated[str | None, _popt("--base-quantile", panel=_SURFACE, metavar="Q")] = None,
     periodize: Annotated[bool, _popt("--periodize", panel=_SURFACE)] = False,
     material_modulus: Annotated[str | None, _popt("--material-modulus", panel=_MATERIALS, metavar="E")] = None,
     material_poisson: Annotated[str | None, _popt("--material-poisson", panel=_MATERIALS, metavar="NU")] = None,
@@ -217,10 +228,12 @@ def predict(
     finger: Annotated[str | None, _popt("--finger", panel=_FINGER, metavar="PRESET")] = None,
     finger_param: Annotated[list[str] | None, _popt("--finger-param", panel=_FINGER, metavar="NAME=VALUE")] = None,
     loads: Annotated[list[str] | None, _popt("--loads", "-F", panel=_LOADS, metavar="START:STOP:COUNT")] = None,
-    log: Annotated[bool | None, _popt("--log/--linear", panel=_LOADS, show_default=False)] = None,
+    log: Annotated[bool, _popt("--log", panel=_LOADS)] = False,
+    linear: Annotated[bool, _popt("--linear", panel=_LOADS)] = False,
     zones_at: Annotated[str | None, _popt("--zones-at", panel=_LOADS, metavar="LOAD")] = None,
     model: Annotated[str | None, _popt("--model", panel=_NUMERICS, metavar="bem|hertz|both")] = None,
     grid: Annotated[str | None, _popt("--grid", panel=_NUMERICS, metavar="N")] = None,
+    accuracy: Annotated[str | None, _popt("--accuracy", panel=_NUMERICS, metavar="REL")] = None,
     tol: Annotated[str | None, _popt("--tol", panel=_NUMERICS, metavar="TOL")] = None,
     max_iter: Annotated[str | None, _popt("--max-iter", panel=_NUMERICS, metavar="N")] = None,
     cache: Annotated[str | None, _popt("--cache", panel=_NUMERICS, metavar="DIR")] = None,
@@ -240,13 +253,17 @@ def predict(
     """
     flags = {
         "--texture": texture, "--surface": surface, "--size": size, "--height-unit": height_unit,
-        "--fill-missing": fill_missing or None, "--periodic": periodic, "--periodize": periodize or None,
+        "--fill-missing": fill_missing or None, "--periodize": periodize or None,
+        "--pixel-size": pixel_size, "--base-quantile": base_quantile,
         "--material-modulus": material_modulus, "--material-poisson": material_poisson,
         "--skin-modulus": skin_modulus, "--skin-poisson": skin_poisson, "--finger": finger,
-        "--loads": loads or None, "--log": log, "--zones-at": zones_at, "--model": model, "--grid": grid,
+        "--loads": loads or None, "--zones-at": zones_at, "--model": model, "--grid": grid,
+        "--accuracy": accuracy,
         "--tol": tol, "--max-iter": max_iter, "--cache": cache,
     }
     with user_errors():
+        flags["--periodic"] = flag_pair(periodic, no_periodic, "--periodic", "--no-periodic")
+        flags["--log"] = flag_pair(log, linear, "--log", "--linear")
         with warnings_to(stderr_console()):
             study = build_study(ctx_args=list(ctx.args), flags=flags, finger_param=finger_param or [])
         code = run_prediction(study, out, json_path)
@@ -259,7 +276,8 @@ def predict(
 
 def run_default(
     out: Annotated[str, typer.Option("--out", metavar="DIR", help="Output directory (created if missing).")] = "out",
-    grid: Annotated[str, typer.Option("--grid", metavar="N", help="Grid points along x of the unit cell.")] = "64",
+    grid: Annotated[str | None, typer.Option("--grid", metavar="N",
+                                             help="Grid points along x of the unit cell (default: by accuracy).")] = None,
     loads: Annotated[
         str, typer.Option("--loads", metavar="START:STOP:COUNT", help="Log-spaced load range.")
     ] = "0.1N:4N:40",

@@ -36,6 +36,14 @@ POINTS_PER_DECADE = 12
 MAX_PSI_STEP = 0.04
 #: ... using at most this many extra solves per prepare().
 MAX_REFINE_SOLVES = 40
+#: The state pressures are searched up to this multiple of E*: the mean strain of the skin is then
+#: of order one and linear elasticity no longer describes it; a state not reached is "beyond".
+STATE_SEARCH_CAP = 10.0
+
+
+def _grid_pressure(k: int) -> float:
+    """Node ``k`` of the global pressure grid, ``10**(k / POINTS_PER_DECADE)`` Pa."""
+    return 10 ** (k / POINTS_PER_DECADE)
 
 
 class BEMUnitCell:
@@ -46,7 +54,7 @@ class BEMUnitCell:
     :meth:`contact_fraction` interpolates the computed curve (PCHIP in log p, monotone, no
     overshoot) and :attr:`interpolation_error` bounds the interpolation error by leave-one-out.
     Below the lowest computed pressure psi follows the power law of the two lowest points
-    (Hertz-like asperity contact); at and above the full-contact pressure psi = 1.
+    (Hertz-like asperity contact); above the highest node it keeps that node's value.
 
     Parameters
     ----------
@@ -124,12 +132,14 @@ class BEMUnitCell:
     # ---------------------------------------------------------------- computing
 
     def prepare(self, p_min: float, p_max: float, progress: Progress | None = None) -> "BEMUnitCell":
-        """Make sure psi(p) is computed over [p_min, p_max] Pa, with the state pressures.
+        """Make sure psi(p) is computed over [p_min, p_max] Pa, and the state pressures.
 
-        The transition pressure is bracketed to ``rtol`` (searching below the range if needed);
-        the full-contact pressure only if full contact occurs within the range (otherwise it is
-        recorded as lying beyond the range's top). Bracketing solves become nodes of the curve,
-        so the kinks of psi at the state changes are resolved.
+        The transition and full-contact pressures are bracketed to ``rtol`` wherever they lie,
+        not only inside the range: first on the global node grid (deterministic, so the result
+        does not depend on the range asked for or on what the cache holds), then by geometric
+        bisection. A state not reached by :data:`STATE_SEARCH_CAP` times E* is recorded as lying
+        beyond it. Bracketing solves become nodes of the curve, so the kinks of psi at the state
+        changes are resolved.
         """
         if self.flat:
             return self
@@ -137,24 +147,19 @@ class BEMUnitCell:
             raise FingerpadError(f"bad pressure range [{p_min!r}, {p_max!r}]")
         k0 = math.floor(math.log10(p_min) * POINTS_PER_DECADE) - 1
         k1 = math.ceil(math.log10(p_max) * POINTS_PER_DECADE) + 1
-        wanted = [10 ** (k / POINTS_PER_DECADE) for k in range(k0, k1 + 1)]
-        todo = [p for p in wanted if not any(math.isclose(p, q, rel_tol=1e-9) for q in self.points)]
+        todo = [k for k in range(k0, k1 + 1) if self._node(_grid_pressure(k)) is None]
         per_bracket = int(math.ceil(math.log2(math.log(10 ** (1 / POINTS_PER_DECADE)) / self.rtol))) + 1
-        self._progress = (progress, 0, len(todo) + 2 * per_bracket)
+        self._progress = (progress, 0, len(todo) + 2 * (per_bracket + 4))
         new: dict[float, dict[str, Any]] = {}
         previous: ContactResult | None = None
-        for p in todo:
-            previous = self._solve_node(p, previous, new)
+        for k in todo:
+            previous = self._solve_node(_grid_pressure(k), previous, new)
         if new:
             self._store(new)
-        top = max(self.points)
-        extra: dict[str, Any] = {}
-        if not self._bracket_known(self.transition, top):
-            extra["transition"] = self._bracket_from_nodes(lambda st: st != "asperity")
-        if not self._bracket_known(self.full, top):
-            extra["full"] = self._bracket_from_nodes(lambda st: st == "full")
-        if extra:
-            self._store({}, **extra)
+        if self.transition is None:
+            self._store({}, transition=self._bracket_state(lambda st: st != "asperity", k1))
+        if self.full is None:
+            self._store({}, full=self._bracket_state(lambda st: st == "full", k1))
         self._refine(p_min, p_max)
         self._progress = (None, 0, 0)
         return self
@@ -186,47 +191,74 @@ class BEMUnitCell:
             self._progress = (callback, done, total)
         return res
 
-    def _bracket_known(self, bracket: tuple[float, float] | None, top: float) -> bool:
-        if bracket is None:
-            return False
-        lo, hi = bracket
-        return math.isfinite(hi) or lo >= top  # a finite bracket, or "beyond" a range that still covers
+    def _node(self, p: float) -> dict[str, Any] | None:
+        """The computed node at pressure ``p`` (Pa), if any."""
+        row = self.points.get(p)
+        if row is not None:
+            return row
+        return next((r for q, r in self.points.items() if math.isclose(p, q, rel_tol=1e-9)), None)
 
-    def _bracket_from_nodes(self, reached: Callable[[str], bool]) -> list[float]:
-        """Bracket [lo, hi] of the pressure where ``reached(state)`` starts, refined from the
-        computed nodes by geometric bisection; [top, inf] if no node reaches it."""
-        nodes = sorted(self.points)
-        hits = [p for p in nodes if reached(self.points[p]["contact_state"])]
-        if not hits:
-            return [nodes[-1], math.inf]
-        hi = hits[0]
-        below = [p for p in nodes if p < hi]
+    def _state_at(self, k: int, sink: dict[float, dict[str, Any]]) -> str:
+        """Contact state at global grid node ``k`` (solved if not yet computed)."""
+        p = _grid_pressure(k)
+        row = self._node(p) or sink.get(p)
+        if row is None:
+            self._solve_node(p, None, sink)
+            row = sink[p]
+        return str(row["contact_state"])
+
+    def _bracket_state(self, reached: Callable[[str], bool], k_start: int) -> list[float]:
+        """Bracket [lo, hi] (Pa) of the pressure where ``reached(state)`` starts.
+
+        Step 1 finds the first global grid node ``k`` with the state reached, by an exponential
+        then binary search on the integers: the nodes and their states are the same whatever
+        range was asked for, so the bracket is too. Step 2 bisects [p_{k-1}, p_k] geometrically
+        to ``rtol``. Returns ``[p_cap, inf]`` when the state is not reached up to the cap.
+        """
         new: dict[float, dict[str, Any]] = {}
-        if below:
-            lo = below[-1]
-            lo_res = self._solve_node(lo, None, new)
-        else:
-            lo, lo_res = hi, None
-            floor = 1e-9 * self.modulus
-            while True:
-                lo /= 4.0
-                if lo < floor:
-                    raise FingerpadError("the cell is past its transition at any pressure (a flat texture?)")
-                lo_res = self._solve_node(lo, None, new)
-                if not reached(lo_res.contact_state):
+        k_cap = math.floor(math.log10(STATE_SEARCH_CAP * self.modulus) * POINTS_PER_DECADE)
+        k_floor = math.floor(math.log10(1e-9 * self.modulus) * POINTS_PER_DECADE)
+        k_start = min(max(k_start, k_floor), k_cap)
+        if reached(self._state_at(k_start, new)):
+            hi, step = k_start, 1
+            while True:  # down until not reached
+                lo = max(hi - step, k_floor)
+                if not reached(self._state_at(lo, new)):
                     break
-                hi = lo
-        lo, hi = bisect_state(lambda p, init: self._solve_node(p, init, new), lo, hi, lo_res, reached,
-                         self.rtol, max_solves=200)
+                if lo == k_floor:
+                    self._store(new)
+                    raise FingerpadError("the cell is past this contact state at any pressure (a flat texture?)")
+                hi, step = lo, 2 * step
+        else:
+            lo, step = k_start, 1
+            while True:  # up until reached
+                hi = min(lo + step, k_cap)
+                if reached(self._state_at(hi, new)):
+                    break
+                if hi == k_cap:
+                    self._store(new)
+                    return [_grid_pressure(k_cap), math.inf]
+                lo, step = hi, 2 * step
+        while hi - lo > 1:  # the first reached node: binary search on the integers
+            mid = (lo + hi) // 2
+            if reached(self._state_at(mid, new)):
+                hi = mid
+            else:
+                lo = mid
+        p_lo, p_hi = _grid_pressure(lo), _grid_pressure(hi)
+        lo_res = self._solve_node(p_lo, None, {})  # warm start for the bisection (already a node)
+        self.solves -= 1  # a re-solve of a known node for its fields, not a new point
+        p_lo, p_hi = bisect_state(lambda p, init: self._solve_node(p, init, new), p_lo, p_hi, lo_res, reached,
+                                  self.rtol, max_solves=200)
         self._store(new)
-        return [lo, hi]
+        return [p_lo, p_hi]
 
     # ---------------------------------------------------------------- UnitCellResponse
 
     @property
     def transition_pressure(self) -> float:
-        """Mean cell pressure (Pa) at which the skin first touches the texture's base (inf if
-        beyond the prepared range)."""
+        """Mean cell pressure (Pa) at which the skin first touches the texture's base (geometric
+        middle of a bracket of relative width ``rtol``; inf if beyond :data:`STATE_SEARCH_CAP` E*)."""
         if self.flat:
             return 0.0
         if self.transition is None:
@@ -236,7 +268,9 @@ class BEMUnitCell:
 
     @property
     def full_contact_pressure(self) -> float:
-        """Mean cell pressure (Pa) at which every pixel touches (inf if beyond the prepared range)."""
+        """Mean cell pressure (Pa) from which the skin follows the whole texture: at most
+        :data:`~fingerpad.contact.solver.FULL_CONTACT_TOL` of the cell out of contact (geometric middle
+        of a bracket of relative width ``rtol``; inf if beyond :data:`STATE_SEARCH_CAP` E*)."""
         if self.flat:
             return 0.0
         if self.full is None:
@@ -301,11 +335,9 @@ class BEMUnitCell:
             out[low] = psi[0] * (p[low] / ps[0]) ** slope
         high = p > ps[-1]
         if np.any(high):
-            # Beyond the computed range: hold the last value (psi is non-decreasing); callers
-            # prepare the range they use.
+            # Beyond the computed nodes: hold the last value (psi is non-decreasing and close to 1
+            # past full contact); callers prepare the range they use.
             out[high] = psi[-1]
-        if self.full is not None and math.isfinite(self.full[1]):
-            out = np.where(p >= self.full[1], 1.0, out)
         return np.clip(out, 0.0, 1.0)
 
     @property

@@ -23,8 +23,9 @@ from filelock import FileLock
 
 from ..errors import FingerpadError
 
-#: Bump when a solver change alters cached numbers.
-CACHE_VERSION = 1
+#: Bump when a solver change alters cached numbers (2: full contact = at most 1 % open; state
+#: brackets searched beyond the asked range).
+CACHE_VERSION = 2
 
 
 def default_cache_dir() -> Path:

@@ -21,8 +21,10 @@ from ..errors import FingerpadError
 __all__ = ["DEFAULT_LOAD_RANGE", "PowerLawUnitCell", "RidgeArea", "UnitCellResponse", "area_function",
            "check_cell", "checked_psi", "solve_load"]
 
-#: Default load bracket (N) searched for critical loads: far beyond the 0.1-4 N of touch.
-DEFAULT_LOAD_RANGE = (1e-6, 1e3)
+#: Load bracket (N) searched for critical and full-contact loads. Far wider than the 0.1-4 N of
+#: touch on purpose: a load is found wherever the cell's state pressure puts it, and a load
+#: beyond what a finger exerts is reported as such, not as "none".
+DEFAULT_LOAD_RANGE = (1e-9, 1e9)
 
 #: A ridge contact area: a constant (m^2) or a callable of the load ``F -> A_fr(F)``.
 RidgeArea = float | Callable[[float], float]

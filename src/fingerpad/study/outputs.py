@@ -17,6 +17,15 @@ from .run import Prediction
 
 __all__ = ["OUTPUT_FILES", "OUTPUT_UNITS", "prediction_dataset", "prediction_json", "write_outputs"]
 
+#: What the contact states mean (written into predict.json).
+STATE_DEFINITIONS = {
+    "transition": "lowest mean cell pressure at which the skin touches the texture's base level "
+                  "(generated textures: their lowest level; measured maps: the base_quantile height)",
+    "full": "lowest mean cell pressure at which at most 1 % of the cell is out of contact",
+    "critical_load": "load at which the pad-centre pressure 1.5 F/A_fr reaches the transition pressure",
+    "full_contact_load": "load at which the pad-centre pressure reaches the full-contact pressure",
+}
+
 #: Files written by :func:`write_outputs`, in order.
 OUTPUT_FILES = ("predict.json", "predict.nc", "areas.png", "friction.png", "zones.png")
 
@@ -95,10 +104,14 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
             "full_contact_pressure": c.full_contact_pressure,
             "interpolation_error": None if c.flat else c.interpolation_error,
             "grid": list(tex.shape),
+            "transition_pressure_bracket": list(c.transition) if c.transition else None,
+            "full_contact_pressure_bracket": list(c.full) if c.full else None,
+            "definitions": STATE_DEFINITIONS,
             "nodes": len(c.points),
             "pressure_range": list(pred.pressure_range),
-            "solves": c.solves,
-            "cached": c.solves == 0,
+            "solves": pred.resolution["solves"] if pred.resolution else c.solves,
+            "cached": (pred.resolution["solves"] if pred.resolution else c.solves) == 0,
+            "resolution": pred.resolution,
             "unconverged": pred.unconverged,
             "seconds": pred.timings["cell"],
         }
@@ -143,6 +156,7 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
     payload = {
         "critical_load": dict(pred.critical_load),
         "full_contact_load": dict(pred.full_contact_load),
+        "state_brackets": pred.state_brackets,
         "model": pred.primary_model,
         "units": OUTPUT_UNITS,
         "inputs": inputs,

@@ -20,6 +20,7 @@ import numpy as np
 from ..coupling import CurvePrediction, predict_curve
 from ..errors import FingerpadError
 from ..finger import Finger
+from ..micro.bem import STATE_SEARCH_CAP
 from ..micro.hertz import HertzUnitCell, hertz_cell_for, supports_hertz
 from ..textures import Texture
 from .spec import Study
@@ -49,9 +50,17 @@ class Prediction:
     critical_load
         ``{"bem": F, "hertz": F}``: load (N) at which the pad centre reaches the transition
         (BEM: :func:`~fingerpad.coupling.critical_load`; Hertz: Eq. 3.6); ``None`` if that model
-        did not run, NaN if no solution in 1e-6 ... 1e3 N.
+        did not run. Found wherever the cell's transition pressure puts it, whatever loads were
+        asked for (``inf`` if the cell never reaches it).
     full_contact_load
-        ``{"bem": F}``: load at which the centre reaches full contact (NaN if never).
+        ``{"bem": F}``: load at which the centre reaches full contact (``inf`` if the cell does not
+        reach full contact up to :data:`~fingerpad.micro.bem.STATE_SEARCH_CAP` E*).
+    state_brackets
+        For the BEM cell, per state (``transition``, ``full``): the bracket of the cell pressure
+        (Pa), the loads (N) it maps to, and its relative width.
+    resolution
+        The BEM cell's grid and the estimated discretisation error of A_re/A_fr and of the state
+        pressures (:func:`fingerpad.micro.resolution.choose_grid`).
     zones
         The zone radii at :attr:`Study.zone_load`.
     pressure_range
@@ -71,6 +80,8 @@ class Prediction:
     hertz_cell: HertzUnitCell | None
     critical_load: dict[str, float | None]
     full_contact_load: dict[str, float | None]
+    state_brackets: dict[str, Any]
+    resolution: dict[str, Any] | None
     zones: dict[str, Any]
     pressure_range: tuple[float, float]
     timings: dict[str, float]
@@ -112,12 +123,19 @@ def centre_state(peak_pressure: float, cell: Any) -> str:
     return "asperity"
 
 
-def _load_at_centre_pressure(finger: Finger, pressure: float) -> float:
-    """Load (N) at which the centre pressure ``1.5 F / A_fr(F)`` equals ``pressure`` (NaN if none)."""
+#: Loads above this (N) are beyond what a finger exerts in touch; reports say so.
+FINGER_LOAD_LIMIT = 100.0
+
+
+def load_at_centre_pressure(finger: Finger, pressure: float) -> float:
+    """Load (N) at which the centre pressure ``1.5 F / A_fr(F)`` equals ``pressure`` (Pa);
+    ``inf`` for an infinite pressure, NaN if none in the searched load range."""
     from scipy.optimize import brentq
 
     from ..micro.response import DEFAULT_LOAD_RANGE
 
+    if math.isinf(pressure):
+        return math.inf
     if not (math.isfinite(pressure) and pressure > 0):
         return math.nan
     lo, hi = DEFAULT_LOAD_RANGE
@@ -157,6 +175,41 @@ def _zones(study: Study, cell: Any, hertz_cell: Any) -> dict[str, Any]:
     return out
 
 
+def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, float],
+                   progress: Callable[[int, int], None] | None) -> Any:
+    """The BEM cell on a grid chosen by the study's accuracy (or on the given grid)."""
+    from ..coupling import couple
+    from ..micro.resolution import choose_grid
+    from .spec import TextureSpec
+
+    loads = np.append(study.loads, study.zone_load)
+    ridge = np.asarray(study.finger.ridge_area(loads), dtype=float)
+    generated = isinstance(study.texture, TextureSpec) and study.texture.name is not None
+    make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
+    return choose_grid(
+        make, tex, e1, p_range, lambda cell: couple(loads, ridge, cell).area_ratio,
+        target=None if study.grid is not None else study.accuracy,
+        cell_options={"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache()},
+        progress=progress,
+    )
+
+
+def _resolution_report(choice: Any, study: Study) -> dict[str, Any]:
+    pressures = choice.state_pressure_errors()
+    return {
+        "grid": list(choice.cell.texture.shape),
+        "coarse_grid": list(choice.coarse.texture.shape) if choice.coarse is not None else None,
+        "chosen": "automatic" if study.grid is None else "given",
+        "target": choice.target,
+        "area_ratio_error": choice.error,
+        "transition_pressure_error": pressures["transition"],
+        "full_contact_pressure_error": pressures["full"],
+        "history": [{"grid": g, "area_ratio_error": e} for g, e in choice.history],
+        "solves": choice.solves,
+        "method": "relative change from the half grid, |r_N / r_{N/2} - 1| (first-order convergence)",
+    }
+
+
 def run_study(study: Study, progress: Callable[[int, int], None] | None = None) -> Prediction:
     """Run the prediction of ``study`` (see the module docstring).
 
@@ -173,14 +226,14 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
         Non-periodic texture for the BEM (suggests ``periodize``), Hertz on a texture that is not
         spherical caps, bad values.
     """
-    from ..micro.bem import BEMUnitCell
-
     study.check()
     tex = study.build_texture()
     finger = study.finger
     e1 = study.reduced_modulus
     loads = study.loads
-    p_mean = loads / np.asarray(finger.ridge_area(loads), dtype=float)
+    # The cell is prepared over the local pressures of every load asked for and of the zone map.
+    wanted = np.append(loads, study.zone_load)
+    p_mean = wanted / np.asarray(finger.ridge_area(wanted), dtype=float)
     p_range = (P_LOW * float(p_mean.min()), P_HIGH * float(p_mean.max()))
     notes: list[str] = []
 
@@ -194,11 +247,19 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
             notes.append(note)
 
     cell = bem = hertz = None
+    resolution: dict[str, Any] | None = None
     t_cell = t_coupling = 0.0
     if study.model in ("bem", "both"):
         t0 = time.perf_counter()
-        cell = BEMUnitCell(tex, e1, tol=study.tol, max_iter=study.max_iter, cache=study.curve_cache())
-        cell.prepare(*p_range, progress=progress)
+        choice = _resolved_cell(study, tex, e1, p_range, progress)
+        cell, tex = choice.cell, choice.cell.texture
+        resolution = _resolution_report(choice, study)
+        if study.grid is None and choice.met is False:
+            notes.append(f"the estimated discretisation error of A_re/A_fr, {100 * choice.error:.2g} %, exceeds "
+                         f"the target {100 * choice.target:g} % at the largest automatic grid")
+        elif study.grid is not None and not math.isnan(choice.error) and choice.error > study.accuracy:
+            notes.append(f"grid {study.grid}: estimated discretisation error of A_re/A_fr {100 * choice.error:.2g} % "
+                         f"(above {100 * study.accuracy:g} %; leave the grid to the default to reach it)")
         t_cell = time.perf_counter() - t0
         t0 = time.perf_counter()
         bem = predict_curve(loads, finger, cell)
@@ -215,14 +276,30 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
         "hertz": hertz.critical_load_hertz if hertz is not None else None,
     }
     full: dict[str, float | None] = {"bem": None}
+    brackets: dict[str, Any] = {}
     if cell is not None and not cell.flat:
-        full["bem"] = _load_at_centre_pressure(finger, cell.full_contact_pressure)
+        full["bem"] = load_at_centre_pressure(finger, cell.full_contact_pressure)
+        for state, bracket in (("transition", cell.transition), ("full", cell.full)):
+            lo, hi = (float(b) for b in bracket)
+            brackets[state] = {
+                "pressure": [lo, hi],
+                "load": [load_at_centre_pressure(finger, lo), load_at_centre_pressure(finger, hi)],
+                "relative_width": (hi - lo) / hi if math.isfinite(hi) else None,
+            }
+        for name, f in (("critical", crit["bem"]), ("full-contact", full["bem"])):
+            if f is not None and math.isfinite(f) and f > FINGER_LOAD_LIMIT:
+                notes.append(f"BEM {name} load {f:.4g} N lies beyond the loads a finger exerts "
+                             f"(above {FINGER_LOAD_LIMIT:g} N)")
+        if math.isinf(cell.full_contact_pressure):
+            notes.append(f"full contact not reached up to {STATE_SEARCH_CAP:g} E* = "
+                         f"{STATE_SEARCH_CAP * e1 / 1e3:.4g} kPa, where linear elasticity ends")
     elif cell is not None:
         full["bem"] = 0.0
     primary_cell = cell if cell is not None else hertz_cell
     pred = Prediction(
         study=study, texture=tex, reduced_modulus=e1, bem=bem, hertz=hertz, cell=cell, hertz_cell=hertz_cell,
-        critical_load=crit, full_contact_load=full, zones=_zones(study, primary_cell, hertz_cell),
+        critical_load=crit, full_contact_load=full, state_brackets=brackets, resolution=resolution,
+        zones=_zones(study, primary_cell, hertz_cell),
         pressure_range=p_range, timings={"cell": t_cell, "coupling": t_coupling}, notes=notes,
     )
     if pred.unconverged:

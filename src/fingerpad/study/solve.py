@@ -250,6 +250,7 @@ def _results_json(job: SolveJob, results: Sequence[Any], critical: Any = None) -
 def build_solve_job(
     *, ctx_args: Sequence[str] = (), texture: str | None, surface: str | None, size: str | None,
     height_unit: str | None, periodic: bool | None, fill_missing: bool = False, grid: str | None,
+    periodize: bool = False, pixel_size: str | None = None, base_quantile: str | None = None,
     modulus: str | None, skin_modulus: str | None, skin_poisson: str | None, material_modulus: str | None,
     material_poisson: str | None, pressure: Sequence[str], log: bool, tol: str, max_iter: str,
     formulation: str, json_path: str | None, save: str | None, plot: str | None,
@@ -287,7 +288,8 @@ def build_solve_job(
     if "grid" in params:
         raise FingerpadError("give the grid size once, as --grid")
     spec = TextureSpec(name=texture, surface=surface, params=params, size=size_v, height_unit=height_unit,
-                       periodic=periodic, fill_missing=fill_missing)
+                       periodic=periodic, periodize=periodize, fill_missing=fill_missing, pixel_size=pixel_size,
+                       base_quantile=None if base_quantile is None else _parse_float(base_quantile, "--base-quantile"))
     tex = spec.build(grid_v)
     if periodic is False and texture is not None:
         tex = replace(tex, periodic=False)

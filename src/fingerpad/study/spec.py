@@ -22,7 +22,8 @@ Study files (TOML, read with :func:`load_study_file`)::
     spacing = "175um"
     lattice = "hexagonal"
     # ... or a height map: surface = "scan.npy", size = "400um,400um", height_unit = "um",
-    #     periodic = false, periodize = true, fill_missing = false
+    #     periodic = false, periodize = true, fill_missing = false,
+    #     pixel_size = "2um" (instead of size), base_quantile = 0.05
 
     [material]                # counter-surface; omit the section for a rigid one
     modulus = "0.5GPa"        # or "rigid"
@@ -42,7 +43,8 @@ Study files (TOML, read with :func:`load_study_file`)::
 
     [model]
     kind = "both"             # bem | hertz | both
-    grid = 64                 # grid points along x of the cell (default: the generator's)
+    grid = 64                 # grid points along x of the cell (default: chosen by accuracy)
+    accuracy = 0.02           # target of the estimated error of A_re/A_fr when the grid is automatic
     tol = 1e-8
     max_iter = 5000
     cache = "~/.cache/fingerpad"   # folder of cached unit-cell curves; false: no cache
@@ -69,6 +71,7 @@ from ..errors import FingerpadError
 from ..finger import FINGER_FIELDS, FINGER_PRESETS, Finger, get_finger, model_from_spec
 from ..materials import check_modulus, check_poisson
 from ..textures import Texture
+from ..textures.measured import DEFAULT_BASE_QUANTILE
 from ..units import parse_size
 from .values import boolean, integer, material, parse_loads, positive_loads, quantity, text
 
@@ -108,13 +111,14 @@ MODELS = ("bem", "hertz", "both")
 DEFAULT_LOADS = "0.1N:4N:40"
 
 # Keys of the study-file sections (texture: plus the generator's own parameters).
-_TEXTURE_KEYS = ("name", "surface", "size", "height_unit", "periodic", "periodize", "fill_missing", "grid")
+_TEXTURE_KEYS = ("name", "surface", "size", "pixel_size", "height_unit", "periodic", "periodize", "fill_missing",
+                 "base_quantile", "grid")
 SECTION_KEYS: dict[str, tuple[str, ...]] = {
     "texture": _TEXTURE_KEYS,
     "material": ("modulus", "poisson"),
     "finger": ("preset", "gross", "ridges", *FINGER_FIELDS),
     "loads": ("range", "values", "log", "zones_at"),
-    "model": ("kind", "grid", "tol", "max_iter", "cache"),
+    "model": ("kind", "grid", "accuracy", "tol", "max_iter", "cache"),
 }
 
 
@@ -147,6 +151,12 @@ class TextureSpec:
         Mirror the ``surface`` map into a periodic cell (:func:`fingerpad.textures.periodize`).
     fill_missing
         Fill missing (NaN) points of the ``surface`` map.
+    pixel_size
+        ``(dx, dy)`` in m or text ``"2um"``/``"2um,3um"``: the pixel size of a ``surface``, instead
+        of ``size``.
+    base_quantile
+        Share of the pixels of a ``surface`` map below its base level (default 0.05, see
+        :func:`fingerpad.textures.read_surface`).
     labels
         How to name each parameter in error messages (``--radius`` or ``study.toml [texture] radius``).
     """
@@ -159,11 +169,16 @@ class TextureSpec:
     periodic: bool | None = None
     periodize: bool = False
     fill_missing: bool = False
+    pixel_size: Any = None
+    base_quantile: float | None = None
     labels: dict[str, str] = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         if (self.name is None) == (self.surface is None):
             raise FingerpadError("a texture needs exactly one of a generator name or a surface file")
+        if self.periodic and self.periodize:
+            raise FingerpadError(f"{self._label('periodic')} and {self._label('periodize')} contradict each other: a map "
+                                 "is either one period already (periodic) or mirrored into one (periodize)")
 
     @property
     def source(self) -> dict[str, Any]:
@@ -189,7 +204,8 @@ class TextureSpec:
         size = self._size()
         if self.name is not None:
             for key, value in (("height_unit", self.height_unit), ("periodize", self.periodize),
-                               ("fill_missing", self.fill_missing)):
+                               ("fill_missing", self.fill_missing), ("pixel_size", self.pixel_size),
+                               ("base_quantile", self.base_quantile)):
                 if value:
                     raise FingerpadError(f"{self._label(key)} applies to surface files only")
             family = get_family(self.name)
@@ -206,7 +222,14 @@ class TextureSpec:
             )
         if grid is not None:
             raise FingerpadError("the grid applies to generated textures; a surface file keeps its own grid")
-        tex = read_surface_option(str(self.surface), size, self.height_unit, bool(self.periodic), self.fill_missing)
+        pixel = None
+        if self.pixel_size is not None:
+            pixel = parse_size(text(self.pixel_size), self._label("pixel_size"))
+        quantile = DEFAULT_BASE_QUANTILE if self.base_quantile is None else self.base_quantile
+        if not 0.0 <= quantile < 1.0:
+            raise FingerpadError(f"{self._label('base_quantile')}: must lie in [0, 1), got {quantile!r}")
+        tex = read_surface_option(str(self.surface), size, self.height_unit, bool(self.periodic), self.fill_missing,
+                                  pixel_size=pixel, base_quantile=quantile)
         if self.periodize:
             from ..textures import periodize
 
@@ -232,7 +255,11 @@ class Study:
         ``"bem"`` (numerical unit cell), ``"hertz"`` (per-asperity Hertz, textures with an
         asperity radius) or ``"both"``.
     grid
-        Grid points along x of the generated cell (``None``: the generator's default).
+        Grid points along x of the generated cell (``None``: chosen by ``accuracy``, starting from
+        the generator's default).
+    accuracy
+        Target of the estimated relative discretisation error of A_re/A_fr when the grid is
+        chosen automatically (default 0.02); with a given grid the error is only reported.
     tol, max_iter
         Half-space solver settings.
     cache
@@ -251,6 +278,7 @@ class Study:
     loads: np.ndarray = field(default_factory=lambda: parse_loads(DEFAULT_LOADS, True))
     model: str = "both"
     grid: int | None = None
+    accuracy: float = 0.02
     tol: float = 1e-8
     max_iter: int = 5000
     cache: str | os.PathLike[str] | None | bool = None
@@ -276,6 +304,8 @@ class Study:
             check_poisson(self.material_poisson, "material Poisson ratio")
         if self.grid is not None:
             self.grid = integer(self.grid, "grid", 4)
+        if not (isinstance(self.accuracy, (int, float)) and 0 < self.accuracy < 1):
+            raise FingerpadError(f"accuracy must lie in (0, 1), got {self.accuracy!r}")
         if not (isinstance(self.tol, (int, float)) and 0 < self.tol < 1):
             raise FingerpadError(f"tol must lie in (0, 1), got {self.tol!r}")
         self.max_iter = integer(self.max_iter, "max_iter")
@@ -417,9 +447,13 @@ def _texture_spec(section: Mapping[str, Any], name: _Names) -> tuple[TextureSpec
         periodic=None if periodic is None else boolean(periodic, name("texture", "periodic")),
         periodize=boolean(sec.pop("periodize", False), name("texture", "periodize")),
         fill_missing=boolean(sec.pop("fill_missing", False), name("texture", "fill_missing")),
+        pixel_size=sec.pop("pixel_size", None),
+        base_quantile=None if sec.get("base_quantile") is None else
+        quantity(sec.pop("base_quantile"), "none", name("texture", "base_quantile")),
+        labels={k: name("texture", k) for k in _TEXTURE_KEYS},
     )
     spec.params = {k.replace("-", "_"): v for k, v in sec.items()}
-    spec.labels = {k: name("texture", k) for k in [*spec.params, "size", "height_unit", "periodize", "fill_missing"]}
+    spec.labels.update({k: name("texture", k) for k in spec.params})
     return spec, (None if grid is None else integer(grid, name("texture", "grid"), 4))
 
 
@@ -511,6 +545,9 @@ def study_from_dict(
     if grid_v is not None and tex_grid is not None and grid_v != tex_grid:
         raise FingerpadError("give the grid once, in [model] (or --grid)")
     grid_v = grid_v if grid_v is not None else tex_grid
+    accuracy = quantity(msec.get("accuracy", 0.02), "none", name("model", "accuracy"))
+    if not 0 < accuracy < 1:
+        raise FingerpadError(f"{name('model', 'accuracy')}: must lie in (0, 1), e.g. 0.02 for 2 %, got {accuracy!r}")
     tol = quantity(msec.get("tol", 1e-8), "none", name("model", "tol"))
     if not 0 < tol < 1:
         raise FingerpadError(f"{name('model', 'tol')}: must lie in (0, 1), got {tol!r}")
@@ -523,7 +560,7 @@ def study_from_dict(
 
     return Study(
         texture=texture, material_modulus=em, material_poisson=num, finger=finger, loads=loads,
-        model=kind.strip().lower(), grid=grid_v, tol=tol, max_iter=max_iter, cache=cache,
+        model=kind.strip().lower(), grid=grid_v, accuracy=accuracy, tol=tol, max_iter=max_iter, cache=cache,
         zones_at=zones_v, source=src,
     )
 

@@ -46,6 +46,12 @@ class Texture:
     family
         Name of the :class:`TextureFamily` that generated the map (``None`` for measured maps
         and hand-made arrays); it says which analytic models (e.g. the Hertz cell) apply.
+    base_level
+        Height (m) at or below which a pixel belongs to the texture's base (the level whose
+        touching starts the *transition* state). ``None``: the lowest level itself (within
+        1e-6 of the peak-to-valley height), right for generated maps; measured maps set it from
+        their height distribution (:func:`~fingerpad.textures.read_surface`, ``base_quantile``),
+        since on a noisy base the single lowest pixel is never touched.
     """
 
     heights: np.ndarray
@@ -54,6 +60,7 @@ class Texture:
     name: str = "custom"
     params: dict[str, Any] = field(default_factory=dict)
     family: str | None = None
+    base_level: float | None = None
 
     def __post_init__(self) -> None:
         h = np.asarray(self.heights, dtype=float)
@@ -89,6 +96,10 @@ class Texture:
     @property
     def peak_to_valley(self) -> float:
         return float(self.heights.max() - self.heights.min())
+
+    def base_mask(self) -> np.ndarray:
+        """Boolean (nx, ny) mask of the pixels of the base level (see ``base_level``)."""
+        return base_mask(self)
 
     def coordinates(self) -> tuple[np.ndarray, np.ndarray]:
         """1-D pixel coordinates x (nx,) and y (ny,), metres."""
@@ -365,13 +376,16 @@ def get_family(name: str) -> TextureFamily:
 
 
 def base_mask(texture: Texture, rel_tol: float = 1e-6) -> np.ndarray:
-    """Boolean (nx, ny) mask of the pixels at the lowest level of the texture.
+    """Boolean (nx, ny) mask of the pixels at the base level of the texture.
 
-    A pixel belongs to the base when ``height <= min + rel_tol * peak_to_valley`` (all pixels for
-    a flat texture). For bumps, pillars and ridges this is the flat base between features; for
-    dimples it is the dimple bottoms.
+    With ``texture.base_level`` set (measured maps), the pixels at or below it. Otherwise a pixel
+    belongs to the base when ``height <= min + rel_tol * peak_to_valley`` (all pixels for a flat
+    texture): for bumps, pillars and ridges the flat base between features, for dimples the
+    dimple bottoms.
     """
     h = texture.heights
+    if texture.base_level is not None:
+        return h <= texture.base_level
     lowest = float(h.min())
     return h <= lowest + float(rel_tol) * texture.peak_to_valley
 

@@ -27,6 +27,10 @@ from .base import Texture
 from .geometry import parse_size
 from .readers import reader_for
 
+#: Default share of the pixels below a measured map's base level (see :func:`read_surface`).
+DEFAULT_BASE_QUANTILE = 0.05
+#: A given size may make pixels non-square by this much before it is taken for a mistake.
+ASPECT_RTOL = 0.02
 #: Height units accepted for ``height_unit`` (factor to metres).
 HEIGHT_UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6, "nm": 1e-9}
 
@@ -68,8 +72,17 @@ def read_surface(
     periodic: bool = False,
     level: bool = True,
     fill_missing: bool = False,
+    *,
+    pixel_size: Any = None,
+    base_quantile: float = DEFAULT_BASE_QUANTILE,
 ) -> Texture:
     """Read a measured height map.
+
+    Axis convention: ``heights[i, j]`` is at ``x = i dx``, ``y = j dy`` (axis 0 along x). A
+    ``.npy`` file holds that array itself; a text matrix holds it image-like, one line per y
+    (the layout of instrument exports and of SurfaceTopography). A size whose aspect ratio
+    contradicts square pixels by more than :data:`ASPECT_RTOL` is refused, because it usually
+    means the map is read the other way round; give ``pixel_size`` for truly non-square pixels.
 
     Parameters
     ----------
@@ -83,8 +96,8 @@ def read_surface(
         ``.datx``, ``.opd``, ``.di``, ``.gwy``, ``.nc``, ...).
     size
         Physical size ``(Lx, Ly)`` in metres, or one number for a square. Required for ``.npy``
-        and text files and for instrument files that carry no size; for other instrument files
-        it overrides the size in the file.
+        and text files (unless ``pixel_size`` is given) and for instrument files that carry no
+        size; for other instrument files it overrides the size in the file.
     height_unit
         Unit of the stored heights: ``"m"``, ``"mm"``, ``"um"``, ``"nm"`` or a float factor to
         metres. Required for ``.npy`` and text files; for instrument files it overrides the
@@ -99,6 +112,12 @@ def read_surface(
         Missing points (NaN, or masked in an instrument file) raise an error by default; with
         True each is replaced by the height of the nearest valid point (and the number filled
         is recorded in ``params["filled_points"]``).
+    pixel_size
+        ``(dx, dy)`` in metres (or one number for square pixels), instead of ``size``.
+    base_quantile
+        The base level of the map (whose touching starts the *transition* state) is the height
+        below which this fraction of the pixels lies (default 0.05). The lowest pixel of a noisy
+        scan is a noise pit the skin never reaches; the lowest few per cent stand for the base.
 
     Returns
     -------
@@ -118,11 +137,16 @@ def read_surface(
     if not p.is_file():
         raise FingerpadError(f"not a file: {p}")
     ext = p.suffix.lower()
+    if size is not None and pixel_size is not None:
+        raise FingerpadError("give the map's size or its pixel size, not both")
     lsize = parse_size(size) if size is not None else None
+    pixel = parse_size(pixel_size, "pixel_size") if pixel_size is not None else None
     factor = _height_factor(height_unit) if height_unit is not None else None
+    if not (isinstance(base_quantile, (int, float)) and 0.0 <= base_quantile < 1.0):
+        raise FingerpadError(f"base_quantile must lie in [0, 1), got {base_quantile!r}")
     reader = reader_for(p)
     if reader.bare:
-        if lsize is None:
+        if lsize is None and pixel is None:
             raise FingerpadError(
                 f"{p.name}: {ext} files carry no physical size; pass size=(Lx, Ly) in metres"
             )
@@ -130,8 +154,12 @@ def read_surface(
             raise FingerpadError(
                 f"{p.name}: {ext} files carry no height unit; pass height_unit (m, mm, um, nm or a factor)"
             )
-    raw, lsize, factor = reader.load(p, lsize, factor)
+    raw, lsize, factor = reader.load(p, lsize or (1.0, 1.0) if reader.bare else lsize, factor)
     raw = _check_map(raw, p)
+    if pixel is not None:
+        lsize = (pixel[0] * raw.shape[0], pixel[1] * raw.shape[1])
+    elif size is not None:
+        _check_aspect(lsize, raw.shape, p)
     heights = raw * factor
     missing = ~np.isfinite(heights)
     n_missing = int(np.count_nonzero(missing))
@@ -150,14 +178,29 @@ def read_surface(
     if level:
         heights = level_plane(heights, lsize)
     heights = heights - heights.min()
+    base_level = float(np.quantile(heights, base_quantile))
     params: dict[str, Any] = {
         "path": str(p),
         "size": lsize,
         "height_factor": float(factor),
         "level": int(bool(level)),
         "filled_points": n_missing,
+        "base_quantile": float(base_quantile),
     }
-    return Texture(heights, lsize, periodic=bool(periodic), name=p.stem, params=params)
+    return Texture(heights, lsize, periodic=bool(periodic), name=p.stem, params=params, base_level=base_level)
+
+
+def _check_aspect(size: tuple[float, float], shape: tuple[int, ...], path: Path) -> None:
+    """Refuse a size whose aspect contradicts square pixels (a map read the other way round)."""
+    dx, dy = size[0] / shape[0], size[1] / shape[1]
+    if abs(dx / dy - 1.0) > ASPECT_RTOL:
+        raise FingerpadError(
+            f"{path.name}: the map has {shape[0]} x {shape[1]} px (x by y), aspect {shape[0] / shape[1]:.4g} with "
+            f"square pixels, but the size {size[0] * 1e6:.4g} um x {size[1] * 1e6:.4g} um has aspect "
+            f"{size[0] / size[1]:.4g} (pixels of {dx * 1e6:.4g} um x {dy * 1e6:.4g} um): check the size and the "
+            f"orientation (a .npy array has x along axis 0, a text matrix one line per y), "
+            f"otherwise give the pixel size instead"
+        )
 
 
 def level_plane(heights: np.ndarray, size: Any) -> np.ndarray:
@@ -215,13 +258,15 @@ def periodize(texture: Texture) -> Texture:
     params = dict(texture.params)
     params["periodized"] = 1
     lx, ly = texture.size
-    return Texture(hh, (2.0 * lx, 2.0 * ly), periodic=True, name=f"{texture.name}-periodized", params=params)
+    return Texture(hh, (2.0 * lx, 2.0 * ly), periodic=True, name=f"{texture.name}-periodized", params=params,
+                   base_level=texture.base_level)
 
 
 def read_surface_option(
     path: str, size: tuple[float, float] | None, height_unit: str | None, periodic: bool,
-    fill_missing: bool = False,
-):
+    fill_missing: bool = False, pixel_size: tuple[float, float] | None = None,
+    base_quantile: float = DEFAULT_BASE_QUANTILE,
+) -> Texture:
     """:func:`read_surface` for user input: the file checked first, errors naming the
     command-line options (``--size``, ``--height-unit``, ``--fill-missing``)."""
     p = Path(path)
@@ -232,7 +277,8 @@ def read_surface_option(
     if not os.access(p, os.R_OK):
         raise FingerpadError(f"cannot read surface {path!r}: permission denied")
     if reader_for(p).bare:
-        missing = [opt for opt, v in (("--size", size), ("--height-unit", height_unit)) if v is None]
+        missing = [opt for opt, v in (("--size", size if pixel_size is None else pixel_size),
+                                      ("--height-unit", height_unit)) if v is None]
         if missing:
             raise FingerpadError(
                 f"surface {p.name!r} stores bare numbers: give {' and '.join(missing)} "
@@ -247,12 +293,14 @@ def read_surface_option(
         factor = UNITS[unit][1]
     try:
         return read_surface(p, size=size, height_unit=factor, periodic=periodic, level=True,
-                                     fill_missing=fill_missing)
+                            fill_missing=fill_missing, pixel_size=pixel_size, base_quantile=base_quantile)
     except FingerpadError as exc:
         # Name the command-line option rather than the Python keyword.
         text = str(exc).replace("pass fill_missing=True", "give --fill-missing")
         text = text.replace("pass size=(Lx, Ly) in metres", "give --size LX[,LY]")
         text = text.replace("pass height_unit", "give --height-unit")
+        text = text.replace("otherwise give the pixel size instead", "otherwise give --pixel-size DX[,DY] instead")
+        text = text.replace("give the map's size or its pixel size, not both", "give --size or --pixel-size, not both")
         if text != str(exc):
             raise FingerpadError(text) from None
         raise
