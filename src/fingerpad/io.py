@@ -70,10 +70,14 @@ FIELDS: dict[str, tuple[str, str]] = {
 # ---------------------------------------------------------------------------------------------
 
 
-def check_writable(path: str | os.PathLike[str], what: str = "output") -> Path:
+def check_writable(path: str | os.PathLike[str], what: str = "output", suffixes: Sequence[str] = ()) -> Path:
     """Raise a :class:`FingerpadError` early if ``path`` cannot be written (missing directory,
-    path is a directory, directory not writable). Returns the path."""
+    path is a directory, directory not writable, or a name not ending in one of ``suffixes``:
+    the format follows the name, so ``--plot x.txt`` must not write a PNG). Returns the path."""
     p = Path(path)
+    if suffixes and p.suffix.lower() not in suffixes:
+        allowed = ", ".join(suffixes[:-1]) + (" or " if len(suffixes) > 1 else "") + suffixes[-1]
+        raise FingerpadError(f"{what} {str(p)!r}: the file name must end in {allowed} (the format follows it)")
     parent = p.parent if str(p.parent) else Path(".")
     if p.is_dir():
         raise FingerpadError(f"{what} {str(p)!r} is a directory, expected a file name")
@@ -167,6 +171,83 @@ class Staging:
             with contextlib.suppress(OSError):
                 tmp.unlink()
         self.staged.clear()
+
+
+class OutputFolder:
+    """A command's output folder, written as a whole: never a mix of two runs' files.
+
+    The files are written into a hidden sibling folder (:meth:`path` gives their names there);
+    :meth:`commit` swaps it in place of the old folder in two renames, :meth:`discard` removes
+    it. An existing folder is replaced only if it holds nothing but files this command writes
+    (``names``), or is empty; a folder with other files is refused, so that an output folder
+    pointed at the wrong place destroys nothing.
+    """
+
+    def __init__(self, folder: str | os.PathLike[str], names: Sequence[str], option: str = "--out") -> None:
+        self.final = Path(folder)
+        parent = self.check(self.final, names, option)
+        try:
+            parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise FingerpadError(f"cannot create {option} folder {str(self.final)!r}: {exc.strerror or exc}") from None
+        self.build = parent / f".{self.final.name}.{uuid.uuid4().hex[:8]}.part"
+        self.build.mkdir()
+
+    @staticmethod
+    def check(folder: str | os.PathLike[str], names: Sequence[str], option: str = "--out") -> Path:
+        """The checks of the constructor, without writing anything (to run before long work).
+
+        Returns the folder's parent (which may not exist yet).
+        """
+        final = Path(folder)
+        if final.exists() and not final.is_dir():
+            raise FingerpadError(f"{option} {str(final)!r} exists and is not a folder")
+        if final.is_dir():
+            try:
+                entries = sorted(p.name for p in final.iterdir())
+            except OSError as exc:
+                raise FingerpadError(f"cannot read {option} folder {str(final)!r}: {exc.strerror or exc}") from None
+            foreign = [e for e in entries if e not in set(names)]
+            if foreign:
+                shown = ", ".join(foreign[:4]) + (", ..." if len(foreign) > 4 else "")
+                raise FingerpadError(
+                    f"{option} {str(final)!r} already holds files this command does not write ({shown}); "
+                    f"choose a new or empty folder (outputs replace a folder as a whole)"
+                )
+        parent = final.absolute().parent
+        existing = existing_parent(final)
+        if not os.access(existing, os.W_OK):
+            raise FingerpadError(f"{option} {str(final)!r}: the folder {str(existing)!r} is not writable")
+        return parent
+
+    def path(self, name: str) -> Path:
+        """Where to write the output ``name`` now (inside the hidden folder)."""
+        return self.build / name
+
+    def final_path(self, name: str) -> Path:
+        """Where the output ``name`` will be after :meth:`commit`."""
+        return self.final / name
+
+    def commit(self) -> None:
+        """Put the new folder in place of the old one (the old one is removed)."""
+        import shutil
+
+        old = None
+        if self.final.exists():
+            old = self.final.absolute().parent / f".{self.final.name}.{uuid.uuid4().hex[:8]}.old"
+            os.replace(self.final, old)
+        os.replace(self.build, self.final)
+        self.build.mkdir()  # discard() after commit finds an empty folder to remove
+        umask = _umask()
+        self.final.chmod(0o777 & ~umask)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+
+    def discard(self) -> None:
+        """Remove the hidden folder and whatever it holds."""
+        import shutil
+
+        shutil.rmtree(self.build, ignore_errors=True)
 
 
 # ---------------------------------------------------------------------------------------------

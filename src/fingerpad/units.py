@@ -92,10 +92,16 @@ def parse_positive(text: str | float, dimension: str, *, name: str = "value") ->
     return value
 
 
-def parse_range(text: str, dimension: str, *, name: str = "range", log: bool = False) -> list[float]:
+#: Most values a ``START:STOP:COUNT`` range may hold (checked before anything is allocated).
+MAX_RANGE_COUNT = 1_000_000
+
+
+def parse_range(text: str, dimension: str, *, name: str = "range", log: bool = False,
+                max_count: int = MAX_RANGE_COUNT) -> list[float]:
     """Parse ``START:STOP:COUNT`` into a list of SI values (log-spaced if ``log``).
 
-    A single quantity gives a one-element list.
+    A single quantity gives a one-element list. ``STOP`` below ``START`` and a ``COUNT`` above
+    ``max_count`` are errors.
     """
     import numpy as np
 
@@ -112,6 +118,10 @@ def parse_range(text: str, dimension: str, *, name: str = "range", log: bool = F
         raise FingerpadError(f"{name}: COUNT must be an integer, got {parts[2]!r}") from None
     if count < 1:
         raise FingerpadError(f"{name}: COUNT must be at least 1, got {count}")
+    if count > max_count:
+        raise FingerpadError(f"{name}: COUNT {count} is more than the {max_count} allowed here")
+    if stop < start:
+        raise FingerpadError(f"{name}: STOP {parts[1]!r} is below START {parts[0]!r} (ranges run upward)")
     if log:
         if start <= 0 or stop <= 0:
             raise FingerpadError(f"{name}: a log-spaced range needs positive bounds, got {text!r}")

@@ -29,11 +29,43 @@ import sys
 from typing import Annotated
 
 import typer
+from typer.core import TyperGroup
 
 from .._version import __version__
+from ..errors import one_line
 from . import fingers, measure, predict, solve, textures
+from .common import EXIT_USER_ERROR
+
+
+class _OneLineErrors(TyperGroup):
+    """Typer's own usage errors (a missing value, an unknown option) as one ``error:`` line on
+    stderr and exit code 2, like every other user mistake, instead of a framed panel."""
+
+    def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):  # noqa: ANN001
+        try:
+            rv = super().main(args=args, prog_name=prog_name, complete_var=complete_var, standalone_mode=False,
+                              **extra)
+            code = rv if isinstance(rv, int) else 0
+        except typer.Abort:
+            sys.stderr.write("error: interrupted\n")
+            code = 130
+        except typer.TyperException as exc:
+            if type(exc).__name__ == "NoArgsIsHelpError":  # `fingerpad` alone: the help, as usual
+                exc.show()  # type: ignore[attr-defined]
+                code = getattr(exc, "exit_code", EXIT_USER_ERROR)
+            else:
+                message = exc.format_message() if hasattr(exc, "format_message") else str(exc)
+                ctx = getattr(exc, "ctx", None)
+                where = f" (see '{ctx.command_path} --help')" if ctx is not None else ""
+                sys.stderr.write(f"error: {one_line(message)}{where}\n")
+                code = getattr(exc, "exit_code", EXIT_USER_ERROR)
+        if standalone_mode:
+            sys.exit(code)
+        return code
+
 
 app = typer.Typer(
+    cls=_OneLineErrors,
     name="fingerpad",
     help="Finger-pad contact and tactile friction on micro-textured surfaces (SI units; unit suffixes such as "
          "50um, 0.3MPa accepted).",

@@ -42,11 +42,14 @@ def stderr_console() -> Any:
 
 
 def stdout_console(min_width: int = 0) -> Any:
-    """A Rich console on stdout; when piped, at least ``min_width`` columns wide."""
+    """A Rich console on stdout: the terminal's width; when piped, at least ``min_width`` columns
+    wide unless ``COLUMNS`` says otherwise."""
+    import os
+
     from rich.console import Console
 
     console = Console(file=sys.stdout, highlight=False)
-    if not console.is_terminal and min_width:
+    if not console.is_terminal and min_width and not os.environ.get("COLUMNS"):
         console = Console(file=sys.stdout, width=max(console.width, min_width), highlight=False)
     return console
 
@@ -85,6 +88,40 @@ def flag_pair(on: bool, off: bool, on_name: str, off_name: str) -> bool | None:
     if on and off:
         raise FingerpadError(f"{on_name} and {off_name} contradict each other: give one of them")
     return True if on else False if off else None
+
+
+def command_options(ctx: Any) -> list[str]:
+    """Every option name of the command of ``ctx`` (``--out``, ``-o``, ...)."""
+    names: list[str] = []
+    for param in getattr(ctx.command, "params", []):
+        names += [o for o in (*getattr(param, "opts", ()), *getattr(param, "secondary_opts", ())) if o.startswith("-")]
+    return names
+
+
+def check_texture_options(pairs: Any, texture: str | None, options: list[str]) -> None:
+    """Options that are neither the command's nor the texture's: one clear error, with a guess.
+
+    The texture's parameters arrive as unknown options, so a mistyped command option (``--outt``)
+    would otherwise be reported as a texture parameter.
+    """
+    import difflib
+
+    from ..textures import registry
+
+    families = registry()
+    family = families.get(str(texture).strip().lower()) if texture else None
+    if family is None and texture is not None:
+        return  # an unknown texture: its own error names the families
+    scope = [family] if family is not None else list(families.values())
+    params = {p.name for fam in scope for p in fam.user_params()}
+    for key, _ in pairs:
+        if key in params:
+            continue
+        flag = "--" + key.replace("_", "-")
+        guess = difflib.get_close_matches(flag, options + ["--" + p.replace("_", "-") for p in sorted(params)], n=1)
+        hint = f" (did you mean {guess[0]}?)" if guess else ""
+        whose = f"nor a parameter of texture {family.name!r}" if family is not None else "nor a texture parameter"
+        raise FingerpadError(f"unknown option {flag}: neither an option of this command {whose}{hint}")
 
 
 def option(*decls: str, help_texts: dict[str, str], panel: str, metavar: str | None = None, **kw: Any) -> Any:

@@ -41,6 +41,10 @@ def finger_models(
     loads: Annotated[
         str, typer.Option("--loads", metavar="START:STOP:COUNT", help="Log-spaced load range.")
     ] = "0.1N:4N:30",
+    finger: Annotated[str | None, typer.Option(
+        "--finger", metavar="PRESET",
+        help="Take the pad radius, pad modulus and ridge geometry from a finger preset (default: the inputs of "
+             "the thesis' Fig. 2.4, E_skin = 100 kPa, R_fp = 9 mm).")] = None,
 ) -> None:
     """Compare the ridge-area models (idea of the thesis Fig. 2.4) in DIR/ridge_models.png."""
     from ..units import parse_range
@@ -52,10 +56,19 @@ def finger_models(
         out_dir = Path(out)
         if out_dir.exists() and not out_dir.is_dir():
             raise FingerpadError(f"--out {out!r} exists and is not a directory")
+        inputs: dict[str, object] = {}
+        if finger is not None:
+            from ..finger import get_finger
+            from ..meso.ridges import SinusoidalRidges
+
+            f = get_finger(finger)
+            inputs = {"skin_modulus": f.modulus, "radius": f.radius, "source": f"finger preset {f.name!r}"}
+            if isinstance(f.ridges, SinusoidalRidges):
+                inputs.update(wavelength=f.ridges.wavelength, amplitude=f.ridges.amplitude)
         out_dir.mkdir(parents=True, exist_ok=True)
         from ..plotting.ridges import ridge_models_figure
 
-        path = ridge_models_figure(out_dir / "ridge_models.png", values)
+        path = ridge_models_figure(out_dir / "ridge_models.png", values, **inputs)
         sys.stderr.write(f"wrote {path}\n")
 
 

@@ -9,7 +9,6 @@ from __future__ import annotations
 import json
 import sys
 from collections.abc import Mapping, Sequence
-from pathlib import Path
 from typing import Annotated, Any
 
 import typer
@@ -19,6 +18,8 @@ from .common import (
     EXIT_UNCONVERGED,
     EXTRA_ARGS,
     ProgressBar,
+    check_texture_options,
+    command_options,
     flag_pair,
     option,
     say,
@@ -63,8 +64,10 @@ _PREDICT_HELP = {
     "--max-iter": "Iteration cap per unit-cell solve (default 5000).",
     "--cache": "Folder of cached unit-cell curves (default $FINGERPAD_CACHE or ~/.cache/fingerpad).",
     "--zones-at": "Load of the zone map zones.png (default: the largest load).",
-    "--out": "Output directory for predict.json, predict.nc, areas.png, friction.png, zones.png.",
+    "--out": "Output folder for predict.json, predict.nc, areas.png, friction.png, zones.png; replaced as a "
+             "whole (default 'out', or none with --json -).",
     "--json": "Also write the JSON to PATH ('-' for stdout, which replaces the table).",
+    "--csv": "Also write the per-load table to PATH.csv (SI units in the headers).",
 }
 
 
@@ -100,7 +103,7 @@ def _split_study_args(args: Sequence[str]) -> tuple[str | None, list[str]]:
 
 def build_study(
     *, ctx_args: Sequence[str], flags: Mapping[str, Any] | None = None, finger_param: Sequence[str] = (),
-    base: Mapping[str, Mapping[str, Any]] | None = None,
+    base: Mapping[str, Mapping[str, Any]] | None = None, options: Sequence[str] = (),
 ) -> Any:
     """A checked :class:`fingerpad.study.Study` from an optional study file (the first bare
     argument in ``ctx_args``, or ``base``) with the flags (see
@@ -114,8 +117,11 @@ def build_study(
     data: dict[str, dict[str, Any]] = {k: dict(v) for k, v in (base or {}).items()}
     if study_file is not None:
         data = read_study_file(study_file)
-    merged, labels = apply_flags(data, dict(flags or {}), texture_options=split_texture_options(extra),
-                                 finger_params=finger_param)
+    pairs = split_texture_options(extra)
+    if options:
+        texture = (flags or {}).get("--texture") or data.get("texture", {}).get("name")
+        check_texture_options(pairs, texture if isinstance(texture, str) else None, list(options))
+    merged, labels = apply_flags(data, dict(flags or {}), texture_options=pairs, finger_params=finger_param)
     study = study_from_dict(merged, labels)
     study.check()
     return study
@@ -135,78 +141,99 @@ def _fmt(value: Any, spec: str) -> str:
 
 
 def _print_prediction(payload: Mapping[str, Any]) -> None:
+    """The per-load table (fitted to the terminal: fewer columns below 110) and the state loads."""
     from rich import box
     from rich.table import Table
 
     tex = payload["inputs"]["texture"]
     both = bool(payload["results"]) and "hertz" in payload["results"][0]
-    shown = "bem (the Hertz curves are in predict.json)" if both else payload["model"]
-    table = Table(title=f"{tex['description']}\nmodel: {shown}", box=box.SIMPLE_HEAD)
-    for col in ("load (N)", "A_g (mm²)", "A_fr (mm²)", "A_re (mm²)", "A_re/A_fr", "zones (centre→edge)",
-                "μ", "μ_ref", "μ_norm"):
-        table.add_column(col, justify="left" if col.startswith("zones") else "right", no_wrap=True)
-    for row in payload["results"]:
-        table.add_row(
-            f"{row['load']:.3g}", f"{row['gross_area'] * 1e6:.4g}", f"{row['ridge_area'] * 1e6:.4g}",
-            f"{row['real_area'] * 1e6:.4g}", f"{row['area_ratio']:.4f}", _zone_text(row),
-            f"{row['mu']:.4f}", _fmt(row["mu_ref"], ".4f"), _fmt(row["mu_normalised"], ".4f"),
-        )
+    shown = "bem (the Hertz curves are in the JSON)" if both else payload["model"]
     console = stdout_console(130)
+    wide = console.width >= 110
+    table = Table(title=f"{tex['description']}\nmodel: {shown}", box=box.SIMPLE_HEAD)
+    columns = (["load (N)", "A_g (mm²)", "A_fr (mm²)", "A_re (mm²)", "A_re/A_fr", "zones (centre→edge)",
+                "μ", "μ_ref", "μ/μ_ref"] if wide else ["load (N)", "A_re/A_fr", "centre", "μ", "μ/μ_ref"])
+    for col in columns:
+        table.add_column(col, justify="left" if col.startswith(("zones", "centre")) else "right", no_wrap=True)
+    for row in payload["results"]:
+        if wide:
+            table.add_row(
+                f"{row['load']:.3g}", f"{row['gross_area'] * 1e6:.4g}", f"{row['ridge_area'] * 1e6:.4g}",
+                f"{row['real_area'] * 1e6:.4g}", f"{row['area_ratio']:.4f}", _zone_text(row),
+                f"{row['mu']:.4f}", _fmt(row["mu_ref"], ".4f"), _fmt(row["mu_normalised"], ".4f"),
+            )
+        else:
+            table.add_row(f"{row['load']:.3g}", f"{row['area_ratio']:.4f}", str(row["contact_state"]),
+                          f"{row['mu']:.3f}", _fmt(row["mu_normalised"], ".3f"))
     console.print(table)
-    crit = payload["critical_load"]
+    if not wide:
+        say(console, "(a narrow terminal: every column is in the JSON, the NetCDF and --csv)")
+    crit, full = payload["critical_load"], payload.get("full_contact_load", {}).get("bem")
+    brackets = payload.get("state_brackets") or {}
     texts = []
     for model, label in (("bem", "BEM"), ("hertz", "Hertz (Eq. 3.6)")):
-        if model in crit and (crit[model] is not None or model == payload["model"]):
-            texts.append(f"{label} {crit[model]:.4g} N" if crit[model] is not None else f"{label} none in 1e-6..1e3 N")
+        if model not in crit or (crit[model] is None and model != payload["model"]):
+            continue
+        if crit[model] is not None:
+            texts.append(f"{label} {crit[model]:.4g} N")
+        elif model == "bem" and "transition" in brackets:
+            texts.append(f"{label}: the cell never reaches its transition up to 10 E*")
+        else:
+            texts.append(f"{label}: none")
     if texts:
-        console.print("critical load (pad centre reaches the transition): " + ", ".join(texts), markup=False)
-    full = payload.get("full_contact_load", {}).get("bem")
-    if payload["model"] == "bem":
-        console.print("full contact at the pad centre from: "
-                      + (f"{full:.4g} N" if full is not None else "never (below 1e3 N)"), markup=False)
+        say(console, "critical load (pad centre reaches the transition): " + ", ".join(texts))
+    if "full" in brackets:
+        p_lo, p_hi = brackets["full"]["pressure"]
+        if full is not None:
+            say(console, f"full contact at the pad centre (at most 1 % open) from: {full:.4g} N "
+                         f"(cell pressure {p_lo / 1e3:.4g}-{p_hi / 1e3:.4g} kPa)")
+        else:
+            say(console, f"full contact at the pad centre: not reached up to {p_lo / 1e3:.4g} kPa (10 E*)")
+    res = (payload.get("cell") or {}).get("resolution")
+    if res and res.get("area_ratio_error") is not None:
+        grid = "x".join(str(g) for g in res["grid"])
+        say(console, f"unit cell {grid} px ({res['chosen']}): estimated error of A_re/A_fr "
+                     f"{100 * res['area_ratio_error']:.2g} %")
 
 
-def run_prediction(study: Any, out: str, json_path: str | None) -> int:
-    """Run ``study``, write its outputs into ``out`` (all or none), report. Returns the exit code."""
-    from ..io import check_writable, to_jsonable, write_text
-    from ..study.outputs import OUTPUT_FILES, prediction_json, write_outputs
-    from ..study.run import run_study
+def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path: str | None = None,
+                   extra: Mapping[str, Any] | None = None) -> int:
+    """Run ``study``, write its outputs (all or none), report. Returns the exit code.
 
-    out_dir = Path(out)
-    if out_dir.exists() and not out_dir.is_dir():
-        raise FingerpadError(f"--out {out!r} exists and is not a directory")
-    if json_path is not None and json_path != "-":
-        check_writable(json_path, "--json")
-        if Path(json_path).resolve().parent == out_dir.resolve() and Path(json_path).name in OUTPUT_FILES:
-            raise FingerpadError(f"--json {json_path!r} would overwrite an output of --out")
+    ``out``: the output folder (replaced as a whole), or ``None`` for none; ``extra``: more
+    figures for it (name -> callable returning a Figure).
+    """
     import warnings
 
+    from ..io import to_jsonable
+    from ..study.outputs import FOLDER_FILES, check_outputs, prediction_json, write_outputs
+    from ..study.run import run_study
+
+    check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {})}))  # before any solving
     err = stderr_console()
     with warnings_to(err):
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
         with ProgressBar(err, "unit cell ψ(p)") as bar:
             pred = run_study(study, progress=bar)
-        paths = write_outputs(pred, out_dir)
+        figures = {name: make() for name, make in (extra or {}).items()}
+        paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures)
     payload = to_jsonable(prediction_json(pred))
-    text = json.dumps(payload, indent=2) + "\n"
     if json_path == "-":
-        sys.stdout.write(text)
+        sys.stdout.write(json.dumps(payload, indent=2) + "\n")
         sys.stdout.flush()
     else:
-        if json_path is not None:
-            write_text(json_path, text)
         _print_prediction(payload)
     for note in pred.notes:
         say(err, f"note: {note}")
     cell = payload["cell"]
     say(err, f"unit cell: {cell['model']}, {cell['solves']} solves ({'cached' if cell['cached'] else 'computed'}) "
              f"in {pred.timings['cell']:.2f} s; coupling {pred.timings['coupling']:.3f} s")
-    say(err, "wrote " + ", ".join(str(p) for p in paths))
+    if paths:
+        say(err, "wrote " + ", ".join(str(p) for p in paths))
     if pred.unconverged:
         say(err, f"warning: {pred.unconverged} unit-cell solve(s) did not converge (exit code 1)")
         return EXIT_UNCONVERGED
     return 0
-
 
 
 def predict(
@@ -237,7 +264,8 @@ def predict(
     tol: Annotated[str | None, _popt("--tol", panel=_NUMERICS, metavar="TOL")] = None,
     max_iter: Annotated[str | None, _popt("--max-iter", panel=_NUMERICS, metavar="N")] = None,
     cache: Annotated[str | None, _popt("--cache", panel=_NUMERICS, metavar="DIR")] = None,
-    out: Annotated[str, _popt("--out", "-o", panel=_OUTPUT, metavar="DIR")] = "out",
+    out: Annotated[str | None, _popt("--out", "-o", panel=_OUTPUT, metavar="DIR")] = None,
+    csv_path: Annotated[str | None, _popt("--csv", panel=_OUTPUT, metavar="PATH.csv")] = None,
     json_path: Annotated[str | None, _popt("--json", panel=_OUTPUT, metavar="PATH|-")] = None,
 ) -> None:
     """Predict contact areas, contact zones and friction of a finger on a texture against load.
@@ -265,8 +293,11 @@ def predict(
         flags["--periodic"] = flag_pair(periodic, no_periodic, "--periodic", "--no-periodic")
         flags["--log"] = flag_pair(log, linear, "--log", "--linear")
         with warnings_to(stderr_console()):
-            study = build_study(ctx_args=list(ctx.args), flags=flags, finger_param=finger_param or [])
-        code = run_prediction(study, out, json_path)
+            study = build_study(ctx_args=list(ctx.args), flags=flags, finger_param=finger_param or [],
+                                options=command_options(ctx))
+        if out is None and json_path != "-":
+            out = "out"  # files only where asked: with --json - and no --out, none
+        code = run_prediction(study, out, json_path, csv_path)
     if code:
         raise typer.Exit(code)
 
@@ -275,7 +306,8 @@ def predict(
 
 
 def run_default(
-    out: Annotated[str, typer.Option("--out", metavar="DIR", help="Output directory (created if missing).")] = "out",
+    out: Annotated[str, typer.Option("--out", metavar="DIR",
+                                     help="Output folder (created if missing, replaced as a whole).")] = "out",
     grid: Annotated[str | None, typer.Option("--grid", metavar="N",
                                              help="Grid points along x of the unit cell (default: by accuracy).")] = None,
     loads: Annotated[
@@ -295,14 +327,11 @@ def run_default(
         with warnings_to(err):
             study = build_study(ctx_args=[], base=DEFAULT_STUDY,
                                 flags={"--loads": [loads], "--log": True, "--grid": grid, "--cache": cache})
-        code = run_prediction(study, out, None)
-        from ..plotting.ridges import ridge_models_figure
+        from ..plotting.ridges import figure_ridge_models
 
-        path = ridge_models_figure(Path(out) / "ridge_models.png")
-        say(err, f"wrote {path}")
+        code = run_prediction(study, out, None, extra={"ridge_models.png": figure_ridge_models})
     if code:
         raise typer.Exit(code)
-
 
 
 def register(app: typer.Typer) -> None:

@@ -13,6 +13,8 @@ from .common import (
     EXIT_UNCONVERGED,
     EXTRA_ARGS,
     ProgressBar,
+    check_texture_options,
+    command_options,
     flag_pair,
     option,
     say,
@@ -52,7 +54,8 @@ _HELP = {
     "--formulation": "auto, primal (pressure unknowns) or dual (gap unknowns).",
     "--json": "Write results as JSON ('-' for stdout, which replaces the table).",
     "--save": "Write the fields (pressure, gap, displacement, contact, heights) to NetCDF.",
-    "--plot": "Write pressure map, contact map and psi(p) to a PNG.",
+    "--plot": "Write pressure map, contact map and psi(p) to an image (.png, .svg or .pdf).",
+    "--csv": "Write the per-pressure results to a CSV table (SI units in the headers).",
     "--plot-at": "Pressure whose maps --plot shows (the nearest solved one; default: the last given).",
     "--critical": "Also bracket the critical (transition) pressure, where the skin first touches the texture's "
                   "lowest level, to this relative width, e.g. 1e-3.",
@@ -90,6 +93,7 @@ def solve(
     json_path: Annotated[str | None, _opt("--json", panel=_OUTPUT, metavar="PATH")] = None,
     save: Annotated[str | None, _opt("--save", panel=_OUTPUT, metavar="PATH.nc")] = None,
     plot: Annotated[str | None, _opt("--plot", panel=_OUTPUT, metavar="PATH.png")] = None,
+    csv_path: Annotated[str | None, _opt("--csv", panel=_OUTPUT, metavar="PATH.csv")] = None,
     plot_at: Annotated[str | None, _opt("--plot-at", panel=_OUTPUT, metavar="P")] = None,
     critical: Annotated[str | None, _opt("--critical", panel=_LOADS, metavar="RTOL")] = None,
 ) -> None:
@@ -101,9 +105,11 @@ def solve(
     Exit code 0 on success, 1 if some solve did not converge (outputs still written),
     2 on a user error (nothing written).
     """
+    from ..study.overrides import split_texture_options
     from ..study.solve import build_solve_job
 
     with user_errors():
+        check_texture_options(split_texture_options(ctx.args), texture, command_options(ctx))
         with warnings_to(stderr_console()):
             job = build_solve_job(
                 ctx_args=list(ctx.args), texture=texture, surface=surface, size=size, height_unit=height_unit,
@@ -113,7 +119,7 @@ def solve(
                 skin_modulus=skin_modulus, skin_poisson=skin_poisson, material_modulus=material_modulus,
                 material_poisson=material_poisson, pressure=pressure or [],
                 log=flag_pair(log, linear, "--log", "--linear") is not False, tol=tol, max_iter=max_iter,
-                formulation=formulation, json_path=json_path, save=save, plot=plot, plot_at=plot_at,
+                formulation=formulation, json_path=json_path, save=save, plot=plot, plot_at=plot_at, csv_path=csv_path,
                 critical=critical,
             )
         code = run_job(job)
@@ -133,22 +139,26 @@ def _print_table(results: Sequence[Any], texture: Any) -> None:
               f"{'' if texture.periodic else ' (finite patch)'}",
         box=box.SIMPLE_HEAD,
     )
-    columns = ("mean p", "psi", "A_re (m²)", "max p", "mean gap", "state", "iter", "conv", "time (s)")
+    console = stdout_console(120)
+    wide = console.width >= 100  # a narrow terminal gets the essential columns (the rest: --json, --csv)
+    columns = (("mean p", "psi", "A_re (m²)", "max p", "mean gap", "state", "iter", "conv", "time (s)") if wide
+               else ("mean p", "psi", "state", "iter", "conv"))
     for col in columns:
         table.add_column(col, justify="left" if col == "state" else "right", no_wrap=True)
     for r in results:
-        table.add_row(
-            format_quantity(r.mean_pressure, "pressure", 3),
-            f"{r.contact_fraction:.4f}",
-            f"{r.real_contact_area:.3e}",
-            format_quantity(r.max_pressure, "pressure", 3),
-            format_quantity(r.mean_gap, "length", 3),
-            str(r.contact_state),
-            str(r.iterations),
-            "yes" if r.converged else "NO",
-            f"{r.seconds:.2f}",
-        )
-    stdout_console(120).print(table)
+        cells = {
+            "mean p": format_quantity(r.mean_pressure, "pressure", 3),
+            "psi": f"{r.contact_fraction:.4f}",
+            "A_re (m²)": f"{r.real_contact_area:.3e}",
+            "max p": format_quantity(r.max_pressure, "pressure", 3),
+            "mean gap": format_quantity(r.mean_gap, "length", 3),
+            "state": str(r.contact_state),
+            "iter": str(r.iterations),
+            "conv": "yes" if r.converged else "NO",
+            "time (s)": f"{r.seconds:.2f}",
+        }
+        table.add_row(*(cells[c] for c in columns))
+    console.print(table)
 
 
 def run_job(job: Any) -> int:

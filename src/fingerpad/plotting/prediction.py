@@ -53,6 +53,9 @@ def _load_axis(ax: Any, f: np.ndarray) -> None:
     from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
 
     lo, hi = float(f.min()), float(f.max())
+    if hi <= lo:  # a single load: a window around it, so the markers show
+        ax.set_xlim(0.5 * lo, 1.5 * hi)
+        return
     ax.set_xlim(lo, hi)
     if not (lo > 0 and hi / lo > 5):
         return
@@ -69,6 +72,11 @@ def _load_axis(ax: Any, f: np.ndarray) -> None:
         ax.xaxis.set_minor_formatter(NullFormatter())
 
 
+def _line(f: np.ndarray, fmt: str) -> str:
+    """A matplotlib format string, with markers when the loads are too few to draw a curve."""
+    return fmt + ("o" if f.size < 4 else "")
+
+
 def figure_areas(pred: "Prediction"):
     from matplotlib.figure import Figure
 
@@ -77,11 +85,11 @@ def figure_areas(pred: "Prediction"):
     fig = Figure(figsize=(7.0, 5.0))
     fig.subplots_adjust(left=0.12, right=0.97, bottom=0.11, top=0.9)
     ax = fig.subplots()
-    ax.plot(f, cur.gross_area * 1e6, "k-", label="gross A_g")
-    ax.plot(f, cur.ridge_area * 1e6, "-", color="tab:green", label="ridge A_fr")
-    ax.plot(f, cur.real_area * 1e6, "-", color="tab:red", lw=2, label=f"real A_re ({pred.primary_model})")
+    ax.plot(f, cur.gross_area * 1e6, _line(f, "k-"), label="gross A_g")
+    ax.plot(f, cur.ridge_area * 1e6, _line(f, "-"), color="tab:green", label="ridge A_fr")
+    ax.plot(f, cur.real_area * 1e6, _line(f, "-"), color="tab:red", lw=2, label=f"real A_re ({pred.primary_model})")
     if pred.bem is not None and pred.hertz is not None:
-        ax.plot(f, pred.hertz.real_area * 1e6, "--", color="tab:red", label="real A_re (hertz)")
+        ax.plot(f, pred.hertz.real_area * 1e6, _line(f, "--"), color="tab:red", label="real A_re (hertz)")
     _mark_critical(ax, pred)
     _load_axis(ax, f)
     ax.set_yscale("log")
@@ -105,17 +113,18 @@ def figure_friction(pred: "Prediction"):
     for ax in (ax_mu, ax_n):
         _shade(ax, pred)
         _mark_critical(ax, pred)
-    ax_mu.plot(f, cur.mu, "-", color="tab:red", lw=2, label=f"texture ({pred.primary_model})")
+    ax_mu.plot(f, cur.mu, _line(f, "-"), color="tab:red", lw=2, label=f"texture ({pred.primary_model})")
     if cur.mu_ref is not None:
-        ax_mu.plot(f, cur.mu_ref, "-", color="k", label="flat reference")
+        ax_mu.plot(f, cur.mu_ref, _line(f, "-"), color="k", label="flat reference")
     if cur.mu_normalised is not None:
-        ax_n.plot(f, cur.mu_normalised, "-", color="tab:red", lw=2, label=pred.primary_model)
+        ax_n.plot(f, cur.mu_normalised, _line(f, "-"), color="tab:red", lw=2, label=pred.primary_model)
     if pred.bem is not None and pred.hertz is not None:
-        ax_mu.plot(f, pred.hertz.mu, "--", color="tab:red", label="texture (hertz)")
+        ax_mu.plot(f, pred.hertz.mu, _line(f, "--"), color="tab:red", label="texture (hertz)")
         if pred.hertz.mu_normalised is not None:
-            ax_n.plot(f, pred.hertz.mu_normalised, "--", color="tab:red", label="hertz")
+            ax_n.plot(f, pred.hertz.mu_normalised, _line(f, "--"), color="tab:red", label="hertz")
     ax_mu.set_ylabel("friction coefficient μ (-)")
-    ax_n.set_ylabel("μ / μ_ref = A_re,tex / A_re,ref (-)")
+    # Not the area ratio A_re,tex/A_re,ref: the alpha*p term and the hysteresis count too (Eqs. 2.1-2.4).
+    ax_n.set_ylabel("μ_texture / μ_flat reference (-)")
     ax_n.set_ylim(0, max(1.05, float(np.nanmax(cur.mu_normalised)) * 1.05 if cur.mu_normalised is not None else 1.05))
     ax_mu.set_title("friction against load (shaded: contact state at the pad centre)", fontsize="medium")
     ax_n.set_title("normalised friction", fontsize="medium")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -12,11 +13,22 @@ from ..io import atomic_write
 from ..macro.gross import HertzArea
 from ..meso.ridges import ridge_model_curves
 
-__all__ = ["ridge_models_figure"]
+__all__ = ["figure_ridge_models", "ridge_models_figure"]
 
 
 def ridge_models_figure(
     path: str | os.PathLike[str],
+    loads: ArrayLike | None = None,
+    *,
+    dpi: int = 120,
+    **inputs: Any,
+) -> Path:
+    """Write :func:`figure_ridge_models` to a PNG (atomically); returns the path."""
+    fig = figure_ridge_models(loads, **inputs)
+    return atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=dpi))
+
+
+def figure_ridge_models(
     loads: ArrayLike | None = None,
     *,
     skin_modulus: float = 100e3,
@@ -25,18 +37,17 @@ def ridge_models_figure(
     amplitude: float = 30e-6,
     ridge_radius: float = 0.1e-3,
     bem_loads: ArrayLike | None = None,
-    dpi: int = 120,
-) -> Path:
-    """Plot gross area and the ridge-area models against load (idea of thesis Fig. 2.4).
+    source: str = "the thesis' Fig. 2.4 inputs",
+) -> Any:
+    """Gross area and the ridge-area models against load (idea of thesis Fig. 2.4).
 
     Left: gross area (Hertz, Eq. 2.5) and the ridge areas in mm^2; right: the ridge fractions
-    A_fr/A_g. All models share the inputs (E_skin = 100 kPa by default). Written atomically as a
-    PNG with matplotlib's Agg canvas (no global backend change).
+    A_fr/A_g. All models share the inputs, named in the title with where they come from
+    (``source``): by default the thesis' comparison, E_skin = 100 kPa, which is not the default
+    finger's 40 kPa; ``fingerpad finger-models --finger NAME`` takes a preset's pad instead.
 
     Parameters
     ----------
-    path
-        Output PNG path.
     loads
         Loads, N (default 30 log-spaced from 0.1 to 4 N, the exploration range).
     bem_loads
@@ -44,8 +55,7 @@ def ridge_models_figure(
 
     Returns
     -------
-    Path
-        The written file.
+    matplotlib.figure.Figure
     """
     from matplotlib.figure import Figure
 
@@ -81,8 +91,9 @@ def ridge_models_figure(
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize="small")
     fig.suptitle(
-        f"Ridge-area models, same inputs: E_skin = {skin_modulus / 1e3:.3g} kPa, R_fp = {radius * 1e3:.3g} mm, "
-        f"λ_r = {wavelength * 1e3:.3g} mm, h_r = {amplitude * 1e6:.3g} µm, R_r = {ridge_radius * 1e3:.3g} mm"
+        f"Ridge-area models, same inputs ({source}): E_skin = {skin_modulus / 1e3:.3g} kPa, "
+        f"R_fp = {radius * 1e3:.3g} mm, λ_r = {wavelength * 1e3:.3g} mm, h_r = {amplitude * 1e6:.3g} µm, "
+        f"R_r = {ridge_radius * 1e3:.3g} mm", fontsize="medium"
     )
-    return atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=dpi))
+    return fig
 

@@ -132,14 +132,15 @@ def figure_solution(results: Any, *, index: int = -1, title: str | None = None):
 
 
 def plot_solution(results: Any, path: str | os.PathLike[str], *, index: int = -1, title: str | None = None,
-                  dpi: int = 120) -> Path:
+                  dpi: int = 120, fmt: str = "png") -> Path:
     """Write the pressure map, contact map (of ``results[index]``, default the last/highest
-    pressure) and psi(p) of ``results`` (one ContactResult, a list, or a LoadCurve) to a PNG.
+    pressure) and psi(p) of ``results`` (one ContactResult, a list, or a LoadCurve) to an image
+    (``fmt``: png, svg or pdf).
 
     The file is written atomically; returns its path.
     """
     fig = figure_solution(results, index=index, title=title)
-    return atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=dpi))
+    return atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=dpi))
 
 
 def plot_load_curves(curves: Sequence[Any], labels: Sequence[str], path: str | os.PathLike[str]) -> Path:

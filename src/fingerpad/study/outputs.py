@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -26,6 +25,9 @@ STATE_DEFINITIONS = {
     "full_contact_load": "load at which the pad-centre pressure reaches the full-contact pressure",
 }
 
+#: Files an output folder of a prediction may hold (``run-default`` adds the ridge-model figure):
+#: a folder holding only these is replaced as a whole by the next prediction.
+FOLDER_FILES = ("predict.json", "predict.nc", "areas.png", "friction.png", "zones.png", "ridge_models.png")
 #: Files written by :func:`write_outputs`, in order.
 OUTPUT_FILES = ("predict.json", "predict.nc", "areas.png", "friction.png", "zones.png")
 
@@ -240,43 +242,114 @@ def prediction_dataset(pred: Prediction):
 # figures (matplotlib Figure + Agg canvas; fixed margins: a layout engine costs seconds)
 
 
-def write_outputs(pred: Prediction, out_dir: str | os.PathLike[str], *, dpi: int = 110) -> list[Path]:
-    """Write :data:`OUTPUT_FILES` into ``out_dir`` (created if missing): all of them or none.
+#: Suffixes of the files a user names.
+JSON_SUFFIXES, CSV_SUFFIXES, NETCDF_SUFFIXES, IMAGE_SUFFIXES = (".json",), (".csv",), (".nc",), (".png", ".svg", ".pdf")
+#: Columns of the CSV table of a prediction: (key, header with unit).
+CSV_COLUMNS = (
+    ("load", "load_N"), ("gross_area", "gross_area_m2"), ("ridge_area", "ridge_area_m2"),
+    ("real_area", "real_area_m2"), ("area_ratio", "area_ratio_Are_over_Afr"), ("ridge_radius", "ridge_radius_m"),
+    ("transition_radius", "transition_radius_m"), ("full_contact_radius", "full_contact_radius_m"),
+    ("mu", "mu"), ("mu_ref", "mu_ref"), ("mu_normalised", "mu_over_mu_ref"), ("contact_state", "centre_state"),
+)
 
-    Every file is first written under a hidden temporary name in ``out_dir`` and the set is moved
-    into place only when all are complete.
+
+def check_outputs(out_dir: str | os.PathLike[str] | None, json_path: str | None = None, csv_path: str | None = None,
+                  names: Sequence[str] = FOLDER_FILES) -> None:
+    """The checks :func:`write_outputs` makes, run before any solving so that a bad path costs
+    nothing: the folder may be replaced as a whole, the files can be written, their names end in
+    the suffix of their format and do not collide."""
+    from .. import io as fio
+
+    if out_dir is not None:
+        fio.OutputFolder.check(out_dir, names)
+    targets = {}
+    for option, path, suffixes in (("--json", json_path, JSON_SUFFIXES), ("--csv", csv_path, CSV_SUFFIXES)):
+        if path is None or path == "-":
+            continue
+        fio.check_writable(path, option, suffixes)
+        key = os.path.abspath(path)
+        if out_dir is not None and Path(key).parent == Path(os.path.abspath(out_dir)):
+            raise FingerpadError(f"{option} {path!r} lies inside --out {os.fspath(out_dir)!r}, which is replaced as a whole")
+        if key in targets:
+            raise FingerpadError(f"{option} and {targets[key]} name the same file {path!r}")
+        targets[key] = option
+
+
+def prediction_rows(pred: Prediction) -> list[dict[str, Any]]:
+    """One row per load: the quantities of :data:`CSV_COLUMNS` (SI units)."""
+    payload = prediction_json(pred)
+    return [{header: row.get(key) for key, header in CSV_COLUMNS} for row in payload["results"]]
+
+
+def write_outputs(
+    pred: Prediction,
+    out_dir: str | os.PathLike[str] | None,
+    *,
+    json_path: str | None = None,
+    csv_path: str | None = None,
+    extra: dict[str, Any] | None = None,
+    dpi: int = 110,
+) -> list[Path]:
+    """Write the outputs of a prediction, all of them or none.
+
+    Parameters
+    ----------
+    out_dir
+        Folder of :data:`OUTPUT_FILES` (and ``extra``), replaced as a whole (see
+        :class:`fingerpad.io.OutputFolder`); ``None`` for none.
+    json_path, csv_path
+        Further files: ``predict.json``'s content and the per-load table (``None``: none; the
+        JSON path ``"-"`` is stdout, written by the caller).
+    extra
+        More figures for the folder: file name -> ``Figure``.
+
+    Returns
+    -------
+    list of Path
+        The files written.
     """
+    import csv
     import json
 
     from .. import io as fio
     from ..plotting.prediction import figure_areas, figure_friction, figure_zones
 
-    out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise FingerpadError(f"output {str(out)!r} exists and is not a directory")
-    created = not out.exists()
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise FingerpadError(f"cannot create output directory {str(out)!r}: {exc.strerror or exc}") from None
-    if not os.access(out, os.W_OK):
-        raise FingerpadError(f"output directory {str(out)!r} is not writable")
+    names = [*OUTPUT_FILES, *(extra or {})]
+    replaceable = sorted({*FOLDER_FILES, *names})
+    check_outputs(out_dir, json_path, csv_path, replaceable)
+    text = json.dumps(prediction_json(pred), indent=2) + "\n"
     staging = fio.Staging()
-    paths = [out / name for name in OUTPUT_FILES]
+    folder = fio.OutputFolder(out_dir, replaceable) if out_dir is not None else None
+    written: list[Path] = []
     try:
-        text = json.dumps(prediction_json(pred), indent=2) + "\n"
-        staging.stage(str(paths[0]), lambda tmp: fio.write_text(tmp, text))
-        ds = prediction_dataset(pred)
-        staging.stage(str(paths[1]), lambda tmp: fio.to_netcdf(ds, tmp))
-        for path, maker in zip(paths[2:], (figure_areas, figure_friction, figure_zones), strict=True):
-            fig = maker(pred)
-            staging.stage(str(path), lambda tmp, fig=fig: fio.atomic_write(tmp, lambda t: fig.savefig(t, format="png", dpi=dpi)))
-        staging.commit()
-    except BaseException:
-        staging.discard()
-        if created:
-            with contextlib.suppress(OSError):
-                out.rmdir()
-        raise
-    return paths
+        if json_path is not None and json_path != "-":
+            staging.stage(json_path, lambda tmp: fio.write_text(tmp, text))
+            written.append(Path(json_path))
+        if csv_path is not None:
+            rows = prediction_rows(pred)
 
+            def write_csv(tmp: Path) -> None:
+                with open(tmp, "w", newline="", encoding="utf-8") as fh:
+                    writer = csv.DictWriter(fh, fieldnames=[h for _, h in CSV_COLUMNS])
+                    writer.writeheader()
+                    writer.writerows(rows)
+
+            staging.stage(csv_path, write_csv)
+            written.append(Path(csv_path))
+        if folder is not None:
+            fio.write_text(folder.path(OUTPUT_FILES[0]), text)
+            fio.to_netcdf(prediction_dataset(pred), folder.path(OUTPUT_FILES[1]))
+            figures = dict(zip(OUTPUT_FILES[2:], (figure_areas(pred), figure_friction(pred), figure_zones(pred)),
+                               strict=True))
+            figures.update(extra or {})
+            for name, fig in figures.items():
+                fig.savefig(folder.path(name), format="png", dpi=dpi)
+            written += [folder.final_path(name) for name in names]
+        staging.commit()
+        if folder is not None:
+            folder.commit()
+    finally:
+        staging.discard()
+        if folder is not None:
+            folder.discard()
+    return written

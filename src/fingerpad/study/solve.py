@@ -24,19 +24,34 @@ __all__ = ["MaterialsSpec", "SolveJob", "SolveOutcome", "build_solve_job", "pars
            "write_solve_outputs"]
 
 
+#: Units of the per-pressure results (CSV headers).
+SUMMARY_UNITS = {"mean_pressure": "Pa", "real_contact_area": "m2", "max_pressure": "Pa", "mean_gap": "m",
+                 "approach": "m", "seconds": "s"}
+
+
 def _parse_float(text: str, name: str) -> float:
     return parse_quantity(text, "none", name=name)
 
 
+#: Most pressures one ``solve`` may ask for (each is a contact solve).
+MAX_PRESSURES = 10_000
+
+
 def _parse_pressures(texts: Sequence[str], log: bool) -> list[float]:
+    from ..plausibility import check_plausible
+
     pressures: list[float] = []
     for text in texts:
-        for value in parse_range(text, "pressure", name="--pressure", log=log):
+        for value in parse_range(text, "pressure", name="--pressure", log=log, max_count=MAX_PRESSURES):
             if not (math.isfinite(value) and value > 0):
                 raise FingerpadError(f"--pressure: must be positive, got {text!r}")
             pressures.append(value)
+        if len(pressures) > MAX_PRESSURES:
+            raise FingerpadError(f"--pressure: more than {MAX_PRESSURES} pressures asked for (each is a solve)")
     if not pressures:
-        raise FingerpadError("give at least one --pressure (e.g. --pressure 20kPa or --pressure 1kPa:100kPa:10 --log)")
+        raise FingerpadError("give at least one --pressure (e.g. --pressure 20kPa or --pressure 1kPa:100kPa:10)")
+    for value in (min(pressures), max(pressures)):
+        check_plausible(value, "pressure", "--pressure")
     return pressures
 
 
@@ -84,6 +99,9 @@ def parse_materials(
             )
         e = parse_quantity(modulus, "pressure", name="--modulus")
         check_modulus(e, "--modulus")
+        from ..plausibility import check_plausible
+
+        check_plausible(e, "skin modulus", "--modulus")
         return MaterialsSpec(modulus=e)
     es = DEFAULT_SKIN_MODULUS if skin_modulus is None else parse_quantity(skin_modulus, "pressure", name="--skin-modulus")
     check_modulus(es, "--skin-modulus")
@@ -98,6 +116,11 @@ def parse_materials(
         check_poisson(num, "--material-poisson")
     elif material_poisson is not None:
         raise FingerpadError("--material-poisson needs --material-modulus (the default material is rigid)")
+    from ..plausibility import check_plausible
+
+    check_plausible(es, "skin modulus", "--skin-modulus")
+    if em is not None:
+        check_plausible(em, "material modulus", "--material-modulus")
     e_star = reduced_modulus(es, nus, em, num if num is not None else 0.35)
     return MaterialsSpec(modulus=e_star, skin_modulus=es, skin_poisson=nus, material_modulus=em, material_poisson=num)
 
@@ -113,6 +136,7 @@ class SolveJob:
     formulation: str = "auto"
     texture_source: dict[str, Any] = field(default_factory=dict)
     json_path: str | None = None
+    csv_path: str | None = None
     save_path: str | None = None
     plot_path: str | None = None
     plot_at: float | None = None  # mean pressure whose maps are plotted (nearest solved); None: last
@@ -162,14 +186,16 @@ def _check_outputs(job: SolveJob) -> None:
     from ..io import check_writable
 
     seen: dict[str, str] = {}
-    for opt, path in (("--json", job.json_path), ("--save", job.save_path), ("--plot", job.plot_path)):
+    for opt, path, suffixes in (("--json", job.json_path, (".json",)), ("--save", job.save_path, (".nc",)),
+                                ("--plot", job.plot_path, (".png", ".svg", ".pdf")),
+                                ("--csv", job.csv_path, (".csv",))):
         if path is None or (opt == "--json" and path == "-"):
             continue
         key = os.path.abspath(path)
         if key in seen:
             raise FingerpadError(f"{opt} and {seen[key]} name the same file {path!r}")
         seen[key] = opt
-        check_writable(path, opt)
+        check_writable(path, opt, suffixes)
 
 
 @dataclass
@@ -224,7 +250,19 @@ def write_solve_outputs(job: SolveJob, outcome: SolveOutcome) -> None:
             index = -1
             if job.plot_at is not None:
                 index = min(range(len(results)), key=lambda i: abs(math.log(results[i].mean_pressure / job.plot_at)))
-            staging.stage(job.plot_path, lambda tmp: plot_solution(results, tmp, index=index))
+            fmt = job.plot_path.rsplit(".", 1)[-1].lower()
+            staging.stage(job.plot_path, lambda tmp: plot_solution(results, tmp, index=index, fmt=fmt))
+        if job.csv_path is not None:
+            import csv
+
+            def write_csv(tmp: Any) -> None:
+                rows = [r.summary() for r in results]
+                with open(tmp, "w", newline="", encoding="utf-8") as fh:
+                    writer = csv.writer(fh)
+                    writer.writerow([f"{k}_{SUMMARY_UNITS[k]}" if SUMMARY_UNITS.get(k) else k for k in rows[0]])
+                    writer.writerows([list(row.values()) for row in rows])
+
+            staging.stage(job.csv_path, write_csv)
         staging.commit()
     finally:
         staging.discard()
@@ -253,7 +291,7 @@ def build_solve_job(
     periodize: bool = False, pixel_size: str | None = None, base_quantile: str | None = None,
     modulus: str | None, skin_modulus: str | None, skin_poisson: str | None, material_modulus: str | None,
     material_poisson: str | None, pressure: Sequence[str], log: bool, tol: str, max_iter: str,
-    formulation: str, json_path: str | None, save: str | None, plot: str | None,
+    formulation: str, json_path: str | None, save: str | None, plot: str | None, csv_path: str | None = None,
     plot_at: str | None = None, critical: str | None = None,
 ) -> SolveJob:
     """Validate every option of ``fingerpad solve`` (cheap checks first) and build the texture."""
@@ -276,7 +314,8 @@ def build_solve_job(
     if critical_v is not None and not (0 < critical_v < 1):
         raise FingerpadError(f"--critical: the relative bracket width must lie in (0, 1), got {critical!r}")
     job = SolveJob(texture=None, materials=materials, pressures=pressures, tol=tol_v, max_iter=max_iter_v,
-                   formulation=formulation, json_path=json_path, save_path=save, plot_path=plot, plot_at=plot_at_v,
+                   formulation=formulation, json_path=json_path, csv_path=csv_path, save_path=save, plot_path=plot,
+                   plot_at=plot_at_v,
                    critical_rtol=critical_v)
     _check_outputs(job)
     from .overrides import split_texture_options

@@ -70,6 +70,7 @@ import numpy as np
 from ..errors import FingerpadError
 from ..finger import FINGER_FIELDS, FINGER_PRESETS, Finger, get_finger, model_from_spec
 from ..materials import check_modulus, check_poisson
+from ..plausibility import check_plausible
 from ..textures import Texture
 from ..textures.measured import DEFAULT_BASE_QUANTILE
 from ..units import parse_size
@@ -515,8 +516,14 @@ def study_from_dict(
 
     mat = data.get("material", {})
     em, num = material(mat.get("modulus"), mat.get("poisson"), name("material", "modulus"), name("material", "poisson"))
+    if em is not None:
+        check_plausible(em, "material modulus", name("material", "modulus"))
 
     finger = _finger(data.get("finger", {}), name)
+    fin_sec = data.get("finger", {})
+    for key, role in (("skin_modulus", "skin modulus"), ("modulus", "pad modulus"), ("radius", "pad radius")):
+        if key in fin_sec:
+            check_plausible(float(getattr(finger, key)), role, name("finger", key))
 
     lsec = data.get("loads", {})
     # One rule: ranges are log-spaced unless the study (file or --linear) says otherwise.
@@ -531,6 +538,8 @@ def study_from_dict(
                             name("loads", "values"))
     else:
         loads = parse_loads(DEFAULT_LOADS, True, "loads")
+    for value in (float(loads.min()), float(loads.max())):
+        check_plausible(value, "load", name("loads", "range" if "range" in lsec else "values"))
     zones_at = lsec.get("zones_at")
     zones_v = None if zones_at is None else quantity(zones_at, "force", name("loads", "zones_at"))
     if zones_v is not None and zones_v <= 0:

@@ -196,7 +196,12 @@ class Param:
         if isinstance(value, bool):
             raise FingerpadError(f"{label}: expected a {self.kind}, got {value!r}")
         if self.kind == "length":
-            return parse_quantity(value, "length", name=label)
+            from ..plausibility import check_plausible
+
+            length = parse_quantity(value, "length", name=label)
+            if length != 0:
+                check_plausible(length, "texture length", label)
+            return length
         if self.kind == "angle":
             return parse_angle(value, label)
         if self.kind in ("count", "grid"):

@@ -27,8 +27,10 @@ from .base import Texture
 from .geometry import parse_size
 from .readers import reader_for
 
-#: Default share of the pixels below a measured map's base level (see :func:`read_surface`).
-DEFAULT_BASE_QUANTILE = 0.05
+#: Default share of the pixels taken as the bottom of a measured map's base (see :func:`base_level_of`).
+DEFAULT_BASE_QUANTILE = 0.01
+#: The base level lies this many noise standard deviations above that bottom.
+BASE_NOISE_BAND = 4.0
 #: A given size may make pixels non-square by this much before it is taken for a mistake.
 ASPECT_RTOL = 0.02
 #: Height units accepted for ``height_unit`` (factor to metres).
@@ -115,9 +117,9 @@ def read_surface(
     pixel_size
         ``(dx, dy)`` in metres (or one number for square pixels), instead of ``size``.
     base_quantile
-        The base level of the map (whose touching starts the *transition* state) is the height
-        below which this fraction of the pixels lies (default 0.05). The lowest pixel of a noisy
-        scan is a noise pit the skin never reaches; the lowest few per cent stand for the base.
+        Share of the pixels taken as the bottom of the base (default 0.01); the base level, whose
+        touching starts the *transition* state, lies :data:`BASE_NOISE_BAND` noise standard
+        deviations above it (:func:`base_level_of`).
 
     Returns
     -------
@@ -178,7 +180,7 @@ def read_surface(
     if level:
         heights = level_plane(heights, lsize)
     heights = heights - heights.min()
-    base_level = float(np.quantile(heights, base_quantile))
+    base_level = base_level_of(heights, base_quantile)
     params: dict[str, Any] = {
         "path": str(p),
         "size": lsize,
@@ -188,6 +190,36 @@ def read_surface(
         "base_quantile": float(base_quantile),
     }
     return Texture(heights, lsize, periodic=bool(periodic), name=p.stem, params=params, base_level=base_level)
+
+
+def noise_level(heights: np.ndarray) -> float:
+    """Robust standard deviation (m) of the pixel noise of a height map.
+
+    From the differences of neighbouring pixels along both axes: for white noise of standard
+    deviation sigma they have sigma sqrt(2); a smooth texture adds only its slope times the pixel
+    size, which the median (times 1.4826, the normal consistency factor) mostly ignores.
+    """
+    h = np.asarray(heights, float)
+    diffs = [np.abs(np.diff(h, axis=a)).ravel() for a in (0, 1) if h.shape[a] > 1]
+    if not diffs:
+        return 0.0
+    return float(1.4826 * np.median(np.concatenate(diffs)) / math.sqrt(2.0))
+
+
+def base_level_of(heights: np.ndarray, quantile: float = DEFAULT_BASE_QUANTILE,
+                  band: float = BASE_NOISE_BAND) -> float:
+    """The base level (m) of a measured map: the skin touching a pixel at or below it starts the
+    *transition* state.
+
+    ``quantile(heights, quantile) + band * noise_level(heights)``: the bottom of the base (its
+    lowest ``quantile`` share) lifted by a band of the pixel noise. On a noisy base the single
+    lowest pixel is a noise pit that the skin reaches only by flattening the noise, long after
+    it has reached the base; the band makes "the base" the base plane with its noise. A map
+    without noise gets exactly its lowest level.
+    """
+    h = np.asarray(heights, float)
+    floor = float(np.quantile(h, quantile))
+    return floor + band * noise_level(h)
 
 
 def _check_aspect(size: tuple[float, float], shape: tuple[int, ...], path: Path) -> None:
