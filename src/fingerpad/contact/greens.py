@@ -37,7 +37,8 @@ class Backend:
             xp = xp_np
         self.xp = xp
         self.is_numpy = "numpy" in getattr(xp, "__name__", "")
-        self.workers = workers or os.cpu_count() or 1
+        # FINGERPAD_FFT_WORKERS: sweep workers run one FFT thread each (their parallelism is theirs).
+        self.workers = workers or int(os.environ.get("FINGERPAD_FFT_WORKERS", "0") or 0) or os.cpu_count() or 1
         if self.is_numpy:
             import scipy.fft as sfft  # noqa: PLC0415
 

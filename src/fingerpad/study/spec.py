@@ -371,8 +371,11 @@ class Study:
 # ---------------------------------------------------------------------------------------------
 
 
-def read_study_file(path: str | os.PathLike[str]) -> dict[str, dict[str, Any]]:
+def read_study_file(path: str | os.PathLike[str], extra_sections: tuple[str, ...] = ()) -> dict[str, dict[str, Any]]:
     """Read a TOML study file into its sections (keys checked, relative paths resolved).
+
+    ``extra_sections`` are further tables the caller reads itself (``sweep`` for
+    ``fingerpad sweep``); they are returned unchecked.
 
     Raises
     ------
@@ -394,14 +397,18 @@ def read_study_file(path: str | os.PathLike[str]) -> dict[str, dict[str, Any]]:
         raise FingerpadError(f"study file {str(p)!r} is not a text (UTF-8 TOML) file") from None
     except tomllib.TOMLDecodeError as exc:
         raise FingerpadError(f"study file {str(p)!r}: {exc}") from None
-    unknown = [k for k in data if k not in SECTION_KEYS]
+    unknown = [k for k in data if k not in SECTION_KEYS and k not in extra_sections]
     if unknown:
+        hint = " ([sweep] tables are read by `fingerpad sweep`)" if "sweep" in unknown else ""
         raise FingerpadError(
             f"study file {p.name!r}: unknown section(s) or key(s) {', '.join(sorted(unknown))} "
-            f"(sections: {', '.join(f'[{s}]' for s in SECTION_KEYS)})"
+            f"(sections: {', '.join(f'[{s}]' for s in SECTION_KEYS)}){hint}"
         )
     out: dict[str, dict[str, Any]] = {}
     for section, body in data.items():
+        if section in extra_sections:
+            out[section] = body
+            continue
         if not isinstance(body, dict):
             raise FingerpadError(f"study file {p.name!r}: {section!r} must be a [{section}] section")
         out[section] = dict(body)

@@ -276,6 +276,10 @@ class TextureFamily:
     hertz
         ``hertz(texture) -> HertzAsperity``, for families whose asperities the per-asperity
         Hertz model (Eqs. 3.1-3.6) describes (an asperity radius and height); ``None`` otherwise.
+    features
+        ``features(texture) -> (lateral size, height)`` in m: the smallest lateral size of a
+        feature (a cap's base diameter, a ridge's width) and its height, for manufacturing
+        limits (minimum feature, aspect ratio) in inverse design; ``None`` if not declared.
     """
 
     name: str
@@ -283,6 +287,7 @@ class TextureFamily:
     params: tuple[Param, ...]
     summary: str
     hertz: Callable[[Texture], HertzAsperity] | None = None
+    features: Callable[[Texture], tuple[float, float]] | None = None
 
     def param(self, name: str) -> Param | None:
         return next((p for p in self.params if p.name == name), None)

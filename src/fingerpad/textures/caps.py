@@ -126,6 +126,7 @@ def hertz_asperity(texture: Texture) -> HertzAsperity:
 FAMILIES = (
     TextureFamily(
         name="caps",
+        features=lambda t: (2 * math.sqrt(t.params["height"] * (2 * t.params["radius"] - t.params["height"])), t.params["height"]),
         generator=spherical_caps,
         params=(
             Param("radius", "length", "sphere radius R of a cap"),

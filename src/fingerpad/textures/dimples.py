@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from .base import Param, Texture, TextureFamily
@@ -48,6 +49,7 @@ def dimples(
 FAMILIES = (
     TextureFamily(
         name="dimples",
+        features=lambda t: (2 * math.sqrt(t.params["depth"] * (2 * t.params["radius"] - t.params["depth"])), t.params["depth"]),
         generator=dimples,
         params=(
             Param("radius", "length", "sphere radius R of a dimple"),

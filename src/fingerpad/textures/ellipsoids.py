@@ -98,6 +98,7 @@ def ellipsoids(
 FAMILIES = (
     TextureFamily(
         name="ellipsoids",
+        features=lambda t: (2 * min(t.params["semi_axis_x"], t.params["semi_axis_y"]), t.params["height"]),
         generator=ellipsoids,
         params=(
             Param("semi_axis_x", "length", "footprint semi-axis a along x (before rotation)"),

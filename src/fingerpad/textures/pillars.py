@@ -66,6 +66,7 @@ def pillars(
 FAMILIES = (
     TextureFamily(
         name="pillars",
+        features=lambda t: (t.params["diameter"], t.params["height"]),
         generator=pillars,
         params=(
             Param("diameter", "length", "pillar diameter d (d <= spacing)"),

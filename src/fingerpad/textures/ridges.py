@@ -122,6 +122,7 @@ def ridges(
 FAMILIES = (
     TextureFamily(
         name="ridges",
+        features=lambda t: (t.params["width"], t.params["height"]),
         generator=ridges,
         params=(
             Param("width", "length", "base width w of a ridge (w <= spacing)"),

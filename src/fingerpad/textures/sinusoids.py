@@ -96,6 +96,7 @@ def bisinusoid(*, amplitude: Any, wavelength: Any, form: str = "sum", grid: Any 
 FAMILIES = (
     TextureFamily(
         name="sinusoid",
+        features=lambda t: (t.params["wavelength"] / 2, 2 * t.params["amplitude"]),
         generator=sinusoid,
         params=(
             Param("amplitude", "length", "amplitude h (peak-to-valley 2h)"),
@@ -107,6 +108,7 @@ FAMILIES = (
     ),
     TextureFamily(
         name="bisinusoid",
+        features=lambda t: (t.params["wavelength"] / 2, 4 * t.params["amplitude"]),
         generator=bisinusoid,
         params=(
             Param("amplitude", "length", "amplitude h"),

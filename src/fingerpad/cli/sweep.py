@@ -1,0 +1,118 @@
+"""``fingerpad sweep STUDY.toml``: texture dimensions swept on Dask into a Zarr store."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any
+
+import typer
+
+from .common import say, stderr_console, user_errors, warnings_to
+
+_HELP = {
+    "--out": "Zarr store of the results (default: the study file's name with .zarr). Rerunning the same sweep "
+             "into it computes only the points not done.",
+    "--workers": "Worker processes of the local Dask cluster (default: one per core), one thread each.",
+    "--scheduler": "Address of an existing Dask scheduler (tcp://HOST:PORT) instead of a local cluster.",
+    "--overwrite": "Replace a store that holds another sweep.",
+}
+
+
+def sweep_command(
+    study: Annotated[str, typer.Argument(metavar="STUDY.toml", help="A predict study file with a [sweep] table.",
+                                         show_default=False)],
+    out: Annotated[str | None, typer.Option("--out", "-o", metavar="RESULTS.zarr", help=_HELP["--out"])] = None,
+    workers: Annotated[str | None, typer.Option("--workers", metavar="N", help=_HELP["--workers"])] = None,
+    scheduler: Annotated[str | None, typer.Option("--scheduler", metavar="tcp://HOST:PORT",
+                                                  help=_HELP["--scheduler"])] = None,
+    overwrite: Annotated[bool, typer.Option("--overwrite", help=_HELP["--overwrite"])] = False,
+) -> None:
+    """Sweep texture, material or finger values of a study on Dask; results in a Zarr store.
+
+    The study file is a predict study plus [sweep] (see docs/sweeps.md): a grid of axes
+    (lists or START:STOP:COUNT ranges), a Latin hypercube (lhs) or explicit points. Per point:
+    critical loads, full-contact load, the cell's state pressures, psi(p), and at the
+    exploration loads the contact state, A_re/A_fr, mu, mu_ref and mu/mu_ref.
+    """
+    from pathlib import Path
+
+    from ..design.engine import eta, run_sweep
+    from ..design.spec import read_sweep_file, sweep_from_dict
+    from ..units import parse_int
+
+    with user_errors():
+        err = stderr_console()
+        if workers is not None and scheduler is not None:
+            raise_error("give --workers (a local cluster) or --scheduler (an existing one), not both")
+        n = parse_int(workers, "--workers") if workers is not None else None
+        with warnings_to(err):
+            spec = sweep_from_dict(read_sweep_file(study))
+        store = out if out is not None else str(Path(study).with_suffix(".zarr"))
+        bar = _Progress(err, spec.size,
+                        f"sweep: {spec.size} points ({spec.design}: {', '.join(a.name for a in spec.axes)}) into {store}")
+        try:
+            report = run_sweep(spec, store, workers=n, scheduler=scheduler, overwrite=overwrite, progress=bar)
+        finally:
+            bar.close()
+        _summary(err, report, store, eta)
+    if report.failures:
+        raise typer.Exit(1)
+
+
+def raise_error(message: str) -> None:
+    from ..errors import FingerpadError
+
+    raise FingerpadError(message)
+
+
+class _Progress:
+    """Points done with ETA, cells solved, cache hits and failures, on stderr."""
+
+    def __init__(self, console: Any, total: int, headline: str) -> None:
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+        self.bar = Progress(TextColumn("points"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
+                            TextColumn("{task.fields[info]}"), console=console)
+        self.task = self.bar.add_task("sweep", total=total, info="")
+        self.headline = headline
+        self.started = False
+        self.announced = False
+
+    def __call__(self, report: Any) -> None:
+        if not self.started:
+            self.bar.console.print(self.headline, markup=False)
+            if report.done_before:
+                self.bar.console.print(f"resuming: {report.done_before} points done before", markup=False)
+            self.bar.start()
+            self.started = True
+        if not self.announced and report.dashboard:
+            self.bar.console.print(f"Dask dashboard: {report.dashboard}", markup=False)
+            self.announced = True
+        info = (f"cells {report.cells_solved} solved, {report.cache_hits} cached; "
+                f"{report.invalid} invalid, {len(report.failures)} failed")
+        self.bar.update(self.task, completed=report.done_before + report.computed, info=info)
+
+    def close(self) -> None:
+        if self.started:
+            self.bar.stop()
+
+
+def _summary(err: Any, report: Any, store: str, eta: Any) -> None:
+    minutes = report.seconds / 60
+    rate = report.computed / minutes if minutes > 0 and report.computed else math.nan
+    lines = [
+        f"sweep: {report.points} points, {report.done_before} done before, {report.computed} computed now "
+        f"in {report.seconds:.1f} s ({rate:.3g} points/min, {report.workers} workers)",
+        f"cells: {report.cells} distinct, {report.cells_solved} solved, {report.cache_hits} from the cache",
+        f"points: {report.invalid} invalid (stored with their reason), {report.unconverged} with unconverged cells",
+    ]
+    if report.failures:
+        lines.append(f"failed chunks: {len(report.failures)} (rerun the same command to retry them): "
+                     + "; ".join(report.failures[:3]))
+    lines.append(f"results: {store} (fingerpad design-map {store} --x AXIS --y AXIS)")
+    for line in lines:
+        say(err, line)
+
+
+def register(app: typer.Typer) -> None:
+    app.command("sweep")(sweep_command)

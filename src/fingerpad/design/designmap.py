@@ -1,0 +1,140 @@
+"""The design map (thesis ch. 5): friction and contact states of textures on two swept axes.
+
+For each texture of a sweep: the critical load (the load at which the pad centre reaches the
+transition; BEM, or Hertz where the BEM did not run), the friction change against the flat
+reference mu/mu_ref at a chosen load, and the contact-state region over the exploration loads:
+
+* 0 - *transition below the range*: already past the transition at the lightest exploration
+  load; the skin follows the texture and friction hardly tells it apart ("invisible");
+* 1 - *transition inside the range*: the change of trend shows in friction;
+* 2 - *asperity contact over the whole range*: the skin rides on the asperity tops.
+
+Literature markers (docs/model.md, design map): textures with a spacing below 160 um are felt
+smooth; the fingerprint ridge wavelength is 0.4-0.5 mm (the finger filters it out); ridges of
+33.5 um and more bring interlocking, dominant from 105 um.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from ..errors import FingerpadError
+
+__all__ = ["CRITICAL_CONTOURS", "MARKERS", "REGIONS", "map_data", "swept_axes"]
+
+#: Contour levels of the critical load, N.
+CRITICAL_CONTOURS = (0.1, 0.5, 1.0, 2.0, 4.0)
+REGIONS = {0: "transition below the range", 1: "transition inside the range", 2: "asperity contact over the range"}
+#: Literature markers: (axis-name fragment, value in m, label); bands as (fragment, low, high, label).
+MARKERS = {
+    "lines": [("spacing", 160e-6, "felt smooth below 160 µm"), ("height", 33.5e-6, "interlocking from 33.5 µm"),
+              ("height", 105e-6, "interlocking dominant from 105 µm")],
+    "bands": [("spacing", 400e-6, 500e-6, "fingerprint ridge wavelength")],
+}
+
+
+def swept_axes(ds: Any) -> list[str]:
+    """The axes of a sweep store, in order."""
+    return list(json.loads(ds.attrs["axes"]))
+
+
+def _axis_values(ds: Any, name: str) -> Any:
+    return ds[name] if name in ds.variables else None
+
+
+def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[str, Any] | None = None) -> Any:
+    """The data behind a design map: ``critical_load`` (N), ``mu_rel`` (at load ``at``) and
+    ``region`` (see the module docstring) on the axes ``x`` and ``y``.
+
+    Parameters
+    ----------
+    ds
+        A sweep store (:func:`fingerpad.design.store.open_sweep`).
+    x, y
+        Two numeric swept axes.
+    at
+        Load (N) of mu/mu_ref, inside the exploration range (default: 1 N, or the middle of the
+        range in log if 1 N is outside it).
+    select
+        Values of further axes of a grid sweep (nearest); axes not selected stay as dimensions
+        (one panel each on the figure).
+
+    Returns
+    -------
+    xarray.Dataset
+        On ``(y, x, *others)`` for a grid sweep, on ``point`` otherwise (with ``x`` and ``y`` as
+        variables); attributes ``x``, ``y``, ``x_log``, ``y_log``, ``at``, ``load_min``,
+        ``load_max``, ``design``.
+
+    Raises
+    ------
+    FingerpadError
+        Unknown or non-numeric axes, a load outside the range, an unknown selection.
+    """
+    import xarray as xr
+
+    axes = swept_axes(ds)
+    for name, flag in ((x, "--x"), (y, "--y")):
+        if name not in axes:
+            raise FingerpadError(f"{flag} {name!r}: not an axis of this sweep (axes: {', '.join(axes)})")
+        if ds[name].attrs.get("kind") == "choice":
+            raise FingerpadError(f"{flag} {name!r} is a list of names, not a numeric axis: use --select {name}=...")
+    if x == y:
+        raise FingerpadError("--x and --y must be two different axes")
+    loads = ds["load"].values
+    lo, hi = float(loads.min()), float(loads.max())
+    if at is None:
+        at = 1.0 if lo <= 1.0 <= hi else float(np.sqrt(lo * hi))
+    if not lo * (1 - 1e-9) <= at <= hi * (1 + 1e-9):
+        raise FingerpadError(f"--at {at:g} N is outside the sweep's exploration loads {lo:g}-{hi:g} N")
+    sel = dict(select or {})
+    for name in sel:
+        if name not in axes or name in (x, y):
+            raise FingerpadError(f"--select {name}: not a further axis of this sweep (axes: {', '.join(axes)})")
+    design = ds.attrs.get("design", "grid")
+    data = ds[["critical_load_bem", "critical_load_hertz", "mu_rel", "valid", "done"]]
+    if design == "grid":
+        for name, value in sel.items():
+            kind = ds[name].attrs.get("kind")
+            if kind == "choice":
+                if str(value) not in ds[name].values.astype(str):
+                    raise FingerpadError(f"--select {name}={value}: not a value of the sweep "
+                                         f"({', '.join(ds[name].values.astype(str))})")
+                data = data.sel({name: str(value)})
+            else:
+                from ..units import parse_quantity
+
+                dim = {"length": "length", "pressure": "pressure", "angle": "angle"}.get(kind, "none")
+                data = data.sel({name: parse_quantity(value, dim, name=f"--select {name}")}, method="nearest")
+    elif sel:
+        raise FingerpadError("--select applies to grid sweeps; a scattered design is drawn as it is")
+    log_load = np.log(loads)
+    mu = data["mu_rel"]
+    # log-load interpolation between the two bracketing exploration loads
+    k = int(np.clip(np.searchsorted(loads, at), 1, loads.size - 1))
+    w = (math.log(at) - log_load[k - 1]) / (log_load[k] - log_load[k - 1])
+    mu_at = (1 - w) * mu.isel(load=k - 1) + w * mu.isel(load=k)
+    crit = data["critical_load_bem"].where(np.isfinite(data["critical_load_bem"]) | np.isinf(data["critical_load_bem"]),
+                                           data["critical_load_hertz"])
+    region = xr.where(crit < lo, 0, xr.where(crit > hi, 2, 1)).where(data["valid"] & data["done"])
+    out = xr.Dataset({
+        "critical_load": crit.where(data["valid"] & data["done"]).assign_attrs(units="N", long_name="critical load"),
+        "mu_rel": mu_at.where(data["valid"] & data["done"]).assign_attrs(units="1", long_name=f"mu/mu_ref at {at:g} N"),
+        "region": region.assign_attrs(units="1", long_name="contact-state region over the exploration loads",
+                                      flag_values="0 1 2", flag_meanings="; ".join(REGIONS.values())),
+    })
+    if design != "grid":
+        out[x] = ds[x]
+        out[y] = ds[y]
+    else:
+        others = [d for d in out.dims if d not in (x, y)]
+        out = out.transpose(y, x, *others)
+    out.attrs = {"x": x, "y": y, "x_log": ds[x].attrs.get("log") == "true", "y_log": ds[y].attrs.get("log") == "true",
+                 "at": float(at), "load_min": lo, "load_max": hi, "design": design,
+                 "x_kind": ds[x].attrs.get("kind", ""), "y_kind": ds[y].attrs.get("kind", "")}
+    return out

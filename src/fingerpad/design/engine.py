@@ -1,0 +1,200 @@
+"""Running a sweep on Dask distributed: a LocalCluster by default, an existing scheduler if given.
+
+The client (the ``fingerpad sweep`` process) lays the store out, finds the chunks not yet done,
+and submits two kinds of tasks: one per distinct unit cell (its first point, which solves the
+cell into the shared on-disk cache), then one per chunk of points, each depending on the cells
+its points use, so that identical cells are solved once per sweep. Finished chunks are written
+into the store as they come back. Workers run one thread each, and BLAS and FFT threads are
+capped at one inside them: the parallelism of a sweep is its workers.
+
+To use more than one machine, start ``dask scheduler`` on one, ``dask worker tcp://HOST:8786
+--nthreads 1`` on each (with fingerpad installed, and ``FINGERPAD_CACHE`` on a shared folder if
+the cells should be shared), and give ``--scheduler tcp://HOST:8786`` (docs/sweeps.md).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import FingerpadError
+from .evaluate import cell_key, evaluate_chunk, prepare_cell
+from .spec import SweepSpec
+from .store import SweepStore, chunk_slices, pressure_grid
+
+__all__ = ["SweepReport", "connect", "run_sweep", "sweep_pressures"]
+
+#: Seconds to wait for an existing scheduler before giving up.
+CONNECT_TIMEOUT = 5.0
+
+
+@dataclass
+class SweepReport:
+    """What a sweep did (for the progress line and the summary)."""
+
+    points: int = 0
+    done_before: int = 0
+    computed: int = 0
+    invalid: int = 0
+    unconverged: int = 0
+    cells: int = 0
+    cells_solved: int = 0
+    cache_hits: int = 0
+    failures: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+    dashboard: str | None = None
+    workers: int = 0
+
+
+def sweep_pressures(spec: SweepSpec) -> np.ndarray:
+    """The common pressure grid (Pa) of psi: the local pressures the exploration loads give on
+    the base study's finger, over the range a prediction prepares (Eq. 3.7), 12 per decade."""
+    from ..study.run import P_HIGH, P_LOW
+    from ..study.spec import study_from_dict
+
+    study = study_from_dict(spec.base)
+    p = spec.loads / np.asarray(study.finger.ridge_area(spec.loads), float)
+    return pressure_grid(P_LOW * float(p.min()), P_HIGH * float(p.max()))
+
+
+def connect(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
+    """A Dask client: to ``scheduler`` (answering within :data:`CONNECT_TIMEOUT` s), or to a new
+    LocalCluster of ``workers`` single-threaded processes on 127.0.0.1 (default: one per core)."""
+    from distributed import Client, LocalCluster
+
+    if scheduler is not None:
+        try:
+            client = Client(scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)
+        except (OSError, TimeoutError) as exc:
+            raise FingerpadError(f"--scheduler {scheduler}: no Dask scheduler answers there within "
+                                 f"{CONNECT_TIMEOUT:g} s ({type(exc).__name__})") from None
+        except ValueError as exc:
+            raise FingerpadError(f"--scheduler {scheduler!r}: {exc}") from None
+        return client, None
+    n = workers or os.cpu_count() or 1
+    try:
+        import bokeh  # noqa: F401 - the dashboard needs it
+
+        dashboard: str | None = "127.0.0.1:0"
+    except ImportError:
+        dashboard = None
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
+                           dashboard_address=dashboard, silence_logs=50)
+    return Client(cluster, set_as_default=False), cluster
+
+
+def run_sweep(
+    spec: SweepSpec,
+    store_path: str | Path,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    overwrite: bool = False,
+    progress: Callable[[SweepReport], None] | None = None,
+) -> SweepReport:
+    """Run the sweep into ``store_path`` (resuming it if it holds the same sweep).
+
+    Raises
+    ------
+    FingerpadError
+        A store of another sweep without ``overwrite``, a scheduler that does not answer.
+    """
+    from distributed import as_completed
+
+    t_start = time.perf_counter()
+    pressures = sweep_pressures(spec)
+    store = SweepStore(store_path, spec, pressures)
+    report = SweepReport(points=spec.size)
+    client, cluster = connect(scheduler, workers)
+    try:
+        store.create(overwrite=overwrite)
+        done = store.done()
+        report.done_before = int(done.sum())
+        report.workers = len(client.scheduler_info().get("workers", {}))
+        report.dashboard = getattr(client, "dashboard_link", None) if cluster is not None or scheduler else None
+        client.run(_limit_worker_threads)
+        if progress is not None:
+            progress(report)  # the start: the store is laid out and the workers are there
+        todo = [region for region in chunk_slices(spec.shape, spec.chunk) if not done[region].all()]
+        # One task per distinct cell, for its first point: the other points read it from the cache.
+        chunk_items: list[tuple[tuple[slice, ...], list[tuple[tuple[int, ...], dict[str, Any]]], set[str]]] = []
+        first_of: dict[str, dict[str, Any]] = {}
+        for region in todo:
+            items, keys = [], set()
+            for index in np.ndindex(*(s.stop - s.start for s in region)):
+                idx = tuple(i + s.start for i, s in zip(index, region, strict=True))
+                if done[idx]:
+                    continue
+                data = spec.study_data(spec.assignment(idx))
+                key = cell_key(data)
+                if key is not None:
+                    keys.add(key)
+                    first_of.setdefault(key, data)
+                items.append((idx, data))
+            chunk_items.append((region, items, keys))
+        report.cells = len(first_of)
+        loads, ps = spec.loads.tolist(), pressures.tolist()
+        cell_futures = {key: client.submit(prepare_cell, data, loads, ps, pure=False, key=f"cell-{key[:16]}")
+                        for key, data in first_of.items()}
+        futures = {}
+        for region, items, keys in chunk_items:
+            deps = [cell_futures[k] for k in sorted(keys)]
+            fut = client.submit(_after, deps, items, loads, ps, pure=False)
+            futures[fut] = region
+        pending_cells = dict(cell_futures)
+        for fut in as_completed(list(futures), loop=client.loop):
+            for key, cf in list(pending_cells.items()):
+                if cf.done():
+                    pending_cells.pop(key)
+                    if cf.status == "finished":
+                        solves = cf.result()["solves"]
+                        report.cells_solved += int(solves > 0)
+                        report.cache_hits += int(solves == 0)
+            region = futures[fut]
+            if fut.status != "finished":
+                report.failures.append(f"chunk {_region_text(region)}: {fut.exception()!r}")
+                continue
+            results = fut.result()
+            store.write(region, results)
+            report.computed += len(results)
+            report.invalid += sum(1 for _, r in results if not r["valid"])
+            report.unconverged += sum(1 for _, r in results if r["valid"] and not r["converged"])
+            report.seconds = time.perf_counter() - t_start
+            if progress is not None:
+                progress(report)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    report.seconds = time.perf_counter() - t_start
+    return report
+
+
+def _limit_worker_threads() -> None:
+    from .evaluate import limit_threads
+
+    limit_threads()
+
+
+def _after(deps: list[Any], items: list[Any], loads: list[float], pressures: list[float]) -> list[Any]:
+    """A chunk's points, run once the cells they use are in the cache (``deps`` are their results)."""
+    return evaluate_chunk(items, loads, pressures)
+
+
+def _region_text(region: tuple[slice, ...]) -> str:
+    return "[" + ", ".join(f"{s.start}:{s.stop}" for s in region) + "]"
+
+
+def eta(report: SweepReport) -> float:
+    """Seconds left, from the rate so far (NaN before the first chunk)."""
+    left = report.points - report.done_before - report.computed
+    if report.computed == 0:
+        return math.nan
+    return report.seconds / report.computed * left

@@ -1,0 +1,148 @@
+"""One sweep point, or one chunk of points: the direct prediction of ``predict``, reduced to the
+numbers a design map needs. Functions here run in Dask workers: plain data in, plain data out.
+
+Per point (docs/model.md, design map): critical loads (BEM, Hertz where it applies), the
+full-contact load, the cell's transition and full-contact pressures, psi on the sweep's common
+pressure grid, and at each exploration load the contact state at the pad centre, A_re/A_fr,
+mu, mu_ref and mu/mu_ref. A point that cannot exist (overlapping asperities, a grid too small)
+is returned invalid with its reason; an unconverged cell is flagged; neither raises.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+import warnings
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from ..errors import FingerpadError, one_line
+
+__all__ = ["STATE_CODES", "cell_key", "evaluate_chunk", "evaluate_point", "limit_threads", "prepare_cell"]
+
+#: Contact state at the pad centre, as stored.
+STATE_CODES = {"asperity": 0, "transition": 1, "full": 2}
+
+_SCALARS = ("critical_load_bem", "critical_load_hertz", "full_contact_load", "transition_pressure",
+            "full_contact_pressure", "grid_error", "grid", "seconds")
+_PER_LOAD = ("area_ratio", "mu", "mu_ref", "mu_rel")
+
+
+def limit_threads() -> None:
+    """One thread per worker for BLAS and FFTs: the sweep's parallelism is its workers."""
+    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS",
+                "FINGERPAD_FFT_WORKERS"):
+        os.environ[var] = "1"
+    try:
+        from threadpoolctl import threadpool_limits
+
+        threadpool_limits(1)
+    except ImportError:  # pragma: no cover - threadpoolctl comes with scipy's stack
+        pass
+
+
+def _study(data: Mapping[str, Any]) -> Any:
+    from ..study.spec import study_from_dict
+
+    return study_from_dict(data)
+
+
+def cell_key(data: Mapping[str, Any]) -> str | None:
+    """What identifies a point's unit cell (the texture's heights, E1* and the numerics); ``None``
+    for a point that cannot exist or runs no BEM cell."""
+    from ..micro.cache import content_key
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            study = _study(data)
+            if study.model == "hertz":
+                return None
+            tex = study.build_texture()
+        if not tex.periodic:
+            return None
+        return content_key(tex.heights, size=tex.size, modulus=study.reduced_modulus, tol=study.tol,
+                           max_iter=study.max_iter, grid=study.grid, accuracy=study.accuracy)
+    except FingerpadError:
+        return None
+
+
+def prepare_cell(data: Mapping[str, Any], loads: Sequence[float], pressures: Sequence[float]) -> dict[str, Any]:
+    """Solve (or find in the cache) the unit cell of one point, by predicting that point.
+
+    Run once per distinct cell before the other points that share it, so that a sweep solves
+    each cell once (they then read it from the on-disk cache of ``predict``). Returns the number
+    of solves (0: the cache had the cell) and the seconds.
+    """
+    limit_threads()
+    result = evaluate_point(data, loads, pressures)
+    return {"solves": result["solves"], "seconds": result["seconds"], "valid": result["valid"]}
+
+
+def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: Sequence[float]) -> dict[str, Any]:
+    """The design-map numbers of one point (see the module docstring); never raises for a
+    point that cannot exist: ``valid`` is False and ``reason`` says why."""
+    from ..study.run import run_study
+
+    loads = np.asarray(loads, float)
+    pressures = np.asarray(pressures, float)
+    out: dict[str, Any] = {k: math.nan for k in _SCALARS}
+    out.update({k: np.full(loads.size, np.nan) for k in _PER_LOAD})
+    out.update(valid=False, reason="", converged=False, solves=0, psi=np.full(pressures.size, np.nan),
+               contact_state=np.full(loads.size, -1, dtype=np.int8))
+    t0 = time.perf_counter()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            data = {k: dict(v) for k, v in data.items()}
+            data.setdefault("loads", {}).pop("range", None)
+            data["loads"]["values"] = [float(f) for f in loads]
+            data["loads"].pop("zones_at", None)
+            study = _study(data)
+            pred = run_study(study)
+    except FingerpadError as exc:
+        out["reason"] = one_line(str(exc))[:500]
+        out["seconds"] = time.perf_counter() - t0
+        return out
+    cur = pred.primary
+    out.update(
+        valid=True,
+        converged=pred.unconverged == 0,
+        critical_load_bem=_num(pred.critical_load.get("bem")),
+        critical_load_hertz=_num(pred.critical_load.get("hertz")),
+        full_contact_load=_num(pred.full_contact_load.get("bem")),
+        area_ratio=np.asarray(cur.area_ratio, float),
+        mu=np.asarray(cur.mu, float),
+        mu_ref=np.asarray(cur.mu_ref, float) if cur.mu_ref is not None else np.full(loads.size, np.nan),
+        mu_rel=np.asarray(cur.mu_normalised, float) if cur.mu_normalised is not None else np.full(loads.size, np.nan),
+        contact_state=np.array([STATE_CODES[s] for s in pred.states()], dtype=np.int8),
+    )
+    cell = pred.primary_cell
+    out["transition_pressure"] = _num(getattr(cell, "transition_pressure", None))
+    out["full_contact_pressure"] = _num(getattr(cell, "full_contact_pressure", None))
+    out["psi"] = np.asarray(cell.contact_fraction(pressures), float)
+    if pred.resolution is not None:
+        out["grid_error"] = _num(pred.resolution.get("area_ratio_error"))
+        out["grid"] = float(pred.resolution["grid"][0])
+        out["solves"] = int(pred.resolution.get("solves", 0))
+    out["seconds"] = time.perf_counter() - t0
+    return out
+
+
+def evaluate_chunk(items: Sequence[tuple[tuple[int, ...], dict[str, Any]]], loads: Sequence[float],
+                   pressures: Sequence[float]) -> list[tuple[tuple[int, ...], dict[str, Any]]]:
+    """:func:`evaluate_point` for the points of one chunk, ``[(index, study data), ...]``."""
+    limit_threads()
+    return [(index, evaluate_point(data, loads, pressures)) for index, data in items]
+
+
+def _num(value: Any) -> float:
+    if value is None:
+        return math.nan
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan

@@ -1,0 +1,291 @@
+"""A sweep: the ``predict`` study plus a ``[sweep]`` table of axes and a design.
+
+Study file (the sections of ``fingerpad predict``, see :mod:`fingerpad.study.spec`, plus)::
+
+    [sweep]
+    design = "grid"                 # grid (default) | lhs | points
+    loads = "0.1N:4N:40"            # exploration loads (log-spaced; default 0.1-4 N, 40)
+
+    [sweep.axes]                    # grid: lists or START:STOP:COUNT ranges with units
+    spacing = "100um:400um:7"       # ranges are log-spaced ...
+    height = { values = ["5um", "10um", "20um"] }
+    radius = { range = "20um:200um:5", log = false }   # ... unless log = false
+
+    # lhs:    [sweep] points = 200, seed = 1; each axis "LOW:HIGH" (log-uniform unless log = false)
+    # points: [[sweep.point]] tables, each giving every axis, e.g. { spacing = "150um", height = "10um" }
+
+The grid of the unit cell and its accuracy come from ``[model]`` as for ``predict``.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .._version import __version__
+from ..errors import FingerpadError
+from .axes import Axis, resolve_axis
+
+__all__ = ["DESIGNS", "DEFAULT_SWEEP_LOADS", "SweepSpec", "read_sweep_file", "sweep_from_dict"]
+
+DESIGNS = ("grid", "lhs", "points")
+#: Exploration loads of a sweep: 0.1-4 N, the loads of touch (docs/model.md, design map).
+DEFAULT_SWEEP_LOADS = "0.1N:4N:40"
+#: Most points one sweep may hold (checked before anything is allocated).
+MAX_POINTS = 1_000_000
+_SWEEP_KEYS = ("design", "loads", "axes", "points", "seed", "point", "chunk")
+
+
+@dataclass
+class SweepSpec:
+    """A parsed sweep (SI units).
+
+    Attributes
+    ----------
+    base
+        The study sections (texture, material, finger, loads, model), without ``[sweep]``.
+    design
+        ``grid``, ``lhs`` or ``points``.
+    axes
+        The swept axes; for a grid their values span the dimensions, otherwise ``point_values``
+        holds one value per axis per point.
+    point_values
+        ``{axis name: values along point}`` for lhs and points designs.
+    loads
+        Exploration loads, N.
+    chunk
+        Points per task along the last dimension (each task owns whole chunks of the store).
+    raw
+        The ``[sweep]`` table as given (recorded in the store).
+    """
+
+    base: dict[str, dict[str, Any]]
+    design: str
+    axes: list[Axis]
+    loads: np.ndarray
+    point_values: dict[str, list[Any]] = field(default_factory=dict)
+    chunk: int = 8
+    raw: dict[str, Any] = field(default_factory=dict)
+    source: str | None = None
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        if self.design == "grid":
+            return tuple(len(a.values) for a in self.axes)
+        return (len(next(iter(self.point_values.values()))),)
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        return tuple(a.name for a in self.axes) if self.design == "grid" else ("point",)
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape))
+
+    def assignment(self, index: tuple[int, ...]) -> dict[str, Any]:
+        """Axis values of the point at ``index`` of the store's dimensions."""
+        if self.design == "grid":
+            return {a.name: a.values[i] for a, i in zip(self.axes, index, strict=True)}
+        return {a.name: self.point_values[a.name][index[0]] for a in self.axes}
+
+    def study_data(self, assignment: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
+        """The study sections of one point: the base with the axis values written in."""
+        data = copy.deepcopy(self.base)
+        for axis in self.axes:
+            section = data.setdefault(axis.section, {})
+            if axis.section == "texture" and axis.key == "name":
+                # another family: its own parameters only (the base's may not apply)
+                section.clear()
+            section[axis.key] = axis.study_value(assignment[axis.name])
+        return data
+
+    def signature(self) -> str:
+        """Hash of everything that determines the results (a store of another sweep is refused)."""
+        payload = json.dumps({"base": self.base, "sweep": self.raw, "version": __version__}, sort_keys=True, default=repr)
+        return hashlib.sha256(payload.encode()).hexdigest()
+
+
+def read_sweep_file(path: str) -> dict[str, Any]:
+    """The sections of a sweep study file (a ``predict`` study file with a ``[sweep]`` table)."""
+    from ..study.spec import read_study_file
+
+    data = read_study_file(path, extra_sections=("sweep",))
+    if "sweep" not in data:
+        raise FingerpadError(f"study file {Path(path).name!r} has no [sweep] table: nothing to sweep "
+                             "(see docs/howto/sweep-and-design.md)")
+    return data
+
+
+def _axis_values(axis: Axis, spec: Any, design: str, where: str) -> tuple[tuple[Any, ...], bool]:
+    """Values (grid) or bounds (lhs) of an axis, and whether it is log-spaced."""
+    from ..units import parse_range
+
+    log = True
+    if isinstance(spec, dict):
+        unknown = sorted(set(spec) - {"values", "range", "log"})
+        if unknown:
+            raise FingerpadError(f"{where}: unknown key(s) {', '.join(unknown)} (values, range, log)")
+        if "log" in spec:
+            if not isinstance(spec["log"], bool):
+                raise FingerpadError(f"{where} log: expected true or false, got {spec['log']!r}")
+            log = spec["log"]
+        if ("values" in spec) == ("range" in spec):
+            raise FingerpadError(f"{where}: give values = [...] or range = \"START:STOP:COUNT\"")
+        spec = spec.get("values", spec.get("range"))
+    if isinstance(spec, list):
+        if not spec:
+            raise FingerpadError(f"{where}: empty list of values")
+        values = tuple(axis.parse(v, where) for v in spec)
+        if axis.numeric and len(values) > 1:
+            arr = np.asarray(values, float)
+            log = bool(np.all(arr > 0)) and bool(np.allclose(np.diff(np.log(arr)), np.log(arr[1] / arr[0]))) \
+                if np.all(arr > 0) else False
+        else:
+            log = False
+        if len(set(values)) != len(values):
+            raise FingerpadError(f"{where}: a value is given twice")
+        return values, log
+    if not isinstance(spec, str):
+        if design == "grid":
+            return (axis.parse(spec, where),), False
+        raise FingerpadError(f"{where}: expected LOW:HIGH bounds, got {spec!r}")
+    if not axis.numeric:
+        raise FingerpadError(f"{where}: {axis.name} takes a list of names, e.g. [\"{axis.choices[0]}\"]")
+    parts = spec.split(":")
+    dim = {"angle": "angle", "count": "none"}.get(axis.kind, axis.kind)
+    if design == "lhs":
+        if len(parts) != 2:
+            raise FingerpadError(f"{where}: a Latin-hypercube axis takes bounds LOW:HIGH, got {spec!r}")
+        lo, hi = (axis.parse(p, where) for p in parts)
+        if not hi > lo:
+            raise FingerpadError(f"{where}: the bounds must satisfy LOW < HIGH, got {spec!r}")
+        if log and lo <= 0:
+            raise FingerpadError(f"{where}: log-uniform bounds must be positive (or give log = false)")
+        return (lo, hi), log
+    if len(parts) == 1:
+        return (axis.parse(spec, where),), False
+    if len(parts) != 3:
+        raise FingerpadError(f"{where}: expected START:STOP:COUNT, a list, or one value, got {spec!r}")
+    if dim == "angle":
+        parts = [str(axis.parse(parts[0], where)) + "rad", str(axis.parse(parts[1], where)) + "rad", parts[2]]
+    if log and (axis.parse(parts[0], where) <= 0):
+        log = False  # a range from zero or below: evenly spaced
+    values = tuple(parse_range(":".join(parts), dim, name=where, log=log, max_count=MAX_POINTS))
+    if axis.kind == "count":
+        values = tuple(sorted({int(round(v)) for v in values}))
+    if len(values) < 1:
+        raise FingerpadError(f"{where}: empty range")
+    return values, log
+
+
+def sweep_from_dict(data: Mapping[str, Any]) -> SweepSpec:
+    """Build and check a :class:`SweepSpec` from the sections of a sweep study file.
+
+    The base study (every point's study, before the axis values) is checked once here by
+    :func:`fingerpad.study.spec.study_from_dict`; each point is checked again when it runs, and
+    a point that cannot exist is stored as invalid with its reason, without stopping the sweep.
+    """
+    from ..study.spec import study_from_dict
+    from ..units import parse_range
+
+    sweep = dict(data.get("sweep") or {})
+    base = {k: dict(v) for k, v in data.items() if k not in ("sweep", "_source")}
+    source = (data.get("_source") or {}).get("file")
+    if "_source" in data:
+        base["_source"] = dict(data["_source"])
+    unknown = sorted(set(sweep) - set(_SWEEP_KEYS))
+    if unknown:
+        raise FingerpadError(f"[sweep]: unknown key(s) {', '.join(unknown)} (known: {', '.join(_SWEEP_KEYS)})")
+    design = str(sweep.get("design", "grid")).strip().lower()
+    if design not in DESIGNS:
+        raise FingerpadError(f"[sweep] design: must be one of {', '.join(DESIGNS)}, got {sweep.get('design')!r}")
+    loads_text = sweep.get("loads", DEFAULT_SWEEP_LOADS)
+    loads = np.asarray(parse_range(str(loads_text), "force", name="[sweep] loads", log=True, max_count=10_000))
+    if np.any(loads <= 0):
+        raise FingerpadError("[sweep] loads: must be positive")
+    chunk = int(sweep.get("chunk", 8))
+    if chunk < 1:
+        raise FingerpadError("[sweep] chunk: must be at least 1")
+
+    base_study = study_from_dict(base)  # the base must be a valid study on its own
+    family = base.get("texture", {}).get("name")
+    axes_spec: dict[str, Any] = {}
+    if design == "points":
+        rows = sweep.get("point")
+        if not isinstance(rows, list) or not rows or not all(isinstance(r, dict) for r in rows):
+            raise FingerpadError("[sweep] design = \"points\" needs [[sweep.point]] tables, each naming every axis")
+        names = list(rows[0])
+        for i, row in enumerate(rows):
+            if sorted(row) != sorted(names):
+                raise FingerpadError(f"[[sweep.point]] {i + 1}: names {', '.join(sorted(row))}; the first names "
+                                     f"{', '.join(sorted(names))}: every point must give the same axes")
+        axes_spec = {n: None for n in names}
+    else:
+        axes_spec = dict(sweep.get("axes") or {})
+        if not axes_spec:
+            raise FingerpadError("[sweep.axes] is empty: name at least one axis (e.g. spacing = \"100um:400um:7\")")
+    swept_family = "texture" in axes_spec
+    axes: list[Axis] = []
+    point_values: dict[str, list[Any]] = {}
+    for name in axes_spec:
+        axis = resolve_axis(name, None if swept_family else family)
+        where = f"[sweep.axes] {name}"
+        if design == "points":
+            values = [axis.parse(row[name], f"[[sweep.point]] {i + 1} {name}") for i, row in enumerate(sweep["point"])]
+            point_values[name] = values
+            axes.append(Axis(**{**axis.__dict__, "values": tuple(dict.fromkeys(values)), "log": False}))
+            continue
+        values, log = _axis_values(axis, axes_spec[name], design, where)
+        axes.append(Axis(**{**axis.__dict__, "values": values, "log": log}))
+    size = int(np.prod([len(a.values) for a in axes])) if design == "grid" else 0
+    if design == "lhs":
+        from scipy.stats import qmc
+
+        n = sweep.get("points")
+        if not isinstance(n, int) or isinstance(n, bool) or n < 1:
+            raise FingerpadError("[sweep] design = \"lhs\" needs points = N (a positive integer)")
+        if n > MAX_POINTS:
+            raise FingerpadError(f"[sweep] points: {n} is more than the {MAX_POINTS} allowed")
+        seed = sweep.get("seed", 0)
+        if not isinstance(seed, int) or isinstance(seed, bool):
+            raise FingerpadError(f"[sweep] seed: expected an integer, got {seed!r}")
+        numeric = [a for a in axes if a.numeric]
+        if len(numeric) != len(axes):
+            raise FingerpadError("[sweep] a Latin hypercube samples numeric axes only (give names on a grid)")
+        unit = qmc.LatinHypercube(d=len(axes), seed=seed).random(n)
+        for j, axis in enumerate(axes):
+            lo, hi = axis.values
+            if axis.log:
+                vals = np.exp(np.log(lo) + unit[:, j] * (np.log(hi) - np.log(lo)))
+            else:
+                vals = lo + unit[:, j] * (hi - lo)
+            if axis.kind == "count":
+                vals = np.round(vals)
+            point_values[axis.name] = [float(v) for v in vals]
+        size = n
+    if design == "points":
+        size = len(sweep["point"])
+    if size > MAX_POINTS:
+        raise FingerpadError(f"[sweep]: {size} points is more than the {MAX_POINTS} allowed")
+    spec = SweepSpec(base=base, design=design, axes=axes, loads=loads, point_values=point_values, chunk=chunk,
+                     raw=_jsonable(sweep), source=source)
+    del base_study
+    return spec
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return repr(value)
+    return value if isinstance(value, (str, int, float, bool)) or value is None else str(value)

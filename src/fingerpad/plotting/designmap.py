@@ -1,0 +1,148 @@
+"""The design map figure: mu/mu_ref in colour, critical-load contours, contact-state regions and
+the literature markers, on two swept axes (one panel per value of a further axis)."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+__all__ = ["figure_design_map"]
+
+_SCALE = {"length": (1e6, "µm"), "pressure": (1e-3, "kPa"), "angle": (180 / math.pi, "deg")}
+
+
+def _scaled(values: np.ndarray, kind: str) -> tuple[np.ndarray, str]:
+    factor, unit = _SCALE.get(kind, (1.0, ""))
+    return np.asarray(values, float) * factor, unit
+
+
+def figure_design_map(data: Any) -> Any:
+    """The figure of :func:`fingerpad.design.designmap.map_data`'s result."""
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator, ScalarFormatter
+
+    from ..design.designmap import CRITICAL_CONTOURS, MARKERS, REGIONS
+
+    x, y, design = data.attrs["x"], data.attrs["y"], data.attrs["design"]
+    panels: list[tuple[str, Any]] = [("", data)]
+    if design == "grid":
+        others = [d for d in data["mu_rel"].dims if d not in (x, y)]
+        if len(others) > 1:
+            from ..errors import FingerpadError
+
+            raise FingerpadError(f"more than one further axis ({', '.join(others)}): choose values with "
+                                 f"--select NAME=VALUE for all but one")
+        if others:
+            dim = others[0]
+            panels = [(f"{dim} = {_value_text(data[dim], v)}", data.sel({dim: v})) for v in data[dim].values]
+    n = len(panels)
+    cols = min(n, 3)
+    rows = math.ceil(n / cols)
+    fig = Figure(figsize=(6.4 * cols + 1.2, 5.0 * rows + 1.0))
+    axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
+    xs_kind, ys_kind = data.attrs.get("x_kind", ""), data.attrs.get("y_kind", "")
+    vmin = float(np.nanmin(data["mu_rel"].values)) if np.isfinite(data["mu_rel"].values).any() else 0.0
+    vmax = float(np.nanmax(data["mu_rel"].values)) if np.isfinite(data["mu_rel"].values).any() else 1.0
+    mesh = None
+    for ax, (title, panel) in zip(axes, panels, strict=False):
+        if design == "grid":
+            xv, xu = _scaled(panel[x].values, xs_kind)
+            yv, yu = _scaled(panel[y].values, ys_kind)
+            mu = panel["mu_rel"].transpose(y, x).values
+            crit = panel["critical_load"].transpose(y, x).values
+            region = panel["region"].transpose(y, x).values
+            ax.set_facecolor("0.85")  # points that cannot exist (overlapping asperities) stay grey
+            mesh = ax.pcolormesh(xv, yv, mu, shading="nearest", cmap="viridis", vmin=vmin, vmax=vmax)
+            if np.isfinite(region).sum() >= 4 and len(xv) > 1 and len(yv) > 1:
+                ax.contourf(xv, yv, np.where(np.isfinite(region), region, np.nan), levels=[-0.5, 0.5, 1.5, 2.5],
+                            colors="none", hatches=["//", "", ".."])
+            good = np.isfinite(crit) & (crit > 0)
+            if good.sum() >= 4 and len(xv) > 1 and len(yv) > 1:
+                levels = [c for c in CRITICAL_CONTOURS if np.nanmin(crit[good]) < c < np.nanmax(crit[good])]
+                if levels:
+                    cs = ax.contour(xv, yv, np.log10(np.where(good, crit, np.nan)), levels=np.log10(levels),
+                                    colors="white", linewidths=1.2, negative_linestyles="solid")
+                    ax.clabel(cs, fmt={np.log10(c): f"{c:g} N" for c in levels}, fontsize="small")
+        else:
+            xv, xu = _scaled(panel[x].values, xs_kind)
+            yv, yu = _scaled(panel[y].values, ys_kind)
+            mu = panel["mu_rel"].values
+            crit = panel["critical_load"].values
+            region = panel["region"].values
+            ok = np.isfinite(mu)
+            mesh = ax.scatter(xv[ok], yv[ok], c=mu[ok], cmap="viridis", vmin=vmin, vmax=vmax, s=36,
+                              edgecolors=np.where(region[ok] == 1, "k", "none"))
+            good = np.isfinite(crit) & (crit > 0)
+            if good.sum() >= 6:
+                levels = [c for c in CRITICAL_CONTOURS if np.nanmin(crit[good]) < c < np.nanmax(crit[good])]
+                if levels:
+                    cs = ax.tricontour(xv[good], yv[good], np.log10(crit[good]), levels=np.log10(levels),
+                                       colors="k", linewidths=1.0, negative_linestyles="solid")
+                    ax.clabel(cs, fmt={np.log10(c): f"{c:g} N" for c in levels}, fontsize="small")
+        if data.attrs.get("x_log"):
+            ax.set_xscale("log")
+        if data.attrs.get("y_log"):
+            ax.set_yscale("log")
+        for axis, values in ((ax.xaxis, xv), (ax.yaxis, yv)):
+            finite = np.unique(np.asarray(values)[np.isfinite(values)])
+            if design == "grid" and 1 < finite.size <= 12:  # ticks at the swept values, read plainly
+                axis.set_major_locator(FixedLocator(finite))
+                axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:.3g}"))
+                axis.set_minor_locator(NullLocator())
+            else:
+                axis.set_major_formatter(ScalarFormatter())
+        limits = ax.get_xlim(), ax.get_ylim()
+        _markers(ax, x, y, xs_kind, ys_kind, MARKERS, limits)
+        ax.set_xlim(*limits[0])
+        ax.set_ylim(*limits[1])
+        ax.set_xlabel(f"{x} ({xu})" if xu else x)
+        ax.set_ylabel(f"{y} ({yu})" if yu else y)
+        if title:
+            ax.set_title(title, fontsize="medium")
+    for ax in axes[n:]:
+        ax.set_visible(False)
+    if mesh is not None:
+        cbar = fig.colorbar(mesh, ax=list(axes[:n]), shrink=0.9)
+        cbar.set_label(f"μ/μ_ref at {data.attrs['at']:g} N (friction against the flat reference)")
+    legend = "; ".join(f"{'hatched' if k == 0 else 'dotted' if k == 2 else 'plain'}: {v}" for k, v in REGIONS.items())
+    fig.suptitle(f"Design map: critical load (white contours), μ/μ_ref at {data.attrs['at']:g} N (colour), "
+                 f"exploration loads {data.attrs['load_min']:g}-{data.attrs['load_max']:g} N\n{legend}; "
+                 f"grey: texture not possible", fontsize="small", wrap=True)
+    return fig
+
+
+def _value_text(coord: Any, value: Any) -> str:
+    kind = coord.attrs.get("kind", "")
+    if kind in _SCALE:
+        factor, unit = _SCALE[kind]
+        return f"{float(value) * factor:.4g} {unit}"
+    return str(value)
+
+
+def _markers(ax: Any, x: str, y: str, x_kind: str, y_kind: str, markers: dict[str, Any],
+             limits: tuple[tuple[float, float], tuple[float, float]]) -> None:
+    """Literature lines and bands on length axes whose name matches (spacing, height), where
+    they fall inside the map."""
+    for axis, kind, line, span, (lo, hi) in ((x, x_kind, ax.axvline, ax.axvspan, limits[0]),
+                                            (y, y_kind, ax.axhline, ax.axhspan, limits[1])):
+        if kind != "length":
+            continue
+        for fragment, value, label in markers["lines"]:
+            if fragment in axis and lo <= value * 1e6 <= hi:
+                line(value * 1e6, color="0.2", ls="--", lw=1.0)
+                _annotate(ax, axis == x, value * 1e6, label)
+        for fragment, low, high, label in markers["bands"]:
+            if fragment in axis and low * 1e6 < hi and high * 1e6 > lo:
+                span(max(low * 1e6, lo), min(high * 1e6, hi), color="0.5", alpha=0.15, lw=0)
+                _annotate(ax, axis == x, max(low * 1e6, lo), label)
+
+
+def _annotate(ax: Any, vertical: bool, value: float, label: str) -> None:
+    if vertical:
+        ax.annotate(label, (value, 1.0), xycoords=("data", "axes fraction"), rotation=90, va="top", ha="right",
+                    fontsize="x-small", color="0.2")
+    else:
+        ax.annotate(label, (0.0, value), xycoords=("axes fraction", "data"), va="bottom", ha="left",
+                    fontsize="x-small", color="0.2")
