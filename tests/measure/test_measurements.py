@@ -427,9 +427,11 @@ def test_cli_simulate_and_analyse(app, tmp_path):
     r = runner.invoke(app, ["analyse", str(sim), "--reference", "flat", "--out", str(res)])
     assert r.exit_code == 0, r.output
     html = (res / "report.html").read_text()
-    assert "data:image/png;base64," in html and "skin_modulus" in html
-    assert {p.name for p in (res / "figures").iterdir()} == {
+    # issue 10: the report names quantities for people (E_s in MPa), not by column name
+    assert "data:image/png;base64," in html and "E<sub>s</sub> model fit (MPa)" in html
+    assert {p.name for p in (res / "figures").iterdir() if p.is_file()} == {
         "participant_P01.png", "participant_P02.png", "sample_bumps.png", "sample_flat.png"}
+    assert len(list((res / "figures" / "qc").glob("*.png"))) == 8  # one QC figure per recording
     import pandas as pd
 
     summary = pd.read_csv(res / "summary.csv")
