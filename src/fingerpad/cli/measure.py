@@ -242,10 +242,11 @@ def _measurement_warnings() -> Iterator[list[str]]:
 
 
 def _print_summary(result: Any, written: list[Path], out: Path, shown: list[str] | None = None) -> None:
-    from rich.console import Console
     from rich.table import Table
 
-    console = Console(highlight=False, soft_wrap=True)
+    from .common import stdout_console
+
+    console = stdout_console(min_width=140)
     s = result.strokes
     console.print(f"{s['participant'].nunique()} participants, {s['sample'].nunique()} samples, "
                   f"{s['file'].nunique()} files, {len(s)} strokes ({int(s['outlier'].sum())} outliers)")

@@ -261,7 +261,7 @@ def _infer(
     reference: Any = None,
     reference_design_effect: float = 1.0,
     clusters: np.ndarray | None = None,
-    n_scan: int = 481,
+    n_scan: int = 241,
     model_name: str = "",
 ) -> ModulusFit:
     if not 0 < level < 1:
@@ -271,88 +271,103 @@ def _infer(
     n = ys.size
     lo_b = max(t.log_moduli[0] for _, _, t in datasets)
     hi_b = min(t.log_moduli[-1] for _, _, t in datasets)
-    scan = np.linspace(lo_b, hi_b, int(n_scan))
-    logp = _log_predictions(datasets, scan)  # (scan, n)
     inv = cluster_labels(clusters, n)
     g = int(inv.max()) + 1
     m = np.bincount(inv, minlength=g).astype(float)
+    onehot = (inv[:, None] == np.arange(g)[None, :]).astype(float) if g < n else None
+    var_ref, df_ref = (0.0, math.inf) if fit_scale else _reference_level(reference, loads, reference_design_effect)
+    df_w = float(n - g - 1) if g < n else float(n - 2)
+    if fit_scale and df_w < 1:
+        raise FingerpadError("skin modulus fit with a free scale: too few points within the recordings")
+    gamma: list[float] = []
 
-    if log_residuals:
-        R = np.log(ys)[None, :] - logp
-    else:
-        P = np.exp(logp)
-        c = (P @ ys) / np.einsum("ij,ij->i", P, P) if fit_scale else np.ones(scan.size)
-        R = ys[None, :] - c[:, None] * P
-    means = np.stack([np.bincount(inv, weights=row, minlength=g) for row in R]) / m  # (scan, g)
-    within = np.einsum("ij,ij->i", R - means[:, inv], R - means[:, inv])
-
-    if fit_scale:
-        df = float(n - g - 1) if g < n else float(n - 2)
-        if g == n:  # independent points: centre on the overall mean instead
-            centred = R - R.mean(axis=1, keepdims=True)
-            within = np.einsum("ij,ij->i", centred, centred)
-        if df < 1:
-            raise FingerpadError("skin modulus fit with a free scale: too few points within the recordings")
-        best = int(np.argmin(within))
-        rss_min = max(float(within[best]), 1e-300)
-        excess = (within - rss_min) / (rss_min / df) - stats.f.ppf(level, 1, df)
-        statistic, method = "shape F", "F test of the within-recording shape"
-        ref_sd = 0.0
+    def evaluate(scan: np.ndarray) -> dict[str, np.ndarray]:
+        """Residuals and test statistics at every trial ln E_s of ``scan``."""
+        logp = _log_predictions(datasets, scan)  # (scan, n)
         if log_residuals:
-            shift = float(np.mean(R[best]))
-            scale = math.exp(shift)
+            R = np.log(ys)[None, :] - logp
+            c = np.ones(scan.size)
         else:
-            scale = float(c[best])
-    else:
-        # weights of the recording means: GLS with the between/within variance ratio at the
-        # best level (from one REML fit); the variance itself is estimated cluster-robustly
-        j0 = int(np.argmin(np.abs(R.mean(axis=1))))
-        gamma = 0.0
-        if 1 < g < n:
-            fit0 = random_intercept_fit(R[j0], np.ones((n, 1)), inv)
-            gamma = fit0.sigma2_between / max(fit0.sigma2, 1e-300)
-        a = m / (1.0 + gamma * m)
+            P = np.exp(logp)
+            c = (P @ ys) / np.einsum("ij,ij->i", P, P) if fit_scale else np.ones(scan.size)
+            R = ys[None, :] - c[:, None] * P
+        means = R if onehot is None else (R @ onehot) / m  # (scan, g)
+        if onehot is None:  # independent points: centre on the overall mean
+            centred = R - R.mean(axis=1, keepdims=True)
+        else:
+            centred = R - means[:, inv]
+        within = np.einsum("ij,ij->i", centred, centred)
+        out = {"logp": logp, "R": R, "within": within, "scale": c}
+        if fit_scale:
+            return out
+        if not gamma:
+            # weights of the recording means: GLS with the between/within variance ratio at the
+            # best level (one REML fit); the variance itself is estimated cluster-robustly
+            j0 = int(np.argmin(np.abs(R.mean(axis=1))))
+            ratio = 0.0
+            if onehot is not None and g > 1:
+                fit0 = random_intercept_fit(R[j0], np.ones((n, 1)), inv)
+                ratio = fit0.sigma2_between / max(fit0.sigma2, 1e-300)
+            gamma.append(ratio)
+        a = m / (1.0 + gamma[0] * m)
         delta = means @ a / a.sum()
         if g > 1:
             var_tex = g / (g - 1) * np.sum((a[None, :] * (means - delta[:, None])) ** 2, axis=1) / a.sum() ** 2
-            df_tex = float(g - 1)
         else:
             var_tex = np.full(scan.size, math.inf)
-            df_tex = 1.0
-        var_ref, df_ref = _reference_level(reference, loads, reference_design_effect)
+        df_tex = float(max(g - 1, 1))
         var = var_tex + var_ref
-        # Welch-Satterthwaite df of the sum of the two variances
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore"):  # Welch-Satterthwaite df of the sum
             df_all = var**2 / (var_tex**2 / df_tex + (var_ref**2 / df_ref if math.isfinite(df_ref) else 0.0))
         df_all = np.where(np.isfinite(df_all), np.maximum(df_all, 1.0), df_tex)
         tstat = np.abs(delta) / np.sqrt(np.maximum(var, 1e-300))
-        crit = stats.t.ppf(0.5 + level / 2.0, df_all)
-        excess = tstat - crit
+        out.update(delta=delta, df=df_all, excess=tstat - stats.t.ppf(0.5 + level / 2.0, df_all))
+        return out
+
+    coarse = np.linspace(lo_b, hi_b, int(n_scan))
+    ev = evaluate(coarse)
+    if fit_scale:
+        rss_min = max(float(ev["within"].min()), 1e-300)
+        excess = (ev["within"] - rss_min) / (rss_min / df_w) - stats.f.ppf(level, 1, df_w)
+        turns = np.diff(np.sign(np.diff(ev["within"])), append=0.0) != 0  # local minima and maxima
+        interesting = np.flatnonzero((np.diff(np.sign(excess)) != 0) | turns)
+    else:
+        d = ev["delta"]
+        interesting = np.flatnonzero((np.diff(np.sign(d)) != 0) | (np.diff(np.sign(ev["excess"])) != 0))
+    # refine where the level changes sign or the test changes its answer: an accepted piece may
+    # be narrower than the coarse step
+    step = coarse[1] - coarse[0]
+    extra = [np.linspace(coarse[k] - step, coarse[k] + 2 * step, 49) for k in interesting]
+    scan = np.unique(np.clip(np.concatenate([coarse, *extra]), lo_b, hi_b)) if extra else coarse
+    ev = evaluate(scan) if extra else ev
+    within, R, logp = ev["within"], ev["R"], ev["logp"]
+    if fit_scale:
+        best = int(np.argmin(within))
+        rss_min = max(float(within[best]), 1e-300)
+        excess = (within - rss_min) / (rss_min / df_w) - stats.f.ppf(level, 1, df_w)
+        statistic, method, df, ref_sd = "shape F", "F test of the within-recording shape", df_w, 0.0
+        scale = math.exp(float(np.mean(R[best]))) if log_residuals else float(ev["scale"][best])
+        est = float(scan[best])
+        if 0 < best < scan.size - 1:  # parabola through the three smallest
+            x3, y3 = scan[best - 1:best + 2], within[best - 1:best + 2]
+            coef = np.polyfit(x3, y3, 2)
+            if coef[0] > 0:
+                est = float(np.clip(-coef[1] / (2 * coef[0]), x3[0], x3[2]))
+    else:
+        delta, excess = ev["delta"], ev["excess"]
         # the estimate: where the level residual changes sign; among several, the best shape
         roots = [int(i) for i in np.flatnonzero(np.sign(delta[:-1]) != np.sign(delta[1:]))]
         if roots:
-            best = min(roots, key=lambda i: within[i])
-            if abs(delta[best + 1]) < abs(delta[best]):
-                best += 1
+            k = min(roots, key=lambda i: within[i])
+            est = float(scan[k] + (scan[k + 1] - scan[k]) * delta[k] / (delta[k] - delta[k + 1]))
+            best = k if abs(delta[k]) <= abs(delta[k + 1]) else k + 1
         else:
             best = int(np.argmin(np.abs(delta)))
-        df = float(df_all[best])
-        statistic, method = "level t", "level t-test over recordings"
-        scale = 1.0
-        h = float(scan[1] - scan[0])
-        slope = float(np.gradient(logp.mean(axis=1), h)[best])
+            est = float(scan[best])
+        df = float(ev["df"][best])
+        statistic, method, scale = "level t", "level t-test over recordings", 1.0
+        slope = float(np.gradient(logp.mean(axis=1), scan)[best])
         ref_sd = math.sqrt(var_ref) / abs(slope) if var_ref and slope else 0.0
-    # refine the estimate between scan points (linear zero of the level, or parabola of the RSS)
-    est = float(scan[best])
-    if not fit_scale and 0 < best < scan.size - 1:
-        k = best if np.sign(delta[best]) != np.sign(delta[best + 1]) else best - 1
-        if np.sign(delta[k]) != np.sign(delta[k + 1]):
-            est = float(scan[k] + (scan[k + 1] - scan[k]) * delta[k] / (delta[k] - delta[k + 1]))
-    elif fit_scale and 0 < best < scan.size - 1:
-        y0, y1, y2 = within[best - 1:best + 2]
-        den = y0 - 2 * y1 + y2
-        if den > 0:
-            est = float(scan[best] + 0.5 * (scan[1] - scan[0]) * (y0 - y2) / den)
 
     accepted = excess <= 0
     pieces = []

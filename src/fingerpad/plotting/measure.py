@@ -131,7 +131,7 @@ def figure_participant(result: StudyResult, participant: str):
             else:
                 ax.plot([], [], color=colour, label=label)
         ax.set(xscale="log", yscale="log", xlabel="normal load F (N)", ylabel="mu_tex / mu_ref",
-               title="normalised friction: model (solid), transition if detected (band = CI)")
+               title="mu_tex/mu_ref: model (solid), transition if detected")
         _finish(ax)
     return fig
 
