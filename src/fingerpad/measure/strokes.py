@@ -175,8 +175,8 @@ def _check_motion(rec: Recording, name: str, options: StrokeOptions) -> None:
         )
 
 
-def _travel(rec: Recording, a: int, b: int, source: str, signal: np.ndarray) -> float:
-    if rec.position is not None:
+def _travel(rec: Recording, a: int, b: int, source: str, signal: np.ndarray, use_position: bool) -> float:
+    if use_position and rec.position is not None:
         seg = rec.position[a:b]
         return float(abs(np.median(seg[-3:]) - np.median(seg[:3])))
     if source == "velocity" and rec.time is not None and b - a > 1:
@@ -209,13 +209,15 @@ def find_strokes(rec: Recording, options: StrokeOptions = StrokeOptions()) -> St
     report.candidates = len(candidates)
     if not candidates:
         return report
+    # a dead position channel cannot measure travel (the direction then comes from elsewhere)
+    use_position = rec.position is not None and (name == "position" or moves(rec.position, options, order=2)[0])
     median = float(np.median([b - a for a, b, _ in candidates]))
     for a, b, s in candidates:
         length = b - a
         if length < max(5, options.min_stroke_fraction * median):
             report.fragments += 1
             continue
-        travel = _travel(rec, a, b, name, signal)
+        travel = _travel(rec, a, b, name, signal, use_position)
         if math.isfinite(travel) and travel < options.min_travel:
             report.short_travel += 1
             continue
