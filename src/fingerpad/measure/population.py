@@ -7,7 +7,7 @@
 * :func:`population_fits` - a linear mixed-effects model across participants (statsmodels
   ``MixedLM``): ``ln y = a + b ln F + (a_p + b_p ln F) + c_recording + e`` with a random
   intercept and slope per participant and a variance component per recording inside the
-  participant; ``y`` is ``mu_norm`` on textures and ``mu`` on every sample. ``k = exp(a)``,
+  participant; ``y`` is ``mu_norm`` on textures and ``mu`` on the reference. ``k = exp(a)``,
   ``n = b + 1``; intervals with ``P - 1`` df (few participants: a normal quantile would be
   too narrow). If the random slope cannot be estimated the model falls back to a random
   intercept, and says so.
@@ -76,31 +76,45 @@ POPULATION_FIT_COLUMNS = [
 
 
 def _mixed_fit(g: pd.DataFrame, col: str, level: float) -> dict[str, Any]:
-    import statsmodels.formula.api as smf
+    from statsmodels.regression.mixed_linear_model import MixedLM
 
-    data = pd.DataFrame({"y": np.log(g[col].to_numpy()), "x": np.log(g["load"].to_numpy()),
-                         "participant": g["participant"].astype(str).to_numpy(),
-                         "recording": cluster_column(g)})
-    n_p = data["participant"].nunique()
-    out: dict[str, Any] = {"n_participants": n_p, "n_recordings": data["recording"].nunique(),
-                           "n_strokes": len(data)}
+    y = np.log(g[col].to_numpy(dtype=float))
+    x = np.log(g["load"].to_numpy(dtype=float))
+    participant = g["participant"].astype(str).to_numpy()
+    recording = cluster_column(g)
+    n_p = len(set(participant))
+    n_rec = len(set(recording))
+    out: dict[str, Any] = {"n_participants": n_p, "n_recordings": n_rec, "n_strokes": len(y)}
     if n_p < 3:
         out["note"] = f"{n_p} participant(s): a mixed model across participants needs at least 3"
         return out
-    has_rec = data["recording"].nunique() > n_p
-    vc = {"recording": "0 + C(recording)"} if has_rec else None
+    has_rec = n_rec > n_p
+    exog = np.column_stack([np.ones_like(x), x])
+    exog_vc = None
+    if has_rec:
+        # recordings nested in participants: one dummy matrix per participant (no formula parsing)
+        exog_vc = {"recording": {}}
+        for p in sorted(set(participant)):
+            sel = participant == p
+            recs = sorted(set(recording[sel]))
+            exog_vc["recording"][p] = (recording[sel][:, None] == np.array(recs)[None, :]).astype(float)
     notes = []
-    for re_formula, name in (("~x", "random intercept and slope per participant"),
-                             ("1", "random intercept per participant")):
+    attempts = [(exog, "random intercept and slope per participant"), (exog[:, :1], "random intercept per participant")]
+    if n_p < 5:  # a slope variance from fewer than five people is noise
+        attempts = attempts[1:]
+        notes.append("random slope not attempted with fewer than 5 participants")
+    res = None
+    for exog_re, name in attempts:
         try:
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                model = smf.mixedlm("y ~ x", data, groups="participant", re_formula=re_formula, vc_formula=vc)
-                res = model.fit(reml=True, method=["lbfgs", "powell"])
+                model = MixedLM(y, exog, groups=participant, exog_re=exog_re, exog_vc=exog_vc)
+                res = model.fit(reml=True, method=["lbfgs"])
             bad = [w for w in caught if "converge" in str(w.message).lower() or "singular" in str(w.message).lower()
                    or "boundary" in str(w.message).lower()]
-            if re_formula == "~x" and (bad or not res.converged):
+            if exog_re.shape[1] == 2 and (bad or not res.converged):
                 notes.append("the random slope could not be estimated")
+                res = None
                 continue
             break
         except (np.linalg.LinAlgError, ValueError) as exc:
@@ -110,8 +124,8 @@ def _mixed_fit(g: pd.DataFrame, col: str, level: float) -> dict[str, Any]:
         out["note"] = "; ".join(notes)
         return out
     q = t_quantile(level, n_p - 1)
-    a, b = float(res.fe_params["Intercept"]), float(res.fe_params["x"])
-    se_a, se_b = float(res.bse_fe["Intercept"]), float(res.bse_fe["x"])
+    a, b = (float(v) for v in np.asarray(res.fe_params)[:2])
+    se_a, se_b = (float(v) for v in np.asarray(res.bse_fe)[:2])
     cov_re = np.asarray(res.cov_re, dtype=float)
     vcomp = getattr(res, "vcomp", np.zeros(0))
     out.update(
@@ -131,9 +145,9 @@ def population_fits(strokes: pd.DataFrame, reference: str, level: float = 0.95) 
     df = strokes[~strokes["outlier"]]
     rows = []
     for (sample, direction), g in df.groupby(["sample", "direction"], sort=True):
-        for quantity in ("mu", "mu_norm"):
-            if quantity == "mu_norm" and sample == reference:
-                continue
+        # the reference's own friction law; on textures the normalised friction (what compares
+        # textures across people)
+        for quantity in (("mu",) if sample == reference else ("mu_norm",)):
             row = {"sample": sample, "direction": direction, "quantity": quantity}
             row.update(_mixed_fit(g, quantity, level))
             rows.append(row)

@@ -199,14 +199,14 @@ def random_intercept_fit(
         ll = -0.5 * ((n - p) * math.log(s2) + float(np.sum(np.log1p(gamma * m))) + logdet)
         return ll, beta, A, s2
 
-    grid = np.r_[0.0, np.exp(np.linspace(-12.0, 9.0, 43))]
+    grid = np.r_[0.0, np.exp(np.linspace(-12.0, 9.0, 22))]
     lls = np.array([solve(gm)[0] for gm in grid])
     i = int(np.argmax(lls))
     gamma = float(grid[i])
     if 0 < i < grid.size - 1:
         lo, hi = math.log(max(grid[i - 1], 1e-12)), math.log(grid[i + 1])
         res = optimize.minimize_scalar(lambda t: -solve(math.exp(t))[0], bounds=(lo, hi), method="bounded",
-                                       options={"xatol": 1e-6})
+                                       options={"xatol": 1e-5})
         if -res.fun >= lls[i]:
             gamma = math.exp(float(res.x))
     _, beta, A, s2 = solve(gamma)

@@ -95,6 +95,7 @@ class StrokeReport:
     """What stroke detection kept and dropped in one recording, and why (for messages and QC)."""
 
     source: str
+    signal: np.ndarray | None = field(default=None, repr=False)
     candidates: int = 0
     fragments: int = 0
     short_travel: int = 0
@@ -189,7 +190,7 @@ def find_strokes(rec: Recording, options: StrokeOptions = StrokeOptions()) -> St
     every stroke dropped (see :func:`detect_strokes`)."""
     signal, name = direction_signal(rec, options)
     _check_motion(rec, name, options)
-    report = StrokeReport(source=name)
+    report = StrokeReport(source=name, signal=signal)
     scale = float(np.percentile(np.abs(signal), 90))
     if not scale > 0:
         raise FingerpadError(f"{rec.source}: no motion found (the {name} signal is constant)")
@@ -268,7 +269,7 @@ def measure_strokes(rec: Recording, options: StrokeOptions = StrokeOptions(), *,
         rows and why the strokes were dropped.
     """
     report = report or find_strokes(rec, options)
-    signal, source = direction_signal(rec, options)
+    signal, source = (report.signal, report.source) if report.signal is not None else direction_signal(rec, options)
     rows = []
     for st in report.strokes:
         sl = slice(st.steady_start, st.steady_stop)
