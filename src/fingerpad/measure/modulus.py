@@ -30,7 +30,7 @@ import numpy as np
 from scipy import stats
 
 from ..errors import FingerpadError
-from .models import Model
+from .models import Model, ModelTable
 from .stats import cluster_labels, random_intercept_fit, t_quantile
 from .transition import modulus_from_transition, transition_load
 
@@ -113,80 +113,6 @@ def _check_xy(loads: Any, values: Any, what: str) -> tuple[np.ndarray, np.ndarra
     if not (np.all(np.isfinite(f)) and np.all(f > 0) and np.all(np.isfinite(v)) and np.all(v > 0)):
         raise FingerpadError(f"{what}: loads and values must be positive and finite")
     return f, v
-
-
-class ModelTable:
-    """A model tabulated on a grid of skin moduli and loads, interpolated in between.
-
-    The model (a disc integral per load) is the costly part of a fit; tabulating it once per
-    texture -- ``n_moduli`` log-spaced E_s in ``bounds`` times ``n_loads`` log-spaced loads in
-    ``load_range`` -- makes every fit, profile and participant that shares the texture nearly
-    free. Interpolation: cubic spline in ``log E_s``, linear in ``log F`` of ``log model``.
-
-    Parameters
-    ----------
-    model
-        ``model(loads, skin_modulus) -> mu_normalised``.
-    load_range
-        (lowest, highest) load to cover, N.
-    bounds
-        (lowest, highest) skin modulus, Pa.
-    n_loads, n_moduli
-        Grid sizes.
-
-    Raises
-    ------
-    FingerpadError
-        For bad ranges, or a model returning the wrong shape, non-finite or non-positive values.
-    """
-
-    def __init__(
-        self,
-        model: Model,
-        load_range: tuple[float, float],
-        bounds: tuple[float, float] = (2e4, 2e7),
-        *,
-        n_loads: int = 32,
-        n_moduli: int = 49,
-    ) -> None:
-        from scipy.interpolate import CubicSpline
-
-        lo, hi = (float(v) for v in load_range)
-        e_lo, e_hi = (float(v) for v in bounds)
-        if not (0 < e_lo < e_hi and math.isfinite(e_hi)):
-            raise FingerpadError(f"modulus bounds must satisfy 0 < low < high, got {bounds!r}")
-        if not (0 < lo <= hi and math.isfinite(hi)):
-            raise FingerpadError(f"load range must be positive, got {load_range!r}")
-        if hi <= lo * 1.001:  # a single load: widen a little so interpolation is defined
-            lo, hi = lo / 1.01, hi * 1.01
-        self.model = model
-        self.bounds = (e_lo, e_hi)
-        self.loads = np.geomspace(lo, hi, int(n_loads))
-        self.log_moduli = np.linspace(math.log(e_lo), math.log(e_hi), int(n_moduli))
-        rows = []
-        for le in self.log_moduli:
-            curve = np.asarray(model(self.loads, math.exp(le)), dtype=float)
-            if curve.shape != self.loads.shape or not np.all(np.isfinite(curve)) or np.any(curve <= 0):
-                raise FingerpadError(
-                    f"model returned {curve.shape} values for {self.loads.size} loads at "
-                    f"E_s = {math.exp(le):.4g} Pa (need positive finite values)"
-                )
-            rows.append(np.log(curve))
-        self.table = np.array(rows)
-        self._spline = CubicSpline(self.log_moduli, self.table, axis=0)
-
-    def covers(self, loads: np.ndarray) -> bool:
-        """Whether ``loads`` lie inside the tabulated range."""
-        return bool(np.min(loads) >= self.loads[0] * (1 - 1e-9) and np.max(loads) <= self.loads[-1] * (1 + 1e-9))
-
-    def log_predict(self, loads: np.ndarray, log_modulus: float) -> np.ndarray:
-        """``log model(loads, exp(log_modulus))`` by interpolation."""
-        row = self._spline(float(np.clip(log_modulus, self.log_moduli[0], self.log_moduli[-1])))
-        return np.interp(np.log(loads), np.log(self.loads), row)
-
-    def __call__(self, loads: np.ndarray, skin_modulus: float) -> np.ndarray:
-        """Interpolated ``model(loads, skin_modulus)``."""
-        return np.exp(self.log_predict(np.asarray(loads, dtype=float), math.log(skin_modulus)))
 
 
 def design_effect(residuals: np.ndarray, clusters: np.ndarray) -> float:
