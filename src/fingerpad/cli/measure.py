@@ -107,7 +107,15 @@ def analyse_command(
     position_column: Annotated[str | None, _opt("--position-column", panel=_INPUT, metavar="NAME")] = None,
     velocity_column: Annotated[str | None, _opt("--velocity-column", panel=_INPUT, metavar="NAME")] = None,
     force_unit: Annotated[str | None, _opt("--force-unit", panel=_INPUT, metavar="UNIT",
-                                           help="Unit of both forces (N, mN).")] = None,
+                                           help="Unit of both forces (N, mN, gf, kgf, lbf).")] = None,
+    normal_unit: Annotated[str | None, _opt("--normal-unit", panel=_INPUT, metavar="UNIT",
+                                            help="Unit of the normal force (overrides --force-unit).")] = None,
+    friction_unit: Annotated[str | None, _opt("--friction-unit", panel=_INPUT, metavar="UNIT",
+                                              help="Unit of the friction force (overrides --force-unit).")] = None,
+    delimiter: Annotated[str | None, _opt("--delimiter", panel=_INPUT, metavar="CHAR",
+                                          help="Field separator of text files (',', ';', 'tab'); default: guessed.")] = None,
+    decimal: Annotated[str | None, _opt("--decimal", panel=_INPUT, metavar=". or ,",
+                                        help="Decimal separator of text files; default: detected.")] = None,
     position_unit: Annotated[str | None, _opt("--position-unit", panel=_INPUT, metavar="UNIT")] = None,
     time_unit: Annotated[str | None, _opt("--time-unit", panel=_INPUT, metavar="UNIT")] = None,
     velocity_unit: Annotated[str | None, _opt("--velocity-unit", panel=_INPUT, metavar="UNIT")] = None,
@@ -121,10 +129,16 @@ def analyse_command(
     min_strokes: Annotated[str, _opt("--min-strokes", panel=_STROKES, metavar="N",
                                      help="Fewest strokes per file.")] = "2",
     outlier_z: Annotated[str, _opt("--outlier-z", panel=_STROKES, metavar="Z")] = "3.5",
+    min_travel: Annotated[str, _opt("--min-travel", panel=_STROKES, metavar="LENGTH",
+                                    help="Shortest stroke travel (e.g. 1mm); shorter movements are not strokes.")] = "1mm",
+    min_load: Annotated[str, _opt("--min-load", panel=_STROKES, metavar="FORCE",
+                                  help="Lift-off threshold of the normal force.")] = "0.01N",
     bins: Annotated[str, _opt("--bins", panel=_ANALYSIS, metavar="N", help="Load bins.")] = "8",
     breakpoint_space: Annotated[str, _opt("--breakpoint-space", panel=_ANALYSIS, metavar="log|linear")] = "log",
-    breakpoint_method: Annotated[str, _opt("--breakpoint-method", panel=_ANALYSIS,
-                                           metavar="profile|bootstrap")] = "profile",
+    breakpoint_method: Annotated[str, _opt("--breakpoint-method", panel=_ANALYSIS, metavar="bootstrap|profile",
+                                           help="Interval of a detected transition.")] = "bootstrap",
+    n_null: Annotated[str, _opt("--n-null", panel=_ANALYSIS, metavar="N",
+                                help="Simulations of the breakpoint test (p-value resolution 1/(N+1)).")] = "999",
     trend: Annotated[str, _opt("--trend", panel=_ANALYSIS, metavar="steeper|flatter|any",
                                help="Change of trend sought in the normalised friction.")] = "steeper",
     level: Annotated[str, _opt("--level", panel=_ANALYSIS, metavar="P", help="Confidence level.")] = "0.95",
@@ -133,33 +147,49 @@ def analyse_command(
     fit_scale: Annotated[bool, _opt("--fit-scale", panel=_ANALYSIS,
                                     help="Fit an amplitude factor along with E_s.")] = False,
     seed: Annotated[str, _opt("--seed", panel=_ANALYSIS, metavar="N")] = "0",
+    no_sensitivity: Annotated[bool, _opt("--no-sensitivity", panel=_ANALYSIS,
+                                         help="Skip refitting E_s with the other micro-model and varied "
+                                              "friction parameters.")] = False,
     no_figures: Annotated[bool, _opt("--no-figures", panel=_OUTPUT)] = False,
+    no_qc: Annotated[bool, _opt("--no-qc", panel=_OUTPUT, help="Skip the per-recording QC figures.")] = False,
     title: Annotated[str, _opt("--title", panel=_OUTPUT, metavar="TEXT")] = "Finger friction study",
 ) -> None:
     """Analyse tribometer recordings: friction curves, normalisation, transition, skin modulus.
 
     Example: fingerpad analyse data/ --reference flat --out results/
     """
-    with _user_errors():
+    with _user_errors(), _measurement_warnings() as shown:
         from .. import measure as m
         from ..finger import get_finger
         from ..measure.report import write_report
 
+        if decimal is not None and decimal not in (".", ","):
+            raise FingerpadError(f"--decimal: expected '.' or ',', got {decimal!r}")
+        if delimiter is not None and delimiter.lower() in ("tab", "\\t"):
+            delimiter = "\t"
+        if delimiter is not None and len(delimiter) != 1:
+            raise FingerpadError(f"--delimiter: expected one character or 'tab', got {delimiter!r}")
         base = m.load_spec(spec) if spec else m.ColumnSpec()
         column_spec = base.with_options(
             columns={"normal": normal_column, "friction": friction_column, "time": time_column,
                      "position": position_column, "velocity": velocity_column},
-            units={"normal": force_unit, "friction": force_unit, "position": position_unit, "time": time_unit,
-                   "velocity": velocity_unit},
+            units={"normal": normal_unit or force_unit, "friction": friction_unit or force_unit,
+                   "position": position_unit, "time": time_unit, "velocity": velocity_unit},
             invert_normal=True if invert_normal else None,
             nan_policy="drop" if drop_nan else None,
+            delimiter=delimiter,
+            decimal=decimal,
         )
         stroke_opts = m.StrokeOptions(
             trim=_number(trim, "--trim", low=0.0, high=0.45),
             direction_source=_choice(direction_source, "--direction-source",
                                      ("auto", "velocity", "position", "friction")),  # type: ignore[arg-type]
             min_strokes=parse_int(min_strokes, "--min-strokes"),
+            min_travel=parse_quantity(min_travel, "length", name="--min-travel"),
+            min_load=parse_quantity(min_load, "force", name="--min-load"),
         )
+        if stroke_opts.min_travel < 0 or stroke_opts.min_load < 0:
+            raise FingerpadError("--min-travel and --min-load must not be negative")
         options = m.AnalysisOptions(
             reference=reference,
             strokes=stroke_opts,
@@ -173,35 +203,80 @@ def analyse_command(
             seed=parse_int(seed, "--seed", minimum=0),
             finger=get_finger(finger),
             fit_scale=fit_scale,
+            n_null=parse_int(n_null, "--n-null", minimum=19),
+            sensitivity=not no_sensitivity,
         )
         table = Path(samples) if samples else _find_samples_table(data)
         textures = m.read_textures(table) if table else None
         recordings = m.load_study(data, column_spec, pattern=pattern)
         result = m.analyse_study(recordings, options, textures=textures)
-        written = write_report(result, out, figures=not no_figures, title=title)
-    _print_summary(result, written, Path(out))
+        from .common import ProgressBar, stderr_console
+
+        with ProgressBar(stderr_console(), "figures") as bar:
+            written = write_report(result, out, figures=not no_figures, title=title, qc=not no_qc,
+                                   progress=(lambda i, n, _what: bar(i, n)) if sys.stderr.isatty() else None)
+    _print_summary(result, written, Path(out), shown)
 
 
-def _print_summary(result: Any, written: list[Path], out: Path) -> None:
-    from rich.console import Console
+@contextlib.contextmanager
+def _measurement_warnings() -> Iterator[list[str]]:
+    """Show :class:`MeasurementWarning` as ``warning: ...`` lines on stderr (once each); other
+    warnings of the numerical libraries are not for users."""
+    import warnings
+
+    shown: list[str] = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            yield shown
+        finally:
+            from ..measure.analysis import MeasurementWarning
+
+            for w in caught:
+                if issubclass(w.category, MeasurementWarning):
+                    line = " ".join(str(w.message).split())
+                    if line not in shown:
+                        shown.append(line)
+                        sys.stderr.write(f"warning: {line}\n")
+            sys.stderr.flush()
+
+
+def _print_summary(result: Any, written: list[Path], out: Path, shown: list[str] | None = None) -> None:
     from rich.table import Table
 
-    console = Console(highlight=False, soft_wrap=True)
+    from .common import stdout_console
+
+    console = stdout_console(min_width=140)
     s = result.strokes
     console.print(f"{s['participant'].nunique()} participants, {s['sample'].nunique()} samples, "
                   f"{s['file'].nunique()} files, {len(s)} strokes ({int(s['outlier'].sum())} outliers)")
     parts = result.participants
     if "skin_modulus" in parts:
         table = Table(title="skin micro-modulus E_s per participant")
-        for col in ("participant", "reference k", "reference n", "E_s (MPa)", f"{100 * result.options.level:.0f} % CI"):
+        for col in ("participant", "reference k", "reference n", "E_s (MPa)", f"{100 * result.options.level:.0f} % set",
+                    "model", "other model", "friction params"):
             table.add_column(col)
         for row in parts.to_dict("records"):
             e = row.get("skin_modulus", math.nan)
             ok = isinstance(e, float) and math.isfinite(e)
-            table.add_row(row["participant"], f"{row['ref_k']:.3g}", f"{row['ref_n']:.3g}",
-                          f"{e / 1e6:.3g}" if ok else "-",
-                          f"{row['skin_modulus_ci_low'] / 1e6:.3g} - {row['skin_modulus_ci_high'] / 1e6:.3g}" if ok else "-")
+            determined = bool(row.get("skin_modulus_determined", True))
+            other = row.get("skin_modulus_other", math.nan)
+            lo, hi = row.get("skin_modulus_sens_low", math.nan), row.get("skin_modulus_sens_high", math.nan)
+            table.add_row(
+                row["participant"], f"{row['ref_k']:.3g}", f"{row['ref_n']:.3g}",
+                (f"{e / 1e6:.3g}" if determined else f"not determined ({e / 1e6:.3g})") if ok else "-",
+                str(row.get("skin_modulus_interval") or "-") if ok else "-",
+                str(row.get("skin_modulus_model") or "") if ok else "",
+                f"{other / 1e6:.3g} ({row.get('skin_modulus_other_model')})"
+                if isinstance(other, float) and math.isfinite(other) else "",
+                f"{lo / 1e6:.3g}-{hi / 1e6:.3g}" if isinstance(lo, float) and math.isfinite(lo) else "",
+            )
         console.print(table)
+    for row in result.conditions.to_dict("records"):
+        text = row.get("transition")
+        if isinstance(text, str) and text:
+            label = row["participant"] + " " + row["sample"] + (f"/{row['direction']}" if row["direction"] else "")
+            console.print(f"{label}: {text}")
     for row in result.spread_summary.to_dict("records"):
         if not row["is_reference"] and math.isfinite(row["reduction"]):
             label = row["sample"] + (f"/{row['direction']}" if row["direction"] else "")

@@ -7,24 +7,31 @@ The pipeline (``fingerpad analyse``), one module a step:
 2. :mod:`.strokes` - reciprocating strokes split at direction changes, steady windows, outliers;
 3. :mod:`.curves` - power law mu = k F^(n-1) per participant and sample, normalisation by the
    flat reference (mu_tex / mu_ref cancels the person's ridge area), spread between people;
-4. :mod:`.breakpoint` - the change of trend of the normalised friction (segmented regression);
-5. :mod:`.models`, :mod:`.modulus` - the skin micro-modulus E_s: model fits (BEM or Hertz unit
-   cell) and the closed form from the transition load (Eq. 3.6);
-6. :mod:`.analysis` - the whole study; :mod:`.report` - tables, NetCDF and the HTML report;
+   :mod:`.stats` - the random-intercept (per recording) models behind every interval;
+4. :mod:`.breakpoint` - the change of trend of the normalised friction (segmented regression),
+   reported only when a test that accounts for the search over locations finds one;
+5. :mod:`.models`, :mod:`.modulus`, :mod:`.transition`, :mod:`.sensitivity` - the skin
+   micro-modulus E_s: model fits (BEM or Hertz unit cell) with the set of E_s the data allow,
+   the closed form from the transition load (Eq. 3.6), and the sensitivity to the micro-model
+   and the friction parameters;
+6. :mod:`.population` - mean curves and mixed-effects fits across participants;
+7. :mod:`.analysis` - the whole study; :mod:`.report` - tables, NetCDF and the HTML report;
    :mod:`.simulate` - synthetic recordings with known parameters.
 
 SI units throughout (N, m, Pa, s).
 """
 
-from .analysis import AnalysisOptions, StudyResult, analyse_study
+from .analysis import AnalysisOptions, MeasurementWarning, StudyResult, analyse_study
 from .breakpoint import Breakpoint, find_breakpoint
 from .columns import ColumnSpec, load_spec, parse_filename, template_regex, unit_factor
-from .curves import fit_curves, normalise, spread_summary, spread_table
+from .curves import PowerLaw, fit_curves, fit_power_law_clustered, normalise, sense_ratio, spread_summary, spread_table
+from .importers import RawTable, read_table, supported_suffixes
 from .models import (
     BaseContactCell,
     TextureGeometry,
     bem_texture_model,
     hertz_texture_model,
+    model_variant,
     read_textures,
     texture_model,
 )
@@ -37,21 +44,48 @@ from .modulus import (
     modulus_from_transition,
     transition_load,
 )
+from .population import population_curves, population_fits
 from .recordings import Recording, load_study, read_manifest, read_recording
+from .sensitivity import PERTURBATIONS, other_micro_model, perturbed_models
 from .simulate import SimulationConfig, simulate_study
+from .stats import ClusterFit, cluster_mean, random_intercept_fit
 from .strokes import (
+    PLAUSIBLE_MU,
     Stroke,
     StrokeOptions,
+    StrokeReport,
     bin_strokes,
     detect_strokes,
     direction_signal,
+    find_strokes,
     flag_outliers,
     load_bin_edges,
     measure_strokes,
+    plausibility_warnings,
     stroke_table,
 )
 
 __all__ = [
+    "PERTURBATIONS",
+    "PLAUSIBLE_MU",
+    "ClusterFit",
+    "MeasurementWarning",
+    "PowerLaw",
+    "RawTable",
+    "StrokeReport",
+    "cluster_mean",
+    "find_strokes",
+    "fit_power_law_clustered",
+    "model_variant",
+    "other_micro_model",
+    "perturbed_models",
+    "plausibility_warnings",
+    "population_curves",
+    "population_fits",
+    "random_intercept_fit",
+    "read_table",
+    "sense_ratio",
+    "supported_suffixes",
     "AnalysisOptions",
     "BaseContactCell",
     "Breakpoint",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
@@ -12,18 +13,28 @@ import pandas as pd
 
 from ..errors import FingerpadError
 from .breakpoint import Breakpoint, find_breakpoint
-from .curves import fit_curves, fit_row, normalise, spread_summary, spread_table
+from .curves import fit_curves, fit_row, normalise, sense_ratio, spread_summary, spread_table
 from .models import Model, TextureGeometry, resolve_finger, texture_model
-from .modulus import (
-    ModelTable,
-    ModulusFit,
-    design_effect,
-    estimate_skin_modulus,
-    estimate_skin_modulus_joint,
-    modulus_from_transition,
-)
+from .modulus import ModelTable, ModulusFit, estimate_skin_modulus, estimate_skin_modulus_joint
+from .population import population_curves, population_fits
 from .recordings import Recording
-from .strokes import GROUP, StrokeOptions, bin_strokes, flag_outliers, load_bin_edges, stroke_table
+from .sensitivity import other_micro_model, perturbed_models
+from .strokes import (
+    GROUP,
+    StrokeOptions,
+    StrokeReport,
+    bin_strokes,
+    cluster_column,
+    flag_outliers,
+    load_bin_edges,
+    plausibility_warnings,
+    stroke_table,
+)
+from .transition import modulus_from_transition
+
+
+class MeasurementWarning(UserWarning):
+    """Something in the data a person should look at (implausible friction, a caveat)."""
 
 
 @dataclass(frozen=True)
@@ -42,13 +53,14 @@ class AnalysisOptions:
         Log-spaced load bins shared by the study (tables, spread, figures).
     min_fit_strokes
         Fewest strokes for a power-law fit.
-    breakpoint_space, breakpoint_method, breakpoint_trend, n_boot
+    breakpoint_space, breakpoint_method, breakpoint_trend, n_boot, n_null
         See :func:`find_breakpoint`; the default trend ``"steeper"`` looks for the contact
         transition (friction rising faster once the skin reaches the texture's base).
     level
-        Confidence level of every interval.
+        Confidence level of every interval; a breakpoint is reported when its test gives
+        ``p < 1 - level``.
     seed
-        Random seed (bootstrap).
+        Random seed (simulations of the breakpoint test and interval).
     finger
         Finger preset (or :class:`fingerpad.finger.Finger`) for the default model and the
         closed-form route's ridge area.
@@ -56,6 +68,11 @@ class AnalysisOptions:
         Search range of E_s, Pa.
     fit_scale
         Fit an amplitude factor with E_s (:func:`estimate_skin_modulus`).
+    sensitivity
+        Refit E_s with the other micro-model and with the friction parameters varied
+        (:mod:`.sensitivity`).
+    population
+        Per-texture population summary and mixed-effects fits across participants.
     """
 
     reference: str = "flat"
@@ -64,14 +81,17 @@ class AnalysisOptions:
     n_bins: int = 8
     min_fit_strokes: int = 4
     breakpoint_space: Literal["log", "linear"] = "log"
-    breakpoint_method: Literal["profile", "bootstrap"] = "profile"
+    breakpoint_method: Literal["profile", "bootstrap"] = "bootstrap"
     breakpoint_trend: Literal["any", "steeper", "flatter"] = "steeper"
     n_boot: int = 200
+    n_null: int = 999
     level: float = 0.95
     seed: int = 0
     finger: Any = None
     modulus_bounds: tuple[float, float] = (2e4, 2e7)
     fit_scale: bool = False
+    sensitivity: bool = True
+    population: bool = True
 
     def __post_init__(self) -> None:
         if not self.reference:
@@ -82,6 +102,8 @@ class AnalysisOptions:
             raise FingerpadError("n_bins must be >= 1 and min_fit_strokes >= 3")
         if not self.outlier_z > 0:
             raise FingerpadError(f"outlier_z must be positive, got {self.outlier_z!r}")
+        if self.n_null < 19 or self.n_boot < 20:
+            raise FingerpadError("n_null must be >= 19 and n_boot >= 20")
 
 
 @dataclass
@@ -102,6 +124,15 @@ class StudyResult:
         The summary table: one row per participant, sample and direction.
     participants
         One row per participant: reference power law and E_s fitted jointly to all textures.
+    population_curves, population_fits
+        Per texture: the mean curve over participants with a between-person interval, and
+        the mixed-effects power law across participants (:mod:`.population`).
+    sensitivity
+        E_s refitted with the other micro-model and varied friction parameters.
+    warnings
+        Messages about the data (also issued as :class:`MeasurementWarning`).
+    recordings, stroke_reports
+        The recordings and their stroke detection, for the QC figures.
     """
 
     options: AnalysisOptions
@@ -120,6 +151,12 @@ class StudyResult:
     models: dict[str, Model] = field(repr=False, default_factory=dict)
     tables: dict[str, ModelTable] = field(repr=False, default_factory=dict)
     textures: dict[str, TextureGeometry | None] = field(default_factory=dict)
+    population_curves: pd.DataFrame = field(default_factory=pd.DataFrame)
+    population_fits: pd.DataFrame = field(default_factory=pd.DataFrame)
+    sensitivity: pd.DataFrame = field(default_factory=pd.DataFrame)
+    warnings: list[str] = field(default_factory=list)
+    recordings: list[Recording] = field(repr=False, default_factory=list)
+    stroke_reports: dict[str, StrokeReport] = field(repr=False, default_factory=dict)
 
     @property
     def summary(self) -> pd.DataFrame:
@@ -136,8 +173,70 @@ def _closed_form(bp: Breakpoint, geom: TextureGeometry, finger: Any) -> tuple[fl
         except FingerpadError:
             return math.nan
     vals = [one(bp.load), one(bp.ci_low), one(bp.ci_high)]
-    lo, hi = np.nanmin(vals[1:] + [vals[0]]), np.nanmax(vals[1:] + [vals[0]])
+    if not any(math.isfinite(v) for v in vals):
+        return math.nan, math.nan, math.nan
+    lo, hi = np.nanmin(vals), np.nanmax(vals)
     return vals[0], float(lo), float(hi)
+
+
+def _modulus_columns(mf: ModulusFit) -> dict[str, Any]:
+    return {"skin_modulus": mf.skin_modulus, "skin_modulus_ci_low": mf.ci_low, "skin_modulus_ci_high": mf.ci_high,
+            "skin_modulus_interval": mf.describe_interval(), "skin_modulus_model": mf.model,
+            "skin_modulus_determined": mf.determined, "skin_modulus_at_bound": mf.at_bound,
+            "skin_modulus_note": mf.note, "model_scale": mf.scale}
+
+
+@dataclass
+class _Variants:
+    """Model tables of one texture: the other micro-model and the friction-parameter refits,
+    keyed by ``(parameter, value)`` (``("micro_model", "hertz")``, ``("tau0", "x0.5")`` ...)."""
+
+    tables: dict[tuple[str, str], ModelTable] = field(default_factory=dict)
+
+
+def _variant_tables(geom: TextureGeometry | None, model: Model, finger: Any,
+                    load_range: tuple[float, float], bounds: tuple[float, float]) -> _Variants:
+    out = _Variants()
+    if geom is not None:
+        try:
+            name, other = other_micro_model(geom, finger)
+            out.tables[("micro_model", name)] = ModelTable(other, load_range, bounds)
+        except FingerpadError:
+            pass  # the other model cannot describe this texture: no comparison
+    for key, mdl in perturbed_models(model, finger).items():
+        try:
+            out.tables[key] = ModelTable(mdl, load_range, bounds)
+        except FingerpadError:
+            continue
+    return out
+
+
+def _sensitivity_rows(base: ModulusFit, refits: list[tuple[str, str, Any]], keys: dict[str, Any]
+                      ) -> tuple[list[dict[str, Any]], dict[str, Any]]:
+    """Run every refit ``(parameter, value, fit())``; rows of the sensitivity table and the
+    summary columns (the other micro-model's E_s, the range over the friction parameters)."""
+    rows: list[dict[str, Any]] = []
+    summary: dict[str, Any] = {}
+    friction = []
+    for parameter, value, refit in refits:
+        try:
+            mf = refit()
+        except FingerpadError as exc:
+            rows.append({**keys, "parameter": parameter, "value": value, "skin_modulus": math.nan,
+                         "ratio": math.nan, "determined": False, "note": str(exc)})
+            continue
+        ratio = mf.skin_modulus / base.skin_modulus if base.skin_modulus > 0 else math.nan
+        rows.append({**keys, "parameter": parameter, "value": value, "skin_modulus": mf.skin_modulus,
+                     "ratio": ratio, "determined": mf.determined, "note": mf.note})
+        if parameter == "micro_model":
+            summary.update(skin_modulus_other_model=value, skin_modulus_other=mf.skin_modulus,
+                           skin_modulus_other_determined=mf.determined)
+        elif mf.determined:
+            friction.append(mf.skin_modulus)
+    if friction:
+        summary.update(skin_modulus_sens_low=float(min(friction + [base.skin_modulus])),
+                       skin_modulus_sens_high=float(max(friction + [base.skin_modulus])))
+    return rows, summary
 
 
 def analyse_study(
@@ -157,7 +256,7 @@ def analyse_study(
         :class:`AnalysisOptions` (the reference sample among them).
     textures
         Geometry of textured samples (:func:`read_textures`); enables the default model
-        (:func:`hertz_texture_model`) and the closed-form E_s for those samples.
+        (:func:`texture_model`) and the closed-form E_s for those samples.
     models
         Sample -> normalised-friction model; overrides the default for that sample.
 
@@ -168,10 +267,12 @@ def analyse_study(
     """
     opts = options
     textures = dict(textures or {})
-    strokes = stroke_table(recordings, opts.strokes)
+    reports: dict[str, StrokeReport] = {}
+    strokes = stroke_table(recordings, opts.strokes, reports=reports)
+    notes = plausibility_warnings(strokes)
     strokes = flag_outliers(strokes, opts.outlier_z)
-    strokes, ref_fits = normalise(strokes, opts.reference, opts.min_fit_strokes)
-    fits, power_laws = fit_curves(strokes, opts.min_fit_strokes)
+    strokes, ref_fits = normalise(strokes, opts.reference, opts.min_fit_strokes, level=opts.level)
+    fits, power_laws = fit_curves(strokes, opts.min_fit_strokes, level=opts.level)
     edges = load_bin_edges(strokes["load"].to_numpy(), opts.n_bins)
     bins = bin_strokes(strokes, edges)
     spread = spread_table(strokes, edges, opts.reference)
@@ -186,27 +287,29 @@ def analyse_study(
 
     usable = strokes[~strokes["outlier"]]
     tables: dict[str, ModelTable] = {}
+    variants: dict[str, _Variants] = {}
     for sample, model in all_models.items():
         loads = usable.loc[usable["sample"] == sample, "load"].to_numpy()
         if loads.size and sample != opts.reference:
+            load_range = (float(loads.min()), float(loads.max()))
             try:  # one table per texture, shared by every participant's fit
-                tables[sample] = ModelTable(model, (float(loads.min()), float(loads.max())), opts.modulus_bounds)
+                tables[sample] = ModelTable(model, load_range, opts.modulus_bounds)
             except FingerpadError as exc:
                 raise FingerpadError(f"model of sample {sample!r}: {exc}") from None
+            if opts.sensitivity:
+                variants[sample] = _variant_tables(textures.get(sample), model, finger, load_range,
+                                                   opts.modulus_bounds)
 
-    # session (file) effects on the reference: its residuals' design effect widens E_s intervals
-    ref_deff: dict[str, float] = {}
-    for participant, ref in usable[usable["sample"] == opts.reference].groupby("participant"):
-        resid = np.log(ref["mu"].to_numpy()) - np.log(ref["mu_ref"].to_numpy())
-        ref_deff[participant] = design_effect(resid, ref["file"].to_numpy())
-
+    fit_kw = dict(level=opts.level, fit_scale=opts.fit_scale)
     breakpoints: dict[tuple[str, str, str], Breakpoint] = {}
     modulus_fits: dict[tuple[str, ...], ModulusFit] = {}
+    sens_rows: list[dict[str, Any]] = []
     rows = []
     for key, g in strokes.groupby(GROUP, sort=True):
         participant, sample, direction = key
         good = usable[(usable["participant"] == participant) & (usable["sample"] == sample)
                       & (usable["direction"] == direction)]
+        clusters = cluster_column(good)
         row: dict[str, Any] = dict(zip(GROUP, key))
         row.update(is_reference=sample == opts.reference, n_files=g["file"].nunique(), n_strokes=len(g),
                    n_outliers=int(g["outlier"].sum()), load_min=float(g["load"].min()),
@@ -214,41 +317,52 @@ def analyse_study(
         fit = power_laws.get((*key, "both"))
         row.update(fit_row(fit) if fit is not None else {})
         row["mu_at_1N"] = float(fit(np.array([1.0]))[0]) if fit is not None else math.nan
-        fp, fm = power_laws.get((*key, "+")), power_laws.get((*key, "-"))
-        mid = float(np.sqrt(row["load_min"] * row["load_max"]))
-        row["sense_ratio"] = (float(fp(np.array([mid]))[0] / fm(np.array([mid]))[0])
-                              if fp is not None and fm is not None else math.nan)
+        ratio, r_lo, r_hi = sense_ratio(g, opts.level)
+        row.update(sense_ratio=ratio, sense_ratio_ci_low=r_lo, sense_ratio_ci_high=r_hi)
         row["mu_norm_mean"] = float(good["mu_norm"].mean()) if sample != opts.reference else 1.0
-        notes = []
+        notes_row = [fit.note] if fit is not None and fit.note else []
         if sample != opts.reference:
             try:
                 bp = find_breakpoint(good["load"].to_numpy(), good["mu_norm"].to_numpy(),
                                      space=opts.breakpoint_space, method=opts.breakpoint_method,
-                                     trend=opts.breakpoint_trend, level=opts.level, n_boot=opts.n_boot, seed=opts.seed)
+                                     trend=opts.breakpoint_trend, level=opts.level, n_boot=opts.n_boot,
+                                     n_null=opts.n_null, seed=opts.seed, clusters=clusters)
                 breakpoints[key] = bp
-                row.update(breakpoint_load=bp.load, breakpoint_ci_low=bp.ci_low, breakpoint_ci_high=bp.ci_high,
-                           slope_below=bp.slope_below, slope_above=bp.slope_above, breakpoint_p=bp.p_value)
-                geom = textures.get(sample)
-                if geom is not None:
-                    e, lo, hi = _closed_form(bp, geom, finger)
-                    row.update(skin_modulus_closed_form=e, skin_modulus_closed_form_ci_low=lo,
-                               skin_modulus_closed_form_ci_high=hi)
+                row.update({c: math.nan for c in ("breakpoint_load", "breakpoint_ci_low", "breakpoint_ci_high",
+                                                  "slope_below", "slope_above")})
+                row.update(breakpoint_detected=bp.detected, breakpoint_p=bp.p_value,
+                           breakpoint_search_low=bp.search_low, breakpoint_search_high=bp.search_high,
+                           transition=bp.describe())
+                if bp.detected:
+                    row.update(breakpoint_load=bp.load, breakpoint_ci_low=bp.ci_low, breakpoint_ci_high=bp.ci_high,
+                               slope_below=bp.slope_below, slope_above=bp.slope_above)
+                    geom = textures.get(sample)
+                    if geom is not None:
+                        e, lo, hi = _closed_form(bp, geom, finger)
+                        row.update(skin_modulus_closed_form=e, skin_modulus_closed_form_ci_low=lo,
+                                   skin_modulus_closed_form_ci_high=hi)
             except FingerpadError as exc:
-                notes.append(f"breakpoint: {exc}")
+                notes_row.append(f"breakpoint: {exc}")
             table = tables.get(sample)
             if table is not None:
+                ref = ref_fits[(participant, "both")]
+
+                def refit(t: ModelTable, good: pd.DataFrame = good, ref: Any = ref, clusters: Any = clusters
+                          ) -> ModulusFit:
+                    return estimate_skin_modulus(good["load"], good["mu_norm"], t, reference=ref,
+                                                 clusters=clusters, **fit_kw)
                 try:
-                    mf = estimate_skin_modulus(good["load"], good["mu_norm"], table, level=opts.level,
-                                               fit_scale=opts.fit_scale, reference=ref_fits[(participant, "both")],
-                                               reference_design_effect=ref_deff[participant],
-                                               clusters=good["file"].to_numpy())
+                    mf = refit(table)
                     modulus_fits[key] = mf
-                    row.update(skin_modulus=mf.skin_modulus, skin_modulus_ci_low=mf.ci_low,
-                               skin_modulus_ci_high=mf.ci_high, skin_modulus_at_bound=mf.at_bound,
-                               model_scale=mf.scale)
+                    row.update(_modulus_columns(mf))
+                    if sample in variants:
+                        refits = [(p, v, (lambda t=t: refit(t))) for (p, v), t in variants[sample].tables.items()]
+                        srows, summary = _sensitivity_rows(mf, refits, dict(zip(GROUP, key)))
+                        sens_rows += srows
+                        row.update(summary)
                 except FingerpadError as exc:
-                    notes.append(f"modulus: {exc}")
-        row["note"] = "; ".join(notes)
+                    notes_row.append(f"modulus: {exc}")
+        row["note"] = "; ".join(n for n in notes_row if n)
         rows.append(row)
     conditions = pd.DataFrame(rows)
 
@@ -257,29 +371,45 @@ def analyse_study(
         ref = ref_fits[(participant, "both")]
         row = {"participant": participant, "n_strokes": int((strokes["participant"] == participant).sum())}
         row.update({f"ref_{k}": v for k, v in fit_row(ref).items()})
-        keys = [(participant, s, d) for (s, d) in g.groupby(["sample", "direction"]).groups if s in tables]
         subs = [sub for (s, _), sub in g.groupby(["sample", "direction"]) if s in tables]
-        data = [(sub["load"].to_numpy(), sub["mu_norm"].to_numpy(), tables[sub["sample"].iloc[0]]) for sub in subs]
-        if data:
+        if subs:
+            def joint(pick: Any, subs: list[pd.DataFrame] = subs, ref: Any = ref) -> ModulusFit:
+                data = [(sub["load"].to_numpy(), sub["mu_norm"].to_numpy(), pick(sub["sample"].iloc[0]))
+                        for sub in subs]
+                if len(data) == 1:
+                    return estimate_skin_modulus(*data[0], reference=ref, clusters=cluster_column(subs[0]),
+                                                 **fit_kw)
+                return estimate_skin_modulus_joint(data, reference=ref, clusters=[cluster_column(s) for s in subs],
+                                                   **fit_kw)
             try:
-                if len(keys) == 1 and keys[0] in modulus_fits:
-                    mf = modulus_fits[keys[0]]  # one texture: the joint fit is that fit
-                else:
-                    mf = estimate_skin_modulus_joint(data, level=opts.level, fit_scale=opts.fit_scale,
-                                                     reference=ref, reference_design_effect=ref_deff[participant],
-                                                     clusters=[sub["file"].to_numpy() for sub in subs])
+                mf = joint(tables.get)
                 modulus_fits[(participant,)] = mf
-                row.update(skin_modulus=mf.skin_modulus, skin_modulus_ci_low=mf.ci_low,
-                           skin_modulus_ci_high=mf.ci_high, skin_modulus_at_bound=mf.at_bound,
-                           n_textures=len(data))
+                row.update({k: v for k, v in _modulus_columns(mf).items() if k != "model_scale"},
+                           n_textures=len(subs))
+                samples = {sub["sample"].iloc[0] for sub in subs}
+                if opts.sensitivity and samples <= set(variants):
+                    # the same variant for every texture of the participant
+                    common = set.intersection(*(set(variants[s].tables) for s in samples))
+                    refits = [(p, v, (lambda k=(p, v): joint(lambda s: variants[s].tables[k])))
+                              for (p, v) in sorted(common, key=lambda k: (k[0] != "micro_model", k))]
+                    srows, summary = _sensitivity_rows(mf, refits, {"participant": participant,
+                                                                    "sample": "all textures", "direction": ""})
+                    sens_rows += srows
+                    row.update(summary)
             except FingerpadError as exc:
                 row["note"] = f"modulus: {exc}"
         prow.append(row)
+
+    pop_curves = population_curves(strokes, edges, opts.reference, opts.level) if opts.population else pd.DataFrame()
+    pop_fits = population_fits(strokes, opts.reference, opts.level) if opts.population else pd.DataFrame()
+    for message in notes:
+        warnings.warn(message, MeasurementWarning, stacklevel=2)
     return StudyResult(
         options=opts, strokes=strokes, bins=bins, fits=fits, spread=spread, spread_summary=summary_spread,
         conditions=conditions, participants=pd.DataFrame(prow), bin_edges=edges, power_laws=power_laws,
         reference_fits=ref_fits, breakpoints=breakpoints, modulus_fits=modulus_fits, models=all_models,
-        tables=tables, textures=textures,
+        tables=tables, textures=textures, population_curves=pop_curves, population_fits=pop_fits,
+        sensitivity=pd.DataFrame(sens_rows), warnings=notes, recordings=list(recordings), stroke_reports=reports,
     )
 
 

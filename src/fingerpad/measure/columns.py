@@ -48,11 +48,30 @@ def unit_factor(unit: str, dimension: str, *, where: str = "unit") -> float:
         if not (sep and num.strip() and den.strip()):
             raise FingerpadError(f"{where}: unknown velocity unit {u!r} (write LENGTH/TIME, e.g. mm/s)")
         return unit_factor(num, "length", where=where) / unit_factor(den, "time", where=where)
-    entry = UNITS.get(u)
+    u = UNIT_SYNONYMS.get(u.lower(), u) if u not in UNITS and u not in EXTRA_UNITS else u
+    entry = UNITS.get(u) or EXTRA_UNITS.get(u)
     if entry is None or entry[0] != dimension:
-        known = ", ".join(k for k, v in UNITS.items() if v[0] == dimension)
-        raise FingerpadError(f"{where}: unknown {dimension} unit {u!r} (use one of: {known})")
+        known = ", ".join([k for k, v in UNITS.items() if v[0] == dimension]
+                          + [k for k, v in EXTRA_UNITS.items() if v[0] == dimension])
+        hint = " (grams-force: write gf)" if dimension == "force" and u in ("g", "kg", "lb") else ""
+        raise FingerpadError(f"{where}: unknown {dimension} unit {u!r}{hint} (use one of: {known})")
     return entry[1]
+
+
+#: Force units of tribometers beyond ``fingerpad.units`` (standard gravity 9.80665 m/s^2).
+EXTRA_UNITS: dict[str, tuple[str, float]] = {
+    "uN": ("force", 1e-6), "µN": ("force", 1e-6), "μN": ("force", 1e-6), "cN": ("force", 1e-2),
+    "gf": ("force", 9.80665e-3), "kgf": ("force", 9.80665), "lbf": ("force", 4.4482216152605),
+    "ozf": ("force", 0.27801385095378125),
+}
+#: Spelled-out units some instruments write (LabVIEW ``unit_string``), lower case -> symbol.
+UNIT_SYNONYMS: dict[str, str] = {
+    "newton": "N", "newtons": "N", "millinewton": "mN", "millinewtons": "mN", "gram-force": "gf",
+    "grams-force": "gf", "kilogram-force": "kgf", "pound-force": "lbf", "pounds-force": "lbf",
+    "meter": "m", "meters": "m", "metre": "m", "metres": "m", "millimeter": "mm", "millimeters": "mm",
+    "millimetre": "mm", "millimetres": "mm", "micrometer": "um", "micrometers": "um",
+    "second": "s", "seconds": "s", "millisecond": "ms", "milliseconds": "ms",
+}
 
 
 
@@ -70,12 +89,14 @@ ALIASES: dict[str, tuple[str, ...]] = {
     "position": ("position", "pos", "x", "displacement", "disp"),
     "velocity": ("velocity", "vel", "v", "speed"),
 }
-DATA_SUFFIXES = (".csv", ".tsv", ".tab", ".txt", ".xlsx", ".xlsm")
+DATA_SUFFIXES = (".csv", ".tsv", ".tab", ".txt", ".dat", ".xlsx", ".xlsm", ".xls", ".mat", ".tdms")
+#: Files written beside recordings that are not recordings (LabVIEW's index of a .tdms).
+COMPANION_SUFFIXES = (".tdms_index",)
 #: Default file-name template: ``P01_glass_2.csv`` -> participant P01, sample glass, repetition 2.
 DEFAULT_PATTERN = "{participant}_{sample}_{repetition}.*"
 #: Files in a data folder that are never recordings (written by :func:`simulate_study`).
 NOT_DATA = ("manifest.csv", "samples.csv", "truth.json")
-METADATA_FIELDS = ("participant", "sample", "direction", "repetition")
+METADATA_FIELDS = ("participant", "sample", "direction", "repetition", "session")
 
 _HEADER_UNIT = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]*?)\s*[\])]\s*$")
 
@@ -106,8 +127,11 @@ class ColumnSpec:
         File-name template for metadata (see :func:`template_regex`).
     delimiter
         Field separator of text files; ``None`` guesses it (tab for ``.tsv``).
+    decimal
+        Decimal separator of text files (``"."`` or ``","``); ``None`` detects it (a comma is
+        possible only with another delimiter, e.g. ``;``).
     sheet
-        Excel sheet name; ``None`` takes the first sheet.
+        Excel sheet name, LabVIEW group or MATLAB struct variable; ``None`` takes the first.
     skip_rows
         Lines (rows) before the header to ignore, e.g. an instrument preamble.
     invert_normal
@@ -121,6 +145,7 @@ class ColumnSpec:
     units: Mapping[str, str] = field(default_factory=dict)
     pattern: str | None = None
     delimiter: str | None = None
+    decimal: str | None = None
     sheet: str | None = None
     skip_rows: int = 0
     invert_normal: bool = False
@@ -141,6 +166,10 @@ class ColumnSpec:
             raise FingerpadError(f"skip_rows must be a non-negative integer, got {self.skip_rows!r}")
         if self.pattern is not None:
             template_regex(self.pattern)
+        if self.decimal not in (None, ".", ","):
+            raise FingerpadError(f"decimal must be '.' or ',', got {self.decimal!r}")
+        if self.delimiter is not None and len(self.delimiter) != 1:
+            raise FingerpadError(f"delimiter must be one character (or 'tab'), got {self.delimiter!r}")
 
     def with_options(self, **kwargs: Any) -> ColumnSpec:
         """Copy with some options replaced; ``None`` values and empty mappings are ignored.
@@ -172,6 +201,7 @@ def load_spec(path: str | os.PathLike[str]) -> ColumnSpec:
         [files]
         pattern = "{participant}_{sample}_{direction}_{repetition}.csv"
         delimiter = ";"
+        decimal = ","          # or "."; detected when absent
         sheet = "data"
         skip_rows = 3
         invert_normal = false
@@ -193,7 +223,7 @@ def load_spec(path: str | os.PathLike[str]) -> ColumnSpec:
     if unknown:
         raise FingerpadError(f"{p}: unknown section(s) {', '.join(unknown)} (use [columns], [units], [files])")
     files = data.get("files", {})
-    bad = sorted(set(files) - {"pattern", "delimiter", "sheet", "skip_rows", "invert_normal", "nan_policy"})
+    bad = sorted(set(files) - {"pattern", "delimiter", "decimal", "sheet", "skip_rows", "invert_normal", "nan_policy"})
     if bad:
         raise FingerpadError(f"{p}: unknown key(s) {', '.join(bad)} in [files]")
     for section in ("columns", "units"):
@@ -210,6 +240,7 @@ def load_spec(path: str | os.PathLike[str]) -> ColumnSpec:
             units=dict(data.get("units", {})),
             pattern=files.get("pattern"),
             delimiter=delimiter,
+            decimal=files.get("decimal"),
             sheet=files.get("sheet"),
             skip_rows=files.get("skip_rows", 0),
             invert_normal=bool(files.get("invert_normal", False)),
@@ -233,8 +264,8 @@ def template_regex(template: str) -> re.Pattern[str]:
 
     ``{name}`` matches one path component's worth of text (shortest match, no ``/``);
     ``{name:REGEX}`` uses ``REGEX``; ``*`` matches anything; the rest is literal. Recognised
-    names are ``participant``, ``sample``, ``direction`` and ``repetition``; others are matched
-    and ignored. A template with ``/`` is matched against as many trailing path components,
+    names are ``participant``, ``sample``, ``direction``, ``repetition`` and ``session``; others
+    are matched and ignored. A template with ``/`` is matched against as many trailing path components,
     e.g. ``"{participant}/{sample}_{repetition}.csv"``.
 
     Examples

@@ -1,8 +1,15 @@
-"""Friction curves: power law mu = k F^(n-1) per participant and sample, normalisation by the flat reference (MODEL.md "Normalisation"), spread between people."""
+"""Friction curves: power law mu = k F^(n-1) per participant and sample, normalisation by the flat reference (MODEL.md "Normalisation"), spread between people.
+
+Every fit respects the grouping of strokes into recordings (sessions): ``ln mu = ln k + (n-1) ln F
++ u_recording + e`` with a random intercept per recording (:func:`.stats.random_intercept_fit`),
+so that session-to-session variation of skin moisture and posture widens the interval of k.
+"""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -10,13 +17,128 @@ import numpy as np
 import pandas as pd
 
 from ..errors import FingerpadError
-from .strokes import GROUP, bin_index
+from .stats import ClusterFit, random_intercept_fit, t_quantile
+from .strokes import GROUP, bin_index, cluster_column
 
 
-def _fit_power(loads: np.ndarray, mu: np.ndarray) -> Any:
-    from ..friction import fit_power_law
+@dataclass(frozen=True)
+class PowerLaw:
+    """``mu = k F^(n-1)`` fitted in log space with a random intercept per recording.
 
-    return fit_power_law(np.asarray(loads, float), np.asarray(mu, float))
+    Attributes
+    ----------
+    k, n
+        Estimates (k is mu at 1 N).
+    k_stderr, n_stderr
+        Standard errors (``k_stderr = k se(ln k)``).
+    k_ci, n_ci
+        Intervals at ``level`` (Student t, between-recording df for k, see :mod:`.stats`).
+    covariance, log_covariance
+        Covariance of ``(k, n)`` (delta method) and of ``(ln k, n - 1)``.
+    dof
+        Degrees of freedom of the exponent's interval.
+    df_level
+        Degrees of freedom of the level (k): recordings minus one.
+    n_clusters
+        Recordings (or sessions) in the fit.
+    sigma_between, sigma_within
+        Standard deviations of ``ln mu`` between recordings and between strokes.
+    note
+        Caveat (e.g. one recording only), else empty.
+    """
+
+    k: float
+    n: float
+    k_stderr: float
+    n_stderr: float
+    k_ci: tuple[float, float]
+    n_ci: tuple[float, float]
+    covariance: np.ndarray
+    log_covariance: np.ndarray
+    dof: float
+    df_level: float
+    n_clusters: int
+    sigma_between: float
+    sigma_within: float
+    level: float = 0.95
+    note: str = ""
+    absolute_sigma: bool = False
+
+    def __call__(self, load: Any) -> Any:
+        """Fitted ``mu`` at ``load`` (N)."""
+        f = np.asarray(load, dtype=float)
+        return self.k * f ** (self.n - 1.0)
+
+    def log_level(self, loads: np.ndarray) -> tuple[float, float, float]:
+        """Mean fitted ``ln mu`` over ``loads``, its standard error and df.
+
+        A normalisation by this curve shifts every ``ln mu_norm`` by the error of this level.
+        """
+        v = np.array([1.0, float(np.mean(np.log(np.asarray(loads, dtype=float))))])
+        value = math.log(self.k) + (self.n - 1.0) * v[1]
+        se = math.sqrt(max(float(v @ self.log_covariance @ v), 0.0))
+        return value, se, self.df_level
+
+
+def fit_power_law_clustered(
+    loads: Sequence[float] | np.ndarray,
+    mu: Sequence[float] | np.ndarray,
+    clusters: Sequence[Any] | np.ndarray | None = None,
+    *,
+    level: float = 0.95,
+) -> PowerLaw:
+    """Fit ``ln mu = ln k + (n - 1) ln F`` with a random intercept per cluster (REML).
+
+    Without ``clusters`` every stroke is independent (ordinary least squares, the t intervals of
+    :func:`fingerpad.friction.fit_power_law`).
+
+    Raises
+    ------
+    FingerpadError
+        Fewer than 3 points, non-positive values, or all loads equal.
+    """
+    f = np.asarray(loads, dtype=float).ravel()
+    m = np.asarray(mu, dtype=float).ravel()
+    if f.shape != m.shape:
+        raise FingerpadError(f"loads and mu differ in length ({f.size} vs {m.size})")
+    if f.size < 3:
+        raise FingerpadError(f"a power-law fit needs at least 3 points, got {f.size}")
+    if not (np.all(np.isfinite(f)) and np.all(np.isfinite(m)) and np.all(f > 0) and np.all(m > 0)):
+        raise FingerpadError("loads and mu must be positive and finite for a power-law fit")
+    x = np.log(f)
+    if np.ptp(x) == 0:
+        raise FingerpadError("a power-law fit needs at least two different loads")
+    fit: ClusterFit = random_intercept_fit(np.log(m), np.column_stack([np.ones_like(x), x]), clusters)
+    ln_k, slope = (float(c) for c in fit.coef)
+    se_lnk, se_n = (math.sqrt(max(v, 0.0)) for v in np.diag(fit.cov))
+    q_k, q_n = t_quantile(level, fit.df([1, 0])), t_quantile(level, fit.df([0, 1]))
+    k = math.exp(ln_k)
+    jac = np.diag([k, 1.0])
+    return PowerLaw(
+        k=k, n=slope + 1.0, k_stderr=k * se_lnk, n_stderr=se_n,
+        k_ci=(math.exp(ln_k - q_k * se_lnk), math.exp(ln_k + q_k * se_lnk)),
+        n_ci=(slope + 1.0 - q_n * se_n, slope + 1.0 + q_n * se_n),
+        covariance=jac @ fit.cov @ jac.T, log_covariance=fit.cov, dof=fit.df([0, 1]), df_level=fit.df([1, 0]),
+        n_clusters=fit.n_clusters, sigma_between=math.sqrt(fit.sigma2_between), sigma_within=math.sqrt(fit.sigma2),
+        level=level, note=fit.note,
+    )
+
+
+def sense_ratio(g: pd.DataFrame, level: float = 0.95) -> tuple[float, float, float]:
+    """``mu(+) / mu(-)`` of one condition with its interval: ``ln mu = a + b ln F + c [sense +]``
+    with a random intercept per recording, ratio ``exp(c)``. NaN without both senses."""
+    g = g[~g["outlier"]]
+    if g["sense"].nunique() < 2 or len(g) < 5 or g["load"].nunique() < 2:
+        return math.nan, math.nan, math.nan
+    x = np.log(g["load"].to_numpy())
+    plus = (g["sense"] == "+").to_numpy(dtype=float)
+    try:
+        fit = random_intercept_fit(np.log(g["mu"].to_numpy()), np.column_stack([np.ones_like(x), x, plus]),
+                                   cluster_column(g))
+    except FingerpadError:
+        return math.nan, math.nan, math.nan
+    lo, hi = fit.interval([0, 0, 1], level)
+    return math.exp(float(fit.coef[2])), math.exp(lo), math.exp(hi)
 
 
 def _ci(obj: Any, name: str) -> tuple[float, float]:
@@ -33,45 +155,51 @@ def fit_row(fit: Any) -> dict[str, float]:
     return {
         "k": float(fit.k), "k_se": float(getattr(fit, "k_stderr", math.nan)), "k_ci_low": k_lo, "k_ci_high": k_hi,
         "n": float(fit.n), "n_se": float(getattr(fit, "n_stderr", math.nan)), "n_ci_low": n_lo, "n_ci_high": n_hi,
+        "n_recordings": int(getattr(fit, "n_clusters", 0)),
+        "sd_between_recordings": float(getattr(fit, "sigma_between", math.nan)),
     }
 
 
-def _fit_group(g: pd.DataFrame, min_strokes: int) -> tuple[Any | None, str]:
+def _fit_group(g: pd.DataFrame, min_strokes: int, level: float = 0.95) -> tuple[Any | None, str]:
     g = g[~g["outlier"]]
     if len(g) < min_strokes or g["load"].nunique() < 3:
         return None, f"{len(g)} usable strokes at {g['load'].nunique()} loads, need {min_strokes} at 3 or more"
     try:
-        return _fit_power(g["load"].to_numpy(), g["mu"].to_numpy()), ""
+        return fit_power_law_clustered(g["load"].to_numpy(), g["mu"].to_numpy(), cluster_column(g), level=level), ""
     except FingerpadError as exc:
         return None, str(exc)
 
 
-def fit_curves(strokes: pd.DataFrame, min_strokes: int = 4) -> tuple[pd.DataFrame, dict[tuple[str, ...], Any]]:
+def fit_curves(strokes: pd.DataFrame, min_strokes: int = 4, *, level: float = 0.95
+               ) -> tuple[pd.DataFrame, dict[tuple[str, ...], Any]]:
     """Power-law fits ``mu = k F^(n-1)`` per participant, sample, direction and sense.
 
     Returns
     -------
     table, fits
         A table (one row per group and sense ``+``/``-``/``both``, with ``k``, ``n``, standard
-        errors, CIs, ``n_strokes``, ``note``) and the fit objects keyed by
+        errors, intervals at ``level`` (random intercept per recording), ``n_strokes``,
+        ``n_recordings``, ``note``) and the :class:`PowerLaw` fits keyed by
         ``(participant, sample, direction, sense)``.
     """
     rows, fits = [], {}
     for key, g in strokes.groupby(GROUP, sort=True):
         for sense in ("+", "-", "both"):
             part = g if sense == "both" else g[g["sense"] == sense]
-            fit, note = _fit_group(part, min_strokes)
+            fit, note = _fit_group(part, min_strokes, level)
             row = dict(zip(GROUP, key), sense=sense, n_strokes=int((~part["outlier"]).sum()), note=note)
             if fit is not None:
                 fits[(*key, sense)] = fit
                 row.update(fit_row(fit))
+                row["note"] = fit.note
                 row["load_min"] = float(part["load"].min())
                 row["load_max"] = float(part["load"].max())
             rows.append(row)
     return pd.DataFrame(rows), fits
 
 
-def normalise(strokes: pd.DataFrame, reference: str, min_strokes: int = 4) -> tuple[pd.DataFrame, dict[tuple[str, str], Any]]:
+def normalise(strokes: pd.DataFrame, reference: str, min_strokes: int = 4, *, level: float = 0.95
+              ) -> tuple[pd.DataFrame, dict[tuple[str, str], Any]]:
     """Divide every stroke's mu by the participant's reference curve at the same load.
 
     ``mu_norm = mu / mu_ref(F)`` with ``mu_ref`` the power law fitted to the participant's
@@ -106,7 +234,7 @@ def normalise(strokes: pd.DataFrame, reference: str, min_strokes: int = 4) -> tu
             )
         for sense in ("+", "-", "both"):
             part = ref if sense == "both" else ref[ref["sense"] == sense]
-            fit, note = _fit_group(part, min_strokes)
+            fit, note = _fit_group(part, min_strokes, level)
             if fit is not None:
                 ref_fits[(participant, sense)] = fit
         if (participant, "both") not in ref_fits:

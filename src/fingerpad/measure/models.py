@@ -222,7 +222,27 @@ def hertz_texture_model(
 
     model.geometry = geometry  # type: ignore[attr-defined]
     model.finger = base  # type: ignore[attr-defined]
+    model.variant = lambda other: hertz_texture_model(  # type: ignore[attr-defined]
+        radius, height, spacing, other, material_modulus, material_poisson=material_poisson,
+        full_contact_ratio=full_contact_ratio, n_rings=n_rings)
     return model
+
+
+def model_variant(model: Model, finger: Any) -> Model:
+    """The same micro-model (same texture, same computed BEM cell) for another finger.
+
+    Used for the sensitivity of E_s to the friction parameters (tau0, alpha, beta) and the
+    ridge fraction, which enter through the finger.
+
+    Raises
+    ------
+    FingerpadError
+        For a model that was not built by :func:`bem_texture_model` or :func:`hertz_texture_model`.
+    """
+    make = getattr(model, "variant", None)
+    if make is None:
+        raise FingerpadError("this model cannot be rebuilt for another finger (not a fingerpad micro-model)")
+    return make(resolve_finger(finger))
 
 
 def bem_texture_model(
@@ -268,7 +288,6 @@ def bem_texture_model(
     callable
         ``model(loads, skin_modulus) -> mu_normalised``, with ``geometry``, ``finger`` and ``cell``.
     """
-    from .. import coupling
     from ..micro.bem import BEMUnitCell
     from ..textures import spherical_caps
 
@@ -283,20 +302,39 @@ def bem_texture_model(
         return float(base.with_overrides(skin_modulus=skin_modulus).micro_modulus(material_modulus, material_poisson))
 
     e_ref = e1(base.skin_modulus)
-    ridge = np.asarray(base.ridge_area(np.array([lo_f, hi_f])), dtype=float)
-    p_lo, p_hi = 0.02 * lo_f / ridge[0], 1.5 * hi_f / ridge[1]
     texture = spherical_caps(radius=radius, height=height, spacing=spacing, grid=grid)
-    cell = BEMUnitCell(texture, e_ref, cache=cache).prepare(p_lo * e_ref / e1(hi_e), p_hi * e_ref / e1(lo_e))
+    cell = BEMUnitCell(texture, e_ref, cache=cache)
+    return _bem_model(cell, geometry, base, (lo_e, hi_e), (lo_f, hi_f), n_rings)
+
+
+def _bem_model(cell: Any, geometry: TextureGeometry, finger: Any, modulus_range: tuple[float, float],
+               load_range: tuple[float, float], n_rings: int) -> Model:
+    """The BEM model of a computed cell for ``finger``: the cell is prepared over the local
+    pressures this finger's ridge area gives (reusing every node already solved)."""
+    from .. import coupling
+
+    mm, mp = geometry.material_modulus, geometry.material_poisson
+
+    def e1(skin_modulus: float) -> float:
+        return float(finger.with_overrides(skin_modulus=skin_modulus).micro_modulus(mm, mp))
+
+    e_ref = float(cell.modulus)
+    lo_f, hi_f = load_range
+    ridge = np.asarray(finger.ridge_area(np.array([lo_f, hi_f])), dtype=float)
+    p_lo, p_hi = 0.02 * lo_f / ridge[0], 1.5 * hi_f / ridge[1]
+    cell.prepare(p_lo * e_ref / e1(modulus_range[1]), p_hi * e_ref / e1(modulus_range[0]))
 
     def model(loads: np.ndarray, skin_modulus: float) -> np.ndarray:
-        f = base.with_overrides(skin_modulus=float(skin_modulus))
-        scaled = cell.at_modulus(float(f.micro_modulus(material_modulus, material_poisson)))
+        f = finger.with_overrides(skin_modulus=float(skin_modulus))
+        scaled = cell.at_modulus(float(f.micro_modulus(mm, mp)))
         curve = coupling.predict_curve(np.asarray(loads, dtype=float), f, scaled, n_rings=n_rings)
         return np.asarray(curve.mu_normalised, dtype=float)
 
     model.geometry = geometry  # type: ignore[attr-defined]
-    model.finger = base  # type: ignore[attr-defined]
+    model.finger = finger  # type: ignore[attr-defined]
     model.cell = cell  # type: ignore[attr-defined]
+    model.variant = lambda other: _bem_model(cell, geometry, other, modulus_range, load_range,  # type: ignore[attr-defined]
+                                             n_rings)
     return model
 
 
@@ -311,3 +349,77 @@ def texture_model(geometry: TextureGeometry, finger: Any = None) -> Model:
         geometry.radius, geometry.height, geometry.spacing, finger, geometry.material_modulus,
         material_poisson=geometry.material_poisson, full_contact_ratio=geometry.full_contact_ratio,
     )
+
+
+class ModelTable:
+    """A model tabulated on a grid of skin moduli and loads, interpolated in between.
+
+    The model (a disc integral per load) is the costly part of a fit; tabulating it once per
+    texture -- ``n_moduli`` log-spaced E_s in ``bounds`` times ``n_loads`` log-spaced loads in
+    ``load_range`` -- makes every fit, profile and participant that shares the texture nearly
+    free. Interpolation: cubic spline in ``log E_s``, linear in ``log F`` of ``log model``.
+
+    Parameters
+    ----------
+    model
+        ``model(loads, skin_modulus) -> mu_normalised``.
+    load_range
+        (lowest, highest) load to cover, N.
+    bounds
+        (lowest, highest) skin modulus, Pa.
+    n_loads, n_moduli
+        Grid sizes.
+
+    Raises
+    ------
+    FingerpadError
+        For bad ranges, or a model returning the wrong shape, non-finite or non-positive values.
+    """
+
+    def __init__(
+        self,
+        model: Model,
+        load_range: tuple[float, float],
+        bounds: tuple[float, float] = (2e4, 2e7),
+        *,
+        n_loads: int = 32,
+        n_moduli: int = 49,
+    ) -> None:
+        from scipy.interpolate import CubicSpline
+
+        lo, hi = (float(v) for v in load_range)
+        e_lo, e_hi = (float(v) for v in bounds)
+        if not (0 < e_lo < e_hi and math.isfinite(e_hi)):
+            raise FingerpadError(f"modulus bounds must satisfy 0 < low < high, got {bounds!r}")
+        if not (0 < lo <= hi and math.isfinite(hi)):
+            raise FingerpadError(f"load range must be positive, got {load_range!r}")
+        if hi <= lo * 1.001:  # a single load: widen a little so interpolation is defined
+            lo, hi = lo / 1.01, hi * 1.01
+        self.model = model
+        self.bounds = (e_lo, e_hi)
+        self.loads = np.geomspace(lo, hi, int(n_loads))
+        self.log_moduli = np.linspace(math.log(e_lo), math.log(e_hi), int(n_moduli))
+        rows = []
+        for le in self.log_moduli:
+            curve = np.asarray(model(self.loads, math.exp(le)), dtype=float)
+            if curve.shape != self.loads.shape or not np.all(np.isfinite(curve)) or np.any(curve <= 0):
+                raise FingerpadError(
+                    f"model returned {curve.shape} values for {self.loads.size} loads at "
+                    f"E_s = {math.exp(le):.4g} Pa (need positive finite values)"
+                )
+            rows.append(np.log(curve))
+        self.table = np.array(rows)
+        self._spline = CubicSpline(self.log_moduli, self.table, axis=0)
+
+    def covers(self, loads: np.ndarray) -> bool:
+        """Whether ``loads`` lie inside the tabulated range."""
+        return bool(np.min(loads) >= self.loads[0] * (1 - 1e-9) and np.max(loads) <= self.loads[-1] * (1 + 1e-9))
+
+    def log_predict(self, loads: np.ndarray, log_modulus: float) -> np.ndarray:
+        """``log model(loads, exp(log_modulus))`` by interpolation."""
+        row = self._spline(float(np.clip(log_modulus, self.log_moduli[0], self.log_moduli[-1])))
+        return np.interp(np.log(loads), np.log(self.loads), row)
+
+    def __call__(self, loads: np.ndarray, skin_modulus: float) -> np.ndarray:
+        """Interpolated ``model(loads, skin_modulus)``."""
+        return np.exp(self.log_predict(np.asarray(loads, dtype=float), math.log(skin_modulus)))

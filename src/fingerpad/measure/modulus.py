@@ -1,45 +1,78 @@
-"""The skin micro-modulus E_s from friction: model fits with profile intervals, closed form from the transition (Eq. 3.6)."""
+"""The skin micro-modulus E_s from friction: model fits whose intervals respect the recordings.
+
+The model fit draws its information from the level of mu/mu_ref (and, with ``fit_scale``, from
+the shape of the curve). Strokes of one recording share its skin state, so the level is known
+only as well as the recordings agree with one another. The interval is therefore a test
+inversion on the recordings, not a likelihood on independent strokes:
+
+* level (default): for each trial E_s the residuals ``r = ln mu_norm - ln model(F, E_s)`` are
+  averaged per recording; the weighted mean of those recording means is tested against zero
+  with a cluster-robust standard error (``G - 1`` df; in a balanced study the exact t-test on
+  recording means), with the error of the participant's reference level (which shifts every
+  mu_norm alike) added in quadrature, Welch-Satterthwaite df;
+* shape (``fit_scale``): the level is free, so the residuals are centred per recording and the
+  within-recording residual sum of squares is compared with its minimum by an F test.
+
+E_s is accepted where the test does not reject at ``1 - level``. That set may be several
+disjoint pieces (a non-monotone model, or two near-equal minima with ``fit_scale``): all of
+them are reported. A set that reaches a search bound, or that is empty, means the data cannot
+determine E_s, and the result says so.
+"""
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import stats
 
 from ..errors import FingerpadError
-from ..materials import DEFAULT_SKIN_POISSON, reduced_modulus
-from .models import Model, TextureGeometry
+from .models import Model, ModelTable
+from .stats import cluster_labels, random_intercept_fit, t_quantile
+from .transition import modulus_from_transition, transition_load
+
+__all__ = ["ModelTable", "ModulusFit", "design_effect", "estimate_skin_modulus", "estimate_skin_modulus_joint",
+           "modulus_from_transition", "transition_load"]
 
 
 @dataclass(frozen=True)
 class ModulusFit:
-    """Least-squares skin modulus E_s and its confidence interval.
+    """Skin modulus E_s fitted with a micro-model, and the set of E_s the data allow.
 
     Attributes
     ----------
     skin_modulus
-        Best E_s, Pa.
+        Best E_s, Pa (where the level residual vanishes, or the shape fits best).
     ci_low, ci_high
-        Interval at ``level``: the profile-likelihood interval, widened (in ``log E_s``, in
-        quadrature) by the uncertainty of the reference curve when one was given. A bound of
-        the search range when the profile does not rise far enough there (``at_bound``).
+        Lowest and highest E_s of the accepted set at ``level`` (its hull), Pa.
+    pieces
+        The accepted set as disjoint intervals ``((low, high), ...)``, Pa.
     profile_ci
-        The profile-likelihood interval alone (data scatter only).
+        The hull again (kept for callers of earlier versions).
     reference_sd
-        Standard deviation of ``log E_s`` due to the reference curve (delta method; 0 without).
+        Standard deviation of ``ln E_s`` due to the reference curve's level (0 without).
     design_effect
-        Variance inflation for strokes clustered in files (1 without ``clusters``): strokes
-        of one session share its skin condition, so they carry less than independent weight.
+        Kish design effect of the residuals by recording (information only).
     scale
         Fitted amplitude factor (1 unless ``fit_scale``).
     rss
-        Residual sum of squares (of log residuals when ``log_residuals``).
-    n
-        Number of points.
+        Residual sum of squares at the best E_s.
+    n, n_clusters
+        Points and recordings.
+    determined
+        False when the accepted set reaches a search bound or is empty: the data do not
+        determine E_s (``note`` says how).
+    at_bound
+        The accepted set (or the estimate) reaches a bound of the search range.
+    statistic, df
+        ``"level t"`` or ``"shape F"`` and the (denominator) degrees of freedom.
+    model
+        Name of the micro-model that produced it (``bem``, ``hertz``, or a caller's label).
+    note
+        Plain-language caveat, else empty.
     """
 
     skin_modulus: float
@@ -53,7 +86,21 @@ class ModulusFit:
     n: int
     level: float
     at_bound: bool
-    method: str = "profile likelihood"
+    method: str = "level t-test over recordings"
+    pieces: tuple[tuple[float, float], ...] = ()
+    determined: bool = True
+    statistic: str = "level t"
+    df: float = math.nan
+    n_clusters: int = 0
+    model: str = ""
+    note: str = ""
+    bounds: tuple[float, float] = field(default=(math.nan, math.nan))
+
+    def describe_interval(self, unit: float = 1e6, name: str = "MPa") -> str:
+        """The accepted set, e.g. ``0.21-0.34 MPa`` or ``0.1-0.2 or 0.5-0.7 MPa``."""
+        if not self.pieces:
+            return "none"
+        return " or ".join(f"{a / unit:.3g}-{b / unit:.3g}" for a, b in self.pieces) + f" {name}"
 
 
 def _check_xy(loads: Any, values: Any, what: str) -> tuple[np.ndarray, np.ndarray]:
@@ -66,80 +113,6 @@ def _check_xy(loads: Any, values: Any, what: str) -> tuple[np.ndarray, np.ndarra
     if not (np.all(np.isfinite(f)) and np.all(f > 0) and np.all(np.isfinite(v)) and np.all(v > 0)):
         raise FingerpadError(f"{what}: loads and values must be positive and finite")
     return f, v
-
-
-class ModelTable:
-    """A model tabulated on a grid of skin moduli and loads, interpolated in between.
-
-    The model (a disc integral per load) is the costly part of a fit; tabulating it once per
-    texture -- ``n_moduli`` log-spaced E_s in ``bounds`` times ``n_loads`` log-spaced loads in
-    ``load_range`` -- makes every fit, profile and participant that shares the texture nearly
-    free. Interpolation: cubic spline in ``log E_s``, linear in ``log F`` of ``log model``.
-
-    Parameters
-    ----------
-    model
-        ``model(loads, skin_modulus) -> mu_normalised``.
-    load_range
-        (lowest, highest) load to cover, N.
-    bounds
-        (lowest, highest) skin modulus, Pa.
-    n_loads, n_moduli
-        Grid sizes.
-
-    Raises
-    ------
-    FingerpadError
-        For bad ranges, or a model returning the wrong shape, non-finite or non-positive values.
-    """
-
-    def __init__(
-        self,
-        model: Model,
-        load_range: tuple[float, float],
-        bounds: tuple[float, float] = (2e4, 2e7),
-        *,
-        n_loads: int = 32,
-        n_moduli: int = 49,
-    ) -> None:
-        from scipy.interpolate import CubicSpline
-
-        lo, hi = (float(v) for v in load_range)
-        e_lo, e_hi = (float(v) for v in bounds)
-        if not (0 < e_lo < e_hi and math.isfinite(e_hi)):
-            raise FingerpadError(f"modulus bounds must satisfy 0 < low < high, got {bounds!r}")
-        if not (0 < lo <= hi and math.isfinite(hi)):
-            raise FingerpadError(f"load range must be positive, got {load_range!r}")
-        if hi <= lo * 1.001:  # a single load: widen a little so interpolation is defined
-            lo, hi = lo / 1.01, hi * 1.01
-        self.model = model
-        self.bounds = (e_lo, e_hi)
-        self.loads = np.geomspace(lo, hi, int(n_loads))
-        self.log_moduli = np.linspace(math.log(e_lo), math.log(e_hi), int(n_moduli))
-        rows = []
-        for le in self.log_moduli:
-            curve = np.asarray(model(self.loads, math.exp(le)), dtype=float)
-            if curve.shape != self.loads.shape or not np.all(np.isfinite(curve)) or np.any(curve <= 0):
-                raise FingerpadError(
-                    f"model returned {curve.shape} values for {self.loads.size} loads at "
-                    f"E_s = {math.exp(le):.4g} Pa (need positive finite values)"
-                )
-            rows.append(np.log(curve))
-        self.table = np.array(rows)
-        self._spline = CubicSpline(self.log_moduli, self.table, axis=0)
-
-    def covers(self, loads: np.ndarray) -> bool:
-        """Whether ``loads`` lie inside the tabulated range."""
-        return bool(np.min(loads) >= self.loads[0] * (1 - 1e-9) and np.max(loads) <= self.loads[-1] * (1 + 1e-9))
-
-    def log_predict(self, loads: np.ndarray, log_modulus: float) -> np.ndarray:
-        """``log model(loads, exp(log_modulus))`` by interpolation."""
-        row = self._spline(float(np.clip(log_modulus, self.log_moduli[0], self.log_moduli[-1])))
-        return np.interp(np.log(loads), np.log(self.loads), row)
-
-    def __call__(self, loads: np.ndarray, skin_modulus: float) -> np.ndarray:
-        """Interpolated ``model(loads, skin_modulus)``."""
-        return np.exp(self.log_predict(np.asarray(loads, dtype=float), math.log(skin_modulus)))
 
 
 def design_effect(residuals: np.ndarray, clusters: np.ndarray) -> float:
@@ -164,16 +137,48 @@ def design_effect(residuals: np.ndarray, clusters: np.ndarray) -> float:
     return 1.0 + (m - 1.0) * rho
 
 
-def _reference_shift_var(reference: Any, loads: np.ndarray) -> float:
-    """Variance of the mean log-level error of a fitted reference power law over ``loads``."""
+def _reference_level(reference: Any, loads: np.ndarray, design: float = 1.0) -> tuple[float, float]:
+    """Variance and df of the reference curve's mean ``ln mu_ref`` over ``loads``."""
+    if reference is None:
+        return 0.0, math.inf
+    if hasattr(reference, "log_level"):
+        _, se, df = reference.log_level(loads)
+        return se**2, float(df)
     cov = getattr(reference, "log_covariance", None)
     if cov is None:
-        return 0.0
+        return 0.0, math.inf
     v = np.array([1.0, float(np.mean(np.log(loads)))])
-    return float(max(v @ np.asarray(cov, dtype=float) @ v, 0.0))
+    var = float(max(v @ np.asarray(cov, dtype=float) @ v, 0.0)) * max(float(design), 1.0)
+    return var, float(getattr(reference, "dof", math.inf))
 
 
-def _profile_fit(
+def _log_predictions(datasets: Sequence[tuple[np.ndarray, np.ndarray, ModelTable]], scan: np.ndarray) -> np.ndarray:
+    """``ln model`` of every point (columns) at every trial ``ln E_s`` (rows), from the tables."""
+    cols = []
+    for f, _, t in datasets:
+        rows = t._spline(np.clip(scan, t.log_moduli[0], t.log_moduli[-1]))  # (scan, table loads)
+        lx, tx = np.log(f), np.log(t.loads)
+        j = np.clip(np.searchsorted(tx, lx) - 1, 0, tx.size - 2)
+        w = np.clip((lx - tx[j]) / (tx[j + 1] - tx[j]), 0.0, 1.0)
+        cols.append(rows[:, j] * (1 - w) + rows[:, j + 1] * w)
+    return np.concatenate(cols, axis=1)
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """Index ranges ``[a, b]`` (inclusive) of the True runs of ``mask``."""
+    edges = np.diff(np.r_[0, mask.astype(int), 0])
+    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1))
+
+
+def _crossing(scan: np.ndarray, excess: np.ndarray, i: int, j: int) -> float:
+    """Where ``excess`` (accepted <= 0) crosses zero between scan points i and j (linear)."""
+    a, b = excess[i], excess[j]
+    if not (np.isfinite(a) and np.isfinite(b)) or a == b:
+        return float(scan[i])
+    return float(scan[i] + (scan[j] - scan[i]) * a / (a - b))
+
+
+def _infer(
     datasets: Sequence[tuple[np.ndarray, np.ndarray, ModelTable]],
     *,
     level: float,
@@ -182,79 +187,146 @@ def _profile_fit(
     reference: Any = None,
     reference_design_effect: float = 1.0,
     clusters: np.ndarray | None = None,
+    n_scan: int = 241,
+    model_name: str = "",
 ) -> ModulusFit:
     if not 0 < level < 1:
         raise FingerpadError(f"level must lie in (0, 1), got {level!r}")
+    loads = np.concatenate([f for f, _, _ in datasets])
     ys = np.concatenate([v for _, v, _ in datasets])
     n = ys.size
-    grid = datasets[0][2].log_moduli
     lo_b = max(t.log_moduli[0] for _, _, t in datasets)
     hi_b = min(t.log_moduli[-1] for _, _, t in datasets)
+    inv = cluster_labels(clusters, n)
+    g = int(inv.max()) + 1
+    m = np.bincount(inv, minlength=g).astype(float)
+    onehot = (inv[:, None] == np.arange(g)[None, :]).astype(float) if g < n else None
+    var_ref, df_ref = (0.0, math.inf) if fit_scale else _reference_level(reference, loads, reference_design_effect)
+    df_w = float(n - g - 1) if g < n else float(n - 2)
+    if fit_scale and df_w < 1:
+        raise FingerpadError("skin modulus fit with a free scale: too few points within the recordings")
+    gamma: list[float] = []
 
-    def log_pred(log_e: float) -> np.ndarray:
-        return np.concatenate([t.log_predict(f, log_e) for f, _, t in datasets])
-
-    def rss_and_scale(log_e: float) -> tuple[float, float]:
-        lp = log_pred(log_e)
+    def evaluate(scan: np.ndarray) -> dict[str, np.ndarray]:
+        """Residuals and test statistics at every trial ln E_s of ``scan``."""
+        logp = _log_predictions(datasets, scan)  # (scan, n)
         if log_residuals:
-            r = np.log(ys) - lp
-            shift = float(r.mean()) if fit_scale else 0.0
-            return float(np.sum((r - shift) ** 2)), math.exp(shift)
-        ps = np.exp(lp)
-        scale = float(ys @ ps / (ps @ ps)) if fit_scale else 1.0
-        r = ys - scale * ps
-        return float(r @ r), scale
+            R = np.log(ys)[None, :] - logp
+            c = np.ones(scan.size)
+        else:
+            P = np.exp(logp)
+            c = (P @ ys) / np.einsum("ij,ij->i", P, P) if fit_scale else np.ones(scan.size)
+            R = ys[None, :] - c[:, None] * P
+        means = R if onehot is None else (R @ onehot) / m  # (scan, g)
+        if onehot is None:  # independent points: centre on the overall mean
+            centred = R - R.mean(axis=1, keepdims=True)
+        else:
+            centred = R - means[:, inv]
+        within = np.einsum("ij,ij->i", centred, centred)
+        out = {"logp": logp, "R": R, "within": within, "scale": c}
+        if fit_scale:
+            return out
+        if not gamma:
+            # weights of the recording means: GLS with the between/within variance ratio at the
+            # best level (one REML fit); the variance itself is estimated cluster-robustly
+            j0 = int(np.argmin(np.abs(R.mean(axis=1))))
+            ratio = 0.0
+            if onehot is not None and g > 1:
+                fit0 = random_intercept_fit(R[j0], np.ones((n, 1)), inv)
+                ratio = fit0.sigma2_between / max(fit0.sigma2, 1e-300)
+            gamma.append(ratio)
+        a = m / (1.0 + gamma[0] * m)
+        delta = means @ a / a.sum()
+        if g > 1:
+            var_tex = g / (g - 1) * np.sum((a[None, :] * (means - delta[:, None])) ** 2, axis=1) / a.sum() ** 2
+        else:
+            var_tex = np.full(scan.size, math.inf)
+        df_tex = float(max(g - 1, 1))
+        var = var_tex + var_ref
+        with np.errstate(divide="ignore", invalid="ignore"):  # Welch-Satterthwaite df of the sum
+            df_all = var**2 / (var_tex**2 / df_tex + (var_ref**2 / df_ref if math.isfinite(df_ref) else 0.0))
+        df_all = np.where(np.isfinite(df_all), np.maximum(df_all, 1.0), df_tex)
+        tstat = np.abs(delta) / np.sqrt(np.maximum(var, 1e-300))
+        out.update(delta=delta, df=df_all, excess=tstat - stats.t.ppf(0.5 + level / 2.0, df_all))
+        return out
 
-    def rss(log_e: float) -> float:
-        return rss_and_scale(log_e)[0]
+    coarse = np.linspace(lo_b, hi_b, int(n_scan))
+    ev = evaluate(coarse)
+    if fit_scale:
+        rss_min = max(float(ev["within"].min()), 1e-300)
+        excess = (ev["within"] - rss_min) / (rss_min / df_w) - stats.f.ppf(level, 1, df_w)
+        turns = np.diff(np.sign(np.diff(ev["within"])), append=0.0) != 0  # local minima and maxima
+        interesting = np.flatnonzero((np.diff(np.sign(excess)) != 0) | turns)
+    else:
+        d = ev["delta"]
+        interesting = np.flatnonzero((np.diff(np.sign(d)) != 0) | (np.diff(np.sign(ev["excess"])) != 0))
+    # refine where the level changes sign or the test changes its answer: an accepted piece may
+    # be narrower than the coarse step
+    step = coarse[1] - coarse[0]
+    extra = [np.linspace(coarse[k] - step, coarse[k] + 2 * step, 49) for k in interesting]
+    scan = np.unique(np.clip(np.concatenate([coarse, *extra]), lo_b, hi_b)) if extra else coarse
+    ev = evaluate(scan) if extra else ev
+    within, R, logp = ev["within"], ev["R"], ev["logp"]
+    if fit_scale:
+        best = int(np.argmin(within))
+        rss_min = max(float(within[best]), 1e-300)
+        excess = (within - rss_min) / (rss_min / df_w) - stats.f.ppf(level, 1, df_w)
+        statistic, method, df, ref_sd = "shape F", "F test of the within-recording shape", df_w, 0.0
+        scale = math.exp(float(np.mean(R[best]))) if log_residuals else float(ev["scale"][best])
+        est = float(scan[best])
+        if 0 < best < scan.size - 1:  # parabola through the three smallest
+            x3, y3 = scan[best - 1:best + 2], within[best - 1:best + 2]
+            coef = np.polyfit(x3, y3, 2)
+            if coef[0] > 0:
+                est = float(np.clip(-coef[1] / (2 * coef[0]), x3[0], x3[2]))
+    else:
+        delta, excess = ev["delta"], ev["excess"]
+        # the estimate: where the level residual changes sign; among several, the best shape
+        roots = [int(i) for i in np.flatnonzero(np.sign(delta[:-1]) != np.sign(delta[1:]))]
+        if roots:
+            k = min(roots, key=lambda i: within[i])
+            est = float(scan[k] + (scan[k + 1] - scan[k]) * delta[k] / (delta[k] - delta[k + 1]))
+            best = k if abs(delta[k]) <= abs(delta[k + 1]) else k + 1
+        else:
+            best = int(np.argmin(np.abs(delta)))
+            est = float(scan[best])
+        df = float(ev["df"][best])
+        statistic, method, scale = "level t", "level t-test over recordings", 1.0
+        slope = float(np.gradient(logp.mean(axis=1), scan)[best])
+        ref_sd = math.sqrt(var_ref) / abs(slope) if var_ref and slope else 0.0
 
-    scan = grid[(grid >= lo_b) & (grid <= hi_b)]
-    values = np.array([rss(s) for s in scan])
-    i = int(np.argmin(values))
-    a, b = scan[max(i - 1, 0)], scan[min(i + 1, scan.size - 1)]
-    res = optimize.minimize_scalar(rss, bounds=(a, b), method="bounded", options={"xatol": 1e-5})
-    best = float(res.x) if res.fun <= values[i] else float(scan[i])
-    rss_min, scale = rss_and_scale(best)
-    threshold = stats.chi2.ppf(level, 1)
-    deff = 1.0
-    if clusters is not None:
-        deff = design_effect(np.log(ys) - log_pred(best), clusters)
-    n_eff = n / deff
-
-    def excess(log_e: float) -> float:
-        return n_eff * math.log(max(rss(log_e), 1e-300) / max(rss_min, 1e-300)) - threshold
-
-    def edge(step: int) -> tuple[float, bool]:
-        # walk outward from the best point until the profile crosses the threshold
-        inner, j = best, i
-        while 0 <= j + step < scan.size:
-            j += step
-            if (scan[j] - best) * step <= 0:
-                continue
-            if excess(scan[j]) > 0:
-                return float(optimize.brentq(excess, min(inner, scan[j]), max(inner, scan[j]), xtol=1e-6)), False
-            inner = scan[j]
-        return float(scan[0] if step < 0 else scan[-1]), True
-
-    lo, lo_hit = edge(-1)
-    hi, hi_hit = edge(+1)
-    ref_sd = 0.0
-    if reference is not None and not fit_scale:
-        # delta method: a reference curve off by d(log mu_ref) shifts every mu_norm by -d, which
-        # moves log E_s by d / (d mean log model / d log E_s)
-        h = 0.01
-        slope = float(np.mean(log_pred(best + h) - log_pred(best - h)) / (2 * h))
-        var = _reference_shift_var(reference, np.concatenate([f for f, _, _ in datasets]))
-        var *= max(float(reference_design_effect), 1.0)
-        ref_sd = math.sqrt(var) / abs(slope) if slope != 0 else math.inf
-    z = stats.norm.ppf(0.5 + level / 2.0)
-    lo_all = best - math.hypot(best - lo, z * ref_sd)
-    hi_all = best + math.hypot(hi - best, z * ref_sd)
+    accepted = excess <= 0
+    pieces = []
+    for a_i, b_i in _runs(accepted):
+        lo = scan[0] if a_i == 0 else _crossing(scan, excess, a_i - 1, a_i)
+        hi = scan[-1] if b_i == scan.size - 1 else _crossing(scan, excess, b_i, b_i + 1)
+        pieces.append((math.exp(lo), math.exp(hi)))
+    at_bound = bool(accepted[0] or accepted[-1] or best in (0, scan.size - 1))
+    determined = bool(pieces) and not at_bound
+    e_lo, e_hi = math.exp(scan[0]), math.exp(scan[-1])
+    note = ""
+    if not pieces:
+        note = (f"no E_s in {e_lo / 1e6:.3g}-{e_hi / 1e6:.3g} MPa reproduces the measured "
+                f"{'shape' if fit_scale else 'level'} of mu/mu_ref with this micro-model: E_s not determined")
+    elif accepted[0] and accepted[-1]:
+        note = f"E_s not determined: every E_s in {e_lo / 1e6:.3g}-{e_hi / 1e6:.3g} MPa fits the data"
+    elif accepted[-1]:
+        note = (f"E_s not determined: only a lower bound, E_s > {pieces[0][0] / 1e6:.3g} MPa "
+                f"(the accepted set reaches the search bound {e_hi / 1e6:.3g} MPa)")
+    elif accepted[0]:
+        note = (f"E_s not determined: only an upper bound, E_s < {pieces[-1][1] / 1e6:.3g} MPa "
+                f"(the accepted set reaches the search bound {e_lo / 1e6:.3g} MPa)")
+    elif best in (0, scan.size - 1):
+        note = "E_s not determined: the best fit lies at a search bound"
+    if len(pieces) > 1 and not note:
+        note = f"the data allow {len(pieces)} separate ranges of E_s"
+    hull = (pieces[0][0], pieces[-1][1]) if pieces else (math.nan, math.nan)
+    deff = design_effect(R[best] - R[best].mean(), inv) if g < n else 1.0
     return ModulusFit(
-        skin_modulus=math.exp(best), ci_low=math.exp(max(lo_all, scan[0])), ci_high=math.exp(min(hi_all, scan[-1])),
-        profile_ci=(math.exp(lo), math.exp(hi)), reference_sd=ref_sd, design_effect=deff, scale=scale, rss=rss_min, n=n,
-        level=level, at_bound=bool(lo_hit or hi_hit or best <= scan[0] + 1e-9 or best >= scan[-1] - 1e-9),
-        method="profile likelihood" + (" + reference delta method" if ref_sd else ""),
+        skin_modulus=math.exp(est), ci_low=hull[0], ci_high=hull[1], profile_ci=hull, reference_sd=ref_sd,
+        design_effect=deff, scale=scale, rss=float(within[best]) if fit_scale else float(np.sum(R[best] ** 2)),
+        n=n, level=level, at_bound=at_bound, method=method, pieces=tuple(pieces), determined=determined,
+        statistic=statistic, df=df, n_clusters=g, model=model_name, note=note, bounds=(e_lo, e_hi),
     )
 
 
@@ -264,6 +336,12 @@ def _as_table(model: Model | ModelTable, loads: np.ndarray, bounds: tuple[float,
             raise FingerpadError("model table does not cover the loads of the data")
         return model
     return ModelTable(model, (float(loads.min()), float(loads.max())), bounds, n_loads=n_grid)
+
+
+def _model_name(model: Any) -> str:
+    inner = getattr(model, "model", model)
+    geom = getattr(inner, "geometry", None)
+    return str(getattr(geom, "micro_model", "")) if geom is not None else ""
 
 
 def estimate_skin_modulus(
@@ -279,13 +357,13 @@ def estimate_skin_modulus(
     reference_design_effect: float = 1.0,
     clusters: Sequence[Any] | np.ndarray | None = None,
     n_grid: int = 32,
+    model_name: str | None = None,
 ) -> ModulusFit:
     """Fit the skin micro-modulus E_s to normalised friction with an injected model.
 
-    Minimises ``sum (log y - log(c model(F, E_s)))^2`` (or linear residuals) over ``log E_s``
-    in ``bounds`` (grid scan, then bounded Brent). The interval is the set of E_s with
-    ``n log(RSS/RSS_min) <= chi2_1(level)`` (profile likelihood: noise variance and ``c``
-    profiled out), widened by the reference curve's uncertainty when ``reference`` is given.
+    The estimate is the E_s where the mean residual ``ln mu_norm - ln model(F, E_s)`` over the
+    recordings vanishes (or, with ``fit_scale``, where the within-recording shape fits best);
+    the accepted set is every E_s the test of the module doc does not reject at ``1 - level``.
 
     Parameters
     ----------
@@ -297,21 +375,22 @@ def estimate_skin_modulus(
     bounds
         Search range of E_s, Pa.
     fit_scale
-        Also fit an amplitude ``c`` (absorbs a shear-strength difference between samples);
-        otherwise ``c = 1`` as MODEL.md's normalisation assumes the same tau.
+        Also fit an amplitude ``c`` (absorbs a shear-strength difference between samples); the
+        information then comes from the shape of the curve alone.
     log_residuals
-        Residuals of ``log mu`` (multiplicative scatter, the default) or of ``mu``.
+        Residuals of ``ln mu`` (multiplicative scatter, the default) or of ``mu``.
     reference
-        The reference power-law fit used to normalise (with ``log_covariance``, as from
-        :func:`fingerpad.friction.fit_power_law`): its uncertainty is propagated into the interval.
+        The reference power law used to normalise (a :class:`fingerpad.measure.curves.PowerLaw`,
+        or any fit with ``log_covariance`` and ``dof``): the error of its level shifts every
+        mu_norm alike and is added to the level test.
     reference_design_effect
-        Variance inflation of the reference fit for strokes clustered in files
-        (:func:`design_effect` of its residuals by file).
+        Variance inflation of a reference fit that ignored recordings (``log_covariance`` only).
     clusters
-        Cluster label (e.g. file) of each point: the profile uses ``n / design_effect``
-        effective points, so session-to-session variation widens the interval.
+        Recording (session) of each point; ``None``: independent points.
     n_grid
         Loads in the model table (when ``model`` is a callable).
+    model_name
+        Label of the micro-model in the result (default: the model's ``geometry.micro_model``).
 
     Returns
     -------
@@ -324,11 +403,12 @@ def estimate_skin_modulus(
     """
     f, v = _check_xy(loads, mu_normalised, "skin modulus fit")
     table = _as_table(model, f, bounds, n_grid)
-    labels = None if clusters is None else np.asarray(clusters).ravel()
+    labels = None if clusters is None else np.asarray(clusters, dtype=object).ravel()
     if labels is not None and labels.size != f.size:
         raise FingerpadError(f"skin modulus fit: {labels.size} cluster labels for {f.size} points")
-    return _profile_fit([(f, v, table)], level=level, fit_scale=fit_scale, log_residuals=log_residuals,
-                        reference=reference, reference_design_effect=reference_design_effect, clusters=labels)
+    return _infer([(f, v, table)], level=level, fit_scale=fit_scale, log_residuals=log_residuals,
+                  reference=reference, reference_design_effect=reference_design_effect, clusters=labels,
+                  model_name=model_name if model_name is not None else _model_name(model))
 
 
 def estimate_skin_modulus_joint(
@@ -342,112 +422,26 @@ def estimate_skin_modulus_joint(
     reference_design_effect: float = 1.0,
     clusters: Sequence[Sequence[Any] | np.ndarray] | None = None,
     n_grid: int = 32,
+    model_name: str | None = None,
 ) -> ModulusFit:
     """One E_s fitted to several textures of one participant: ``datasets = [(loads, mu_norm, model), ...]``.
 
-    Arguments as for :func:`estimate_skin_modulus`; ``clusters`` holds one label array per data set.
+    Arguments as for :func:`estimate_skin_modulus`; ``clusters`` holds one label array per data
+    set (labels of different data sets are kept apart).
     """
     if not datasets:
         raise FingerpadError("joint skin modulus fit: no data sets")
     checked = []
-    for f, v, m in datasets:
+    for f, v, mdl in datasets:
         ff, vv = _check_xy(f, v, "skin modulus fit")
-        checked.append((ff, vv, _as_table(m, ff, bounds, n_grid)))
+        checked.append((ff, vv, _as_table(mdl, ff, bounds, n_grid)))
     labels = None
     if clusters is not None:
-        labels = np.concatenate([np.asarray(c, dtype=object).ravel() for c in clusters])
+        labels = np.concatenate([np.array([f"{i}:{c}" for c in np.asarray(cl, dtype=object).ravel()], dtype=object)
+                                 for i, cl in enumerate(clusters)])
         if labels.size != sum(f.size for f, _, _ in checked):
             raise FingerpadError("joint skin modulus fit: cluster labels do not match the data")
-    return _profile_fit(checked, level=level, fit_scale=fit_scale, log_residuals=log_residuals,
-                        reference=reference, reference_design_effect=reference_design_effect, clusters=labels)
-
-
-def _ridge_area_of(ridge_area: float | Callable[[float], float] | Any, load: float) -> float:
-    if hasattr(ridge_area, "ridge_area"):
-        return float(ridge_area.ridge_area(load))
-    if callable(ridge_area):
-        return float(ridge_area(load))
-    return float(ridge_area)
-
-
-def modulus_from_transition(
-    critical_load: float,
-    radius: float,
-    height: float,
-    spacing: float,
-    ridge_area: float | Callable[[float], float] | Any,
-    *,
-    skin_poisson: float = DEFAULT_SKIN_POISSON,
-    material_modulus: float | None = None,
-    material_poisson: float = 0.35,
-) -> float:
-    """Skin modulus E_s from the transition load, closed form (MODEL.md Eq. 3.6 and 3.4).
-
-    ``F_crit = (8/9) E1* sqrt(h^3 R) A_fr / lambda^2`` gives
-    ``E1* = 9 F_crit lambda^2 / (8 sqrt(h^3 R) A_fr(F_crit))``, and Eq. 3.4 solved for E_s:
-    ``E_s = (1 - nu_s^2) / (1/E1* - (1 - nu_m^2)/E_m)``.
-
-    Parameters
-    ----------
-    critical_load
-        F_crit, N.
-    radius, height, spacing
-        Asperity radius R, height h and lattice spacing lambda, m.
-    ridge_area
-        A_fr in m^2: a number, a callable of the load, or a finger (``ridge_area(load)``).
-
-    Raises
-    ------
-    FingerpadError
-        For non-positive input, or if E1* exceeds what the counter-surface alone allows.
-    """
-    geometry = TextureGeometry(radius, height, spacing, material_modulus, material_poisson)
-    if not (math.isfinite(critical_load) and critical_load > 0):
-        raise FingerpadError(f"critical load must be positive, got {critical_load!r}")
-    a_fr = _ridge_area_of(ridge_area, critical_load)
-    if not a_fr > 0:
-        raise FingerpadError(f"ridge area must be positive, got {a_fr!r}")
-    e1 = 9.0 * critical_load * spacing**2 / (8.0 * math.sqrt(height**3 * radius) * a_fr)
-    compliance = 1.0 / e1
-    if geometry.material_modulus is not None:
-        compliance -= (1.0 - material_poisson**2) / geometry.material_modulus
-    if compliance <= 0:
-        raise FingerpadError(
-            f"transition at {critical_load:.4g} N implies E1* = {e1:.4g} Pa, stiffer than the counter-surface allows"
-        )
-    return (1.0 - skin_poisson**2) / compliance
-
-
-def transition_load(
-    skin_modulus: float,
-    radius: float,
-    height: float,
-    spacing: float,
-    ridge_area: float | Callable[[float], float] | Any,
-    *,
-    skin_poisson: float = DEFAULT_SKIN_POISSON,
-    material_modulus: float | None = None,
-    material_poisson: float = 0.35,
-    bracket: tuple[float, float] = (1e-6, 1e4),
-) -> float:
-    """Transition load F_crit for a skin modulus: Eq. 3.6 solved for F with A_fr(F).
-
-    The inverse of :func:`modulus_from_transition`.
-
-    Raises
-    ------
-    FingerpadError
-        If no load in ``bracket`` satisfies Eq. 3.6.
-    """
-    e1 = reduced_modulus(skin_modulus, skin_poisson, material_modulus, material_poisson)
-    TextureGeometry(radius, height, spacing)
-    c = (8.0 / 9.0) * e1 * math.sqrt(height**3 * radius) / spacing**2
-
-    def g(log_f: float) -> float:
-        f = math.exp(log_f)
-        return math.log(f) - math.log(c * _ridge_area_of(ridge_area, f))
-
-    a, b = (math.log(x) for x in bracket)
-    if g(a) * g(b) > 0:
-        raise FingerpadError(f"no transition load within {bracket[0]:.3g}-{bracket[1]:.3g} N")
-    return math.exp(optimize.brentq(g, a, b, xtol=1e-10))
+    names = sorted({_model_name(mdl) for _, _, mdl in datasets} - {""})
+    return _infer(checked, level=level, fit_scale=fit_scale, log_residuals=log_residuals,
+                  reference=reference, reference_design_effect=reference_design_effect, clusters=labels,
+                  model_name=model_name if model_name is not None else "+".join(names))

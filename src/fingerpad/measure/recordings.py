@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import csv
-import math
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -14,7 +13,7 @@ import numpy as np
 from ..errors import FingerpadError
 from .columns import (
     ALIASES,
-    DATA_SUFFIXES,
+    COMPANION_SUFFIXES,
     DEFAULT_PATTERN,
     DIMENSIONS,
     LABELS,
@@ -27,7 +26,7 @@ from .columns import (
     template_regex,
     unit_factor,
 )
-from .importers import read_rows
+from .importers import RawTable, importer_for, read_table, supported_suffixes
 from .importers.text import read_text_rows, sniff_delimiter
 
 
@@ -49,6 +48,7 @@ class Recording:
     sample: str = ""
     direction: str = ""
     repetition: str = ""
+    session: str = ""
 
     def __post_init__(self) -> None:
         n = len(self.normal)
@@ -97,6 +97,33 @@ def _find_columns(path: Path, header: list[str], spec: ColumnSpec) -> dict[str, 
     return index
 
 
+def to_numbers(path: Path, table: RawTable, j: int) -> np.ndarray:
+    """Column ``j`` of ``table`` as floats (empty cells NaN), vectorised.
+
+    Raises
+    ------
+    FingerpadError
+        Naming the file, the row and the cell that is not a number.
+    """
+    import pandas as pd
+
+    col = table.columns[j]
+    if col.dtype.kind in "fiub":
+        return np.asarray(col, dtype=float)
+    text = pd.Series(col, dtype=object).astype(str).str.strip()
+    missing = pd.isna(pd.Series(col, dtype=object)).to_numpy() | text.isin(["", "nan", "NaN", "NA", "N/A"]).to_numpy()
+    cleaned = text.str.replace(",", ".", regex=False) if table.decimal == "," else text
+    values = pd.to_numeric(cleaned.where(~missing, None), errors="coerce").to_numpy(dtype=float)
+    bad = np.flatnonzero(np.isnan(values) & ~missing)
+    if bad.size:
+        i = int(bad[0])
+        raise FingerpadError(
+            f"{path}, {table.row_word} {int(table.rows[i])}: cannot read {text.iloc[i]!r} in column "
+            f"{table.header[j]!r} as a number"
+        )
+    return values
+
+
 def read_recording(
     path: str | os.PathLike[str],
     spec: ColumnSpec | None = None,
@@ -105,16 +132,17 @@ def read_recording(
     sample: str = "",
     direction: str = "",
     repetition: str = "",
+    session: str = "",
 ) -> Recording:
-    """Read one recording (CSV/TSV/Excel) into SI units.
+    """Read one recording (text, Excel, .xls, MATLAB, LabVIEW) into SI units.
 
     Parameters
     ----------
     path
-        The data file.
+        The data file; its suffix picks the importer (:mod:`fingerpad.measure.importers`).
     spec
         Column names, units and options (:class:`ColumnSpec`); defaults recognise common names.
-    participant, sample, direction, repetition
+    participant, sample, direction, repetition, session
         Metadata attached to the recording.
 
     Raises
@@ -125,34 +153,24 @@ def read_recording(
     """
     spec = spec or ColumnSpec()
     p = Path(path)
-    header, rows = read_rows(p, spec)
+    table = read_table(p, spec)
+    header = table.header
     index = _find_columns(p, header, spec)
     factors = {
-        q: unit_factor(spec.units.get(q) or split_header(header[i])[1], DIMENSIONS[q],
+        q: unit_factor(spec.units.get(q) or split_header(header[i])[1] or table.units[i], DIMENSIONS[q],
                        where=f"{p}, column {header[i]!r}")
         for q, i in index.items()
     }
-    lines = np.array([n for n, _ in rows], dtype=int)
-    values = {q: np.empty(len(rows)) for q in index}
-    for j, (line, cells) in enumerate(rows):
-        for q, i in index.items():
-            cell = cells[i].strip() if i < len(cells) else ""
-            if cell == "":
-                values[q][j] = math.nan
-                continue
-            try:
-                values[q][j] = float(cell)
-            except ValueError:
-                raise FingerpadError(
-                    f"{p}, row {line}: cannot read {cell!r} in column {header[i]!r} as a number"
-                ) from None
-    finite = np.ones(len(rows), dtype=bool)
+    lines = np.asarray(table.rows, dtype=np.int64)
+    values = {q: to_numbers(p, table, i) for q, i in index.items()}
+    word = table.row_word
+    finite = np.ones(lines.size, dtype=bool)
     for q, arr in values.items():
         ok = np.isfinite(arr)
         if spec.nan_policy == "raise" and not ok.all():
             j = int(np.flatnonzero(~ok)[0])
             raise FingerpadError(
-                f"{p}, row {lines[j]}: missing or non-finite value in column {header[index[q]]!r} "
+                f"{p}, {word} {lines[j]}: missing or non-finite value in column {header[index[q]]!r} "
                 "(use nan_policy = \"drop\" to skip such rows)"
             )
         finite &= ok
@@ -174,13 +192,13 @@ def read_recording(
         if bad.size:
             j = int(bad[0]) + 1
             raise FingerpadError(
-                f"{p}, row {lines[j]}: time does not increase ({t[j]:.6g} s after {t[j - 1]:.6g} s)"
+                f"{p}, {word} {lines[j]}: time does not increase ({t[j]:.6g} s after {t[j - 1]:.6g} s)"
             )
     return Recording(
         source=str(p), normal=data["normal"], friction=data["friction"], time=t,
         position=data.get("position"), velocity=data.get("velocity"), rows=lines,
         participant=str(participant), sample=str(sample), direction=str(direction),
-        repetition=str(repetition),
+        repetition=str(repetition), session=str(session),
     )
 
 
@@ -207,7 +225,9 @@ def read_manifest(path: str | os.PathLike[str], spec: ColumnSpec | None = None) 
     """Read the recordings listed in a manifest CSV.
 
     Columns: ``file`` (or ``path``, relative to the manifest's folder), ``participant``,
-    ``sample``, optional ``direction`` and ``repetition``; other columns are ignored.
+    ``sample``, optional ``direction``, ``repetition`` and ``session`` (recordings of one
+    sitting: they share its skin state, so intervals treat them as one cluster); other columns
+    are ignored.
 
     Raises
     ------
@@ -233,6 +253,7 @@ def read_manifest(path: str | os.PathLike[str], spec: ColumnSpec | None = None) 
         recordings.append(read_recording(
             data, spec, participant=rec["participant"], sample=rec["sample"],
             direction=rec.get("direction", ""), repetition=rec.get("repetition", ""),
+            session=rec.get("session", ""),
         ))
     if not recordings:
         raise FingerpadError(f"{p}: manifest lists no files")
@@ -248,8 +269,10 @@ def load_study(
     """Read every recording named by ``inputs``.
 
     Each input is a manifest CSV, a data file (metadata from its name by the template), or a
-    folder: its ``manifest.csv`` if present, else every data file whose name matches the
-    template (others are skipped).
+    folder: its ``manifest.csv`` if present, else every file whose name matches the template.
+    A matching file that cannot be read (unknown format, corrupt) is an error, never skipped;
+    hidden files, ``manifest.csv``/``samples.csv``/``truth.json`` and LabVIEW ``.tdms_index``
+    files are not recordings.
 
     Parameters
     ----------
@@ -289,13 +312,21 @@ def load_study(
                 continue
             found = 0
             for f in sorted(p.iterdir()):
-                if (not f.is_file() or f.suffix.lower() not in DATA_SUFFIXES or f.name in NOT_DATA
-                        or _is_manifest(f)):
+                if (not f.is_file() or f.name.startswith(".") or f.name in NOT_DATA
+                        or f.suffix.lower() in COMPANION_SUFFIXES or _is_manifest(f)):
                     continue
                 meta = parse_filename(f, template)
-                if meta is not None:
-                    recordings.append(from_name(f, meta))
-                    found += 1
+                if meta is None:
+                    continue
+                if importer_for(f) is None:
+                    # a file that looks like a recording but cannot be read must not vanish
+                    raise FingerpadError(
+                        f"{f}: matches the file-name pattern {template!r} but fingerpad cannot read "
+                        f"{f.suffix or 'suffix-less'} files (readable: {', '.join(supported_suffixes())}); "
+                        "convert it, move it out of the folder, or narrow --pattern"
+                    )
+                recordings.append(from_name(f, meta))
+                found += 1
             if not found:
                 raise FingerpadError(f"{p}: no manifest.csv and no data file matching the pattern {template!r}")
         elif p.is_file():

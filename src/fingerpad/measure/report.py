@@ -11,15 +11,17 @@ Layout of ``OUT``::
     strokes.csv                 every stroke (load, mu, outlier flag, mu_norm)
     fits.csv, bins.csv          power-law fits per sense; binned means
     spread.csv                  between-participant spread per load bin, before/after
+    population_curves.csv       mean curve over participants per texture, between-person interval
+    population_fits.csv         mixed-effects power law across participants per texture
+    sensitivity.csv             E_s refitted with the other micro-model and varied friction parameters
     curves.nc                   binned and fitted curves (xarray, h5netcdf)
     figures/participant_<P>.png, figures/sample_<S>.png
-    report.html                 one page: summary tables and the figures (embedded)
+    figures/qc/<recording>.png  per recording: forces and position with the strokes, mu per stroke
+    report.html                 one page: summary tables and the figures (embedded; QC linked)
 """
 
 from __future__ import annotations
 
-import base64
-import html
 import json
 import math
 import os
@@ -35,8 +37,9 @@ import pandas as pd
 from .._version import __version__
 from ..errors import FingerpadError
 from ..io import existing_parent, move_into_place
-from ..plotting.measure import figure_participant, figure_sample, png_bytes
+from ..plotting.measure import figure_participant, figure_qc, figure_sample, png_bytes
 from .analysis import StudyResult, condition_label, load_grid
+from .htmlreport import html_report
 
 __all__ = ["curves_dataset", "html_report", "write_report"]
 
@@ -103,7 +106,9 @@ def curves_dataset(result: StudyResult):
     shape_c = (len(participants), len(conds))
     per_cond = {name: np.full(shape_c, np.nan) for name in (
         "skin_modulus", "skin_modulus_ci_low", "skin_modulus_ci_high", "breakpoint_load",
-        "breakpoint_ci_low", "breakpoint_ci_high", "skin_modulus_closed_form")}
+        "breakpoint_ci_low", "breakpoint_ci_high", "breakpoint_p", "skin_modulus_closed_form",
+        "skin_modulus_other", "skin_modulus_sens_low", "skin_modulus_sens_high", "sense_ratio",
+        "sense_ratio_ci_low", "sense_ratio_ci_high")}
     mu_model = np.full((*shape_c, grid.size), np.nan)
     for row in result.conditions.to_dict("records"):
         idx = (pi[row["participant"]], ci[(row["sample"], row["direction"])])
@@ -150,6 +155,8 @@ def curves_dataset(result: StudyResult):
     units = {"bin_load": "N", "load": "N", "bin_low": "N", "bin_high": "N", "breakpoint_load": "N",
              "breakpoint_ci_low": "N", "breakpoint_ci_high": "N", "skin_modulus": "Pa",
              "skin_modulus_ci_low": "Pa", "skin_modulus_ci_high": "Pa", "skin_modulus_closed_form": "Pa",
+             "skin_modulus_other": "Pa", "skin_modulus_sens_low": "Pa", "skin_modulus_sens_high": "Pa",
+             "breakpoint_p": "1", "sense_ratio": "1", "sense_ratio_ci_low": "1", "sense_ratio_ci_high": "1",
              "k": "1", "n": "1", "mu_mean": "1", "mu_sd": "1", "mu_fit": "1", "mu_ref_fit": "1",
              "mu_norm_mean": "1", "mu_norm_sd": "1", "mu_norm_model": "1", "mu_n": "count"}
     for name, unit in units.items():
@@ -199,78 +206,14 @@ def _study_info(result: StudyResult) -> dict[str, Any]:
         "stroke_trim": opts.strokes.trim,
         "outlier_z": opts.outlier_z,
         "breakpoint": {"space": opts.breakpoint_space, "method": opts.breakpoint_method,
-                       "trend": opts.breakpoint_trend},
+                       "trend": opts.breakpoint_trend, "test": "sup likelihood ratio, parametric bootstrap",
+                       "n_null": opts.n_null, "alpha": 1 - opts.level},
+        "intervals": "random intercept per recording (session), REML; Student t with between-recording df",
+        "warnings": list(result.warnings),
         "modulus_bounds_pa": list(opts.modulus_bounds),
         "finger": getattr(opts.finger, "name", opts.finger) or "default",
         "textures": {k: (None if v is None else vars(v)) for k, v in result.textures.items()},
     }
-
-
-_HTML_COLUMNS = {
-    "conditions": ["participant", "sample", "direction", "n_strokes", "n_outliers", "k", "n", "n_ci_low",
-                   "n_ci_high", "mu_at_1N", "mu_norm_mean", "breakpoint_load", "breakpoint_ci_low",
-                   "breakpoint_ci_high", "skin_modulus", "skin_modulus_ci_low", "skin_modulus_ci_high",
-                   "skin_modulus_closed_form", "note"],
-    "participants": ["participant", "n_strokes", "ref_k", "ref_n", "skin_modulus", "skin_modulus_ci_low",
-                     "skin_modulus_ci_high", "n_textures"],
-    "spread": ["sample", "direction", "is_reference", "n_bins", "cv_raw", "cv_norm", "reduction"],
-}
-
-
-def _fmt(value: Any) -> str:
-    if isinstance(value, (float, np.floating)):
-        if not math.isfinite(value):
-            return ""
-        return f"{value:.4g}"
-    return html.escape(str(value))
-
-
-def _html_table(df: pd.DataFrame, columns: list[str]) -> str:
-    cols = [c for c in columns if c in df.columns]
-    head = "".join(f"<th>{html.escape(c)}</th>" for c in cols)
-    body = "".join(
-        "<tr>" + "".join(f"<td>{_fmt(v)}</td>" for v in row) + "</tr>" for row in df[cols].itertuples(index=False)
-    )
-    return f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
-
-
-def html_report(result: StudyResult, figures: dict[str, bytes], title: str = "Finger friction study") -> str:
-    """One self-contained HTML page: study facts, summary tables, figures (base64 PNG)."""
-    info = _study_info(result)
-    parts = [
-        "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",
-        f"<title>{html.escape(title)}</title><style>",
-        "body{font-family:sans-serif;margin:1.5em;max-width:1500px}table{border-collapse:collapse;"
-        "font-size:12px;margin:0.5em 0 1.5em}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}"
-        "th{background:#eee}img{max-width:100%;border:1px solid #ddd;margin:0.3em 0}"
-        "h2{border-bottom:1px solid #ccc}.facts{font-size:13px}",
-        "</style></head><body>",
-        f"<h1>{html.escape(title)}</h1>",
-        "<p class='facts'>",
-        f"{len(info['participants'])} participants, {len(info['samples'])} samples "
-        f"({', '.join(map(html.escape, info['samples']))}), reference <b>{html.escape(info['reference_sample'])}</b>; "
-        f"{info['n_files']} files, {info['n_strokes']} strokes, {info['n_outliers']} flagged as outliers "
-        f"(robust |z| &gt; {info['outlier_z']}). Friction per stroke: mean |F_t|/F_n over the steady part "
-        f"({100 * info['stroke_trim']:.0f} % trimmed at each end). Power law mu = k F<sup>n-1</sup>; "
-        f"normalised friction mu_tex/mu_ref with the participant's fitted reference curve; "
-        f"intervals at {100 * info['confidence_level']:.0f} %. SI units (N, Pa). fingerpad {__version__}.</p>",
-        "<h2>Spread between participants</h2>",
-        "<p class='facts'>Mean coefficient of variation across load bins; reduction = 1 - CV_norm / CV_raw.</p>",
-        _html_table(result.spread_summary, _HTML_COLUMNS["spread"]),
-        "<h2>Participants</h2>",
-        "<p class='facts'>Reference power law and skin micro-modulus E_s (Pa) fitted to all textures.</p>",
-        _html_table(result.participants, _HTML_COLUMNS["participants"]),
-        "<h2>Summary per participant and sample</h2>",
-        "<p class='facts'>Breakpoint: change of trend of mu_tex/mu_ref (segmented regression); "
-        "skin_modulus_closed_form from the breakpoint by Eq. 3.6.</p>",
-        _html_table(result.conditions, _HTML_COLUMNS["conditions"]),
-        "<h2>Figures</h2>",
-    ]
-    for name, png in figures.items():
-        data = base64.b64encode(png).decode("ascii")
-        parts.append(f"<h3>{html.escape(name)}</h3><img alt='{html.escape(name)}' src='data:image/png;base64,{data}'>")
-    parts.append("</body></html>")
-    return "\n".join(parts)
 
 
 # =============================================================================================
@@ -285,11 +228,15 @@ def write_report(
     figures: bool = True,
     dpi: int = 100,
     title: str = "Finger friction study",
+    qc: bool = True,
+    progress: Any = None,
 ) -> list[Path]:
     """Write tables, figures, NetCDF curves and the HTML report into ``out`` (see module doc).
 
     Everything is written into a temporary folder next to ``out`` and moved into place at the
     end: on any error ``out`` is left as it was (absent, or with its previous files).
+    ``qc`` adds one quality-control figure per recording (``figures/qc/``, linked from the
+    report); ``progress(done, total, what)`` is called as figures are drawn.
 
     Returns
     -------
@@ -318,11 +265,15 @@ def write_report(
         csv_file("fits.csv", result.fits)
         csv_file("bins.csv", result.bins)
         csv_file("spread.csv", result.spread)
+        csv_file("population_curves.csv", result.population_curves)
+        csv_file("population_fits.csv", result.population_fits)
+        csv_file("sensitivity.csv", result.sensitivity)
         summary = {
             "study": _jsonable(_study_info(result)),
             "spread": _records(result.spread_summary),
             "participants": _records(result.participants),
             "conditions": _records(result.conditions),
+            "population_fits": _records(result.population_fits),
         }
         (tmp / "summary.json").write_text(json.dumps(summary, indent=2, allow_nan=False), encoding="utf-8")
         written.append("summary.json")
@@ -330,19 +281,46 @@ def write_report(
         ds.to_netcdf(tmp / "curves.nc", engine="h5netcdf")
         written.append("curves.nc")
         pngs: dict[str, bytes] = {}
+        qc_links: dict[str, str] = {}
+        participants = sorted(result.strokes["participant"].unique())
+        samples = sorted(result.strokes["sample"].unique())
+        sources = [r.source for r in result.recordings if r.source in result.stroke_reports] if qc and figures else []
+        total, done = len(participants) + len(samples) + len(sources), 0
+
+        def tick(what: str) -> None:
+            nonlocal done
+            done += 1
+            if progress is not None:
+                progress(done, total, what)
+
         if figures:
             (tmp / "figures").mkdir()
-            for p in sorted(result.strokes["participant"].unique()):
+            for p in participants:
                 pngs[f"participant {p}"] = png = png_bytes(figure_participant(result, p), dpi)
                 name = f"figures/participant_{_safe(p)}.png"
                 (tmp / name).write_bytes(png)
                 written.append(name)
-            for s in sorted(result.strokes["sample"].unique()):
+                tick(name)
+            for s in samples:
                 pngs[f"sample {s}"] = png = png_bytes(figure_sample(result, s), dpi)
                 name = f"figures/sample_{_safe(s)}.png"
                 (tmp / name).write_bytes(png)
                 written.append(name)
-        (tmp / "report.html").write_text(html_report(result, pngs, title), encoding="utf-8")
+                tick(name)
+            if sources:
+                (tmp / "figures" / "qc").mkdir()
+            used: set[str] = set()
+            for source in sources:
+                stem = _safe(Path(source).stem)
+                while stem in used:  # two folders may hold files of one name
+                    stem += "_"
+                used.add(stem)
+                name = f"figures/qc/{stem}.png"
+                (tmp / name).write_bytes(png_bytes(figure_qc(result, source), dpi))
+                written.append(name)
+                qc_links[source] = name
+                tick(name)
+        (tmp / "report.html").write_text(html_report(result, pngs, title, qc_links=qc_links), encoding="utf-8")
         written.append("report.html")
         move_into_place(tmp, out_path)
     finally:

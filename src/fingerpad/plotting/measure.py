@@ -13,7 +13,7 @@ from ..measure.analysis import condition_label, load_grid
 if TYPE_CHECKING:
     from ..measure.analysis import StudyResult
 
-__all__ = ["figure_participant", "figure_sample", "png_bytes"]
+__all__ = ["figure_participant", "figure_qc", "figure_sample", "log_subs", "png_bytes"]
 
 _SENSE_STYLE = {"+": ("o", "forward (+)"), "-": ("s", "backward (-)")}
 
@@ -28,15 +28,38 @@ def _new_figure(ncols: int, width: float = 5.2, height: float = 4.0):
     return fig, axes
 
 
+def log_subs(low: float, high: float) -> tuple[float, ...]:
+    """Mantissas of the labelled ticks of a log axis spanning ``low``-``high``: every integer
+    below half a decade (so a narrow range still shows three or more labels), 1-2-5 up to three
+    decades, decades beyond."""
+    if not (low > 0 and high > low):
+        return (1.0, 2.0, 5.0)
+    decades = np.log10(high / low)
+    if decades < 0.5:
+        return tuple(float(k) for k in range(1, 10))
+    if decades < 1.2:
+        return (1.0, 1.5, 2.0, 3.0, 5.0, 7.0)
+    if decades <= 3.0:
+        return (1.0, 2.0, 5.0)
+    return (1.0,)
+
+
+def _tick_label(value: float, _pos: Any = None) -> str:
+    """Plain numbers (0.2, 1.5, 30), never 2e-01; scientific only far from 1."""
+    if value == 0 or 1e-3 <= abs(value) < 1e5:
+        return f"{value:.6g}"
+    return f"{value:.0e}"
+
+
 def _finish(ax: Any) -> None:
-    """Grid, legend, and no minor tick labels (log axes label minor ticks by default: slow, busy)."""
+    """Grid, legend, readable log ticks (plain numbers, enough of them on a narrow range, no
+    minor tick labels: log axes label minor ticks by default, slow and busy)."""
     from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
-    for axis in (ax.xaxis, ax.yaxis):
+    for axis, lim in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
         if axis.get_scale() == "log":
-            # 1-2-5 labels: friction often spans less than a decade, where plain decades show none
-            axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
-            axis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
+            axis.set_major_locator(LogLocator(base=10, subs=log_subs(*sorted(lim)), numticks=30))
+            axis.set_major_formatter(FuncFormatter(_tick_label))
         axis.set_minor_formatter(NullFormatter())
     ax.grid(True, which="major", alpha=0.3)
     if ax.get_legend_handles_labels()[0]:
@@ -94,7 +117,7 @@ def figure_participant(result: StudyResult, participant: str):
             ax.scatter(g["load"], g["mu_norm"], s=14, color=colour, alpha=0.6, linewidths=0)
             bp = result.breakpoints.get((participant, sample, direction))
             fine = np.geomspace(g["load"].min(), g["load"].max(), 80) if len(g) else grid
-            if bp is not None:
+            if bp is not None and bp.detected:
                 ax.plot(fine, bp.predict(fine), color=colour, lw=1, ls="--")
                 ax.axvspan(bp.ci_low, bp.ci_high, color=colour, alpha=0.12)
                 ax.axvline(bp.load, color=colour, lw=0.8, ls=":")
@@ -103,12 +126,12 @@ def figure_participant(result: StudyResult, participant: str):
             if mf is not None and table is not None:
                 inside = fine[(fine >= table.loads[0]) & (fine <= table.loads[-1])]
                 ax.plot(inside, mf.scale * table(inside, mf.skin_modulus), color=colour, lw=1.8,
-                        label=f"{label}: E_s = {mf.skin_modulus / 1e6:.3g} MPa "
-                              f"[{mf.ci_low / 1e6:.3g}, {mf.ci_high / 1e6:.3g}]")
+                        label=f"{label}: E_s = {mf.skin_modulus / 1e6:.3g} MPa ({mf.model or 'model'}; "
+                              f"{mf.describe_interval()}{'' if mf.determined else ', not determined'})")
             else:
                 ax.plot([], [], color=colour, label=label)
         ax.set(xscale="log", yscale="log", xlabel="normal load F (N)", ylabel="mu_tex / mu_ref",
-               title="normalised friction: breakpoint (dotted, band = CI), model (solid)")
+               title="mu_tex/mu_ref: model (solid), transition if detected")
         _finish(ax)
     return fig
 
@@ -130,7 +153,7 @@ def figure_sample(result: StudyResult, sample: str):
         for direction, gd in g.groupby("direction"):
             ax.errorbar(gd["load"], gd["mu"], yerr=gd["mu_sem"], fmt="o-", ms=3, lw=1, color=colours[p],
                         label=condition_label(p, direction))
-    ax.set(xscale="log", yscale="log", xlabel="normal load F (N)", ylabel="mu (binned mean +- sem)",
+    ax.set(xscale="log", yscale="log", xlabel="normal load F (N)", ylabel="mu (binned mean +- s.e. over recordings)",
            title=f"{sample}{' (reference)' if is_ref else ''}: raw friction")
     _finish(ax)
     if not is_ref:
@@ -144,6 +167,16 @@ def figure_sample(result: StudyResult, sample: str):
                 if table is not None and len(key) == 3 and key[:2] == (p, sample):
                     inside = grid[(grid >= table.loads[0]) & (grid <= table.loads[-1])]
                     ax.plot(inside, mf.scale * table(inside, mf.skin_modulus), color=colours[p], lw=1)
+        pop = result.population_curves
+        if not pop.empty:
+            pc = pop[(pop["sample"] == sample) & (pop["quantity"] == "mu_norm")]
+            for direction, pd_ in pc.groupby("direction"):
+                pd_ = pd_.sort_values("load")
+                ax.plot(pd_["load"], pd_["mean"], color="black", lw=2,
+                        label="mean of participants" + (f" ({direction})" if direction else ""))
+                band = pd_.dropna(subset=["ci_low", "ci_high"])
+                ax.fill_between(band["load"], band["ci_low"], band["ci_high"], color="black", alpha=0.12,
+                                label=f"{100 * result.options.level:.0f} % between-person interval")
         ax.set(xscale="log", yscale="log", xlabel="normal load F (N)", ylabel="mu_tex / mu_ref",
                title="normalised by each participant's reference")
         _finish(ax)
@@ -161,6 +194,100 @@ def figure_sample(result: StudyResult, sample: str):
                title="spread between people")
         ax.set_ylim(bottom=0)
         _finish(ax)
+    return fig
+
+
+def _decimate(t: np.ndarray, y: np.ndarray, max_points: int = 6000) -> tuple[np.ndarray, np.ndarray]:
+    """At most ``max_points`` points that keep the envelope (min and max of each bucket), so a
+    60 s recording at 1 kHz draws fast and its spikes stay visible."""
+    n = y.size
+    if n <= max_points:
+        return t, y
+    k = int(np.ceil(n / (max_points // 2)))
+    m = n // k
+    yb = y[: m * k].reshape(m, k)
+    tb = t[: m * k].reshape(m, k)
+    lo, hi = yb.argmin(axis=1), yb.argmax(axis=1)
+    first = np.minimum(lo, hi)
+    second = np.maximum(lo, hi)
+    rows = np.arange(m)
+    tt = np.column_stack([tb[rows, first], tb[rows, second]]).ravel()
+    yy = np.column_stack([yb[rows, first], yb[rows, second]]).ravel()
+    return tt, yy
+
+
+def figure_qc(result: StudyResult, source: str):
+    """Quality-control figure of one recording, to check the stroke detection by eye.
+
+    Top three panels against time (or sample number): normal force, friction force and position
+    (or velocity, or the friction-derived direction); every stroke shaded by sense (blue ``+``,
+    orange ``-``), its steady window (where mu is averaged) darker, strokes flagged as
+    outliers outlined in red, strokes dropped (lift-off) hatched grey; the lift-off threshold
+    on the normal force. Bottom: mu of each stroke against its number (running-in, moisture
+    drift), outliers as red crosses.
+    """
+    from matplotlib.figure import Figure
+
+    rec = next((r for r in result.recordings if r.source == source), None)
+    report = result.stroke_reports.get(source)
+    if rec is None or report is None:
+        raise FingerpadError(f"no recording {source!r} in the result")
+    strokes = result.strokes[result.strokes["file"] == source]
+    outlier = dict(zip(strokes["stroke"], strokes["outlier"]))
+    t = rec.time if rec.time is not None else np.arange(len(rec), dtype=float)
+    xlabel = "time (s)" if rec.time is not None else "sample"
+    third, third_label = ((rec.position * 1e3, "position (mm)") if rec.position is not None else
+                          (rec.velocity * 1e3, "velocity (mm/s)") if rec.velocity is not None else
+                          (None, ""))
+    n_rows = 4 if third is not None else 3
+    fig = Figure(figsize=(11, 2.0 * n_rows + 0.6))
+    axes = fig.subplots(n_rows, 1, squeeze=True)
+    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.06, top=0.94, hspace=0.45)
+    series = [(rec.normal, "normal force F_n (N)"), (rec.friction, "friction force F_t (N)")]
+    if third is not None:
+        series.append((third, third_label))
+    used = {id(st): i + 1 for i, st in enumerate(report.used)}
+    colours = {1: "tab:blue", -1: "tab:orange"}
+    for ax, (y, label) in zip(axes, series):
+        tt, yy = _decimate(t, np.asarray(y, dtype=float))
+        ax.plot(tt, yy, color="0.25", lw=0.6)
+        for st in report.strokes:
+            number = used.get(id(st))
+            a, b = t[st.start], t[min(st.stop, len(t)) - 1]
+            if number is None:
+                ax.axvspan(a, b, facecolor="none", edgecolor="0.6", hatch="///", lw=0)
+                continue
+            c = colours[st.sense]
+            ax.axvspan(a, b, color=c, alpha=0.10, lw=0)
+            ax.axvspan(t[st.steady_start], t[st.steady_stop - 1], color=c, alpha=0.25, lw=0)
+            if outlier.get(number, False):
+                ax.axvspan(a, b, facecolor="none", edgecolor="red", lw=1.5)
+        ax.set_ylabel(label, fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(True, alpha=0.3)
+    axes[0].axhline(result.options.strokes.min_load, color="red", lw=0.8, ls=":")
+    axes[n_rows - 2].set_xlabel(xlabel, fontsize=8)
+    ax = axes[-1]
+    for sense, (marker, label) in _SENSE_STYLE.items():
+        part = strokes[(strokes["sense"] == sense) & ~strokes["outlier"]]
+        ax.plot(part["stroke"], part["mu"], marker, ms=4, ls="none", label=label,
+                color=colours[1 if sense == "+" else -1])
+    out = strokes[strokes["outlier"]]
+    ax.plot(out["stroke"], out["mu"], "x", color="red", ms=7, ls="none", label="outlier")
+    ax.set(xlabel="stroke number", ylabel="mu of stroke")
+    ax.xaxis.label.set_size(8)
+    ax.yaxis.label.set_size(8)
+    ax.tick_params(labelsize=7)
+    ax.grid(True, alpha=0.3)
+    if len(strokes):
+        ax.legend(fontsize=7, loc="best", ncol=3)
+    from pathlib import Path
+
+    n_drop = len(report.strokes) - len(report.used)
+    fig.suptitle(f"{Path(source).name}: {len(report.used)} strokes (direction from {report.source}), "
+                 f"{int(strokes['outlier'].sum())} outlier(s), {n_drop} dropped (lift-off)"
+                 + (f", {report.short_travel} shorter than the minimum travel" if report.short_travel else ""),
+                 fontsize=10)
     return fig
 
 

@@ -5,22 +5,47 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from ...errors import FingerpadError
-from . import Importer, Rows
+from . import Importer, RawTable, first_data_row
 
 if TYPE_CHECKING:
     from ..columns import ColumnSpec
 
 
-def read_excel_rows(path: Path, spec: "ColumnSpec") -> Rows:
+def sheet_table(path: Path, values: list[list[object]], spec: "ColumnSpec") -> RawTable:
+    """A table from a sheet's rows (lists of cell values; row ``i`` is sheet row ``i + 1``):
+    the header after ``skip_rows`` rows and any empty or ``#`` rows, then one column per name."""
+    h = first_data_row(values, spec.skip_rows)
+    if h < 0:
+        raise FingerpadError(f"{path}: no header row")
+    header = ["" if c is None else str(c).strip() for c in values[h]]
+    while header and not header[-1]:
+        header.pop()
+    keep = [i for i in range(h + 1, len(values))
+            if any(c not in (None, "") for c in values[i])
+            and not (values[i] and isinstance(values[i][0], str) and values[i][0].lstrip().startswith("#"))]
+    cols = []
+    for j in range(len(header)):
+        cells = [values[i][j] if j < len(values[i]) else None for i in keep]
+        arr = np.array([np.nan if c is None or c == "" else c for c in cells], dtype=object)
+        try:
+            cols.append(arr.astype(float))
+        except (TypeError, ValueError):
+            cols.append(arr)
+    return RawTable(header=header, columns=cols, rows=np.array(keep, dtype=np.int64) + 1)
+
+
+def read_excel_table(path: Path, spec: "ColumnSpec") -> RawTable:
     try:
         import openpyxl
-    except ImportError:  # pragma: no cover - openpyxl ships with the environment
+    except ImportError:  # pragma: no cover - openpyxl is a dependency
         raise FingerpadError(f"{path}: reading Excel files needs openpyxl (pip install openpyxl)") from None
-    if not path.exists():
-        raise FingerpadError(f"{path}: file not found")
     try:
         book = openpyxl.load_workbook(path, read_only=True, data_only=True)
+    except FileNotFoundError:
+        raise FingerpadError(f"{path}: file not found") from None
     except Exception as exc:  # openpyxl raises many types for a corrupt workbook
         raise FingerpadError(f"{path}: cannot open as an Excel workbook ({type(exc).__name__}: {exc})") from None
     try:
@@ -30,19 +55,10 @@ def read_excel_rows(path: Path, spec: "ColumnSpec") -> Rows:
             sheet = book[spec.sheet]
         else:
             raise FingerpadError(f"{path}: no sheet {spec.sheet!r} (sheets: {', '.join(book.sheetnames)})")
-        rows = []
-        for i, values in enumerate(sheet.iter_rows(values_only=True), start=1):
-            if i <= spec.skip_rows:
-                continue
-            cells = ["" if v is None else str(v) for v in values]
-            if not any(c.strip() for c in cells) or (cells and cells[0].lstrip().startswith("#")):
-                continue
-            rows.append((i, cells))
+        values = [list(r) for r in sheet.iter_rows(values_only=True)]
     finally:
         book.close()
-    if not rows:
-        raise FingerpadError(f"{path}: no header row")
-    return [c.strip() for c in rows[0][1]], rows[1:]
+    return sheet_table(path, values, spec)
 
 
-IMPORTER = Importer(name="excel", suffixes=(".xlsx", ".xlsm"), read_rows=read_excel_rows)
+IMPORTER = Importer(name="excel", suffixes=(".xlsx", ".xlsm"), read_table=read_excel_table)
