@@ -207,3 +207,30 @@ def test_fingers_and_textures_list_units():
     assert res.exit_code == 0 and "stiffening" in res.stdout and "kPa" in res.stdout
     res = invoke("textures", terminal_width=200)
     assert res.exit_code == 0 and "--orientation" in res.stdout and "deg" in res.stdout
+
+
+def test_huge_simulation_is_refused_before_allocating(tmp_path):
+    line = error_line(invoke("simulate-measurement", "--out", tmp_path / "sim", "--sampling-rate", "1e9"))
+    assert "at most" in line and not (tmp_path / "sim").exists()
+
+
+def test_terminated_command_leaves_no_staging(tmp_path):
+    """SIGTERM (a killed job) unwinds like Ctrl-C: the hidden staging folder is removed."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    exe = Path(sys.executable).with_name("fingerpad")
+    cmd = [str(exe)] if exe.exists() else [sys.executable, "-c", "from fingerpad.cli import main; main()"]
+    proc = subprocess.Popen([*cmd, "simulate-measurement", "--out", str(tmp_path / "sim"), "--sampling-rate", "2e4",
+                             "--participants", "3"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and not any(p.name.startswith(".simulate") for p in tmp_path.iterdir()):
+        time.sleep(0.1)
+    assert any(p.name.startswith(".simulate") for p in tmp_path.iterdir()), "no staging folder appeared"
+    os.kill(proc.pid, signal.SIGTERM)
+    proc.wait(timeout=60)
+    assert proc.returncode != 0
+    assert listing(tmp_path) == []

@@ -93,8 +93,16 @@ def _root(
     """Finger-pad contact on micro-textured surfaces (SI units; unit suffixes such as 50um, 0.3MPa)."""
 
 
+def _terminate(signum: int, frame: object) -> None:
+    """SIGTERM (a killed job, a timeout) unwinds like Ctrl-C, so that staged outputs are removed."""
+    raise KeyboardInterrupt
+
+
 def main() -> None:
     """Console-script entry point (``fingerpad``)."""
+    import signal
+
+    signal.signal(signal.SIGTERM, _terminate)
     app()
 
 

@@ -94,6 +94,16 @@ class SimulationConfig:
                 raise FingerpadError(f"{name} must be positive")
         if self.stroke_length / self.speed * self.sampling_rate < 40:
             raise FingerpadError("a stroke must span at least 40 samples (raise the sampling rate)")
+        files = self.participants * self.repetitions * (1 + len(self.textures))
+        per_file = self.strokes_per_file * (self.stroke_length / self.speed + 2 * self.dwell) * self.sampling_rate
+        if files * per_file > MAX_SAMPLES:
+            raise FingerpadError(
+                f"the study would hold about {files * per_file:.3g} samples ({files} files of {per_file:.3g}); "
+                f"at most {MAX_SAMPLES:.0e} are allowed: lower the sampling rate, strokes or participants")
+
+
+#: Most samples a simulated study may hold (all files; checked before anything is allocated).
+MAX_SAMPLES = 5e7
 
 
 def _smoothstep(u: np.ndarray) -> np.ndarray:
