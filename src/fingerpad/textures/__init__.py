@@ -76,13 +76,11 @@ _NOT_FAMILIES = {"base", "geometry", "measured", "readers"}
 
 
 def _collect() -> None:
-    for info in pkgutil.iter_modules(__path__):
-        if info.name in _NOT_FAMILIES or info.name.startswith("_"):
-            continue
-        module = importlib.import_module(f"{__name__}.{info.name}")
-        for family in getattr(module, "FAMILIES", ()):
-            register(family)
-            globals()[family.generator.__name__] = family.generator
+    from ..discover import collect
+
+    for family in collect(__name__, __path__, "FAMILIES", TextureFamily, skip=_NOT_FAMILIES):
+        register(family)
+        globals()[family.generator.__name__] = family.generator
 
 
 _collect()

@@ -95,13 +95,9 @@ def importers() -> list[Importer]:
     """Every importer of this package."""
     global _IMPORTERS
     if _IMPORTERS is None:
-        found = []
-        for info in pkgutil.iter_modules(__path__):
-            module = importlib.import_module(f"{__name__}.{info.name}")
-            imp = getattr(module, "IMPORTER", None)
-            if isinstance(imp, Importer):
-                found.append(imp)
-        _IMPORTERS = sorted(found, key=lambda i: i.name)
+        from ...discover import collect
+
+        _IMPORTERS = sorted(collect(__name__, __path__, "IMPORTER", Importer), key=lambda i: i.name)
     return list(_IMPORTERS)
 
 

@@ -54,13 +54,9 @@ def readers() -> list[Reader]:
     """Every reader of this package (the fallback last)."""
     global _READERS
     if _READERS is None:
-        found = []
-        for info in pkgutil.iter_modules(__path__):
-            module = importlib.import_module(f"{__name__}.{info.name}")
-            reader = getattr(module, "READER", None)
-            if isinstance(reader, Reader):
-                found.append(reader)
-        _READERS = sorted(found, key=lambda r: (not r.suffixes, r.name))
+        from ...discover import collect
+
+        _READERS = sorted(collect(__name__, __path__, "READER", Reader), key=lambda r: (not r.suffixes, r.name))
     return list(_READERS)
 
 
