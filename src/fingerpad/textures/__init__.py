@@ -47,9 +47,7 @@ price is an artificial mirror symmetry and four times the pixels.
 
 from __future__ import annotations
 
-import importlib
 import inspect
-import pkgutil
 from collections.abc import Callable
 from typing import Any
 

@@ -13,8 +13,6 @@ v7.3) and LabVIEW (:mod:`.tdms`: .tdms).
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
