@@ -31,7 +31,7 @@ from scipy import stats
 
 from ..errors import FingerpadError
 from .models import Model, ModelTable
-from .stats import cluster_labels, random_intercept_fit, t_quantile
+from .stats import cluster_labels, random_intercept_fit
 from .transition import modulus_from_transition, transition_load
 
 __all__ = ["ModelTable", "ModulusFit", "design_effect", "estimate_skin_modulus", "estimate_skin_modulus_joint",
