@@ -135,7 +135,7 @@ def test_skin_and_material_options(tmp_path):
 
 @needs_generators
 def test_netcdf_round_trip(tmp_path):
-    from fingerpad.io import load_dataset
+    from fingerpad.netcdf import load_dataset
 
     nc = tmp_path / "f.nc"
     js = tmp_path / "f.json"
@@ -168,7 +168,7 @@ def test_netcdf_round_trip(tmp_path):
 
 @needs_generators
 def test_single_pressure_netcdf_and_plot(tmp_path):
-    from fingerpad.io import load_dataset
+    from fingerpad.netcdf import load_dataset
 
     nc, png = tmp_path / "one.nc", tmp_path / "one.png"
     res = invoke("solve", *CAPS, "--pressure", "5kPa", "--save", nc, "--plot", png)
@@ -398,7 +398,7 @@ def _fake_result(texture, p: float):
 
 def test_io_attrs_and_atomic_write(tmp_path):
     from fingerpad.errors import FingerpadError
-    from fingerpad.io import load_dataset, save_result, save_results
+    from fingerpad.netcdf import load_dataset, save_result, save_results
     from fingerpad.textures import Texture
 
     h = np.outer(np.sin(np.linspace(0, 2 * math.pi, 16)), np.ones(8)) * 1e-6

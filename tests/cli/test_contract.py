@@ -161,7 +161,7 @@ def test_flat_punch_converges(tmp_path):
     assert res.exit_code == 0, res.output
     r = json.loads(res.stdout)["results"][0]
     assert r["converged"] and r["contact_fraction"] == 1.0
-    from fingerpad.io import load_dataset
+    from fingerpad.netcdf import load_dataset
 
     p = load_dataset(tmp_path / "f.nc")["pressure"].values
     assert p.mean() == pytest.approx(1e4, rel=1e-6)

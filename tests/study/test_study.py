@@ -234,7 +234,7 @@ def test_write_outputs(tmp_path):
     paths = write_outputs(pred, out)
     assert sorted(p.name for p in paths) == sorted(OUTPUT_FILES)
     assert sorted(p.name for p in out.iterdir()) == sorted(OUTPUT_FILES)  # no staging leftovers
-    from fingerpad.io import load_dataset
+    from fingerpad.netcdf import load_dataset
 
     ds = load_dataset(out / "predict.nc")
     assert ds["load"].attrs["units"] == "N" and ds["real_area"].attrs["units"] == "m^2"

@@ -34,6 +34,7 @@ def design_map_command(
     ridge wavelength 0.4-0.5 mm, ridge heights 33.5 um and 105 um (interlocking).
     """
     from .. import io as fio
+    from .. import netcdf
     from ..design.designmap import map_data
     from ..design.store import open_sweep
     from ..plotting.designmap import figure_design_map
@@ -57,7 +58,7 @@ def design_map_command(
         try:
             fig.savefig(folder.path("design_map.png"), format="png", dpi=120)
             fig.savefig(folder.path("design_map.svg"), format="svg")
-            fio.to_netcdf(data.assign_attrs(fio.flatten_attrs(data.attrs)), folder.path("design_map.nc"))
+            netcdf.to_netcdf(data.assign_attrs(fio.flatten_attrs(data.attrs)), folder.path("design_map.nc"))
             data.to_dataframe().reset_index().to_csv(folder.path("design_map.csv"), index=False)
             folder.commit()
         finally:

@@ -7,6 +7,7 @@
 * :mod:`.solve` - the one-cell job of ``fingerpad solve``.
 """
 
-from .spec import DEFAULT_STUDY, Study, TextureSpec, load_study_file, read_study_file, study_from_dict
+from .spec import DEFAULT_STUDY, Study, load_study_file, read_study_file, study_from_dict
+from .texture import TextureSpec
 
 __all__ = ["DEFAULT_STUDY", "Study", "TextureSpec", "load_study_file", "read_study_file", "study_from_dict"]

@@ -312,6 +312,7 @@ def write_outputs(
     import json
 
     from .. import io as fio
+    from .. import netcdf
     from ..plotting.prediction import figure_areas, figure_friction, figure_zones
 
     names = [*OUTPUT_FILES, *(extra or {})]
@@ -338,7 +339,7 @@ def write_outputs(
             written.append(Path(csv_path))
         if folder is not None:
             fio.write_text(folder.path(OUTPUT_FILES[0]), text)
-            fio.to_netcdf(prediction_dataset(pred), folder.path(OUTPUT_FILES[1]))
+            netcdf.to_netcdf(prediction_dataset(pred), folder.path(OUTPUT_FILES[1]))
             figures = dict(zip(OUTPUT_FILES[2:], (figure_areas(pred), figure_friction(pred), figure_zones(pred)),
                                strict=True))
             figures.update(extra or {})

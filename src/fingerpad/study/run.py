@@ -180,7 +180,7 @@ def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, 
     """The BEM cell on a grid chosen by the study's accuracy (or on the given grid)."""
     from ..coupling import couple
     from ..micro.resolution import choose_grid
-    from .spec import TextureSpec
+    from .texture import TextureSpec
 
     loads = np.append(study.loads, study.zone_load)
     ridge = np.asarray(study.finger.ridge_area(loads), dtype=float)

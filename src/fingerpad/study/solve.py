@@ -231,6 +231,7 @@ def write_solve_outputs(job: SolveJob, outcome: SolveOutcome) -> None:
     import json
 
     from .. import io as fio
+    from .. import netcdf
 
     results = outcome.results
     staging = fio.Staging()
@@ -241,9 +242,9 @@ def write_solve_outputs(job: SolveJob, outcome: SolveOutcome) -> None:
         if job.save_path is not None:
             attrs = job.netcdf_attrs()
             if len(results) == 1:
-                staging.stage(job.save_path, lambda tmp: fio.save_result(results[0], tmp, attrs))
+                staging.stage(job.save_path, lambda tmp: netcdf.save_result(results[0], tmp, attrs))
             else:
-                staging.stage(job.save_path, lambda tmp: fio.save_load_curve(outcome.curve, tmp, attrs))
+                staging.stage(job.save_path, lambda tmp: netcdf.save_load_curve(outcome.curve, tmp, attrs))
         if job.plot_path is not None:
             from ..plotting.solution import plot_solution
 
@@ -319,7 +320,7 @@ def build_solve_job(
                    critical_rtol=critical_v)
     _check_outputs(job)
     from .overrides import split_texture_options
-    from .spec import TextureSpec
+    from .texture import TextureSpec
 
     if surface is not None and ctx_args:
         raise FingerpadError(f"unexpected arguments {' '.join(ctx_args)!r} (texture parameters need --texture)")
