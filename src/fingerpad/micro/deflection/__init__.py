@@ -1,0 +1,3 @@
+"""Compliant asperities under sliding: a finite-element deflection model and directional friction.
+
+See :mod:`.gain` for the API (placeholder docstring, completed below)."""

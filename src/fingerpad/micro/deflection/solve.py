@@ -1,0 +1,500 @@
+"""Newton solver of one section in full sliding, and its path following in load and shear.
+
+Unknowns: the texture's nodal displacements (periodic sides, clamped bottom), the skin contact
+force ``f_i`` (per unit depth) at every top-surface node, and the skin's rigid position ``Z0``.
+Equations::
+
+    f_int(u) + f_fold(u) - f_ext(f) = 0          (texture equilibrium)
+    Z0 + sum_j C_ij f_j - z_i(u) = 0   (i in contact)      f_i = 0   (i free)
+    sum_i f_i = P                                (normal load per unit depth, load control)
+
+with the contact set chosen by the primal-dual active-set rule ``f_i - c g_i > 0`` (a semi-smooth
+Newton method for the complementarity ``f >= 0, g >= 0, f g = 0``), recomputed at every
+iteration together with the geometric non-linearity, until both the residuals and the set are
+stationary. Sliding is full (the skin slides over every contact point), so the friction load is
+not a state variable: node i receives the tangential force ``t_i`` in the sliding direction:
+
+* ``coulomb``: ``t_i = mu f_i``;
+* ``package`` (Eq. 2.3 shape, ``tau = tau0 + alpha p``): ``t_i = mu P (tau0 l_i + alpha f_i) /
+  (tau0 L + alpha P)`` with l_i the contact tiles and L the contact length; the tiles are taken
+  from the previous converged step (one step lag), the total is exactly ``mu P`` at every step.
+
+The shear level mu (= friction force / normal force of the section) is the path parameter. The
+path is followed by load stepping with step cutting; a step that cannot be converged even when
+cut to ``min_step`` ends the ramp and is reported (``stopped``), never hidden. The stability of
+each converged state is checked by the smallest eigenvalue of the symmetric part of the tangent
+condensed onto the displacements (skin contact as its exact compliance, Z0 free): a negative
+value marks a state past a bifurcation (buckling).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ...errors import FingerpadError
+from .contact import FoldContact, contact_length, skin_compliance, tile_lengths
+from .hyperelastic import Solid
+from .mesh import SectionMesh
+
+FRICTION_LAWS = ("package", "coulomb")
+
+
+@dataclass(frozen=True)
+class FrictionLaw:
+    """Shape of the sliding friction traction on the contact (dimensionless stresses).
+
+    ``kind="package"``: ``tau = tau0 + alpha p`` (Eq. 2.3) scaled to the shear level;
+    ``kind="coulomb"``: ``tau = mu p``.
+    """
+
+    kind: str = "package"
+    tau0: float = 0.0
+    alpha: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.kind not in FRICTION_LAWS:
+            raise FingerpadError(f"friction law must be one of {', '.join(FRICTION_LAWS)}, got {self.kind!r}")
+        if self.tau0 < 0 or self.alpha < 0 or (self.kind == "package" and self.tau0 + self.alpha <= 0):
+            raise FingerpadError("friction law: tau0 and alpha must be non-negative and not both zero")
+
+
+@dataclass
+class State:
+    """A converged (or trial) state of the section."""
+
+    v: np.ndarray
+    f: np.ndarray
+    z0: float
+    load: float = 0.0
+    shear: float = 0.0
+    iterations: int = 0
+    contact_mask: np.ndarray | None = None
+    tiles: np.ndarray | None = None
+    info: dict = field(default_factory=dict)
+
+    def copy(self) -> State:
+        return State(self.v.copy(), self.f.copy(), self.z0, self.load, self.shear, self.iterations,
+                     None if self.contact_mask is None else self.contact_mask.copy(),
+                     None if self.tiles is None else self.tiles.copy(), dict(self.info))
+
+
+class NoConvergence(RuntimeError):
+    """A Newton solve did not converge (the caller cuts the step)."""
+
+
+class SectionSolver:
+    """Finite-strain section of a compliant asperity on its base, pressed and sheared by the skin.
+
+    All quantities are dimensionless: lengths in units of the asperity half-width r, stresses in
+    units of the texture's Young's modulus E_m (forces per unit depth in E_m r).
+
+    Parameters
+    ----------
+    mesh
+        The section mesh.
+    texture_poisson
+        Poisson ratio of the texture (capped at 0.499: nu = 0.5 is treated as nearly
+        incompressible with kappa = 500 mu).
+    skin_modulus
+        Plane-strain skin modulus ``E_s* / E_m``.
+    friction
+        Friction law shape.
+    linear
+        Small-strain solid (the linear reference).
+    fold_penalty
+        Penalty stiffness of the flank-on-base contact, in units of E_m.
+    """
+
+    def __init__(
+        self,
+        mesh: SectionMesh,
+        texture_poisson: float,
+        skin_modulus: float,
+        friction: FrictionLaw = FrictionLaw(),
+        linear: bool = False,
+        fold_penalty: float = 200.0,
+        rtol: float = 1e-8,
+    ) -> None:
+        nu = min(float(texture_poisson), 0.499)
+        self.mesh = mesh
+        self.solid = Solid(mesh, 1.0 / (2.0 * (1.0 + nu)), 1.0 / (3.0 * (1.0 - 2.0 * nu)), linear=linear)
+        self.skin = float(skin_modulus)
+        self.friction = friction
+        self.fold = FoldContact(mesh, fold_penalty)
+        self.rtol = float(rtol)
+        self.period = mesh.geometry.period
+        nd = self.solid.ndof
+        # dof map: periodic right side -> left side, bottom clamped
+        owner = np.arange(mesh.n_nodes)
+        owner[mesh.periodic[:, 1]] = mesh.periodic[:, 0]
+        fixed = np.zeros(mesh.n_nodes, dtype=bool)
+        fixed[mesh.bottom] = True
+        fixed = fixed | fixed[owner]
+        free_nodes = np.unique(owner[~fixed])
+        node_index = -np.ones(mesh.n_nodes, dtype=np.int64)
+        node_index[free_nodes] = np.arange(free_nodes.size)
+        red = -np.ones(nd, dtype=np.int64)
+        ni = node_index[owner]
+        for c in range(2):
+            red[c::2] = np.where(ni >= 0, 2 * ni + c, -1)
+        self.red = red
+        self.nred = 2 * free_nodes.size
+        keep = red >= 0
+        self.M = sp.csr_matrix((np.ones(int(keep.sum())), (np.nonzero(keep)[0], red[keep])), shape=(nd, self.nred))
+        self.surface = mesh.surface
+        self.m = mesh.surface.size
+        self.zred = red[2 * self.surface + 1]
+        self.xred = red[2 * self.surface]
+
+    # ------------------------------------------------------------------ helpers
+    def displacement(self, v: np.ndarray) -> np.ndarray:
+        return self.M @ v
+
+    def positions(self, v: np.ndarray) -> np.ndarray:
+        return self.mesh.nodes + self.displacement(v).reshape(-1, 2)
+
+    def initial_state(self) -> State:
+        return State(np.zeros(self.nred), np.zeros(self.m), float(self.mesh.nodes[self.mesh.apex, 1]))
+
+    def _friction_coefficients(self, load: float, shear: float, lag: State | None) -> tuple[float, np.ndarray]:
+        """(c_f, t0): tangential nodal force ``t_i = c_f f_i + t0_i``."""
+        law = self.friction
+        if law.kind == "coulomb" or shear == 0.0:
+            return shear, np.zeros(self.m)
+        if lag is not None and lag.contact_mask is not None and np.any(lag.contact_mask):
+            tiles = np.where(lag.contact_mask, lag.tiles, 0.0)
+        else:  # no contact yet: tiles of the nodes carrying load
+            tiles = np.zeros(self.m)
+        length = float(tiles.sum())
+        denom = law.tau0 * length + law.alpha * load
+        if denom <= 0:
+            return shear, np.zeros(self.m)
+        return shear * load * law.alpha / denom, shear * load * law.tau0 * tiles / denom
+
+    # ------------------------------------------------------------------ Newton
+    def solve(self, load: float, shear: float, guess: State, lag: State | None = None, max_iter: int = 25,
+              tip: float | None = None) -> State:
+        """Converge the state at normal load ``load`` and shear level ``shear`` from ``guess``.
+
+        With ``tip`` the horizontal displacement of the asperity tip is prescribed instead and
+        the shear level is an unknown (``shear`` is its first guess): this control passes limit
+        points of the shear level, where load control would snap.
+
+        Raises
+        ------
+        NoConvergence
+            When the residuals or the contact set do not settle, or elements invert.
+        """
+        a0, b0 = self._friction_coefficients(load, 1.0, lag)  # t_i = mu (a0 f_i + b0_i)
+        mu = float(shear)
+        tip_dof = int(self.red[2 * self.mesh.apex])
+        v, f, z0 = guess.v.copy(), guess.f.copy(), float(guess.z0)
+        surf, m, nred = self.surface, self.m, self.nred
+        scale_f = max(load, 1e-12)
+        prev_active = None
+        pairs = self.fold.pair(self.positions(v))
+        repairs = 0
+        for it in range(1, max_iter + 1):
+            x = self.positions(v)
+            xs = x[surf]
+            tiles = tile_lengths(xs)
+            comp, dcomp = skin_compliance(xs[:, 0], tiles, self.period, self.skin, derivative=True)
+            gap = z0 + comp @ f - xs[:, 1]
+            active = f - self.skin * gap > 0
+            if not np.any(active):
+                active[np.argmax(xs[:, 1] + 0.0 * gap)] = True
+            u = self.displacement(v)
+            fint, kmat = self.solid.assemble(u)
+            fold_f, fold_k, _ = self._fold(x, pairs)
+            fext = np.zeros(self.solid.ndof)
+            cf, t0 = mu * a0, mu * b0
+            fext[2 * surf] = cf * f + t0
+            fext[2 * surf + 1] = -f
+            r_u = self.M.T @ (fint + fold_f - fext)
+            r_c = np.where(active, gap, f)
+            r_z = f.sum() - load
+            r_t = (v[tip_dof] - tip) if tip is not None else 0.0
+            res_u = float(np.linalg.norm(r_u))
+            res_g = float(np.max(np.abs(gap[active])))
+            if (prev_active is not None and np.array_equal(active, prev_active) and res_u <= self.rtol * scale_f
+                    and res_g <= self.rtol and abs(r_z) <= self.rtol * scale_f and abs(r_t) <= self.rtol):
+                fresh = self.fold.pair(x)
+                if repairs < 4 and any(np.any((fn != fo) & ((fn >= 0) | (fo >= 0))) for fn, fo in zip(fresh, pairs)):
+                    # converged on stale slave-segment pairs: re-pair and iterate on
+                    _, _, n_old, _ = self.fold.evaluate(x, pairs)
+                    _, _, n_new, _ = self.fold.evaluate(x, fresh)
+                    if n_old or n_new:
+                        pairs, repairs, prev_active = fresh, repairs + 1, None
+                        continue
+                state = State(v, f, z0, load, mu, it - 1)
+                state.info["pairs"] = pairs
+                self._finish(state, xs, tiles, comp, gap, mu * a0, mu * b0)
+                return state
+            prev_active = active
+            # Jacobian
+            kr = self.M.T @ ((kmat + fold_k) @ self.M)
+            e_rows = np.concatenate([self.xred, self.zred])
+            e_vals = np.concatenate([np.full(m, cf), -np.ones(m)])
+            e_cols = np.concatenate([np.arange(m), np.arange(m)])
+            ok = e_rows >= 0
+            er = sp.csr_matrix((e_vals[ok], (e_rows[ok], e_cols[ok])), shape=(nred, m))
+            ai = np.nonzero(active)[0]
+            # d gap_i / d u: -1 on z_i, and the skin lift's dependence on the x positions
+            dlift = dcomp * f[None, :]
+            dlift = (np.diag(dlift.sum(axis=1)) - dlift)[ai]
+            xr = self.xred
+            okx = xr >= 0
+            rr = np.concatenate([ai, np.repeat(ai, int(okx.sum()))])
+            cc = np.concatenate([self.zred[ai], np.tile(xr[okx], ai.size)])
+            vv = np.concatenate([-np.ones(ai.size), dlift[:, okx].ravel()])
+            dz = sp.csr_matrix((vv, (rr, cc)), shape=(m, nred))
+            cblock = np.where(active[:, None], comp, np.eye(m))
+            ones_col = sp.csr_matrix(active.astype(float)[:, None])
+            blocks = [[kr, -er, None], [dz, sp.csr_matrix(cblock), ones_col],
+                      [None, sp.csr_matrix(np.ones((1, m))), None]]
+            rhs = [r_u, r_c, [r_z]]
+            if tip is not None:  # unknown mu: its column d(-f_ext)/d mu and the tip equation
+                dmu = np.zeros(self.solid.ndof)
+                dmu[2 * surf] = a0 * f + b0
+                blocks[0].append(sp.csr_matrix(-(self.M.T @ dmu)[:, None]))
+                blocks[1].append(None)
+                blocks[2].append(None)
+                blocks.append([sp.csr_matrix(([1.0], ([0], [tip_dof])), shape=(1, nred)), None, None, None])
+                rhs.append([r_t])
+            jac = sp.bmat(blocks, format="csc")
+            rhs = -np.concatenate(rhs)
+            try:
+                dy = spla.spsolve(jac, rhs)
+            except RuntimeError as exc:  # singular factor
+                raise NoConvergence(f"singular Jacobian ({exc})") from None
+            if not np.all(np.isfinite(dy)):
+                raise NoConvergence("singular Jacobian")
+            dv, df, dz0 = dy[:nred], dy[nred:nred + m], float(dy[nred + m])
+            dmu_ = float(dy[-1]) if tip is not None else 0.0
+            step = 1.0
+            for _ in range(8):  # keep every element un-inverted
+                if self.solid.min_jacobian(self.displacement(v + step * dv)) > 0.02:
+                    break
+                step *= 0.5
+            else:
+                raise NoConvergence("elements invert")
+            v, f, z0, mu = v + step * dv, f + step * df, z0 + step * dz0, mu + step * dmu_
+        raise NoConvergence(f"no convergence in {max_iter} iterations")
+
+    def _fold(self, x: np.ndarray, pairs: list[np.ndarray] | None = None) -> tuple[np.ndarray, sp.csr_matrix, int]:
+        _, terms, n_act, _ = self.fold.evaluate(x, pairs)
+        nd = self.solid.ndof
+        force = np.zeros(nd)
+        if not terms:
+            return force, sp.csr_matrix((nd, nd)), 0
+        rows, cols, vals = [], [], []
+        k = self.fold.k
+        for dofs, grad, g, hess in terms:
+            np.add.at(force, dofs.ravel(), (k * g[:, None] * grad).ravel())
+            rows.append(np.repeat(dofs, 6, axis=1).ravel())
+            cols.append(np.tile(dofs, (1, 6)).ravel())
+            vals.append((k * (grad[:, :, None] * grad[:, None, :] + g[:, None, None] * hess)).ravel())
+        kf = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nd, nd))
+        return force, kf, n_act
+
+    def _finish(self, state: State, xs: np.ndarray, tiles: np.ndarray, comp: np.ndarray, gap: np.ndarray,
+                cf: float, t0: np.ndarray) -> None:
+        indicator = (state.f - self.skin * gap) / tiles
+        mask = indicator > 0
+        arc, proj = contact_length(xs, indicator)
+        x = self.positions(state.v)
+        gaps, _, n_fold, min_fold = self.fold.evaluate(x)
+        apex = self.mesh.apex
+        u = self.displacement(state.v).reshape(-1, 2)
+        # skin surface slope (validity of the half-space): lift differences over the contact
+        lift = comp @ state.f
+        order = np.argsort(xs[:, 0])
+        dxs = np.diff(xs[order, 0])
+        slope = np.abs(np.diff(lift[order])) / np.maximum(dxs, 1e-9)
+        state.contact_mask = mask
+        state.tiles = tiles
+        state.info = {**state.info,
+            "contact_length": arc,
+            "contact_length_projected": proj,
+            "tip_dx": float(u[apex, 0]),
+            "tip_dz": float(u[apex, 1]),
+            "fold_nodes": n_fold,
+            "fold_gap": float(min_fold) if math.isfinite(min_fold) else float("nan"),
+            "friction_force": float(np.sum(cf * state.f + t0)),
+            "skin_slope": float(np.max(slope[dxs > 1e-6])) if np.any(dxs > 1e-6) else 0.0,
+            "contact_nodes": int(mask.sum()),
+        }
+
+    # ------------------------------------------------------------------ stability
+    def min_eigenvalue(self, state: State) -> float:
+        """Eigenvalue nearest zero (signed) of the symmetric part of the tangent condensed on the
+        displacements, with the skin contact replaced by its exact compliance (Z0 free)."""
+        u = self.displacement(state.v)
+        _, kmat = self.solid.assemble(u)
+        x = self.positions(state.v)
+        _, fold_k, _ = self._fold(x)
+        kr = self.M.T @ ((kmat + fold_k) @ self.M)
+        kr = 0.5 * (kr + kr.T)
+        act = np.nonzero(state.contact_mask & (state.f > 0))[0]
+        if act.size:
+            xs = x[self.surface]
+            tiles = tile_lengths(xs)
+            ca = skin_compliance(xs[act, 0], tiles[act], self.period, self.skin)
+            ca = 0.5 * (ca + ca.T)
+            ci = np.linalg.inv(ca)
+            one = np.ones(act.size)
+            w = ci @ one
+            stiff = ci - np.outer(w, w) / float(one @ w)
+            zr = self.zred[act]
+            ok = zr >= 0
+            zr, stiff = zr[ok], stiff[np.ix_(ok, ok)]
+            rr, cc = np.meshgrid(zr, zr, indexing="ij")
+            kr = kr + sp.csr_matrix((stiff.ravel(), (rr.ravel(), cc.ravel())), shape=kr.shape)
+        try:
+            val = spla.eigsh(kr.tocsc(), k=1, sigma=-1e-9, which="LM", return_eigenvectors=False, tol=1e-6)
+            return float(val[0])
+        except Exception:  # noqa: BLE001 -- ARPACK failure: report as unknown
+            return float("nan")
+
+
+# ---------------------------------------------------------------------------------------------
+# path following
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass
+class Ramp:
+    """Converged states along a path and how the path ended."""
+
+    states: list[State]
+    stopped: str | None = None  # why the path ended early (None: reached the target)
+    cuts: int = 0
+
+
+def follow_load(solver: SectionSolver, targets: np.ndarray, first: float | None = None,
+                growth: float = 1.6, max_steps: int = 400) -> Ramp:
+    """Press the skin on at zero shear, through the increasing normal loads ``targets``.
+
+    Load steps grow geometrically (factor ``growth``) from ``first`` and are halved when a step
+    fails; every target is hit exactly. Returns the states at the targets.
+    """
+    targets = np.sort(np.asarray(targets, dtype=float))
+    state = solver.initial_state()
+    p = 0.0
+    step = first if first is not None else targets[0] / 20.0
+    out: list[State] = []
+    cuts = 0
+    ti = 0
+    for _ in range(max_steps):
+        trial_p = min(targets[ti], p + step) if p > 0 else min(targets[ti], step)
+        guess = state.copy()
+        if p == 0.0:  # first contact: lower the skin onto the tip
+            guess.f[:] = 0.0
+            apex = int(np.nonzero(solver.surface == solver.mesh.apex)[0][0])
+            guess.f[apex] = trial_p
+            xs = solver.positions(guess.v)[solver.surface]
+            tiles = tile_lengths(xs)
+            c = skin_compliance(xs[:, 0], tiles, solver.period, solver.skin)
+            guess.z0 = float(xs[apex, 1] - c[apex, apex] * trial_p)
+        try:
+            state = solver.solve(trial_p, 0.0, guess)
+        except NoConvergence:
+            cuts += 1
+            step *= 0.5
+            if step < 1e-6 * targets[-1]:
+                return Ramp(out, f"normal load stalled at {p:.4g} (step {step:.2g})", cuts)
+            continue
+        p = trial_p
+        if math.isclose(p, targets[ti], rel_tol=1e-12):
+            out.append(state)
+            ti += 1
+            if ti == targets.size:
+                return Ramp(out, None, cuts)
+        step = p * (growth - 1.0) if state.iterations <= 8 else step
+    return Ramp(out, "too many normal-load steps", cuts)
+
+
+def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float = 0.08,
+                 largest_tip: float = 0.08, smallest_tip: float = 1e-4, tip_max: float | None = None,
+                 check_stability: bool = True, max_steps: int = 300) -> Ramp:
+    """Shear the pressed section in full sliding, at constant normal load, until the shear level
+    reaches ``mu_max`` (negative: sliding toward -x).
+
+    Path following is by control of the tip's horizontal displacement (the shear level is then
+    an unknown), so a maximum of the shear level -- where a load-controlled asperity would snap
+    over -- is passed and reported rather than stalling the solve. Tip steps aim at shear
+    increments ``dmu`` using the current slope, capped at ``largest_tip`` (units of r) and halved
+    on failure; below ``smallest_tip`` the ramp stops and says where.
+
+    Returns
+    -------
+    Ramp
+        All converged states in path order (the first is ``start``).
+    """
+    load = start.load
+    sign = 1.0 if mu_max >= 0 else -1.0
+    target = abs(mu_max)
+    tip_limit = tip_max if tip_max is not None else 2.0 * (solver.mesh.geometry.height + 1.0)
+    if check_stability:
+        start.info["min_eigenvalue"] = solver.min_eigenvalue(start)
+    states = [start]
+    cuts = 0
+    # first step under load control gives the initial compliance d(tip)/d(mu)
+    mu1 = min(target, 0.25 * dmu)
+    while True:
+        try:
+            first = solver.solve(load, sign * mu1, start.copy(), lag=start)
+            break
+        except NoConvergence as exc:
+            cuts += 1
+            mu1 *= 0.5
+            if mu1 < 1e-4:
+                return Ramp(states, f"lost convergence at mu = 0 ({exc})", cuts)
+    if check_stability:
+        first.info["min_eigenvalue"] = solver.min_eigenvalue(first)
+    states.append(first)
+    step = None
+    for _ in range(max_steps):
+        last = states[-1]
+        mu_now = abs(last.shear)
+        if mu_now >= target - 1e-9:
+            return Ramp(states, None, cuts)
+        tip_now = sign * last.info["tip_dx"]
+        if tip_now > tip_limit:
+            return Ramp(states, f"tip displacement limit reached at mu = {mu_now:.3g}", cuts)
+        prev = states[-2]
+        dtip = tip_now - sign * prev.info["tip_dx"]
+        slope = (mu_now - abs(prev.shear)) / dtip if dtip > 0 else 0.0  # d mu / d tip
+        if step is None:
+            step = largest_tip
+        wanted = dmu / slope if slope > 1e-9 else largest_tip
+        remaining = (target - mu_now) / slope if slope > 1e-9 else np.inf
+        step = float(np.clip(min(wanted, 1.0001 * remaining, 2.0 * step), smallest_tip, largest_tip))
+        while True:
+            trial = tip_now + step
+            a = step / dtip if dtip > 0 else 0.0
+            guess = last.copy()
+            guess.v = last.v + a * (last.v - prev.v)
+            guess.z0 = last.z0 + a * (last.z0 - prev.z0)
+            mu_guess = last.shear + a * (last.shear - prev.shear)
+            try:
+                state = solver.solve(load, mu_guess, guess, lag=last, tip=sign * trial)
+                break
+            except NoConvergence as exc:
+                try:
+                    state = solver.solve(load, last.shear, last.copy(), lag=last, tip=sign * trial)
+                    break
+                except NoConvergence:
+                    cuts += 1
+                    step *= 0.5
+                    if step < smallest_tip:
+                        return Ramp(states, f"lost convergence at mu = {mu_now:.3g} ({exc})", cuts)
+        if check_stability:
+            state.info["min_eigenvalue"] = solver.min_eigenvalue(state)
+        states.append(state)
+    return Ramp(states, "too many shear steps", cuts)
