@@ -96,9 +96,16 @@ def skin_compliance(
     return comp, k * (dlog + 0.5 * (dsmooth(d - g) + dsmooth(d + g)))
 
 
-def contact_length(xs: np.ndarray, indicator: np.ndarray) -> tuple[float, float]:
-    """Contact length along the surface polyline, the edges located by linear interpolation of
-    the zero of the contact indicator (positive in contact, negative outside).
+def contact_length(xs: np.ndarray, indicator: np.ndarray, pressure: np.ndarray | None = None,
+                   gap: np.ndarray | None = None) -> tuple[float, float]:
+    """Contact length along the surface polyline through the ordered surface nodes.
+
+    Each contact edge lies between an active node (indicator > 0) and its inactive neighbour.
+    It is placed by the asymptotics of a smooth contact edge -- the pressure falls like the
+    square root of the distance inside, the gap grows like its 3/2 power outside -- i.e. by
+    extrapolating ``p^2`` from the two nodes inside and ``g^(2/3)`` from the two nodes outside
+    and averaging; where those nodes are missing, by the zero of the linearly interpolated
+    indicator. Without ``pressure`` and ``gap`` only the indicator is used.
 
     Returns
     -------
@@ -106,14 +113,41 @@ def contact_length(xs: np.ndarray, indicator: np.ndarray) -> tuple[float, float]
         Length along the deformed surface and its projection on x.
     """
     seg = np.hypot(np.diff(xs[:, 0]), np.diff(xs[:, 1]))
-    proj = np.abs(np.diff(xs[:, 0]))
-    qa, qb = indicator[:-1], indicator[1:]
-    frac = np.where((qa > 0) & (qb > 0), 1.0, 0.0)
-    one = (qa > 0) != (qb > 0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        part = np.where(qa > 0, qa, qb) / np.abs(qa - qb)
-    frac = np.where(one, np.clip(part, 0.0, 1.0), frac)
-    return float(np.sum(seg * frac)), float(np.sum(proj * frac))
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    act = indicator > 0
+    n = act.size
+    # contact intervals [start, end] in arc length
+    starts, ends = [], []
+    for k in range(n - 1):
+        if act[k] == act[k + 1]:
+            continue
+        i_in, i_out = (k, k + 1) if act[k] else (k + 1, k)
+        step = i_out - i_in  # +1: edge to the right of the contact
+        q_in, q_out = indicator[i_in], indicator[i_out]
+        lin = s[i_in] + (s[i_out] - s[i_in]) * q_in / (q_in - q_out)
+        est = []
+        if pressure is not None and gap is not None:
+            j_in, j_out = i_in - step, i_out + step
+            if 0 <= j_in < n and act[j_in] and pressure[j_in] > pressure[i_in] > 0:
+                p1, p2 = pressure[i_in] ** 2, pressure[j_in] ** 2
+                est.append(s[i_in] + (s[i_in] - s[j_in]) * p1 / (p2 - p1))
+            if 0 <= j_out < n and not act[j_out] and gap[j_out] > gap[i_out] >= 0:
+                g1, g2 = gap[i_out] ** (2.0 / 3.0), gap[j_out] ** (2.0 / 3.0)
+                est.append(s[i_out] - (s[j_out] - s[i_out]) * g1 / (g2 - g1))
+        edge = float(np.mean(est)) if est else lin
+        lo, hi = min(s[i_in], s[i_out]), max(s[i_in], s[i_out])
+        edge = min(max(edge, lo), hi)
+        (ends if step > 0 else starts).append(edge)
+    if act[0]:
+        starts.insert(0, s[0])
+    if act[-1]:
+        ends.append(s[-1])
+    arc = float(sum(e - b for b, e in zip(sorted(starts), sorted(ends))))
+    # projection: map the arc-length intervals to x through the polyline
+    proj = 0.0
+    for b, e in zip(sorted(starts), sorted(ends)):
+        proj += float(abs(np.interp(e, s, xs[:, 0]) - np.interp(b, s, xs[:, 0])))
+    return arc, proj
 
 
 _J = np.array([[0.0, 1.0], [-1.0, 0.0]])

@@ -148,6 +148,7 @@ class SectionSolver:
         self.M = sp.csr_matrix((np.ones(int(keep.sum())), (np.nonzero(keep)[0], red[keep])), shape=(nd, self.nred))
         self.surface = mesh.surface
         self.m = mesh.surface.size
+        self.base_centre = int(np.argmin(np.hypot(mesh.nodes[:, 0], mesh.nodes[:, 1])))
         self.zred = red[2 * self.surface + 1]
         self.xred = red[2 * self.surface]
 
@@ -202,10 +203,11 @@ class SectionSolver:
         for it in range(1, max_iter + 1):
             x = self.positions(v)
             xs = x[surf]
-            tiles = tile_lengths(xs)
+            tiles = self._tiles(xs)
             comp, dcomp = skin_compliance(xs[:, 0], tiles, self.period, self.skin, derivative=True)
             gap = z0 + comp @ f - xs[:, 1]
             active = f - self.skin * gap > 0
+            active[-1] = False  # the periodic image of the first surface node carries no force
             if not np.any(active):
                 active[np.argmax(xs[:, 1] + 0.0 * gap)] = True
             u = self.displacement(v)
@@ -269,7 +271,7 @@ class SectionSolver:
             jac = sp.bmat(blocks, format="csc")
             rhs = -np.concatenate(rhs)
             try:
-                dy = spla.spsolve(jac, rhs)
+                dy = spla.spsolve(jac, rhs, permc_spec="MMD_AT_PLUS_A")
             except RuntimeError as exc:  # singular factor
                 raise NoConvergence(f"singular Jacobian ({exc})") from None
             if not np.all(np.isfinite(dy)):
@@ -285,6 +287,13 @@ class SectionSolver:
                 raise NoConvergence("elements invert")
             v, f, z0, mu = v + step * dv, f + step * df, z0 + step * dz0, mu + step * dmu_
         raise NoConvergence(f"no convergence in {max_iter} iterations")
+
+    def _tiles(self, xs: np.ndarray) -> np.ndarray:
+        """Tiles of the surface nodes; the last node is the periodic image of the first, which
+        takes both half tiles (the last one is never a contact candidate)."""
+        tiles = tile_lengths(xs)
+        tiles[0] += tiles[-1]
+        return tiles
 
     def _fold(self, x: np.ndarray, pairs: list[np.ndarray] | None = None) -> tuple[np.ndarray, sp.csr_matrix, int]:
         _, terms, n_act, _ = self.fold.evaluate(x, pairs)
@@ -305,8 +314,13 @@ class SectionSolver:
     def _finish(self, state: State, xs: np.ndarray, tiles: np.ndarray, comp: np.ndarray, gap: np.ndarray,
                 cf: float, t0: np.ndarray) -> None:
         indicator = (state.f - self.skin * gap) / tiles
+        indicator[-1] = indicator[0]  # the same point (periodic image)
         mask = indicator > 0
-        arc, proj = contact_length(xs, indicator)
+        pressure = np.where(mask, state.f / tiles, 0.0)
+        pressure[-1] = pressure[0]
+        gap = gap.copy()
+        gap[-1] = gap[0]
+        arc, proj = contact_length(xs, indicator, pressure, np.where(mask, 0.0, gap))
         x = self.positions(state.v)
         gaps, _, n_fold, min_fold = self.fold.evaluate(x)
         apex = self.mesh.apex
@@ -323,6 +337,10 @@ class SectionSolver:
             "contact_length_projected": proj,
             "tip_dx": float(u[apex, 0]),
             "tip_dz": float(u[apex, 1]),
+            # bending deflection: the tip relative to the middle of the asperity's base, i.e.
+            # without the uniform shear of the base layer
+            "deflection_dx": float(u[apex, 0] - u[self.base_centre, 0]),
+            "deflection_dz": float(u[apex, 1] - u[self.base_centre, 1]),
             "fold_nodes": n_fold,
             "fold_gap": float(min_fold) if math.isfinite(min_fold) else float("nan"),
             "friction_force": float(np.sum(cf * state.f + t0)),
@@ -343,7 +361,7 @@ class SectionSolver:
         act = np.nonzero(state.contact_mask & (state.f > 0))[0]
         if act.size:
             xs = x[self.surface]
-            tiles = tile_lengths(xs)
+            tiles = self._tiles(xs)
             ca = skin_compliance(xs[act, 0], tiles[act], self.period, self.skin)
             ca = 0.5 * (ca + ca.T)
             ci = np.linalg.inv(ca)
@@ -377,7 +395,7 @@ class Ramp:
 
 
 def follow_load(solver: SectionSolver, targets: np.ndarray, first: float | None = None,
-                growth: float = 1.6, max_steps: int = 400) -> Ramp:
+                growth: float = 1.6, max_steps: int = 400, max_cuts: int = 12) -> Ramp:
     """Press the skin on at zero shear, through the increasing normal loads ``targets``.
 
     Load steps grow geometrically (factor ``growth``) from ``first`` and are halved when a step
@@ -398,7 +416,7 @@ def follow_load(solver: SectionSolver, targets: np.ndarray, first: float | None 
             apex = int(np.nonzero(solver.surface == solver.mesh.apex)[0][0])
             guess.f[apex] = trial_p
             xs = solver.positions(guess.v)[solver.surface]
-            tiles = tile_lengths(xs)
+            tiles = solver._tiles(xs)
             c = skin_compliance(xs[:, 0], tiles, solver.period, solver.skin)
             guess.z0 = float(xs[apex, 1] - c[apex, apex] * trial_p)
         try:
@@ -406,7 +424,7 @@ def follow_load(solver: SectionSolver, targets: np.ndarray, first: float | None 
         except NoConvergence:
             cuts += 1
             step *= 0.5
-            if step < 1e-6 * targets[-1]:
+            if step < 1e-6 * targets[-1] or cuts > max_cuts:
                 return Ramp(out, f"normal load stalled at {p:.4g} (step {step:.2g})", cuts)
             continue
         p = trial_p
@@ -421,7 +439,8 @@ def follow_load(solver: SectionSolver, targets: np.ndarray, first: float | None 
 
 def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float = 0.08,
                  largest_tip: float = 0.08, smallest_tip: float = 1e-4, tip_max: float | None = None,
-                 check_stability: bool = True, max_steps: int = 300) -> Ramp:
+                 check_stability: bool = True, max_steps: int = 300, max_cuts: int = 12,
+                 time_limit: float | None = None) -> Ramp:
     """Shear the pressed section in full sliding, at constant normal load, until the shear level
     reaches ``mu_max`` (negative: sliding toward -x).
 
@@ -429,13 +448,17 @@ def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float 
     an unknown), so a maximum of the shear level -- where a load-controlled asperity would snap
     over -- is passed and reported rather than stalling the solve. Tip steps aim at shear
     increments ``dmu`` using the current slope, capped at ``largest_tip`` (units of r) and halved
-    on failure; below ``smallest_tip`` the ramp stops and says where.
+    on failure; below ``smallest_tip``, after ``max_cuts`` failed steps in all, or past
+    ``time_limit`` seconds, the ramp stops and says where.
 
     Returns
     -------
     Ramp
         All converged states in path order (the first is ``start``).
     """
+    import time
+
+    t_start = time.perf_counter()
     load = start.load
     sign = 1.0 if mu_max >= 0 else -1.0
     target = abs(mu_max)
@@ -465,6 +488,8 @@ def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float 
         if mu_now >= target - 1e-9:
             return Ramp(states, None, cuts)
         tip_now = sign * last.info["tip_dx"]
+        if time_limit is not None and time.perf_counter() - t_start > time_limit:
+            return Ramp(states, f"time limit ({time_limit:.0f} s) reached at mu = {mu_now:.3g}", cuts)
         if tip_now > tip_limit:
             return Ramp(states, f"tip displacement limit reached at mu = {mu_now:.3g}", cuts)
         prev = states[-2]
@@ -492,7 +517,7 @@ def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float 
                 except NoConvergence:
                     cuts += 1
                     step *= 0.5
-                    if step < smallest_tip:
+                    if step < smallest_tip or cuts > max_cuts:
                         return Ramp(states, f"lost convergence at mu = {mu_now:.3g} ({exc})", cuts)
         if check_stability:
             state.info["min_eigenvalue"] = solver.min_eigenvalue(state)
