@@ -162,8 +162,9 @@ def section_for(geometry: Geometry, direction_deg: float) -> Section:
         raise FingerpadError("direction must be a finite angle in degrees")
     t = math.radians(direction_deg)
     if isinstance(geometry, RidgeGeometry):
-        return Section("circular", geometry.width / 2, geometry.height, geometry.spacing, geometry.spacing,
-                       abs(math.cos(t)))
+        # |cos| of an angle that is an odd multiple of 90 deg is exactly 0 (not 6e-17)
+        across = 0.0 if math.isclose(math.fmod(abs(direction_deg), 180.0), 90.0, abs_tol=1e-9) else abs(math.cos(t))
+        return Section("circular", geometry.width / 2, geometry.height, geometry.spacing, geometry.spacing, across)
     g = geometry
     phi = t - g.orientation
     r = 1.0 / math.sqrt(math.cos(phi) ** 2 / g.semi_axis_x**2 + math.sin(phi) ** 2 / g.semi_axis_y**2)
@@ -259,7 +260,8 @@ class PressureRamp:
         Nominal pressure p of the cell, Pa; ``load`` = P, the section load, N/m.
     mu, contact_length, gain, tip_dx, tip_dz, fold_nodes, min_eigenvalue
         Along the followed path (path order; mu may fall past a limit point). Lengths in m;
-        ``min_eigenvalue`` is the signed stability eigenvalue (dimensionless, < 0: unstable).
+        ``min_eigenvalue`` is the stability index: +1 stable, -k with k unstable modes (the
+        negative eigenvalues of the condensed symmetric tangent), NaN unknown.
     tangential_stiffness
         d(mu P)/d(tip_dx) along the path, N/m per m (Pa).
     fold_onset_mu

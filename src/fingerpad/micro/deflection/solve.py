@@ -22,9 +22,9 @@ not a state variable: node i receives the tangential force ``t_i`` in the slidin
 The shear level mu (= friction force / normal force of the section) is the path parameter. The
 path is followed by load stepping with step cutting; a step that cannot be converged even when
 cut to ``min_step`` ends the ramp and is reported (``stopped``), never hidden. The stability of
-each converged state is checked by the smallest eigenvalue of the symmetric part of the tangent
-condensed onto the displacements (skin contact as its exact compliance, Z0 free): a negative
-value marks a state past a bifurcation (buckling).
+each converged state is checked by the inertia of the symmetric part of the tangent condensed
+onto the displacements (skin contact as its exact compliance, Z0 free): a negative eigenvalue
+marks a state past a bifurcation (buckling).
 """
 
 from __future__ import annotations
@@ -225,7 +225,7 @@ class SectionSolver:
             res_g = float(np.max(np.abs(gap[active])))
             if (prev_active is not None and np.array_equal(active, prev_active) and res_u <= self.rtol * scale_f
                     and res_g <= self.rtol and abs(r_z) <= self.rtol * scale_f and abs(r_t) <= self.rtol):
-                fresh = self.fold.pair(x)
+                fresh = self.fold.update_pairs(x, pairs)
                 if repairs < 4 and any(np.any((fn != fo) & ((fn >= 0) | (fo >= 0))) for fn, fo in zip(fresh, pairs)):
                     # converged on stale slave-segment pairs: re-pair and iterate on
                     _, _, n_old, _ = self.fold.evaluate(x, pairs)
@@ -350,12 +350,19 @@ class SectionSolver:
 
     # ------------------------------------------------------------------ stability
     def min_eigenvalue(self, state: State) -> float:
-        """Eigenvalue nearest zero (signed) of the symmetric part of the tangent condensed on the
-        displacements, with the skin contact replaced by its exact compliance (Z0 free)."""
+        """Stability of a converged state: minus the number of negative eigenvalues of the
+        symmetric part of the tangent condensed on the displacements (skin contact replaced by
+        its exact compliance with Z0 free), or +1 when there is none (stable).
+
+        By Sylvester's law of inertia the count equals the number of negative pivots of a
+        symmetric LDL^T factorisation, which one sparse LU without off-diagonal pivoting gives
+        (far cheaper than an eigenvalue near a nearly singular shift). NaN if the factorisation
+        pivoted off the diagonal (no count).
+        """
         u = self.displacement(state.v)
         _, kmat = self.solid.assemble(u)
         x = self.positions(state.v)
-        _, fold_k, _ = self._fold(x)
+        _, fold_k, _ = self._fold(x, state.info.get("pairs"))
         kr = self.M.T @ ((kmat + fold_k) @ self.M)
         kr = 0.5 * (kr + kr.T)
         act = np.nonzero(state.contact_mask & (state.f > 0))[0]
@@ -374,10 +381,14 @@ class SectionSolver:
             rr, cc = np.meshgrid(zr, zr, indexing="ij")
             kr = kr + sp.csr_matrix((stiff.ravel(), (rr.ravel(), cc.ravel())), shape=kr.shape)
         try:
-            val = spla.eigsh(kr.tocsc(), k=1, sigma=-1e-9, which="LM", return_eigenvectors=False, tol=1e-6)
-            return float(val[0])
-        except Exception:  # noqa: BLE001 -- ARPACK failure: report as unknown
+            lu = spla.splu(kr.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                           options={"SymmetricMode": True})
+        except RuntimeError:  # exactly singular: on a bifurcation
+            return 0.0
+        if not np.array_equal(lu.perm_r, lu.perm_c):
             return float("nan")
+        negative = int(np.count_nonzero(lu.U.diagonal() < 0))
+        return 1.0 if negative == 0 else -float(negative)
 
 
 # ---------------------------------------------------------------------------------------------
