@@ -223,6 +223,7 @@ class SectionSolver:
             r_t = (v[tip_dof] - tip) if tip is not None else 0.0
             res_u = float(np.linalg.norm(r_u))
             res_g = float(np.max(np.abs(gap[active])))
+            merit = self._merit(r_u, f, gap, r_z, r_t)
             if (prev_active is not None and np.array_equal(active, prev_active) and res_u <= self.rtol * scale_f
                     and res_g <= self.rtol and abs(r_z) <= self.rtol * scale_f and abs(r_t) <= self.rtol):
                 fresh = self.fold.update_pairs(x, pairs)
@@ -285,8 +286,41 @@ class SectionSolver:
                 step *= 0.5
             else:
                 raise NoConvergence("elements invert")
-            v, f, z0, mu = v + step * dv, f + step * df, z0 + step * dz0, mu + step * dmu_
+            # backtracking on the natural residual of the complementarity problem (a merit that
+            # the semi-smooth Newton step decreases near a solution): without it the iteration
+            # can run away where a flank closes a crease onto the base
+            best = None
+            for _ in range(4):
+                trial = (v + step * dv, f + step * df, z0 + step * dz0, mu + step * dmu_)
+                m_trial = self._trial_merit(*trial, load, a0, b0, pairs, tip, tip_dof)
+                if best is None or m_trial < best[0]:
+                    best = (m_trial, trial)
+                if m_trial <= (1.0 - 1e-4 * step) * merit:
+                    break
+                step *= 0.5
+            v, f, z0, mu = best[1]
         raise NoConvergence(f"no convergence in {max_iter} iterations")
+
+    def _merit(self, r_u: np.ndarray, f: np.ndarray, gap: np.ndarray, r_z: float, r_t: float) -> float:
+        """Norm of the natural residual: equilibrium, ``min(f, c g)`` per contact candidate (force
+        units), the load and the tip equations."""
+        phi = np.minimum(f, self.skin * gap)[:-1]
+        return float(math.sqrt(r_u @ r_u + phi @ phi + r_z * r_z + (self.skin * r_t) ** 2))
+
+    def _trial_merit(self, v: np.ndarray, f: np.ndarray, z0: float, mu: float, load: float, a0: float,
+                     b0: np.ndarray, pairs: list[np.ndarray], tip: float | None, tip_dof: int) -> float:
+        x = self.positions(v)
+        xs = x[self.surface]
+        comp = skin_compliance(xs[:, 0], self._tiles(xs), self.period, self.skin)
+        gap = z0 + comp @ f - xs[:, 1]
+        fint, _ = self.solid.assemble(self.displacement(v), tangent=False)
+        fold_f, _, _ = self._fold(x, pairs)
+        fext = np.zeros(self.solid.ndof)
+        fext[2 * self.surface] = mu * (a0 * f + b0)
+        fext[2 * self.surface + 1] = -f
+        r_u = self.M.T @ (fint + fold_f - fext)
+        r_t = (v[tip_dof] - tip) if tip is not None else 0.0
+        return self._merit(r_u, f, gap, f.sum() - load, r_t)
 
     def _tiles(self, xs: np.ndarray) -> np.ndarray:
         """Tiles of the surface nodes; the last node is the periodic image of the first, which
