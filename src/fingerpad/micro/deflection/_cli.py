@@ -59,14 +59,14 @@ def _table(curves: list[Any]) -> str:
         lines.append(f"{head}: section half-width {s.half_width * 1e6:.4g} um, height {s.height * 1e6:.4g} um, "
                      f"period {s.period * 1e6:.4g} um, shear factor {c.shear_factor:.3g}")
         lines.append("  p (kPa)  " + "  ".join(f"G(mu={m:g})" for m in TABLE_MU)
-                     + "  tip@max (um)  k_t0 (kPa)  mu reached  fold@mu  limit@mu  buckled  stopped")
+                     + "  bend@max (um)  k_t0 (kPa)  mu reached  fold@mu  limit@mu  buckled  stopped")
         for r in c.ramps:
             g = [c(r.pressure, m) for m in TABLE_MU]
             kt0 = r.tangential_stiffness[1] if r.tangential_stiffness.size > 1 else math.nan
-            tip = r.tip_dx[-1] * 1e6 if r.tip_dx.size else math.nan
+            tip = r.bend_dx[-1] * 1e6 if r.bend_dx.size else math.nan
             lines.append(
                 f"  {r.pressure / 1e3:7.3g}  " + "  ".join(f"{float(v):9.3f}" for v in g)
-                + f"  {tip:12.3g}  {kt0 / 1e3:10.3g}  {r.mu_reached:10.3g}  {r.fold_onset_mu:7.3g}  "
+                + f"  {tip:13.3g}  {kt0 / 1e3:10.3g}  {r.mu_reached:10.3g}  {r.fold_onset_mu:7.3g}  "
                 f"{r.limit_mu:8.3g}  {str(r.buckled):7s}  {r.stopped or '-'}"
             )
     return "\n".join(lines)

@@ -64,7 +64,9 @@ def deflection_figure(curves: list[GainCurve], path: str | os.PathLike[str], pre
             if r.mu.size == 0:
                 continue
             line, = ax_gain.plot(np.abs(r.mu), r.gain, "-", label=f"p = {r.pressure / 1e3:.3g} kPa")
-            ax_tip.plot(np.abs(r.mu), r.tip_dx * 1e6, "-", color=line.get_color())
+            ax_tip.plot(np.abs(r.mu), r.tip_dx * 1e6, "--", color=line.get_color(), lw=0.8)
+            if r.bend_dx.size == r.mu.size:
+                ax_tip.plot(np.abs(r.mu), r.bend_dx * 1e6, "-", color=line.get_color())
             if np.isfinite(r.fold_onset_mu):
                 ax_gain.axvline(r.fold_onset_mu, color=line.get_color(), ls=":", lw=0.8)
             if r.stopped:
@@ -75,8 +77,8 @@ def deflection_figure(curves: list[GainCurve], path: str | os.PathLike[str], pre
         ax_gain.set_title("gain (dotted: fold-over onset, x: ramp stopped)")
         ax_gain.legend(fontsize="x-small")
         ax_tip.set_xlabel("shear level μ (section)")
-        ax_tip.set_ylabel("tip deflection (µm)")
-        ax_tip.set_title("tip deflection")
+        ax_tip.set_ylabel("tip displacement (µm)")
+        ax_tip.set_title("tip: bending (solid), with base shear (dashed)")
         for ax in (ax_gain, ax_tip):
             ax.grid(True, alpha=0.3)
     return atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=dpi))

@@ -61,7 +61,7 @@ from .mesh import SectionGeometry, build_mesh
 from .solve import FrictionLaw, SectionSolver, follow_load, follow_shear
 
 #: Bump when a change of the section model alters cached numbers.
-MODEL_VERSION = 1
+MODEL_VERSION = 2
 
 
 # ---------------------------------------------------------------------------------------------
@@ -264,6 +264,9 @@ class PressureRamp:
         negative eigenvalues of the condensed symmetric tangent), NaN unknown.
     tangential_stiffness
         d(mu P)/d(tip_dx) along the path, N/m per m (Pa).
+    bend_dx, bend_dz
+        Tip displacement relative to the centre of the asperity's base (its bending
+        deflection, without the uniform shear of the base layer), m.
     fold_onset_mu
         First shear level at which a flank touches the base (NaN: never).
     limit_mu
@@ -294,6 +297,8 @@ class PressureRamp:
     stopped: str | None
     surfaces: list[np.ndarray] = field(default_factory=list)
     contact: list[np.ndarray] = field(default_factory=list)
+    bend_dx: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    bend_dz: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def mu_reached(self) -> float:
@@ -320,7 +325,7 @@ class PressureRamp:
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> PressureRamp:
         arrays = ("mu", "contact_length", "gain", "tip_dx", "tip_dz", "tangential_stiffness", "fold_nodes",
-                  "min_eigenvalue", "skin_slope")
+                  "min_eigenvalue", "skin_slope", "bend_dx", "bend_dz")
         kw = {k: (np.asarray(v, dtype=float) if k in arrays else v) for k, v in data.items()
               if k not in ("surfaces", "contact")}
         kw["surfaces"] = [np.asarray(s) for s in data.get("surfaces", [])]
@@ -399,6 +404,7 @@ def _to_ramp(solver: SectionSolver, ramp: Any, pressure: float, load: float, r: 
         tip_dx=tip, tip_dz=info("tip_dz") * r, tangential_stiffness=kt, fold_nodes=fold, min_eigenvalue=eig,
         skin_slope=info("skin_slope"), fold_onset_mu=onset, limit_mu=limit,
         buckled=bool(np.isfinite(eig[0]) and eig[0] < 0), stopped=ramp.stopped, surfaces=surf, contact=contact,
+        bend_dx=info("deflection_dx") * r, bend_dz=info("deflection_dz") * r,
     )
 
 
@@ -686,7 +692,7 @@ def as_dataset(curves: list[GainCurve]) -> Any:
     pressures = sorted({float(p) for c in curves for p in c.pressures})
     steps = max([len(r.mu) for c in curves for r in (c.ramps or [])] + [1])
     shape = (len(dirs), max(1, len(pressures)), steps)
-    names = {"mu": "1", "gain": "1", "contact_length": "m", "tip_dx": "m", "tip_dz": "m",
+    names = {"mu": "1", "gain": "1", "contact_length": "m", "tip_dx": "m", "tip_dz": "m", "bend_dx": "m", "bend_dz": "m",
              "tangential_stiffness": "Pa", "fold_nodes": "1", "min_eigenvalue": "1"}
     data = {k: np.full(shape, np.nan) for k in names}
     flags = {k: np.full(shape[:2], np.nan) for k in ("fold_onset_mu", "limit_mu", "mu_reached", "buckled")}
@@ -696,7 +702,8 @@ def as_dataset(curves: list[GainCurve]) -> Any:
             j = pressures.index(float(r.pressure))
             n = len(r.mu)
             for k in names:
-                data[k][i, j, :n] = np.abs(r.mu) if k == "mu" else getattr(r, k)
+                val = np.abs(r.mu) if k == "mu" else np.asarray(getattr(r, k))
+                data[k][i, j, :val.size] = val[:n]
             flags["fold_onset_mu"][i, j] = r.fold_onset_mu
             flags["limit_mu"][i, j] = r.limit_mu
             flags["mu_reached"][i, j] = r.mu_reached
