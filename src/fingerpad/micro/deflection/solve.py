@@ -30,6 +30,7 @@ marks a state past a bifurcation (buckling).
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -272,7 +273,9 @@ class SectionSolver:
             jac = sp.bmat(blocks, format="csc")
             rhs = -np.concatenate(rhs)
             try:
-                dy = spla.spsolve(jac, rhs, permc_spec="MMD_AT_PLUS_A")
+                with warnings.catch_warnings():  # a singular matrix is reported below
+                    warnings.simplefilter("ignore", spla.MatrixRankWarning)
+                    dy = spla.spsolve(jac, rhs, permc_spec="MMD_AT_PLUS_A")
             except RuntimeError as exc:  # singular factor
                 raise NoConvergence(f"singular Jacobian ({exc})") from None
             if not np.all(np.isfinite(dy)):
@@ -313,6 +316,8 @@ class SectionSolver:
         xs = x[self.surface]
         comp = skin_compliance(xs[:, 0], self._tiles(xs), self.period, self.skin)
         gap = z0 + comp @ f - xs[:, 1]
+        if self.solid.min_jacobian(self.displacement(v)) <= 0:
+            return math.inf  # an inverted element: no state
         fint, _ = self.solid.assemble(self.displacement(v), tangent=False)
         fold_f, _, _ = self._fold(x, pairs)
         fext = np.zeros(self.solid.ndof)
@@ -320,7 +325,8 @@ class SectionSolver:
         fext[2 * self.surface + 1] = -f
         r_u = self.M.T @ (fint + fold_f - fext)
         r_t = (v[tip_dof] - tip) if tip is not None else 0.0
-        return self._merit(r_u, f, gap, f.sum() - load, r_t)
+        out = self._merit(r_u, f, gap, f.sum() - load, r_t)
+        return out if math.isfinite(out) else math.inf
 
     def _tiles(self, xs: np.ndarray) -> np.ndarray:
         """Tiles of the surface nodes; the last node is the periodic image of the first, which
