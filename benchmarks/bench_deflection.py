@@ -21,7 +21,8 @@ from fingerpad.materials import Materials
 from fingerpad.micro.deflection import DeflectionSettings, EllipsoidGeometry, directional_gain, section_for
 from fingerpad.micro.deflection.gain import SectionMaterials
 from fingerpad.micro.deflection.mesh import SectionGeometry, build_mesh
-from fingerpad.micro.deflection.solve import FrictionLaw, SectionSolver, follow_load, follow_shear
+from fingerpad.micro.deflection.path import follow_load, follow_shear
+from fingerpad.micro.deflection.solve import FrictionLaw, SectionSolver
 from fingerpad.units import parse_positive
 
 

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from fingerpad.micro.deflection.mesh import SectionGeometry, build_mesh
-from fingerpad.micro.deflection.solve import FrictionLaw, SectionSolver, follow_load, follow_shear
+from fingerpad.micro.deflection.path import follow_load, follow_shear
+from fingerpad.micro.deflection.solve import FrictionLaw, SectionSolver
 
 
 def _solver(height=1.0, period=4.0, resolution=6, skin=1.0, nu=0.49, law=FrictionLaw("coulomb"), linear=False):

@@ -15,7 +15,6 @@ import sys
 from pathlib import Path
 from typing import Annotated, Any
 
-import numpy as np
 import typer
 
 from ...errors import FingerpadError
@@ -115,7 +114,8 @@ def deflection(
 def _run(**o: Any) -> None:
     from ...materials import Materials, check_poisson
     from ...units import parse_positive, parse_quantity
-    from .gain import DeflectionSettings, EllipsoidGeometry, RidgeGeometry, as_dataset, directional_gain
+    from .gain import DeflectionSettings, as_dataset, directional_gain
+    from .section import EllipsoidGeometry, RidgeGeometry
 
     kind = str(o["texture"]).strip().lower()
     h = _length(o["height"], "height")

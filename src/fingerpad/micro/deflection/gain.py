@@ -1,50 +1,14 @@
 """Deflection gain of the real contact area, per texture, material and sliding direction.
 
-The section model (:mod:`.solve`) gives, for one asperity section at a nominal pressure p, the
-contact length ``L(mu)`` along a full-sliding shear ramp. The **deflection gain**
-``G(p, mu) = L(p, mu) / L(p, 0)`` is the factor by which sliding at the local shear level mu
-(friction force over normal force of the cell) multiplies the real contact area of that cell;
-it is the real-area multiplier of the adhesive term, Eq. 2.2.
-
-From texture and direction to a section
----------------------------------------
-* **Ellipsoids** (semi-axes a along the asperity's own x', b along y', height h, lattice
-  ``spacing_x x spacing_y``, rotated by ``orientation``): sliding at ``direction`` (degrees from
-  the texture's x axis) shears the section through the asperity centre along that direction: a
-  semi-ellipse of half-width ``r = (cos^2 phi / a^2 + sin^2 phi / b^2)^(-1/2)``
-  (``phi = direction - orientation``) and height h, with neighbours at the period
-  ``lambda = (cos^2 t / s_x^2 + sin^2 t / s_y^2)^(-1/2)`` (t = direction; at least 2r).
-  Load: the section carries the asperity's force ``F_i = p s_x s_y`` (Eq. 3.2) spread over the
-  asperity's mean width across the section, ``pi a b / (2 r)``, so that the section's mean
-  footprint stress equals the asperity's: ``P = p s_x s_y 2 r / (pi a b)`` per unit depth.
-* **Ridges** (circular profile, running along y): the section is the ridge's cross-section at
-  its own period, loaded by ``P = p spacing`` exactly (a ridge is a 2-D body); only the shear
-  component across the ridges deflects it, so ``G_dir(p, mu) = G(p, mu |cos direction|)``.
-* A **rigid** texture (no material modulus) gives ``G = 1`` exactly, without solving; a circular
-  asperity on a square lattice gives the same section, hence the same gain, in every direction.
-
-Using the gain in the friction (the fixed point)
------------------------------------------------
-The shear level an asperity feels is the friction it transmits, which depends on the contact
-area the gain enlarges. At nominal pressure p with the undeflected real-area fraction psi(p)
-(the unit cell's, BEM or Hertz) the local adhesive friction, Eqs. 2.2-2.3 with
-``tau = tau0 + alpha p / (psi G)``, is ``q = tau0 psi G + alpha p``, so the local shear level
-solves::
-
-    mu = tau0 psi(p) G(p, mu) / p + alpha + mu_extra                                  (*)
-
-(``mu_extra``: an optional extra shear carried by the interface, e.g. the hysteresis share
-F_def / F). :func:`solve_local_shear` finds the least root of (*) by the monotone iteration
-from ``G = 1`` (the state reached when the friction builds up from zero; G is taken
-non-decreasing in mu along the followed branch), and :class:`DirectionalCell` wraps any unit
-cell so that its ``contact_fraction(p)`` is ``min(psi G, psi_max)``: the coupling's integrals
-(Eq. 3.7 and [completion]) then give the directional ``A_re`` and ``F_adh = tau0 A_re + alpha F``
-unchanged. In code::
-
-    gain = directional_gain(texture_geometry(texture), materials, direction_deg=90.0,
-                            pressure_range=(p_lo, p_hi), tau0=finger.tau0, alpha=finger.alpha)
-    cell_dir = DirectionalCell(cell, gain, tau0=finger.tau0, alpha=finger.alpha)
-    prediction = predict_curve(loads, finger, cell_dir)
+The section model (:mod:`.solve`, :mod:`.path`) gives, for one asperity section at a nominal
+pressure p, the contact length ``L(mu)`` along a full-sliding shear ramp. The **deflection
+gain** ``G(p, mu) = L(p, mu) / L(p, 0)`` is the factor by which sliding at the local shear level
+mu (friction force over normal force of the cell) multiplies the real contact area of that cell;
+it is the real-area multiplier of the adhesive term, Eq. 2.2. The section for a texture and a
+direction is :func:`.section.section_for`; a rigid texture (no material modulus) or a section
+the shear does not cross (ridges sliding along their length) gives ``G = 1`` exactly, without
+solving. How the gain enters the friction -- the fixed point of the local shear it creates --
+is :mod:`.fixedpoint`.
 """
 
 from __future__ import annotations
@@ -58,120 +22,16 @@ import numpy as np
 
 from ...errors import FingerpadError
 from .mesh import SectionGeometry, build_mesh
-from .solve import FrictionLaw, SectionSolver, follow_load, follow_shear
+from .path import follow_load, follow_shear
+from .section import EllipsoidGeometry, Geometry, RidgeGeometry, Section, section_for, texture_geometry
+from .solve import FrictionLaw, SectionSolver
 
 #: Bump when a change of the section model alters cached numbers.
 MODEL_VERSION = 2
 
-
-# ---------------------------------------------------------------------------------------------
-# geometry
-# ---------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class EllipsoidGeometry:
-    """Half-ellipsoid asperities (as :func:`fingerpad.textures.ellipsoids`), SI units.
-
-    ``orientation`` in radians (counter-clockwise from x).
-    """
-
-    semi_axis_x: float
-    semi_axis_y: float
-    height: float
-    spacing_x: float
-    spacing_y: float
-    orientation: float = 0.0
-
-    def __post_init__(self) -> None:
-        for name in ("semi_axis_x", "semi_axis_y", "height", "spacing_x", "spacing_y"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise FingerpadError(f"ellipsoid {name} must be a positive length, got {v!r}")
-        if not math.isfinite(self.orientation):
-            raise FingerpadError("ellipsoid orientation must be finite")
-
-
-@dataclass(frozen=True)
-class RidgeGeometry:
-    """Parallel ridges along y (as :func:`fingerpad.textures.ridges`), SI units."""
-
-    width: float
-    height: float
-    spacing: float
-    profile: str = "circular"
-
-    def __post_init__(self) -> None:
-        for name in ("width", "height", "spacing"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise FingerpadError(f"ridge {name} must be a positive length, got {v!r}")
-        if self.profile != "circular":
-            raise FingerpadError(
-                f"the deflection model supports circular ridges only, not {self.profile!r} "
-                "(a sinusoidal ridge meets its base tangentially and a trapezoid has corners)")
-        if self.height > self.width / 2 * (1 + 1e-9):
-            raise FingerpadError("a circular ridge cannot be higher than half its width")
-
-
-Geometry = EllipsoidGeometry | RidgeGeometry
-
-
-def texture_geometry(texture: Any) -> Geometry:
-    """The asperity geometry of a generated ``ellipsoids`` or ``ridges`` texture.
-
-    Raises
-    ------
-    FingerpadError
-        For any other texture (directional friction needs a known asperity shape).
-    """
-    name = getattr(texture, "name", None)
-    params = dict(getattr(texture, "params", {}) or {})
-    try:
-        if name == "ellipsoids":
-            return EllipsoidGeometry(float(params["semi_axis_x"]), float(params["semi_axis_y"]),
-                                     float(params["height"]), float(params["spacing_x"]),
-                                     float(params["spacing_y"]), float(params.get("orientation", 0.0)))
-        if name == "ridges":
-            return RidgeGeometry(float(params["width"]), float(params["height"]), float(params["spacing"]),
-                                 str(params.get("profile", "circular")))
-    except KeyError as exc:
-        raise FingerpadError(f"texture {name!r} lacks the parameter {exc.args[0]!r}") from None
-    raise FingerpadError(f"--direction needs an ellipsoids or ridges texture, not {name!r}")
-
-
-@dataclass(frozen=True)
-class Section:
-    """One asperity section in SI units and how the cell's nominal pressure loads it.
-
-    ``load_per_pressure``: P / p (m), the section's normal load per unit depth per nominal
-    pressure. ``shear_factor``: the fraction of the shear level acting in the section's plane.
-    """
-
-    profile: str
-    half_width: float
-    height: float
-    period: float
-    load_per_pressure: float
-    shear_factor: float = 1.0
-
-
-def section_for(geometry: Geometry, direction_deg: float) -> Section:
-    """The section sheared when sliding at ``direction_deg`` (degrees from the texture's x axis)."""
-    if not math.isfinite(direction_deg):
-        raise FingerpadError("direction must be a finite angle in degrees")
-    t = math.radians(direction_deg)
-    if isinstance(geometry, RidgeGeometry):
-        # |cos| of an angle that is an odd multiple of 90 deg is exactly 0 (not 6e-17)
-        across = 0.0 if math.isclose(math.fmod(abs(direction_deg), 180.0), 90.0, abs_tol=1e-9) else abs(math.cos(t))
-        return Section("circular", geometry.width / 2, geometry.height, geometry.spacing, geometry.spacing, across)
-    g = geometry
-    phi = t - g.orientation
-    r = 1.0 / math.sqrt(math.cos(phi) ** 2 / g.semi_axis_x**2 + math.sin(phi) ** 2 / g.semi_axis_y**2)
-    lam = 1.0 / math.sqrt(math.cos(t) ** 2 / g.spacing_x**2 + math.sin(t) ** 2 / g.spacing_y**2)
-    lam = max(lam, 2.0 * r)
-    per_p = g.spacing_x * g.spacing_y * 2.0 * r / (math.pi * g.semi_axis_x * g.semi_axis_y)
-    return Section("ellipse", r, g.height, lam, per_p, 1.0)
+__all__ = ["DeflectionSettings", "EllipsoidGeometry", "GainCurve", "MODEL_VERSION", "PressureRamp", "RidgeGeometry",
+           "Section", "SectionMaterials", "as_dataset", "directional_gain", "section_for", "solve_section",
+           "texture_geometry"]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -580,107 +440,6 @@ def directional_gain(
     if store is not None and key is not None:
         store.update(key, {"ramps": [r.as_dict(surfaces=True) for r in ramps]})
     return GainCurve(pressures, ramps, section.shear_factor, float(direction_deg), section, key)
-
-
-# ---------------------------------------------------------------------------------------------
-# the adhesive fixed point and the directional unit cell
-# ---------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class LocalShear:
-    """Solution of the local fixed point (*) at each nominal pressure (arrays).
-
-    ``mu``: local shear level; ``gain``: G(p, mu); ``converged``: the iteration settled;
-    ``saturated``: mu lies beyond the shear computed for the gain table (gain held).
-    """
-
-    mu: np.ndarray
-    gain: np.ndarray
-    converged: np.ndarray
-    saturated: np.ndarray
-
-
-def solve_local_shear(
-    pressure: Any, psi: Any, gain: GainCurve, tau0: float, alpha: float, mu_extra: Any = 0.0,
-    tol: float = 1e-10, max_iter: int = 200,
-) -> LocalShear:
-    """Solve ``mu = tau0 psi G(p, mu) / p + alpha + mu_extra`` (the docstring's (*)) at every p.
-
-    Monotone fixed-point iteration from ``G = 1``: with G non-decreasing in mu it climbs to the
-    least root, the state reached as friction builds up from zero. Where ``p = 0`` (or psi = 0)
-    the adhesive term vanishes and ``mu = alpha + mu_extra``, ``G = 1``.
-    """
-    p, ps, mx = np.broadcast_arrays(np.asarray(pressure, dtype=float), np.asarray(psi, dtype=float),
-                                    np.asarray(mu_extra, dtype=float))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        coef = np.where(p > 0, tau0 * ps / np.where(p > 0, p, 1.0), 0.0)
-    g = np.ones(p.shape)
-    mu = coef * g + alpha + mx
-    conv = np.zeros(p.shape, dtype=bool)
-    for _ in range(max_iter):
-        g_new = np.where(p > 0, gain(p, mu), 1.0)
-        mu_new = coef * g_new + alpha + mx
-        conv = np.abs(mu_new - mu) <= tol * np.maximum(1.0, np.abs(mu_new))
-        mu, g = mu_new, g_new
-        if np.all(conv):
-            break
-    g = np.where(p > 0, gain(p, mu), 1.0)
-    return LocalShear(mu, g, conv, gain.saturated(p, mu) & (p > 0))
-
-
-class DirectionalCell:
-    """A unit cell whose real-area fraction includes the deflection gain at the local shear.
-
-    ``contact_fraction(p) = min(psi(p) G(p, mu(p)), psi_max)`` with mu(p) from
-    :func:`solve_local_shear`; every other attribute (transition and full-contact pressures,
-    breakpoints, ...) is the wrapped cell's. With an identity gain it returns the wrapped
-    cell's psi exactly.
-
-    Parameters
-    ----------
-    cell
-        Any unit-cell response (BEM or Hertz): ``contact_fraction(p) -> psi``.
-    gain
-        :class:`GainCurve` of the texture, material and direction.
-    tau0, alpha
-        The finger's Eq. 2.3 constants.
-    mu_extra
-        Extra shear level carried by the interface (e.g. the hysteresis share), default 0.
-    max_fraction
-        Upper bound of the real-area fraction (default: the cell's psi at its full-contact
-        pressure, else 1).
-    """
-
-    def __init__(self, cell: Any, gain: GainCurve, tau0: float, alpha: float, mu_extra: float = 0.0,
-                 max_fraction: float | None = None) -> None:
-        self._cell = cell
-        self.gain = gain
-        self.tau0 = float(tau0)
-        self.alpha = float(alpha)
-        self.mu_extra = float(mu_extra)
-        if max_fraction is None:
-            try:
-                pf = float(cell.full_contact_pressure)
-                max_fraction = float(np.asarray(cell.contact_fraction(np.array([pf])))[0]) if math.isfinite(pf) else 1.0
-            except Exception:  # noqa: BLE001 -- a cell without a finite full-contact pressure
-                max_fraction = 1.0
-        self.max_fraction = float(max_fraction)
-
-    def __getattr__(self, name: str) -> Any:
-        return getattr(self._cell, name)
-
-    def local_shear(self, p: np.ndarray) -> LocalShear:
-        psi = np.asarray(self._cell.contact_fraction(np.asarray(p, dtype=float)), dtype=float)
-        return solve_local_shear(p, psi, self.gain, self.tau0, self.alpha, self.mu_extra)
-
-    def contact_fraction(self, p: np.ndarray) -> np.ndarray:
-        pp = np.asarray(p, dtype=float)
-        psi = np.asarray(self._cell.contact_fraction(pp), dtype=float)
-        if self.gain.is_identity:
-            return psi
-        sol = solve_local_shear(pp, psi, self.gain, self.tau0, self.alpha, self.mu_extra)
-        return np.minimum(psi * sol.gain, np.maximum(self.max_fraction, psi))
 
 
 def as_dataset(curves: list[GainCurve]) -> Any:
