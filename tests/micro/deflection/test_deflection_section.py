@@ -105,3 +105,17 @@ def test_mesh_convergence():
         out[res] = (start.info["contact_length"], st.info["contact_length"], st.info["deflection_dx"])
     for a, b in zip(out[6], out[10]):
         assert a == pytest.approx(b, rel=0.04)
+
+
+def test_stability_index_counts_negative_eigenvalues_and_flags_buckling():
+    """A slender column (h = 3 r) is stable under a light skin load and unstable under a heavy
+    one (Euler-type buckling under the normal load alone); the inertia count from one LDL^T
+    equals the number of negative eigenvalues of the condensed tangent."""
+    solver = _solver(height=3.0, resolution=3, skin=1.33)
+    light, heavy = follow_load(solver, [0.02, 0.3]).states
+    assert solver.min_eigenvalue(light) == 1.0
+    index = solver.min_eigenvalue(heavy)
+    assert index < 0
+    eig = np.linalg.eigvalsh(solver.condensed_tangent(heavy).toarray())
+    assert int(np.count_nonzero(eig < 0)) == -index
+    assert np.all(np.linalg.eigvalsh(solver.condensed_tangent(light).toarray()) > 0)

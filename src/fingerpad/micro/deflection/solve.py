@@ -390,16 +390,10 @@ class SectionSolver:
         }
 
     # ------------------------------------------------------------------ stability
-    def min_eigenvalue(self, state: State) -> float:
-        """Stability of a converged state: minus the number of negative eigenvalues of the
-        symmetric part of the tangent condensed on the displacements (skin contact replaced by
-        its exact compliance with Z0 free), or +1 when there is none (stable).
-
-        By Sylvester's law of inertia the count equals the number of negative pivots of a
-        symmetric LDL^T factorisation, which one sparse LU without off-diagonal pivoting gives
-        (far cheaper than an eigenvalue near a nearly singular shift). NaN if the factorisation
-        pivoted off the diagonal (no count).
-        """
+    def condensed_tangent(self, state: State) -> sp.csr_matrix:
+        """Symmetric part of the tangent on the reduced displacements at a converged state, with
+        the skin contact condensed in through its exact compliance (Z0 free, load controlled):
+        ``K + D^T (C^-1 - C^-1 1 (1^T C^-1 1)^-1 1^T C^-1) D`` over the contact nodes."""
         u = self.displacement(state.v)
         _, kmat = self.solid.assemble(u)
         x = self.positions(state.v)
@@ -421,6 +415,19 @@ class SectionSolver:
             zr, stiff = zr[ok], stiff[np.ix_(ok, ok)]
             rr, cc = np.meshgrid(zr, zr, indexing="ij")
             kr = kr + sp.csr_matrix((stiff.ravel(), (rr.ravel(), cc.ravel())), shape=kr.shape)
+        return kr
+
+    def min_eigenvalue(self, state: State) -> float:
+        """Stability of a converged state: minus the number of negative eigenvalues of the
+        symmetric part of the tangent condensed on the displacements (skin contact replaced by
+        its exact compliance with Z0 free), or +1 when there is none (stable).
+
+        By Sylvester's law of inertia the count equals the number of negative pivots of a
+        symmetric LDL^T factorisation, which one sparse LU without off-diagonal pivoting gives
+        (far cheaper than an eigenvalue near a nearly singular shift). NaN if the factorisation
+        pivoted off the diagonal (no count).
+        """
+        kr = self.condensed_tangent(state)
         try:
             lu = spla.splu(kr.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                            options={"SymmetricMode": True})
