@@ -25,6 +25,9 @@ bench: $(STAMP)
 	$(PY) benchmarks/bench_solver.py --grids 256,512,1024,2048 --peer-grids 256,512,1024,2048 --memory 4096
 	$(PY) benchmarks/bench_predict.py
 	$(PY) benchmarks/bench_startup.py
+	$(PY) benchmarks/bench_sweep.py
+	$(PY) benchmarks/bench_analyse.py
+	$(PY) benchmarks/bench_deflection.py
 
 clean:
 	rm -rf $(VENV) out .pytest_cache

@@ -1,0 +1,132 @@
+"""The adhesive fixed point and the directional unit cell.
+
+The shear level an asperity feels is the friction it transmits, which depends on the contact
+area the deflection gain enlarges. At nominal pressure p with the undeflected real-area fraction
+psi(p) (the unit cell's, BEM or Hertz) the local adhesive friction, Eqs. 2.2-2.3 with
+``tau = tau0 + alpha p / (psi G)``, is ``q = tau0 psi G + alpha p``, so the local shear level
+solves::
+
+    mu = tau0 psi(p) G(p, mu) / p + alpha + mu_extra                                  (*)
+
+(``mu_extra``: an optional extra shear carried by the interface, e.g. the hysteresis share
+F_def / F). :func:`solve_local_shear` finds the least root of (*) by the monotone iteration
+from ``G = 1`` (the state reached when the friction builds up from zero; G is taken
+non-decreasing in mu along the followed branch), and :class:`DirectionalCell` wraps any unit
+cell so that its ``contact_fraction(p)`` is ``min(psi G, psi_max)``: the coupling's integrals
+(Eq. 3.7 and [completion]) then give the directional ``A_re`` and ``F_adh = tau0 A_re + alpha F``
+unchanged. In code::
+
+    gain = directional_gain(texture_geometry(texture), materials, direction_deg=90.0,
+                            pressure_range=(p_lo, p_hi), tau0=finger.tau0, alpha=finger.alpha)
+    cell_dir = DirectionalCell(cell, gain, tau0=finger.tau0, alpha=finger.alpha)
+    prediction = predict_curve(loads, finger, cell_dir)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .gain import GainCurve
+
+
+@dataclass(frozen=True)
+class LocalShear:
+    """Solution of the local fixed point (*) at each nominal pressure (arrays).
+
+    ``mu``: local shear level; ``gain``: G(p, mu); ``converged``: the iteration settled;
+    ``saturated``: mu lies beyond the shear computed for the gain table (gain held).
+    """
+
+    mu: np.ndarray
+    gain: np.ndarray
+    converged: np.ndarray
+    saturated: np.ndarray
+
+
+def solve_local_shear(
+    pressure: Any, psi: Any, gain: GainCurve, tau0: float, alpha: float, mu_extra: Any = 0.0,
+    tol: float = 1e-10, max_iter: int = 200,
+) -> LocalShear:
+    """Solve ``mu = tau0 psi G(p, mu) / p + alpha + mu_extra`` (the docstring's (*)) at every p.
+
+    Monotone fixed-point iteration from ``G = 1``: with G non-decreasing in mu it climbs to the
+    least root, the state reached as friction builds up from zero. Where ``p = 0`` (or psi = 0)
+    the adhesive term vanishes and ``mu = alpha + mu_extra``, ``G = 1``.
+    """
+    p, ps, mx = np.broadcast_arrays(np.asarray(pressure, dtype=float), np.asarray(psi, dtype=float),
+                                    np.asarray(mu_extra, dtype=float))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        coef = np.where(p > 0, tau0 * ps / np.where(p > 0, p, 1.0), 0.0)
+    g = np.ones(p.shape)
+    mu = coef * g + alpha + mx
+    conv = np.zeros(p.shape, dtype=bool)
+    for _ in range(max_iter):
+        g_new = np.where(p > 0, gain(p, mu), 1.0)
+        mu_new = coef * g_new + alpha + mx
+        conv = np.abs(mu_new - mu) <= tol * np.maximum(1.0, np.abs(mu_new))
+        mu, g = mu_new, g_new
+        if np.all(conv):
+            break
+    g = np.where(p > 0, gain(p, mu), 1.0)
+    return LocalShear(mu, g, conv, gain.saturated(p, mu) & (p > 0))
+
+
+class DirectionalCell:
+    """A unit cell whose real-area fraction includes the deflection gain at the local shear.
+
+    ``contact_fraction(p) = min(psi(p) G(p, mu(p)), psi_max)`` with mu(p) from
+    :func:`solve_local_shear`; every other attribute (transition and full-contact pressures,
+    breakpoints, ...) is the wrapped cell's. With an identity gain it returns the wrapped
+    cell's psi exactly.
+
+    Parameters
+    ----------
+    cell
+        Any unit-cell response (BEM or Hertz): ``contact_fraction(p) -> psi``.
+    gain
+        :class:`GainCurve` of the texture, material and direction.
+    tau0, alpha
+        The finger's Eq. 2.3 constants.
+    mu_extra
+        Extra shear level carried by the interface (e.g. the hysteresis share), default 0.
+    max_fraction
+        Upper bound of the real-area fraction (default: the cell's psi at its full-contact
+        pressure, else 1).
+    """
+
+    def __init__(self, cell: Any, gain: GainCurve, tau0: float, alpha: float, mu_extra: float = 0.0,
+                 max_fraction: float | None = None) -> None:
+        self._cell = cell
+        self.gain = gain
+        self.tau0 = float(tau0)
+        self.alpha = float(alpha)
+        self.mu_extra = float(mu_extra)
+        if max_fraction is None:
+            try:
+                pf = float(cell.full_contact_pressure)
+                max_fraction = float(np.asarray(cell.contact_fraction(np.array([pf])))[0]) if math.isfinite(pf) else 1.0
+            except Exception:  # noqa: BLE001 -- a cell without a finite full-contact pressure
+                max_fraction = 1.0
+        self.max_fraction = float(max_fraction)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._cell, name)
+
+    def local_shear(self, p: np.ndarray) -> LocalShear:
+        psi = np.asarray(self._cell.contact_fraction(np.asarray(p, dtype=float)), dtype=float)
+        return solve_local_shear(p, psi, self.gain, self.tau0, self.alpha, self.mu_extra)
+
+    def contact_fraction(self, p: np.ndarray) -> np.ndarray:
+        pp = np.asarray(p, dtype=float)
+        psi = np.asarray(self._cell.contact_fraction(pp), dtype=float)
+        if self.gain.is_identity:
+            return psi
+        sol = solve_local_shear(pp, psi, self.gain, self.tau0, self.alpha, self.mu_extra)
+        return np.minimum(psi * sol.gain, np.maximum(self.max_fraction, psi))
+
+
+__all__ = ["DirectionalCell", "LocalShear", "solve_local_shear"]

@@ -1,0 +1,475 @@
+"""Deflection gain of the real contact area, per texture, material and sliding direction.
+
+The section model (:mod:`.solve`, :mod:`.path`) gives, for one asperity section at a nominal
+pressure p, the contact length ``L(mu)`` along a full-sliding shear ramp. The **deflection
+gain** ``G(p, mu) = L(p, mu) / L(p, 0)`` is the factor by which sliding at the local shear level
+mu (friction force over normal force of the cell) multiplies the real contact area of that cell;
+it is the real-area multiplier of the adhesive term, Eq. 2.2. The section for a texture and a
+direction is :func:`.section.section_for`; a rigid texture (no material modulus) or a section
+the shear does not cross (ridges sliding along their length) gives ``G = 1`` exactly, without
+solving. How the gain enters the friction -- the fixed point of the local shear it creates --
+is :mod:`.fixedpoint`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ...errors import FingerpadError
+from .mesh import SectionGeometry, build_mesh
+from .path import follow_load, follow_shear
+from .section import EllipsoidGeometry, Geometry, RidgeGeometry, Section, section_for, texture_geometry
+from .solve import FrictionLaw, SectionSolver
+
+#: Bump when a change of the section model alters cached numbers.
+MODEL_VERSION = 2
+
+__all__ = ["DeflectionSettings", "EllipsoidGeometry", "GainCurve", "MODEL_VERSION", "PressureRamp", "RidgeGeometry",
+           "Section", "SectionMaterials", "as_dataset", "directional_gain", "section_for", "solve_section",
+           "texture_geometry"]
+
+
+# ---------------------------------------------------------------------------------------------
+# materials and settings
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class DeflectionSettings:
+    """Numerical and modelling settings of the section solves.
+
+    Attributes
+    ----------
+    friction
+        ``"package"`` (tau0 + alpha p shape, Eq. 2.3) or ``"coulomb"``.
+    mu_max
+        Largest shear level followed.
+    n_pressures
+        Pressure levels of the gain table (log-spaced over the pressure range).
+    resolution
+        Elements per asperity half-width.
+    base_thickness
+        Base layer thickness in units of the section period.
+    fold_penalty
+        Penalty stiffness of the fold-over contact, in units of the texture modulus.
+    check_stability
+        Compute the stability eigenvalue at every converged state (buckling flag).
+    time_limit
+        Wall-clock budget of one shear ramp, s (the ramp then stops and says so).
+    """
+
+    friction: str = "package"
+    mu_max: float = 1.5
+    n_pressures: int = 3
+    resolution: int = 6
+    base_thickness: float = 1.0
+    fold_penalty: float = 20.0
+    check_stability: bool = True
+    time_limit: float = 120.0
+
+    def __post_init__(self) -> None:
+        if self.friction not in ("package", "coulomb"):
+            raise FingerpadError(f"friction must be 'package' or 'coulomb', got {self.friction!r}")
+        if not (0 < self.mu_max <= 5):
+            raise FingerpadError(f"mu_max must lie in (0, 5], got {self.mu_max!r}")
+        if not (1 <= int(self.n_pressures) <= 20):
+            raise FingerpadError("n_pressures must lie in 1..20")
+        if not (2 <= int(self.resolution) <= 32):
+            raise FingerpadError("resolution must lie in 2..32 elements per half-width")
+        if not self.base_thickness > 0:
+            raise FingerpadError("base_thickness must be positive")
+
+
+@dataclass(frozen=True)
+class SectionMaterials:
+    """Elastic constants (SI) of the texture (neo-Hookean) and the skin (linear half-space)."""
+
+    texture_modulus: float | None
+    texture_poisson: float
+    skin_modulus: float
+    skin_poisson: float
+
+    @classmethod
+    def from_materials(cls, materials: Any) -> SectionMaterials:
+        """From a :class:`fingerpad.materials.Materials` (``material_modulus=None``: rigid)."""
+        return cls(materials.material_modulus, materials.material_poisson, materials.skin_modulus,
+                   materials.skin_poisson)
+
+    @property
+    def skin_plane_modulus(self) -> float:
+        return self.skin_modulus / (1.0 - self.skin_poisson**2)
+
+
+# ---------------------------------------------------------------------------------------------
+# one section: shear ramps at a few pressures
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass
+class PressureRamp:
+    """The shear ramp of one section at one nominal pressure (SI units, per unit depth).
+
+    Attributes
+    ----------
+    pressure
+        Nominal pressure p of the cell, Pa; ``load`` = P, the section load, N/m.
+    mu, contact_length, gain, tip_dx, tip_dz, fold_nodes, min_eigenvalue
+        Along the followed path (path order; mu may fall past a limit point). Lengths in m;
+        ``min_eigenvalue`` is the stability index: +1 stable, -k with k unstable modes (the
+        negative eigenvalues of the condensed symmetric tangent), NaN unknown.
+    tangential_stiffness
+        d(mu P)/d(tip_dx) along the path, N/m per m (Pa).
+    bend_dx, bend_dz
+        Tip displacement relative to the centre of the asperity's base (its bending
+        deflection, without the uniform shear of the base layer), m.
+    fold_onset_mu
+        First shear level at which a flank touches the base (NaN: never).
+    limit_mu
+        Shear level of the first maximum of mu along the path (a snap-over under load control;
+        NaN: none).
+    buckled
+        The state at zero shear is already unstable (buckling under the normal load alone).
+    stopped
+        Why the ramp ended before ``mu_max`` (None: it reached it).
+    surfaces
+        Deformed top surface (x, z) in m at every state, for figures.
+    """
+
+    pressure: float
+    load: float
+    mu: np.ndarray
+    contact_length: np.ndarray
+    gain: np.ndarray
+    tip_dx: np.ndarray
+    tip_dz: np.ndarray
+    tangential_stiffness: np.ndarray
+    fold_nodes: np.ndarray
+    min_eigenvalue: np.ndarray
+    skin_slope: np.ndarray
+    fold_onset_mu: float
+    limit_mu: float
+    buckled: bool
+    stopped: str | None
+    surfaces: list[np.ndarray] = field(default_factory=list)
+    contact: list[np.ndarray] = field(default_factory=list)
+    bend_dx: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    bend_dz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    @property
+    def mu_reached(self) -> float:
+        return float(np.max(np.abs(self.mu))) if self.mu.size else 0.0
+
+    def branch(self) -> tuple[np.ndarray, np.ndarray]:
+        """(mu, gain) on the branch a load-controlled ramp follows: the states whose shear level
+        exceeds every earlier one (past a limit point the asperity snaps to the next state
+        that carries more shear)."""
+        mu = np.abs(self.mu)
+        keep = mu >= np.maximum.accumulate(mu) - 1e-12
+        m, gn = mu[keep], self.gain[keep]
+        m, idx = np.unique(m, return_index=True)
+        return m, gn[idx]
+
+    def as_dict(self, surfaces: bool = False) -> dict[str, Any]:
+        out = {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in asdict(self).items()
+               if k not in ("surfaces", "contact")}
+        if surfaces:
+            out["surfaces"] = [s.tolist() for s in self.surfaces]
+            out["contact"] = [c.tolist() for c in self.contact]
+        return out
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> PressureRamp:
+        arrays = ("mu", "contact_length", "gain", "tip_dx", "tip_dz", "tangential_stiffness", "fold_nodes",
+                  "min_eigenvalue", "skin_slope", "bend_dx", "bend_dz")
+        kw = {k: (np.asarray(v, dtype=float) if k in arrays else v) for k, v in data.items()
+              if k not in ("surfaces", "contact")}
+        kw["surfaces"] = [np.asarray(s) for s in data.get("surfaces", [])]
+        kw["contact"] = [np.asarray(c, dtype=bool) for c in data.get("contact", [])]
+        return cls(**kw)
+
+
+
+def solve_section(
+    section: Section,
+    materials: SectionMaterials,
+    pressures: np.ndarray,
+    tau0: float = 0.0,
+    alpha: float = 1.0,
+    settings: DeflectionSettings = DeflectionSettings(),
+    progress: Callable[[str], None] | None = None,
+    linear: bool = False,
+) -> list[PressureRamp]:
+    """Shear ramps of one section at the nominal pressures ``pressures`` (Pa).
+
+    One normal-load ramp presses the skin on through all pressures at zero shear; from each,
+    a tip-controlled shear ramp runs to ``settings.mu_max`` (or stops and says why).
+    """
+    if materials.texture_modulus is None:
+        raise FingerpadError("a rigid texture does not deflect: its gain is exactly 1 (no section to solve)")
+    em = float(materials.texture_modulus)
+    r = section.half_width
+    geom = SectionGeometry(section.profile, section.height / r, section.period / r,
+                           settings.base_thickness * section.period / r)
+    mesh = build_mesh(geom, resolution=int(settings.resolution))
+    law = FrictionLaw(settings.friction, tau0 / em, alpha)
+    solver = SectionSolver(mesh, materials.texture_poisson, materials.skin_plane_modulus / em, law,
+                           linear=linear, fold_penalty=settings.fold_penalty)
+    p = np.sort(np.asarray(pressures, dtype=float))
+    loads = p * section.load_per_pressure / (em * r)  # dimensionless P
+    if progress:
+        progress(f"pressing the skin on ({loads.size} pressure levels)")
+    ramp0 = follow_load(solver, loads)
+    out: list[PressureRamp] = []
+    for k, start in enumerate(ramp0.states):
+        if progress:
+            progress(f"shear ramp {k + 1}/{len(ramp0.states)} at p = {p[k]:.4g} Pa")
+        ramp = follow_shear(solver, start, settings.mu_max, check_stability=settings.check_stability,
+                            time_limit=settings.time_limit)
+        out.append(_to_ramp(solver, ramp, p[k], start.load * em * r, r, em))
+    if ramp0.stopped:
+        for pk in p[len(ramp0.states):]:
+            out.append(PressureRamp(float(pk), float(pk * section.load_per_pressure), *([np.zeros(0)] * 9),
+                                    math.nan, math.nan, False, f"not pressed on: {ramp0.stopped}"))
+    return out
+
+
+def _to_ramp(solver: SectionSolver, ramp: Any, pressure: float, load: float, r: float, em: float) -> PressureRamp:
+    st = ramp.states
+    info = lambda key: np.array([s.info.get(key, math.nan) for s in st], dtype=float)  # noqa: E731
+    mu = np.array([s.shear for s in st])
+    length = info("contact_length") * r
+    gain = length / length[0]
+    tip = info("tip_dx") * r
+    q = mu * load
+    with np.errstate(divide="ignore", invalid="ignore"):
+        kt = np.gradient(q, tip) if len(st) > 2 else np.full(len(st), math.nan)
+    fold = info("fold_nodes")
+    onset = float(np.abs(mu)[np.argmax(fold > 0)]) if np.any(fold > 0) else math.nan
+    amu = np.abs(mu)
+    drops = np.nonzero(np.diff(amu) < -1e-9)[0]
+    limit = float(amu[drops[0]]) if drops.size else math.nan
+    eig = info("min_eigenvalue")
+    surf, contact = [], []
+    for s in st:
+        x = solver.positions(s.v)[solver.surface] * r
+        surf.append(x)
+        contact.append(np.asarray(s.contact_mask, dtype=bool))
+    return PressureRamp(
+        pressure=float(pressure), load=float(load), mu=mu, contact_length=length, gain=gain,
+        tip_dx=tip, tip_dz=info("tip_dz") * r, tangential_stiffness=kt, fold_nodes=fold, min_eigenvalue=eig,
+        skin_slope=info("skin_slope"), fold_onset_mu=onset, limit_mu=limit,
+        buckled=bool(np.isfinite(eig[0]) and eig[0] < 0), stopped=ramp.stopped, surfaces=surf, contact=contact,
+        bend_dx=info("deflection_dx") * r, bend_dz=info("deflection_dz") * r,
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# the gain table
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass
+class GainCurve:
+    """Deflection gain ``G(p, mu)`` of the real contact area for one texture, material and
+    sliding direction.
+
+    Interpolation: linear in mu along each pressure level's load-controlled branch, held at
+    the last computed value past the largest shear level reached (``saturated`` tells where),
+    and linear in log p between levels; below the lowest level it goes linearly in p to 1 at
+    p = 0 (the deflection vanishes with the load), above the highest it is held.
+
+    Attributes
+    ----------
+    pressures
+        Nominal pressures of the levels, Pa (empty: identity, G = 1).
+    ramps
+        The section's ramps (None for the identity).
+    shear_factor
+        Fraction of the shear level acting across the section (ridges: |cos direction|).
+    direction_deg
+        The direction, degrees from the texture's x axis.
+    """
+
+    pressures: np.ndarray
+    ramps: list[PressureRamp] | None
+    shear_factor: float = 1.0
+    direction_deg: float = 0.0
+    section: Section | None = None
+    cache_key: str | None = None
+
+    @classmethod
+    def identity(cls, direction_deg: float = 0.0) -> GainCurve:
+        """G = 1 everywhere (rigid texture)."""
+        return cls(np.zeros(0), None, 1.0, direction_deg)
+
+    @property
+    def is_identity(self) -> bool:
+        return self.pressures.size == 0
+
+    def mu_reached(self) -> np.ndarray:
+        """Largest shear level reached at each pressure level (the table's validity)."""
+        return np.array([r.mu_reached for r in self.ramps]) if self.ramps else np.zeros(0)
+
+    def __call__(self, pressure: Any, mu: Any) -> np.ndarray:
+        """Gain at nominal pressures ``pressure`` (Pa) and local shear levels ``mu`` (broadcast)."""
+        p, m = np.broadcast_arrays(np.asarray(pressure, dtype=float), np.asarray(mu, dtype=float))
+        if self.is_identity:
+            return np.ones(p.shape)
+        m_sec = np.abs(m) * self.shear_factor
+        levels = [r.branch() for r in self.ramps]  # type: ignore[union-attr]
+        vals = np.stack([np.interp(m_sec, mu_k, g_k) if mu_k.size else np.ones(m_sec.shape)
+                         for mu_k, g_k in levels], axis=0)  # (levels, ...)
+        lp = np.log(self.pressures)
+        pp = np.maximum(p, 1e-300)
+        out = np.empty(p.shape)
+        below = pp <= self.pressures[0]
+        out[below] = 1.0 + (vals[0][below] - 1.0) * pp[below] / self.pressures[0]
+        if self.pressures.size == 1:
+            out[~below] = vals[0][~below]
+            return out
+        x = np.clip(np.log(pp), lp[0], lp[-1])
+        j = np.clip(np.searchsorted(lp, x) - 1, 0, lp.size - 2)
+        w = (x - lp[j]) / (lp[j + 1] - lp[j])
+        ii = np.indices(p.shape)
+        v0 = vals[(j,) + tuple(ii)]
+        v1 = vals[(j + 1,) + tuple(ii)]
+        out[~below] = ((1 - w) * v0 + w * v1)[~below]
+        return out
+
+    def saturated(self, pressure: Any, mu: Any) -> np.ndarray:
+        """True where the shear level lies beyond what the nearest pressure level reached."""
+        p, m = np.broadcast_arrays(np.asarray(pressure, dtype=float), np.asarray(mu, dtype=float))
+        if self.is_identity:
+            return np.zeros(p.shape, dtype=bool)
+        reach = self.mu_reached()
+        k = np.argmin(np.abs(np.log(np.maximum(p, 1e-300))[..., None] - np.log(self.pressures)), axis=-1)
+        return np.abs(m) * self.shear_factor > reach[k] + 1e-9
+
+    def as_dict(self, surfaces: bool = False) -> dict[str, Any]:
+        return {
+            "direction_deg": self.direction_deg,
+            "shear_factor": self.shear_factor,
+            "section": asdict(self.section) if self.section else None,
+            "pressures": self.pressures.tolist(),
+            "ramps": [r.as_dict(surfaces) for r in self.ramps] if self.ramps else [],
+            "cache_key": self.cache_key,
+        }
+
+
+def _cache():
+    """The package's content-keyed cache of unit-cell curves (:mod:`fingerpad.micro.cache`)."""
+    from ..cache import CurveCache, content_key
+
+    return CurveCache, content_key
+
+
+def directional_gain(
+    geometry: Geometry,
+    materials: Any,
+    direction_deg: float,
+    pressure_range: tuple[float, float],
+    tau0: float = 0.0,
+    alpha: float = 1.0,
+    settings: DeflectionSettings = DeflectionSettings(),
+    cache: bool | str = True,
+    progress: Callable[[str], None] | None = None,
+) -> GainCurve:
+    """Deflection gain of the real contact area for sliding at ``direction_deg``.
+
+    Parameters
+    ----------
+    geometry
+        :class:`EllipsoidGeometry` or :class:`RidgeGeometry` (see :func:`texture_geometry`).
+    materials
+        :class:`fingerpad.materials.Materials` (or :class:`SectionMaterials`); a rigid
+        texture (``material_modulus=None``) gives the identity without solving.
+    direction_deg
+        Sliding direction, degrees from the texture's x axis.
+    pressure_range
+        (lowest, highest) nominal cell pressure of interest, Pa (e.g. the pad-centre pressure
+        ``1.5 F / A_fr`` at the smallest and largest load). ``settings.n_pressures`` levels are
+        solved, log-spaced.
+    tau0, alpha
+        Shear strength of Eq. 2.3 (Pa, -): the shape of the friction traction ("package" law).
+    settings
+        :class:`DeflectionSettings`.
+    cache
+        True: the package cache folder; a path: that folder; False: no cache. Entries are keyed
+        by the section (not the direction), so directions sharing a section share the solve.
+    progress
+        Called with a short message before each stage.
+
+    Returns
+    -------
+    GainCurve
+    """
+    mats = materials if isinstance(materials, SectionMaterials) else SectionMaterials.from_materials(materials)
+    section = section_for(geometry, direction_deg)
+    if mats.texture_modulus is None or section.shear_factor == 0.0:
+        curve = GainCurve.identity(direction_deg)
+        curve.section = section
+        return curve
+    lo, hi = (float(v) for v in pressure_range)
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo <= hi):
+        raise FingerpadError(f"pressure range must be 0 < low <= high, got {pressure_range!r}")
+    n = int(settings.n_pressures) if hi > lo else 1
+    pressures = np.geomspace(lo, hi, n)
+    if settings.friction == "coulomb":
+        tau0, alpha = 0.0, 1.0
+    key = None
+    store = None
+    if cache:
+        CurveCache, content_key = _cache()
+        store = CurveCache(None if cache is True else cache)
+        numbers = np.array([section.half_width, section.height, section.period, section.load_per_pressure,
+                            *pressures], dtype=float)
+        key = content_key(numbers, kind="deflection", model=MODEL_VERSION, profile=section.profile,
+                          materials=asdict(mats), tau0=float(tau0), alpha=float(alpha), settings=asdict(settings))
+        hit = store.load(key).get("ramps")
+        if hit:
+            ramps = [PressureRamp.from_dict(d) for d in hit]
+            return GainCurve(pressures, ramps, section.shear_factor, float(direction_deg), section, key)
+    ramps = solve_section(section, mats, pressures, tau0, alpha, settings, progress)
+    if store is not None and key is not None:
+        store.update(key, {"ramps": [r.as_dict(surfaces=True) for r in ramps]})
+    return GainCurve(pressures, ramps, section.shear_factor, float(direction_deg), section, key)
+
+
+def as_dataset(curves: list[GainCurve]) -> Any:
+    """The ramps of several directions as an :class:`xarray.Dataset` (dims direction, pressure,
+    step; NaN-padded), with the flags per direction and pressure, SI units in ``attrs``."""
+    import xarray as xr
+
+    dirs = [c.direction_deg for c in curves]
+    pressures = sorted({float(p) for c in curves for p in c.pressures})
+    steps = max([len(r.mu) for c in curves for r in (c.ramps or [])] + [1])
+    shape = (len(dirs), max(1, len(pressures)), steps)
+    names = {"mu": "1", "gain": "1", "contact_length": "m", "tip_dx": "m", "tip_dz": "m", "bend_dx": "m", "bend_dz": "m",
+             "tangential_stiffness": "Pa", "fold_nodes": "1", "min_eigenvalue": "1"}
+    data = {k: np.full(shape, np.nan) for k in names}
+    flags = {k: np.full(shape[:2], np.nan) for k in ("fold_onset_mu", "limit_mu", "mu_reached", "buckled")}
+    stopped = np.full(shape[:2], "", dtype=object)
+    for i, c in enumerate(curves):
+        for r in c.ramps or []:
+            j = pressures.index(float(r.pressure))
+            n = len(r.mu)
+            for k in names:
+                val = np.abs(r.mu) if k == "mu" else np.asarray(getattr(r, k))
+                data[k][i, j, :val.size] = val[:n]
+            flags["fold_onset_mu"][i, j] = r.fold_onset_mu
+            flags["limit_mu"][i, j] = r.limit_mu
+            flags["mu_reached"][i, j] = r.mu_reached
+            flags["buckled"][i, j] = float(r.buckled)
+            stopped[i, j] = r.stopped or ""
+    coords = {"direction": ("direction", np.asarray(dirs, dtype=float), {"units": "degree"}),
+              "pressure": ("pressure", np.asarray(pressures or [np.nan], dtype=float), {"units": "Pa"})}
+    variables = {k: (("direction", "pressure", "step"), v, {"units": names[k]}) for k, v in data.items()}
+    variables.update({k: (("direction", "pressure"), v) for k, v in flags.items()})
+    variables["stopped"] = (("direction", "pressure"), stopped.astype(str))
+    return xr.Dataset(variables, coords=coords, attrs={"model": "fingerpad deflection section model",
+                                                       "model_version": MODEL_VERSION})

@@ -1,0 +1,191 @@
+"""Plane-strain, nearly incompressible neo-Hookean solid on Q2 elements.
+
+Strain energy per unit reference volume (F the 3-D deformation gradient with ``F33 = 1``,
+``J = det F``, ``I1 = tr(F^T F)``)::
+
+    W(F) = mu/2 (J^(-2/3) I1 - 3) + kappa/4 (J^2 - 1 - 2 ln J)
+
+The isochoric part is the standard compressible neo-Hookean split; the volumetric function
+``U(J) = kappa/4 (J^2 - 1 - 2 ln J)`` grows without bound as ``J -> 0`` (an element cannot be
+squeezed to nothing) and has ``U''(1) = kappa``, so the small-strain limit is linear elasticity
+with Young's modulus E and Poisson ratio nu (``mu = E/(2(1+nu))``, ``kappa = E/(3(1-2nu))``).
+
+Selective reduced integration: the isochoric energy is integrated with 3x3 Gauss points and
+the volumetric energy with 2x2. The discrete energy is still a well-defined function of the
+nodal displacements, so the tangent below is its exact (symmetric) Hessian, and the reduced
+volumetric rule removes volumetric locking of Q2 elements at nu -> 0.5 (it acts like a
+discontinuous bilinear pressure).
+
+``linear=True`` replaces W by its small-strain quadratic limit (same split, same quadrature):
+the reference "small-strain solution" the validation compares with.
+
+Everything is vectorised over elements and quadrature points (no Python loop per element).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from .mesh import SectionMesh
+
+_G3 = (np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)]), np.array([5.0, 8.0, 5.0]) / 9.0)
+_G2 = (np.array([-1.0, 1.0]) / np.sqrt(3.0), np.array([1.0, 1.0]))
+
+
+def _lagrange2(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """1-D quadratic Lagrange functions on nodes (-1, 0, 1) and their derivatives at t."""
+    n = np.stack([0.5 * t * (t - 1.0), 1.0 - t * t, 0.5 * t * (t + 1.0)], axis=-1)
+    d = np.stack([t - 0.5, -2.0 * t, t + 0.5], axis=-1)
+    return n, d
+
+
+def _reference_gradients(rule: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """dN/d(xi, eta) (nq, 9, 2) and weights (nq,) of the Q2 element on a tensor Gauss rule."""
+    pts, w = rule
+    xi, eta = np.meshgrid(pts, pts, indexing="ij")
+    wq = np.outer(w, w).ravel()
+    nx, dx = _lagrange2(xi.ravel())
+    ny, dy = _lagrange2(eta.ravel())
+    a, b = np.meshgrid(np.arange(3), np.arange(3), indexing="xy")
+    la, lb = a.ravel(), b.ravel()
+    grad = np.stack([dx[:, la] * ny[:, lb], nx[:, la] * dy[:, lb]], axis=-1)
+    return grad, wq
+
+
+@dataclass
+class _Rule:
+    grad: np.ndarray  # (e, q, 9, 2) dN/dX in the reference configuration
+    wdet: np.ndarray  # (e, q) weight * det(dX/dxi)
+    bmat: np.ndarray | None = None  # (e, q, 4, 18): dF_iJ / du_(k,i'), constant (total Lagrangian)
+
+    def __post_init__(self) -> None:
+        e, q = self.wdet.shape
+        b = np.zeros((e, q, 2, 2, 9, 2))
+        for i in range(2):
+            b[:, :, i, :, :, i] = np.swapaxes(self.grad, -1, -2)
+        self.bmat = b.reshape(e, q, 4, 18)
+
+
+def _physical(nodes: np.ndarray, elements: np.ndarray, rule: tuple[np.ndarray, np.ndarray]) -> _Rule:
+    gref, wq = _reference_gradients(rule)
+    xe = nodes[elements]  # (e, 9, 2)
+    jac = np.einsum("eki,qkj->eqij", xe, gref)  # dX_i/dxi_j
+    det = jac[..., 0, 0] * jac[..., 1, 1] - jac[..., 0, 1] * jac[..., 1, 0]
+    if np.any(det <= 0):
+        raise RuntimeError("mesh: an element has a non-positive Jacobian")
+    inv = np.empty_like(jac)
+    inv[..., 0, 0], inv[..., 1, 1] = jac[..., 1, 1] / det, jac[..., 0, 0] / det
+    inv[..., 0, 1], inv[..., 1, 0] = -jac[..., 0, 1] / det, -jac[..., 1, 0] / det
+    grad = np.einsum("qkj,eqji->eqki", gref, inv)
+    return _Rule(grad, wq[None, :] * det)
+
+
+def _inverse_transpose(f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    det = f[..., 0, 0] * f[..., 1, 1] - f[..., 0, 1] * f[..., 1, 0]
+    h = np.empty_like(f)
+    h[..., 0, 0], h[..., 1, 1] = f[..., 1, 1] / det, f[..., 0, 0] / det
+    h[..., 0, 1], h[..., 1, 0] = -f[..., 1, 0] / det, -f[..., 0, 1] / det
+    return det, h
+
+
+_I2 = np.eye(2)
+_DELTA4 = np.einsum("ik,jl->ijkl", _I2, _I2)  # d_ik d_JL
+_SWAP4 = np.einsum("il,jk->ijkl", _I2, _I2)  # d_iL d_kJ
+_TRACE4 = np.einsum("ij,kl->ijkl", _I2, _I2)  # d_iJ d_kL
+
+
+def isochoric(f: np.ndarray, mu: float, linear: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """First Piola stress and tangent dP/dF of ``mu/2 (J^-2/3 I1 - 3)`` (plane strain)."""
+    if linear:
+        a = mu * (_DELTA4 + _SWAP4 - 2.0 / 3.0 * _TRACE4)
+        return np.einsum("ijkl,...kl->...ij", a, f - _I2), np.broadcast_to(a, f.shape[:-2] + (2, 2, 2, 2))
+    det, h = _inverse_transpose(f)
+    i1 = np.einsum("...ij,...ij->...", f, f) + 1.0
+    c = mu * det ** (-2.0 / 3.0)
+    p = c[..., None, None] * (f - (i1 / 3.0)[..., None, None] * h)
+    fh = np.einsum("...ij,...kl->...ijkl", f, h)
+    hh = np.einsum("...ij,...kl->...ijkl", h, h)
+    hs = np.einsum("...il,...kj->...ijkl", h, h)
+    i1_ = i1[..., None, None, None, None]
+    a = c[..., None, None, None, None] * (
+        _DELTA4 - 2.0 / 3.0 * (fh + np.swapaxes(np.swapaxes(fh, -4, -2), -3, -1))
+        + 2.0 / 9.0 * i1_ * hh + i1_ / 3.0 * hs
+    )
+    return p, a
+
+
+def volumetric(f: np.ndarray, kappa: float, linear: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """First Piola stress and tangent of ``U(J) = kappa/4 (J^2 - 1 - 2 ln J)``."""
+    if linear:
+        a = kappa * _TRACE4
+        return np.einsum("ijkl,...kl->...ij", a, f - _I2), np.broadcast_to(a, f.shape[:-2] + (2, 2, 2, 2))
+    det, h = _inverse_transpose(f)
+    d1 = 0.5 * kappa * (det - 1.0 / det)  # U'
+    d2 = 0.5 * kappa * (1.0 + 1.0 / det**2)  # U''
+    p = (d1 * det)[..., None, None] * h
+    hh = np.einsum("...ij,...kl->...ijkl", h, h)
+    hs = np.einsum("...il,...kj->...ijkl", h, h)
+    a = (d2 * det**2 + d1 * det)[..., None, None, None, None] * hh - (d1 * det)[..., None, None, None, None] * hs
+    return p, a
+
+
+class Solid:
+    """Internal forces and tangent stiffness of the meshed section.
+
+    Parameters
+    ----------
+    mesh
+        The section mesh (dimensionless lengths).
+    shear_modulus, bulk_modulus
+        mu and kappa in the solver's stress unit.
+    linear
+        Small-strain kinematics and material (the linear reference solution).
+    """
+
+    def __init__(self, mesh: SectionMesh, shear_modulus: float, bulk_modulus: float, linear: bool = False) -> None:
+        self.mesh = mesh
+        self.mu = float(shear_modulus)
+        self.kappa = float(bulk_modulus)
+        self.linear = bool(linear)
+        self.full = _physical(mesh.nodes, mesh.elements, _G3)
+        self.reduced = _physical(mesh.nodes, mesh.elements, _G2)
+        conn = mesh.elements
+        self.edofs = (2 * conn[:, :, None] + np.arange(2)[None, None, :]).reshape(conn.shape[0], 18)
+        self.ndof = 2 * mesh.n_nodes
+        self._rows = np.repeat(self.edofs, 18, axis=1).ravel()
+        self._cols = np.tile(self.edofs, (1, 18)).ravel()
+
+    def deformation_gradients(self, u: np.ndarray, rule: _Rule) -> np.ndarray:
+        ue = u.reshape(-1, 2)[self.mesh.elements]  # (e, 9, 2)
+        return _I2 + np.einsum("eki,eqkj->eqij", ue, rule.grad)
+
+    def min_jacobian(self, u: np.ndarray) -> float:
+        """Smallest J over all quadrature points (<= 0 means an inverted element)."""
+        jmin = np.inf
+        for rule in (self.full, self.reduced):
+            f = self.deformation_gradients(u, rule)
+            jmin = min(jmin, float(np.min(f[..., 0, 0] * f[..., 1, 1] - f[..., 0, 1] * f[..., 1, 0])))
+        return jmin
+
+    def assemble(self, u: np.ndarray, tangent: bool = True) -> tuple[np.ndarray, sp.csr_matrix | None]:
+        """Internal force vector (ndof,) and, with ``tangent``, the stiffness (ndof x ndof)."""
+        fint = np.zeros(self.ndof)
+        ne = self.edofs.shape[0]
+        ke = np.zeros((ne, 18, 18)) if tangent else None
+        for rule, law, modulus in ((self.full, isochoric, self.mu), (self.reduced, volumetric, self.kappa)):
+            f = self.deformation_gradients(u, rule)
+            p, a = law(f, modulus, self.linear)
+            bt = np.swapaxes(rule.bmat, -1, -2)  # (e, q, 18, 4)
+            pw = p.reshape(ne, -1, 4) * rule.wdet[..., None]
+            fe = np.matmul(bt, pw[..., None])[..., 0].sum(axis=1)
+            np.add.at(fint, self.edofs.ravel(), fe.ravel())
+            if tangent:
+                aw = a.reshape(ne, -1, 4, 4) * rule.wdet[..., None, None]
+                ke += np.matmul(bt, np.matmul(aw, rule.bmat)).sum(axis=1)
+        if not tangent:
+            return fint, None
+        k = sp.csr_matrix((ke.reshape(-1), (self._rows, self._cols)), shape=(self.ndof, self.ndof))
+        return fint, k

@@ -1,0 +1,153 @@
+"""Path following of the section: the normal-load ramp at zero shear and the shear ramp under
+tip-displacement control (see :mod:`.solve` for one Newton solve)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .contact import skin_compliance
+from .solve import NoConvergence, SectionSolver, State
+
+
+
+@dataclass
+class Ramp:
+    """Converged states along a path and how the path ended."""
+
+    states: list[State]
+    stopped: str | None = None  # why the path ended early (None: reached the target)
+    cuts: int = 0
+
+
+def follow_load(solver: SectionSolver, targets: np.ndarray, first: float | None = None,
+                growth: float = 1.6, max_steps: int = 400, max_cuts: int = 12) -> Ramp:
+    """Press the skin on at zero shear, through the increasing normal loads ``targets``.
+
+    Load steps grow geometrically (factor ``growth``) from ``first`` and are halved when a step
+    fails; every target is hit exactly. Returns the states at the targets.
+    """
+    targets = np.sort(np.asarray(targets, dtype=float))
+    state = solver.initial_state()
+    p = 0.0
+    step = first if first is not None else targets[0] / 20.0
+    out: list[State] = []
+    cuts = 0
+    ti = 0
+    for _ in range(max_steps):
+        trial_p = min(targets[ti], p + step) if p > 0 else min(targets[ti], step)
+        guess = state.copy()
+        if p == 0.0:  # first contact: lower the skin onto the tip
+            guess.f[:] = 0.0
+            apex = int(np.nonzero(solver.surface == solver.mesh.apex)[0][0])
+            guess.f[apex] = trial_p
+            xs = solver.positions(guess.v)[solver.surface]
+            tiles = solver._tiles(xs)
+            c = skin_compliance(xs[:, 0], tiles, solver.period, solver.skin)
+            guess.z0 = float(xs[apex, 1] - c[apex, apex] * trial_p)
+        try:
+            state = solver.solve(trial_p, 0.0, guess)
+        except NoConvergence:
+            cuts += 1
+            step *= 0.5
+            if step < 1e-6 * targets[-1] or cuts > max_cuts:
+                return Ramp(out, f"normal load stalled at {p:.4g} (step {step:.2g})", cuts)
+            continue
+        p = trial_p
+        if math.isclose(p, targets[ti], rel_tol=1e-12):
+            out.append(state)
+            ti += 1
+            if ti == targets.size:
+                return Ramp(out, None, cuts)
+        step = p * (growth - 1.0) if state.iterations <= 8 else step
+    return Ramp(out, "too many normal-load steps", cuts)
+
+
+def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float = 0.08,
+                 largest_tip: float = 0.08, smallest_tip: float = 1e-4, tip_max: float | None = None,
+                 check_stability: bool = True, max_steps: int = 300, max_cuts: int = 12,
+                 time_limit: float | None = None) -> Ramp:
+    """Shear the pressed section in full sliding, at constant normal load, until the shear level
+    reaches ``mu_max`` (negative: sliding toward -x).
+
+    Path following is by control of the tip's horizontal displacement (the shear level is then
+    an unknown), so a maximum of the shear level -- where a load-controlled asperity would snap
+    over -- is passed and reported rather than stalling the solve. Tip steps aim at shear
+    increments ``dmu`` using the current slope, capped at ``largest_tip`` (units of r) and halved
+    on failure; below ``smallest_tip``, after ``max_cuts`` failed steps in all, or past
+    ``time_limit`` seconds, the ramp stops and says where.
+
+    Returns
+    -------
+    Ramp
+        All converged states in path order (the first is ``start``).
+    """
+    import time
+
+    t_start = time.perf_counter()
+    load = start.load
+    sign = 1.0 if mu_max >= 0 else -1.0
+    target = abs(mu_max)
+    tip_limit = tip_max if tip_max is not None else 2.0 * (solver.mesh.geometry.height + 1.0)
+    if check_stability:
+        start.info["min_eigenvalue"] = solver.min_eigenvalue(start)
+    states = [start]
+    cuts = 0
+    # first step under load control gives the initial compliance d(tip)/d(mu)
+    mu1 = min(target, 0.25 * dmu)
+    while True:
+        try:
+            first = solver.solve(load, sign * mu1, start.copy(), lag=start)
+            break
+        except NoConvergence as exc:
+            cuts += 1
+            mu1 *= 0.5
+            if mu1 < 1e-4:
+                return Ramp(states, f"lost convergence at mu = 0 ({exc})", cuts)
+    if check_stability:
+        first.info["min_eigenvalue"] = solver.min_eigenvalue(first)
+    states.append(first)
+    step = None
+    for _ in range(max_steps):
+        last = states[-1]
+        mu_now = abs(last.shear)
+        if mu_now >= target - 1e-9:
+            return Ramp(states, None, cuts)
+        tip_now = sign * last.info["tip_dx"]
+        if time_limit is not None and time.perf_counter() - t_start > time_limit:
+            return Ramp(states, f"time limit ({time_limit:.0f} s) reached at mu = {mu_now:.3g}", cuts)
+        if tip_now > tip_limit:
+            return Ramp(states, f"tip displacement limit reached at mu = {mu_now:.3g}", cuts)
+        prev = states[-2]
+        dtip = tip_now - sign * prev.info["tip_dx"]
+        slope = (mu_now - abs(prev.shear)) / dtip if dtip > 0 else 0.0  # d mu / d tip
+        if step is None:
+            step = largest_tip
+        wanted = dmu / slope if slope > 1e-9 else largest_tip
+        remaining = (target - mu_now) / slope if slope > 1e-9 else np.inf
+        step = float(np.clip(min(wanted, 1.0001 * remaining, 2.0 * step), smallest_tip, largest_tip))
+        while True:
+            trial = tip_now + step
+            a = step / dtip if dtip > 0 else 0.0
+            guess = last.copy()
+            guess.v = last.v + a * (last.v - prev.v)
+            guess.z0 = last.z0 + a * (last.z0 - prev.z0)
+            mu_guess = last.shear + a * (last.shear - prev.shear)
+            try:
+                state = solver.solve(load, mu_guess, guess, lag=last, tip=sign * trial)
+                break
+            except NoConvergence as exc:
+                try:
+                    state = solver.solve(load, last.shear, last.copy(), lag=last, tip=sign * trial)
+                    break
+                except NoConvergence:
+                    cuts += 1
+                    step *= 0.5
+                    if step < smallest_tip or cuts > max_cuts:
+                        return Ramp(states, f"lost convergence at mu = {mu_now:.3g} ({exc})", cuts)
+        if check_stability:
+            state.info["min_eigenvalue"] = solver.min_eigenvalue(state)
+        states.append(state)
+    return Ramp(states, "too many shear steps", cuts)
