@@ -59,6 +59,9 @@ _PREDICT_HELP = {
     "--model": "Unit-cell model: bem (numerical), hertz (per-asperity Hertz, spherical caps only) or both.",
     "--grid": "Grid points along x of the generated unit cell (default: doubled from the generator's choice "
               "until the estimated error of A_re/A_fr is below --accuracy, 2 %).",
+    "--direction": "Sliding direction, degrees from the texture's x axis: directional friction of compliant "
+                   "ellipsoids or ridges from the deflection model (docs/deflection.md); also reports "
+                   "mu_perpendicular/mu_parallel.",
     "--accuracy": "Target of the estimated relative error of A_re/A_fr when the grid is automatic (default 0.02).",
     "--tol": "Relative residual at which a unit-cell solve stops (default 1e-8).",
     "--max-iter": "Iteration cap per unit-cell solve (default 5000).",
@@ -261,6 +264,7 @@ def predict(
     model: Annotated[str | None, _popt("--model", panel=_NUMERICS, metavar="bem|hertz|both")] = None,
     grid: Annotated[str | None, _popt("--grid", panel=_NUMERICS, metavar="N")] = None,
     accuracy: Annotated[str | None, _popt("--accuracy", panel=_NUMERICS, metavar="REL")] = None,
+    direction: Annotated[str | None, _popt("--direction", panel=_LOADS, metavar="ANGLE")] = None,
     tol: Annotated[str | None, _popt("--tol", panel=_NUMERICS, metavar="TOL")] = None,
     max_iter: Annotated[str | None, _popt("--max-iter", panel=_NUMERICS, metavar="N")] = None,
     cache: Annotated[str | None, _popt("--cache", panel=_NUMERICS, metavar="DIR")] = None,
@@ -286,7 +290,7 @@ def predict(
         "--material-modulus": material_modulus, "--material-poisson": material_poisson,
         "--skin-modulus": skin_modulus, "--skin-poisson": skin_poisson, "--finger": finger,
         "--loads": loads or None, "--zones-at": zones_at, "--model": model, "--grid": grid,
-        "--accuracy": accuracy,
+        "--accuracy": accuracy, "--direction": direction,
         "--tol": tol, "--max-iter": max_iter, "--cache": cache,
     }
     with user_errors():

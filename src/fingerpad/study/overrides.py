@@ -39,6 +39,7 @@ FLAGS: dict[str, tuple[str, str]] = {
     "--model": ("model", "kind"),
     "--grid": ("model", "grid"),
     "--accuracy": ("model", "accuracy"),
+    "--direction": ("model", "direction"),
     "--tol": ("model", "tol"),
     "--max-iter": ("model", "max_iter"),
     "--cache": ("model", "cache"),

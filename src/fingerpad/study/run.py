@@ -61,6 +61,10 @@ class Prediction:
     resolution
         The BEM cell's grid and the estimated discretisation error of A_re/A_fr and of the state
         pressures (:func:`fingerpad.micro.resolution.choose_grid`).
+    directional
+        With a sliding direction: the friction at that direction and across and along the
+        asperities' long axis, their ratio, and the deflection model's flags
+        (:func:`directional_friction`); ``None`` otherwise.
     zones
         The zone radii at :attr:`Study.zone_load`.
     pressure_range
@@ -82,6 +86,7 @@ class Prediction:
     full_contact_load: dict[str, float | None]
     state_brackets: dict[str, Any]
     resolution: dict[str, Any] | None
+    directional: dict[str, Any] | None
     zones: dict[str, Any]
     pressure_range: tuple[float, float]
     timings: dict[str, float]
@@ -210,6 +215,83 @@ def _resolution_report(choice: Any, study: Study) -> dict[str, Any]:
     }
 
 
+def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]) -> dict[str, Any]:
+    """Directional friction of compliant ellipsoids or ridges (issue: Paper C's direction effect).
+
+    The adhesive term follows the real area enlarged by the asperities' deflection under the
+    local shear they carry (:class:`~fingerpad.micro.deflection.DirectionalCell`, the fixed point of
+    the shear and the gain), the hysteresis term the elliptical Greenwood-Tabor factor (Eq. 2.4e,
+    ellipsoids only); the flat reference stays isotropic. Computed at the study's direction and
+    at the two principal directions (along and across the long axis), each section's ramp
+    cached. Returns the curve at the study's direction (``curve``) and a report.
+    """
+    from ..coupling import predict_curve
+    from ..materials import Materials
+    from ..micro.deflection import (
+        DirectionalCell,
+        EllipsoidGeometry,
+        directional_gain,
+        hysteresis_direction_factor,
+        texture_geometry,
+    )
+    from ..micro.deflection.section import principal_directions
+
+    finger = study.finger
+    geometry = texture_geometry(tex)
+    materials = Materials(finger.skin_modulus, finger.skin_poisson, study.material_modulus,
+                          study.material_poisson or 0.35)
+    loads = study.loads
+    centre = 1.5 * loads / np.asarray(finger.ridge_area(loads), float)
+    p_range = (float(centre.min()), float(centre.max()))
+    parallel, perpendicular = principal_directions(geometry)
+    cache = study.curve_cache()
+    cache_arg: Any = True if cache is None else (False if cache is False else str(cache.folder))
+
+    def curve_at(direction: float) -> tuple[Any, Any, float]:
+        gain = directional_gain(geometry, materials, direction, p_range, tau0=finger.tau0, alpha=finger.alpha,
+                                cache=cache_arg)
+        factor = 1.0
+        if isinstance(geometry, EllipsoidGeometry):
+            factor = hysteresis_direction_factor(geometry.semi_axis_x, geometry.semi_axis_y, geometry.height,
+                                                 math.radians(direction) - geometry.orientation)
+        textured = finger.with_overrides(beta=min(1.0, finger.beta * factor))
+        curve = predict_curve(loads, textured, DirectionalCell(cell, gain, finger.tau0, finger.alpha))
+        reference = predict_curve(loads, finger, cell)  # the flat reference is isotropic
+        curve.mu_ref = reference.mu_ref
+        curve.mu_normalised = curve.mu / reference.mu_ref
+        return curve, gain, factor
+
+    curves = {}
+    for name, direction in (("direction", study.direction), ("parallel", parallel), ("perpendicular", perpendicular)):
+        curves[name] = curve_at(float(direction))  # sections repeat: the cache solves each once
+    flags = []
+    for name, (_, gain, _) in curves.items():
+        for ramp in getattr(gain, "ramps", []) or []:
+            for flag in ("buckled", "stopped"):
+                if getattr(ramp, flag, False):
+                    flags.append(f"{name}: {flag} at {ramp.pressure / 1e3:.3g} kPa")
+    if flags:
+        notes.append("deflection model: " + "; ".join(sorted(set(flags))))
+    main, gain, factor = curves["direction"]
+    mu_perp, mu_par = curves["perpendicular"][0].mu, curves["parallel"][0].mu
+    saturated = [bool(np.any(np.asarray(gain.saturated(p, m)))) if hasattr(gain, "saturated") else False
+                 for p, m in zip(centre, main.mu, strict=True)]
+    return {
+        "curve": main,
+        "direction": float(study.direction),
+        "parallel_direction": parallel,
+        "perpendicular_direction": perpendicular,
+        "mu_parallel": np.asarray(mu_par, float),
+        "mu_perpendicular": np.asarray(mu_perp, float),
+        "mu_perpendicular_over_parallel": np.asarray(mu_perp, float) / np.asarray(mu_par, float),
+        "area_ratio_parallel": np.asarray(curves["parallel"][0].area_ratio, float),
+        "area_ratio_perpendicular": np.asarray(curves["perpendicular"][0].area_ratio, float),
+        "hysteresis_factor": {k: v[2] for k, v in curves.items()},
+        "gain_saturated": saturated,
+        "identity": bool(getattr(gain, "is_identity", False)),
+    }
+
+
 def run_study(study: Study, progress: Callable[[int, int], None] | None = None) -> Prediction:
     """Run the prediction of ``study`` (see the module docstring).
 
@@ -247,6 +329,8 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
             notes.append(note)
 
     cell = bem = hertz = None
+    directional: dict[str, Any] | None = None
+    timings_extra: dict[str, float] = {}
     resolution: dict[str, Any] | None = None
     t_cell = t_coupling = 0.0
     if study.model in ("bem", "both"):
@@ -264,6 +348,11 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
         t0 = time.perf_counter()
         bem = predict_curve(loads, finger, cell)
         t_coupling += time.perf_counter() - t0
+        if study.direction is not None:
+            t0 = time.perf_counter()
+            directional = directional_friction(study, tex, cell, notes)
+            bem = directional.pop("curve")
+            timings_extra["deflection"] = time.perf_counter() - t0
         if cell.flat:
             notes.append("flat texture: full contact at any load (A_re = A_fr), no critical load")
     if hertz_cell is not None:
@@ -299,8 +388,9 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
     pred = Prediction(
         study=study, texture=tex, reduced_modulus=e1, bem=bem, hertz=hertz, cell=cell, hertz_cell=hertz_cell,
         critical_load=crit, full_contact_load=full, state_brackets=brackets, resolution=resolution,
+        directional=directional,
         zones=_zones(study, primary_cell, hertz_cell),
-        pressure_range=p_range, timings={"cell": t_cell, "coupling": t_coupling}, notes=notes,
+        pressure_range=p_range, timings={"cell": t_cell, "coupling": t_coupling, **timings_extra}, notes=notes,
     )
     if pred.unconverged:
         notes.append(f"{pred.unconverged} unit-cell solve(s) did not reach the tolerance {study.tol:g}")

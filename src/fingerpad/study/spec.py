@@ -45,6 +45,8 @@ Study files (TOML, read with :func:`load_study_file`)::
     kind = "both"             # bem | hertz | both
     grid = 64                 # grid points along x of the cell (default: chosen by accuracy)
     accuracy = 0.02           # target of the estimated error of A_re/A_fr when the grid is automatic
+    direction = 90            # sliding direction (deg from x): directional friction of compliant
+                              # ellipsoids or ridges (docs/deflection.md); omit for isotropic
     tol = 1e-8
     max_iter = 5000
     cache = "~/.cache/fingerpad"   # folder of cached unit-cell curves; false: no cache
@@ -115,7 +117,7 @@ SECTION_KEYS: dict[str, tuple[str, ...]] = {
     "material": ("modulus", "poisson"),
     "finger": ("preset", "gross", "ridges", *FINGER_FIELDS),
     "loads": ("range", "values", "log", "zones_at"),
-    "model": ("kind", "grid", "accuracy", "tol", "max_iter", "cache"),
+    "model": ("kind", "grid", "accuracy", "tol", "max_iter", "cache", "direction"),
 }
 
 
@@ -147,6 +149,10 @@ class Study:
     accuracy
         Target of the estimated relative discretisation error of A_re/A_fr when the grid is
         chosen automatically (default 0.02); with a given grid the error is only reported.
+    direction
+        Sliding direction, degrees from the texture's x axis, for directional friction of
+        compliant ellipsoids and ridges (:mod:`fingerpad.micro.deflection`); ``None``: the
+        isotropic model.
     tol, max_iter
         Half-space solver settings.
     cache
@@ -166,6 +172,7 @@ class Study:
     model: str = "both"
     grid: int | None = None
     accuracy: float = 0.02
+    direction: float | None = None
     tol: float = 1e-8
     max_iter: int = 5000
     cache: str | os.PathLike[str] | None | bool = None
@@ -450,6 +457,11 @@ def study_from_dict(
     accuracy = quantity(msec.get("accuracy", 0.02), "none", name("model", "accuracy"))
     if not 0 < accuracy < 1:
         raise FingerpadError(f"{name('model', 'accuracy')}: must lie in (0, 1), e.g. 0.02 for 2 %, got {accuracy!r}")
+    direction = None
+    if msec.get("direction") is not None:
+        from ..textures.base import parse_angle
+
+        direction = math.degrees(parse_angle(msec["direction"], name("model", "direction")))
     tol = quantity(msec.get("tol", 1e-8), "none", name("model", "tol"))
     if not 0 < tol < 1:
         raise FingerpadError(f"{name('model', 'tol')}: must lie in (0, 1), got {tol!r}")
@@ -462,7 +474,7 @@ def study_from_dict(
 
     return Study(
         texture=texture, material_modulus=em, material_poisson=num, finger=finger, loads=loads,
-        model=kind.strip().lower(), grid=grid_v, accuracy=accuracy, tol=tol, max_iter=max_iter, cache=cache,
+        model=kind.strip().lower(), grid=grid_v, accuracy=accuracy, direction=direction, tol=tol, max_iter=max_iter, cache=cache,
         zones_at=zones_v, source=src,
     )
 

@@ -80,7 +80,7 @@ def texture_geometry(texture: Any) -> Geometry:
     FingerpadError
         For any other texture (directional friction needs a known asperity shape).
     """
-    name = getattr(texture, "name", None)
+    name = getattr(texture, "family", None) or getattr(texture, "name", None)
     params = dict(getattr(texture, "params", {}) or {})
     try:
         if name == "ellipsoids":
@@ -129,4 +129,14 @@ def section_for(geometry: Geometry, direction_deg: float) -> Section:
     return Section("ellipse", r, g.height, lam, per_p, 1.0)
 
 
-__all__ = ["EllipsoidGeometry", "Geometry", "RidgeGeometry", "Section", "section_for", "texture_geometry"]
+def principal_directions(geometry: Geometry) -> tuple[float, float]:
+    """(parallel, perpendicular) sliding directions, degrees from the texture's x axis: along the
+    asperities' long axis (for ridges: along the ridges, y) and across it."""
+    if isinstance(geometry, RidgeGeometry):
+        return 90.0, 0.0
+    long = math.degrees(geometry.orientation) + (0.0 if geometry.semi_axis_x >= geometry.semi_axis_y else 90.0)
+    return long % 180.0, (long + 90.0) % 180.0
+
+
+__all__ = ["EllipsoidGeometry", "Geometry", "RidgeGeometry", "Section", "principal_directions", "section_for",
+           "texture_geometry"]
