@@ -26,6 +26,9 @@ def design_map_command(
     out: Annotated[str, typer.Option("--out", "-o", metavar="DIR",
                                      help="Folder of design_map.png/.svg/.nc/.csv (replaced as a whole).")]
     = "design-map",
+    quantity: Annotated[str, typer.Option("--quantity", metavar="NAME",
+                                          help="Colour: mu_rel (default), mu_perp_over_par (directional sweeps), "
+                                               "mu or area_ratio.")] = "mu_rel",
 ) -> None:
     """Draw the design map of a sweep: critical-load contours, mu/mu_ref, contact-state regions.
 
@@ -52,7 +55,7 @@ def design_map_command(
         fio.OutputFolder.check(out, MAP_FILES)
         with warnings_to(err):
             ds = open_sweep(store).load()
-            data = map_data(ds, x, y, at=at_v, select=sel)
+            data = map_data(ds, x, y, at=at_v, select=sel, quantity=quantity)
             fig = figure_design_map(data)
         folder = fio.OutputFolder(out, MAP_FILES)
         try:

@@ -192,6 +192,14 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
                          f"(cell pressure {p_lo / 1e3:.4g}-{p_hi / 1e3:.4g} kPa)")
         else:
             say(console, f"full contact at the pad centre: not reached up to {p_lo / 1e3:.4g} kPa (10 E*)")
+    directional = payload.get("directional")
+    if directional and payload["results"] and "mu_perpendicular_over_parallel" in payload["results"][0]:
+        ratios = [r["mu_perpendicular_over_parallel"] for r in payload["results"]]
+        states = [r["contact_state"] for r in payload["results"]]
+        say(console, f"directional friction: sliding at {directional['direction']:.4g}°; mu_perpendicular/mu_parallel "
+                     f"{min(ratios):.3g}-{max(ratios):.3g} over {payload['results'][0]['load']:.3g}-"
+                     f"{payload['results'][-1]['load']:.3g} N (centre: {states[0]} to {states[-1]}); "
+                     f"per load in the JSON, the NetCDF and friction.png")
     res = (payload.get("cell") or {}).get("resolution")
     if res and res.get("area_ratio_error") is not None:
         grid = "x".join(str(g) for g in res["grid"])

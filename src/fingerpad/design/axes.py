@@ -5,6 +5,7 @@ An axis is named after what it changes:
 * a parameter of the texture family (``spacing``, ``height``, ``radius``, ``semi_axis_x``,
   ``orientation``, ``lattice``, ...), or ``texture`` itself (the family);
 * ``material_modulus``, ``material_poisson`` (the counter-surface, Eq. 3.4);
+* ``direction``: the sliding direction (directional friction of compliant ellipsoids or ridges);
 * ``finger`` (a preset) or a finger field (``skin_modulus``, ``skin_poisson``, ``tau0``,
   ``alpha``, ``beta``; ``finger.radius`` and ``finger.modulus`` for the pad, since ``radius``
   alone is the texture's).
@@ -121,6 +122,8 @@ def resolve_axis(name: str, texture_family: str | None) -> Axis:
         return Axis(key, "material", "modulus", "pressure")
     if key in ("material_poisson", "material.poisson"):
         return Axis(key, "material", "poisson", "none")
+    if key in ("direction", "model.direction"):
+        return Axis(key, "model", "direction", "angle")
     if key in ("finger", "finger.preset"):
         return Axis(key, "finger", "preset", "choice", tuple(FINGER_PRESETS))
     if key.startswith("finger."):
@@ -144,7 +147,7 @@ def resolve_axis(name: str, texture_family: str | None) -> Axis:
                 if p.name == key and p.kind in ("length", "angle", "count", "ratio", "choice"):
                     kind = {"ratio": "none"}.get(p.kind, p.kind)
                     return Axis(key, "texture", key, kind, p.choices)
-    known = sorted({*params, "texture", "material_modulus", "material_poisson", "finger",
+    known = sorted({*params, "texture", "material_modulus", "material_poisson", "finger", "direction",
                     *(f for f in FINGER_FIELDS if f not in ("radius", "modulus")), "finger.radius", "finger.modulus"})
     fam_text = f" of texture {family.name!r}" if family is not None else ""
     raise FingerpadError(f"[sweep] axis {name!r} is not a parameter{fam_text} nor a material or finger value "

@@ -47,7 +47,12 @@ def _axis_values(ds: Any, name: str) -> Any:
     return ds[name] if name in ds.variables else None
 
 
-def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[str, Any] | None = None) -> Any:
+#: Quantities the map can colour by (per-load variables of the store).
+COLOUR_QUANTITIES = {"mu_rel": "μ/μ_ref", "mu_perp_over_par": "μ⊥/μ∥", "mu": "μ", "area_ratio": "A_re/A_fr"}
+
+
+def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[str, Any] | None = None,
+             quantity: str = "mu_rel") -> Any:
     """The data behind a design map: ``critical_load`` (N), ``mu_rel`` (at load ``at``) and
     ``region`` (see the module docstring) on the axes ``x`` and ``y``.
 
@@ -63,6 +68,9 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
     select
         Values of further axes of a grid sweep (nearest); axes not selected stay as dimensions
         (one panel each on the figure).
+    quantity
+        The colour: ``mu_rel`` (default), ``mu_perp_over_par`` (directional sweeps), ``mu`` or
+        ``area_ratio``; stored as the variable ``mu_rel`` of the result with its name in ``attrs``.
 
     Returns
     -------
@@ -96,8 +104,16 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
     for name in sel:
         if name not in axes or name in (x, y):
             raise FingerpadError(f"--select {name}: not a further axis of this sweep (axes: {', '.join(axes)})")
+    if quantity not in COLOUR_QUANTITIES:
+        raise FingerpadError(f"--quantity {quantity!r}: one of {', '.join(COLOUR_QUANTITIES)}")
+    if quantity not in ds.variables:
+        raise FingerpadError(f"--quantity {quantity}: this sweep store does not hold it (an older store?)")
+    if not np.isfinite(ds[quantity].values).any():
+        raise FingerpadError(f"--quantity {quantity}: no point of this sweep has it"
+                             + (" (give the study a [model] direction or sweep a direction axis)"
+                                if quantity == "mu_perp_over_par" else ""))
     design = ds.attrs.get("design", "grid")
-    data = ds[["critical_load_bem", "critical_load_hertz", "mu_rel", "valid", "done"]]
+    data = ds[["critical_load_bem", "critical_load_hertz", "valid", "done"]].assign(mu_rel=ds[quantity])
     if design == "grid":
         for name, value in sel.items():
             kind = ds[name].attrs.get("kind")
@@ -124,7 +140,8 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
     region = xr.where(crit < lo, 0, xr.where(crit > hi, 2, 1)).where(data["valid"] & data["done"])
     out = xr.Dataset({
         "critical_load": crit.where(data["valid"] & data["done"]).assign_attrs(units="N", long_name="critical load"),
-        "mu_rel": mu_at.where(data["valid"] & data["done"]).assign_attrs(units="1", long_name=f"mu/mu_ref at {at:g} N"),
+        "mu_rel": mu_at.where(data["valid"] & data["done"]).assign_attrs(
+            units="1", long_name=f"{quantity} at {at:g} N"),
         "region": region.assign_attrs(units="1", long_name="contact-state region over the exploration loads",
                                       flag_values="0 1 2", flag_meanings="; ".join(REGIONS.values())),
     })
@@ -136,5 +153,6 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
         out = out.transpose(y, x, *others)
     out.attrs = {"x": x, "y": y, "x_log": ds[x].attrs.get("log") == "true", "y_log": ds[y].attrs.get("log") == "true",
                  "at": float(at), "load_min": lo, "load_max": hi, "design": design,
-                 "x_kind": ds[x].attrs.get("kind", ""), "y_kind": ds[y].attrs.get("kind", "")}
+                 "x_kind": ds[x].attrs.get("kind", ""), "y_kind": ds[y].attrs.get("kind", ""),
+                 "quantity": quantity, "quantity_label": COLOUR_QUANTITIES[quantity]}
     return out

@@ -28,7 +28,7 @@ STATE_CODES = {"asperity": 0, "transition": 1, "full": 2}
 
 _SCALARS = ("critical_load_bem", "critical_load_hertz", "full_contact_load", "transition_pressure",
             "full_contact_pressure", "grid_error", "grid", "seconds")
-_PER_LOAD = ("area_ratio", "mu", "mu_ref", "mu_rel")
+_PER_LOAD = ("area_ratio", "mu", "mu_ref", "mu_rel", "mu_perp_over_par")
 
 
 def limit_threads() -> None:
@@ -120,6 +120,8 @@ def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: S
         mu_rel=np.asarray(cur.mu_normalised, float) if cur.mu_normalised is not None else np.full(loads.size, np.nan),
         contact_state=np.array([STATE_CODES[s] for s in pred.states()], dtype=np.int8),
     )
+    if pred.directional is not None:
+        out["mu_perp_over_par"] = np.asarray(pred.directional["mu_perpendicular_over_parallel"], float)
     cell = pred.primary_cell
     out["transition_pressure"] = _num(getattr(cell, "transition_pressure", None))
     out["full_contact_pressure"] = _num(getattr(cell, "full_contact_pressure", None))

@@ -46,6 +46,7 @@ _LOAD_VARS = {
     "mu": ("1", "friction coefficient on the texture"),
     "mu_ref": ("1", "friction coefficient on the flat reference"),
     "mu_rel": ("1", "mu / mu_ref"),
+    "mu_perp_over_par": ("1", "mu sliding across the asperities' long axis / along it (with a direction)"),
 }
 
 

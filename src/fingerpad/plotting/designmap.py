@@ -105,9 +105,12 @@ def figure_design_map(data: Any) -> Any:
         ax.set_visible(False)
     if mesh is not None:
         cbar = fig.colorbar(mesh, ax=list(axes[:n]), shrink=0.9)
-        cbar.set_label(f"μ/μ_ref at {data.attrs['at']:g} N (friction against the flat reference)")
+        what = data.attrs.get("quantity_label", "μ/μ_ref")
+        extra = " (friction against the flat reference)" if what == "μ/μ_ref" else ""
+        cbar.set_label(f"{what} at {data.attrs['at']:g} N{extra}")
     legend = "; ".join(f"{'hatched' if k == 0 else 'dotted' if k == 2 else 'plain'}: {v}" for k, v in REGIONS.items())
-    fig.suptitle(f"Design map: critical load (white contours), μ/μ_ref at {data.attrs['at']:g} N (colour), "
+    fig.suptitle(f"Design map: critical load (white contours), {data.attrs.get('quantity_label', 'μ/μ_ref')} at "
+                 f"{data.attrs['at']:g} N (colour), "
                  f"exploration loads {data.attrs['load_min']:g}-{data.attrs['load_max']:g} N\n{legend}; "
                  f"grey: texture not possible", fontsize="small", wrap=True)
     return fig

@@ -107,13 +107,27 @@ def figure_friction(pred: "Prediction"):
 
     cur = pred.primary
     f = cur.load
-    fig = Figure(figsize=(12.0, 4.8))
-    fig.subplots_adjust(left=0.065, right=0.985, bottom=0.12, top=0.88, wspace=0.22)
-    ax_mu, ax_n = fig.subplots(1, 2)
-    for ax in (ax_mu, ax_n):
+    d = pred.directional
+    panels = 3 if d is not None else 2
+    fig = Figure(figsize=(6.0 * panels, 4.8))
+    fig.subplots_adjust(left=0.065 if panels == 2 else 0.045, right=0.985, bottom=0.12, top=0.88, wspace=0.22)
+    axes = fig.subplots(1, panels)
+    ax_mu, ax_n = axes[0], axes[1]
+    for ax in axes:
         _shade(ax, pred)
         _mark_critical(ax, pred)
-    ax_mu.plot(f, cur.mu, _line(f, "-"), color="tab:red", lw=2, label=f"texture ({pred.primary_model})")
+    if d is not None:
+        ax_d = axes[2]
+        ax_mu.plot(f, d["mu_perpendicular"], _line(f, ":"), color="tab:purple",
+                   label=f"across the long axis ({d['perpendicular_direction']:.0f}°)")
+        ax_mu.plot(f, d["mu_parallel"], _line(f, "-."), color="tab:purple",
+                   label=f"along the long axis ({d['parallel_direction']:.0f}°)")
+        ax_d.plot(f, d["mu_perpendicular_over_parallel"], _line(f, "-"), color="tab:purple", lw=2)
+        ax_d.axhline(1.0, color="k", lw=0.8)
+        ax_d.set_ylabel("μ_perpendicular / μ_parallel (-)")
+        ax_d.set_title("directional friction (compliant asperities)", fontsize="medium")
+    label = f"texture ({pred.primary_model})" if d is None else f"texture, sliding at {d['direction']:.0f}°"
+    ax_mu.plot(f, cur.mu, _line(f, "-"), color="tab:red", lw=2, label=label)
     if cur.mu_ref is not None:
         ax_mu.plot(f, cur.mu_ref, _line(f, "-"), color="k", label="flat reference")
     if cur.mu_normalised is not None:
@@ -128,11 +142,12 @@ def figure_friction(pred: "Prediction"):
     ax_n.set_ylim(0, max(1.05, float(np.nanmax(cur.mu_normalised)) * 1.05 if cur.mu_normalised is not None else 1.05))
     ax_mu.set_title("friction against load (shaded: contact state at the pad centre)", fontsize="medium")
     ax_n.set_title("normalised friction", fontsize="medium")
-    for ax in (ax_mu, ax_n):
+    for ax in axes:
         _load_axis(ax, f)
         ax.set_xlabel("normal load F (N)")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize="small")
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize="small")
     fig.suptitle(f"{pred.texture.name} on finger {pred.study.finger.name}, E1* = {pred.reduced_modulus / 1e3:.4g} kPa")
     return fig
 

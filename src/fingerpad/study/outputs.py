@@ -42,6 +42,7 @@ OUTPUT_UNITS = {
     "transition_pressure": "Pa", "full_contact_pressure": "Pa", "pressure": "Pa", "modulus": "Pa",
     "interpolation_error": "1 (absolute error of psi)", "seconds": "s",
     "contact_state": "state at the pad centre: asperity, transition or full",
+    "direction": "deg from the texture's x axis", "mu_perpendicular_over_parallel": "1",
 }
 
 
@@ -88,6 +89,11 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
             "mu_normalised": None if cur.mu_normalised is None else cur.mu_normalised[i],
             "contact_state": states[i],
         }
+        if pred.directional is not None:
+            d = pred.directional
+            row["mu_parallel"] = d["mu_parallel"][i]
+            row["mu_perpendicular"] = d["mu_perpendicular"][i]
+            row["mu_perpendicular_over_parallel"] = d["mu_perpendicular_over_parallel"][i]
         if pred.bem is not None and pred.hertz is not None:
             h = pred.hertz
             row["hertz"] = {
@@ -159,6 +165,8 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
         "critical_load": dict(pred.critical_load),
         "full_contact_load": dict(pred.full_contact_load),
         "state_brackets": pred.state_brackets,
+        "directional": None if pred.directional is None else {
+            k: v for k, v in pred.directional.items() if not k.startswith(("mu_", "area_ratio_"))},
         "model": pred.primary_model,
         "units": OUTPUT_UNITS,
         "inputs": inputs,
@@ -208,6 +216,12 @@ def prediction_dataset(pred: Prediction):
         add("hertz_", pred.hertz, ["real_area", "area_ratio", "transition_radius", "mu", "mu_normalised"], "hertz")
         data["hertz_contact_state"] = xr.Variable(("load",), np.array(pred.states("hertz"), dtype=object),
                                                   {"units": "1", "long_name": "contact state at the pad centre (hertz)"})
+    if pred.directional is not None:
+        d = pred.directional
+        for name, long_name in (("mu_parallel", "friction coefficient sliding along the asperities' long axis"),
+                                ("mu_perpendicular", "friction coefficient sliding across the long axis"),
+                                ("mu_perpendicular_over_parallel", "mu_perpendicular / mu_parallel")):
+            data[name] = xr.Variable(("load",), np.asarray(d[name], float), {"units": "1", "long_name": long_name})
     coords = {"load": xr.Variable("load", np.asarray(cur.load, float), {"units": "N", "long_name": "normal load"})}
     if pred.cell is not None and not pred.cell.flat:
         nodes = pred.cell.curve()

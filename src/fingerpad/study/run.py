@@ -9,6 +9,7 @@ pad by :func:`~fingerpad.coupling.predict_curve` (Eqs. 3.7, 3.11).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable
@@ -251,27 +252,26 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
         gain = directional_gain(geometry, materials, direction, p_range, tau0=finger.tau0, alpha=finger.alpha,
                                 cache=cache_arg)
         factor = 1.0
-        if isinstance(geometry, EllipsoidGeometry):
+        # The elliptical Greenwood-Tabor factor belongs to the compliant-asperity model: a rigid
+        # texture keeps the isotropic friction exactly.
+        if isinstance(geometry, EllipsoidGeometry) and not gain.is_identity:
             factor = hysteresis_direction_factor(geometry.semi_axis_x, geometry.semi_axis_y, geometry.height,
                                                  math.radians(direction) - geometry.orientation)
         textured = finger.with_overrides(beta=min(1.0, finger.beta * factor))
         curve = predict_curve(loads, textured, DirectionalCell(cell, gain, finger.tau0, finger.alpha))
         reference = predict_curve(loads, finger, cell)  # the flat reference is isotropic
-        curve.mu_ref = reference.mu_ref
-        curve.mu_normalised = curve.mu / reference.mu_ref
+        curve = dataclasses.replace(curve, mu_ref=reference.mu_ref, mu_normalised=curve.mu / reference.mu_ref)
         return curve, gain, factor
 
     curves = {}
     for name, direction in (("direction", study.direction), ("parallel", parallel), ("perpendicular", perpendicular)):
         curves[name] = curve_at(float(direction))  # sections repeat: the cache solves each once
-    flags = []
-    for name, (_, gain, _) in curves.items():
-        for ramp in getattr(gain, "ramps", []) or []:
-            for flag in ("buckled", "stopped"):
-                if getattr(ramp, flag, False):
-                    flags.append(f"{name}: {flag} at {ramp.pressure / 1e3:.3g} kPa")
-    if flags:
-        notes.append("deflection model: " + "; ".join(sorted(set(flags))))
+    flagged = sorted({float(ramp.pressure) for _, gain, _ in curves.values()
+                      for ramp in (getattr(gain, "ramps", []) or [])
+                      if getattr(ramp, "buckled", False) or getattr(ramp, "stopped", False)})
+    if flagged:
+        notes.append(f"deflection model: shear ramps buckled or stopped at {flagged[0] / 1e3:.3g}-"
+                     f"{flagged[-1] / 1e3:.3g} kPa; the gain is held from there on (docs/deflection.md)")
     main, gain, factor = curves["direction"]
     mu_perp, mu_par = curves["perpendicular"][0].mu, curves["parallel"][0].mu
     saturated = [bool(np.any(np.asarray(gain.saturated(p, m)))) if hasattr(gain, "saturated") else False
