@@ -319,33 +319,30 @@ def existing_parent(path: Path) -> Path:
     return parent
 
 
-def move_into_place(tmp: Path, out: Path) -> None:
-    """Move the contents of the finished folder ``tmp`` to ``out``.
-
-    A missing ``out`` is created by one rename; into an existing folder every file is moved
-    with :func:`os.replace` (atomic per file), replacing files of the same name and leaving
-    others alone.
-    """
-    out = out.absolute()
+def check_replaceable(out: Path, marker: str, option: str = "--out") -> None:
+    """An output folder may be replaced as a whole only if it is empty or holds an earlier output
+    of the same command (it contains ``marker``); anything else is refused, never mixed."""
     if out.exists() and not out.is_dir():
-        raise FingerpadError(f"{out}: exists and is not a folder")
-    if not out.exists():
-        out.parent.mkdir(parents=True, exist_ok=True)
-        try:
-            os.replace(tmp, out)
-        except OSError:
-            out.mkdir(parents=True, exist_ok=True)
-        else:
-            # mkdtemp made the folder private (0700); give it the permissions of a plain mkdir
-            umask = os.umask(0)
-            os.umask(umask)
-            out.chmod(0o777 & ~umask)
-            tmp.mkdir()  # the caller removes its temporary folder afterwards
-            return
-    for src in sorted(tmp.rglob("*")):
-        dst = out / src.relative_to(tmp)
-        if src.is_dir():
-            dst.mkdir(parents=True, exist_ok=True)
-        else:
-            dst.parent.mkdir(parents=True, exist_ok=True)
-            os.replace(src, dst)
+        raise FingerpadError(f"{option} {str(out)!r} exists and is not a folder")
+    if out.is_dir() and any(out.iterdir()) and not (out / marker).exists():
+        shown = ", ".join(sorted(p.name for p in out.iterdir())[:4])
+        raise FingerpadError(f"{option} {str(out)!r} holds files of something else ({shown}); choose a new or empty "
+                             f"folder (outputs replace a folder as a whole)")
+
+
+def replace_folder(tmp: Path, out: Path) -> None:
+    """Put the finished folder ``tmp`` in place of ``out`` (removed, if there) in two renames."""
+    import shutil
+
+    out = out.absolute()
+    old = None
+    if out.exists():
+        old = out.parent / f".{out.name}.{uuid.uuid4().hex[:8]}.old"
+        os.replace(out, old)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    os.replace(tmp, out)
+    out.chmod(0o777 & ~_umask())  # mkdtemp made it private; give it a plain folder's permissions
+    tmp.mkdir()  # the caller removes its temporary folder afterwards
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+

@@ -371,7 +371,7 @@ def test_report_atomic(study, tmp_path, monkeypatch):
     _, _, result = study
     out = tmp_path / "res"
     out.mkdir()
-    (out / "keep.txt").write_text("old")
+    (out / "report.html").write_text("an earlier report")  # an earlier analysis: replaced as a whole
 
     def boom(*args, **kwargs):
         raise FingerpadError("figure failed")
@@ -379,7 +379,13 @@ def test_report_atomic(study, tmp_path, monkeypatch):
     monkeypatch.setattr(report, "figure_participant", boom)  # after the tables are written
     with pytest.raises(FingerpadError, match="figure failed"):
         report.write_report(result, out)
-    assert sorted(p.name for p in out.iterdir()) == ["keep.txt"]
+    assert sorted(p.name for p in out.iterdir()) == ["report.html"]  # left as it was
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "keep.txt").write_text("mine")
+    with pytest.raises(FingerpadError, match="holds files of something else"):
+        report.write_report(result, other)  # never mixed with another study's files
+    assert sorted(p.name for p in other.iterdir()) == ["keep.txt"]
     with pytest.raises(FingerpadError):
         report.write_report(result, tmp_path / "new")
     assert not (tmp_path / "new").exists()

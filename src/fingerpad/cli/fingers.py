@@ -30,7 +30,16 @@ def fingers_command() -> None:
             format_quantity(f.tau0, "pressure"), f"{f.alpha:g}", f"{f.beta:g}",
         )
     console = stdout_console(160)
-    console.print(table)
+    if console.width >= 130:
+        console.print(table)
+    else:  # a narrow terminal: one block per preset
+        for name, f in FINGER_PRESETS.items():
+            say(console, f"{name}: {f.description}")
+            say(console, f"  R_fp {format_quantity(f.radius, 'length')}, E_fp* {format_quantity(f.modulus, 'pressure')}, "
+                         f"E_s {format_quantity(f.skin_modulus, 'pressure')}, nu_s {f.skin_poisson:g}, "
+                         f"tau0 {format_quantity(f.tau0, 'pressure')}, alpha {f.alpha:g}, beta {f.beta:g}")
+            say(console, f"  gross area: {f.gross_model!r}")
+            say(console, f"  ridge area: {f.ridges!r}")
     say(console, "R_fp pad radius, E_fp* pad reduced modulus (Eqs. 2.4-2.5), E_s/nu_s micro-scale skin modulus and "
                  "Poisson ratio (Eq. 3.4), tau0 + alpha p interfacial shear strength (Eq. 2.3), beta hysteresis loss "
                  "fraction (Eq. 2.4).")

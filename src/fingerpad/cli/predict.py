@@ -43,8 +43,8 @@ _PREDICT_HELP = {
     "--periodic": "Take the texture as one period of a periodic surface (generated textures: yes).",
     "--no-periodic": "Take a --surface map as a finite patch.",
     "--pixel-size": "Pixel size DX[,DY] of a --surface map, instead of --size (for non-square pixels).",
-    "--base-quantile": "Share of the pixels of a --surface map below its base level, whose touching starts the "
-                       "transition (default 0.05).",
+    "--base-quantile": "Share of the lowest pixels of a --surface map taken as the bottom of its base; the base "
+                       "level, whose touching starts the transition, lies 4 noise sigmas above (default 0.01).",
     "--periodize": "Mirror a --surface map into a periodic cell (needed by the BEM unless the map is one period).",
     "--material-modulus": "Counter-surface Young's modulus, or 'rigid' (default rigid), e.g. 0.5GPa.",
     "--material-poisson": "Counter-surface Poisson ratio (default 0.35).",
@@ -191,7 +191,8 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
             say(console, f"full contact at the pad centre (at most 1 % open) from: {full:.4g} N "
                          f"(cell pressure {p_lo / 1e3:.4g}-{p_hi / 1e3:.4g} kPa)")
         else:
-            say(console, f"full contact at the pad centre: not reached up to {p_lo / 1e3:.4g} kPa (10 E*)")
+            say(console, f"full contact at the pad centre: not reached up to {p_lo / 1e3:.4g} kPa "
+                         f"(the last node below 10 E*)")
     directional = payload.get("directional")
     if directional and payload["results"] and "mu_perpendicular_over_parallel" in payload["results"][0]:
         ratios = [r["mu_perpendicular_over_parallel"] for r in payload["results"]]

@@ -37,8 +37,8 @@ _HELP = {
     "--no-periodic": "A finite patch (zero-padded kernel), also for a generated texture.",
     "--periodize": "Mirror a --surface map into a periodic 2Lx x 2Ly cell (see docs/formats.md).",
     "--pixel-size": "Pixel size DX[,DY] of a --surface map, instead of --size (for non-square pixels).",
-    "--base-quantile": "Share of the pixels of a --surface map below its base level, whose touching starts the "
-                       "transition (default 0.05).",
+    "--base-quantile": "Share of the lowest pixels of a --surface map taken as the bottom of its base; the base "
+                       "level, whose touching starts the transition, lies 4 noise sigmas above (default 0.01).",
     "--grid": "Grid points along x, passed to the generator (default: the generator's choice).",
     "--modulus": "Reduced modulus E* of skin and material (Eq. 3.4), e.g. 0.4MPa. Excludes the skin/material "
                  "options.",

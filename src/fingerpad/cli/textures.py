@@ -40,7 +40,17 @@ def textures_command() -> None:
         table.add_row(f"{name}\n{fam.summary}", escape("\n".join(opts)), "\n".join(units), "\n".join(defaults),
                       escape("\n".join(docs)))
     console = stdout_console(140)
-    console.print(table)
+    if console.width >= 120:
+        console.print(table)
+    else:  # a narrow terminal: one block per family, one line per parameter
+        for name, fam in families.items():
+            console.print(f"[bold]{escape(name)}[/bold]: {escape(fam.summary)}")
+            for p in fam.params:
+                default = ("required" if p.default is REQUIRED else "auto" if p.default is None
+                           else f"{p.default:g} deg" if p.kind == "angle" else str(p.default))
+                unit = f" [{p.unit}]" if p.unit and p.kind != "choice" else ""
+                choices = f" ({' | '.join(p.choices)})" if p.choices else ""
+                console.print(escape(f"  {p.option} {p.metavar}{unit}, {default}: {p.doc}{choices}"), soft_wrap=False)
     say(console, "Lengths take unit suffixes (50um, 0.2mm) or metres; angles are in degrees unless suffixed "
                  "(30deg, 0.5rad); the grid is given as --grid N.")
 

@@ -91,7 +91,8 @@ NUMBA_MIN_SIZE = 512 * 512  # do not coarsen below this many points along an axi
 def contact_state(contact: np.ndarray, base: np.ndarray) -> str:
     """Contact state of a cell from its contact mask and the texture's base-level mask.
 
-    ``"asperity"``: the skin does not touch the lowest level of the texture;
+    ``"asperity"``: the skin does not touch the texture's base level (``base``: its lowest level for a
+    generated texture, a noise-robust level for a measured map, see :meth:`Texture.base_mask`);
     ``"full"``: at most :data:`FULL_CONTACT_TOL` of the cell is out of contact;
     ``"transition"``: in between.
     """

@@ -36,7 +36,7 @@ import pandas as pd
 
 from .._version import __version__
 from ..errors import FingerpadError
-from ..io import existing_parent, move_into_place
+from ..io import check_replaceable, existing_parent, replace_folder
 from ..plotting.measure import figure_participant, figure_qc, figure_sample, png_bytes
 from .analysis import StudyResult, condition_label, load_grid
 from .htmlreport import html_report
@@ -233,8 +233,9 @@ def write_report(
 ) -> list[Path]:
     """Write tables, figures, NetCDF curves and the HTML report into ``out`` (see module doc).
 
-    Everything is written into a temporary folder next to ``out`` and moved into place at the
-    end: on any error ``out`` is left as it was (absent, or with its previous files).
+    Everything is written into a temporary folder next to ``out``, which replaces ``out`` as a
+    whole at the end (an earlier report's files never mix with these); on any error ``out`` is
+    left as it was. A folder holding anything but an earlier report is refused.
     ``qc`` adds one quality-control figure per recording (``figures/qc/``, linked from the
     report); ``progress(done, total, what)`` is called as figures are drawn.
 
@@ -249,8 +250,7 @@ def write_report(
         If ``out`` exists and is not a folder.
     """
     out_path = Path(out)
-    if out_path.exists() and not out_path.is_dir():
-        raise FingerpadError(f"{out_path}: exists and is not a folder")
+    check_replaceable(out_path, "report.html")
     tmp = Path(tempfile.mkdtemp(prefix=".fingerpad-report-", dir=existing_parent(out_path)))
     try:
         written: list[str] = []
@@ -322,7 +322,7 @@ def write_report(
                 tick(name)
         (tmp / "report.html").write_text(html_report(result, pngs, title, qc_links=qc_links), encoding="utf-8")
         written.append("report.html")
-        move_into_place(tmp, out_path)
+        replace_folder(tmp, out_path)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return [out_path / name for name in written]

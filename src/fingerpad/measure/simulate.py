@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError
-from ..io import existing_parent, move_into_place
+from ..io import check_replaceable, existing_parent, replace_folder
 from .models import Model, TextureGeometry, resolve_finger, texture_model
 
 
@@ -225,6 +225,7 @@ def simulate_study(
                              "outliers": []}
     manifest = []
     out_path = Path(out)
+    check_replaceable(out_path, "truth.json")
     tmp = Path(tempfile.mkdtemp(prefix=".simulate-", dir=existing_parent(out_path)))
     try:
         for i in range(config.participants):
@@ -259,7 +260,7 @@ def simulate_study(
                       for name, g in config.textures.items()])
         truth["files"] = [m[0] for m in manifest]
         (tmp / "truth.json").write_text(json.dumps(truth, indent=2), encoding="utf-8")
-        move_into_place(tmp, out_path)
+        replace_folder(tmp, out_path)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return truth

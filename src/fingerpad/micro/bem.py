@@ -226,8 +226,10 @@ class BEMUnitCell:
                 if not reached(self._state_at(lo, new)):
                     break
                 if lo == k_floor:
+                    # reached at any pressure worth solving (a nearly flat cell, or a recessed part
+                    # under 1 % of the cell for "full"): the state starts at zero pressure
                     self._store(new)
-                    raise FingerpadError("the cell is past this contact state at any pressure (a flat texture?)")
+                    return [0.0, _grid_pressure(k_floor)]
                 hi, step = lo, 2 * step
         else:
             lo, step = k_start, 1

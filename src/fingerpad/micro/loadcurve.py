@@ -3,7 +3,7 @@
 The *contact state* of a cell (asperity / transition / full, docs/model.md, micro scale) is defined in
 :func:`fingerpad.contact.contact_state`: *transition* starts when the skin touches the lowest
 level of the texture (the base between bumps, the bottom of a dimple or a ridge valley), *full*
-contact when every pixel of the cell is in contact.
+contact when at most 1 % of the cell is out of contact (:data:`fingerpad.contact.FULL_CONTACT_TOL`).
 """
 
 from __future__ import annotations
@@ -188,6 +188,6 @@ def critical_pressure(
 def full_contact_pressure(
     solver: HalfSpaceSolver, *, rtol: float = 1e-3, progress: Progress | None = None, max_solves: int = 200
 ) -> CriticalPressure:
-    """Bracket the mean pressure at which the cell reaches full contact (every pixel touching)."""
+    """Bracket the mean pressure at which the cell reaches full contact (at most 1 % open)."""
     return _bracket(solver, lambda st: st == "full", "full", rtol, progress, max_solves)
 

@@ -71,14 +71,15 @@ class GridChoice:
         return self.error <= self.target
 
     def state_pressure_errors(self) -> dict[str, float]:
-        """Relative change of the transition and full-contact pressures from the half grid."""
+        """Relative change of the transition and full-contact pressures from the half grid (at
+        least the brackets' relative width: below it the change is not resolved)."""
         out = {}
         if self.coarse is None:
             return {"transition": math.nan, "full": math.nan}
         for name, attr in (("transition", "transition_pressure"), ("full", "full_contact_pressure")):
             fine, coarse = getattr(self.cell, attr), getattr(self.coarse, attr)
-            ok = math.isfinite(fine) and math.isfinite(coarse) and fine > 0
-            out[name] = abs(fine / coarse - 1.0) if ok else math.nan
+            ok = math.isfinite(fine) and math.isfinite(coarse) and fine > 0 and coarse > 0
+            out[name] = max(abs(fine / coarse - 1.0), self.cell.rtol) if ok else math.nan
         return out
 
 

@@ -19,7 +19,8 @@ __all__ = ["OUTPUT_FILES", "OUTPUT_UNITS", "prediction_dataset", "prediction_jso
 #: What the contact states mean (written into predict.json).
 STATE_DEFINITIONS = {
     "transition": "lowest mean cell pressure at which the skin touches the texture's base level "
-                  "(generated textures: their lowest level; measured maps: the base_quantile height)",
+                  "(generated textures: their lowest level; measured maps: the base_quantile height plus 4 "
+                  "noise standard deviations)",
     "full": "lowest mean cell pressure at which at most 1 % of the cell is out of contact",
     "critical_load": "load at which the pad-centre pressure 1.5 F/A_fr reaches the transition pressure",
     "full_contact_load": "load at which the pad-centre pressure reaches the full-contact pressure",
@@ -155,6 +156,8 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
         "loads": list(study.loads),
         "model": study.model,
         "grid": study.grid,
+        "accuracy": study.accuracy,
+        "direction": study.direction,
         "tol": study.tol,
         "max_iter": study.max_iter,
         "cache": None if study.cache in (None, False, True) else os.fspath(study.cache),

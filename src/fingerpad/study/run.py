@@ -194,7 +194,7 @@ def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, 
     make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
     return choose_grid(
         make, tex, e1, p_range, lambda cell: couple(loads, ridge, cell).area_ratio,
-        target=None if study.grid is not None else study.accuracy,
+        target=None if study.grid is not None or make is None else study.accuracy,
         cell_options={"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache()},
         progress=progress,
     )
@@ -205,7 +205,8 @@ def _resolution_report(choice: Any, study: Study) -> dict[str, Any]:
     return {
         "grid": list(choice.cell.texture.shape),
         "coarse_grid": list(choice.coarse.texture.shape) if choice.coarse is not None else None,
-        "chosen": "automatic" if study.grid is None else "given",
+        "chosen": "given" if study.grid is not None else "automatic" if choice.target is not None else
+        "the map's own (a measured map keeps its grid)",
         "target": choice.target,
         "area_ratio_error": choice.error,
         "transition_pressure_error": pressures["transition"],
@@ -344,6 +345,10 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
         elif study.grid is not None and not math.isnan(choice.error) and choice.error > study.accuracy:
             notes.append(f"grid {study.grid}: estimated discretisation error of A_re/A_fr {100 * choice.error:.2g} % "
                          f"(above {100 * study.accuracy:g} %; leave the grid to the default to reach it)")
+        elif choice.target is None and study.grid is None and not math.isnan(choice.error) \
+                and choice.error > study.accuracy:
+            notes.append(f"measured map at its own grid: A_re/A_fr changes by {100 * choice.error:.2g} % from the map "
+                         f"averaged 2 x 2 (pixel-scale roughness resolved by the pixels alone)")
         t_cell = time.perf_counter() - t0
         t0 = time.perf_counter()
         bem = predict_curve(loads, finger, cell)
@@ -380,8 +385,8 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
                 notes.append(f"BEM {name} load {f:.4g} N lies beyond the loads a finger exerts "
                              f"(above {FINGER_LOAD_LIMIT:g} N)")
         if math.isinf(cell.full_contact_pressure):
-            notes.append(f"full contact not reached up to {STATE_SEARCH_CAP:g} E* = "
-                         f"{STATE_SEARCH_CAP * e1 / 1e3:.4g} kPa, where linear elasticity ends")
+            notes.append(f"full contact not reached up to {cell.full[0] / 1e3:.4g} kPa (the last node below "
+                         f"{STATE_SEARCH_CAP:g} E*, where linear elasticity ends)")
     elif cell is not None:
         full["bem"] = 0.0
     primary_cell = cell if cell is not None else hertz_cell

@@ -281,7 +281,8 @@ def _results_json(job: SolveJob, results: Sequence[Any], critical: Any = None) -
         payload["critical_pressure"] = {
             "lower": critical.lower, "upper": critical.upper, "estimate": critical.estimate,
             "relative_width": critical.relative_width, "solves": critical.solves,
-            "definition": "lowest mean pressure (Pa) at which the skin touches the texture's lowest level",
+            "definition": "lowest mean pressure (Pa) at which the skin touches the texture's base level "
+                          "(generated textures: their lowest level; measured maps: see docs/formats.md)",
         }
     return to_jsonable(payload)
 

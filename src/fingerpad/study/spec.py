@@ -23,7 +23,7 @@ Study files (TOML, read with :func:`load_study_file`)::
     lattice = "hexagonal"
     # ... or a height map: surface = "scan.npy", size = "400um,400um", height_unit = "um",
     #     periodic = false, periodize = true, fill_missing = false,
-    #     pixel_size = "2um" (instead of size), base_quantile = 0.05
+    #     pixel_size = "2um" (instead of size), base_quantile = 0.01
 
     [material]                # counter-surface; omit the section for a rigid one
     modulus = "0.5GPa"        # or "rigid"

@@ -48,8 +48,8 @@ class TextureSpec:
         ``(dx, dy)`` in m or text ``"2um"``/``"2um,3um"``: the pixel size of a ``surface``, instead
         of ``size``.
     base_quantile
-        Share of the pixels of a ``surface`` map below its base level (default 0.05, see
-        :func:`fingerpad.textures.read_surface`).
+        Share of the lowest pixels of a ``surface`` map taken as the bottom of its base (default
+        0.01); the base level lies 4 noise sigmas above it (:func:`fingerpad.textures.measured.base_level_of`).
     labels
         How to name each parameter in error messages (``--radius`` or ``study.toml [texture] radius``).
     """
