@@ -35,7 +35,6 @@ import numpy as np
 import pandas as pd
 
 from .._version import __version__
-from ..errors import FingerpadError
 from ..io import check_replaceable, existing_parent, replace_folder
 from ..plotting.measure import figure_participant, figure_qc, figure_sample, png_bytes
 from .analysis import StudyResult, condition_label, load_grid
