@@ -33,7 +33,7 @@ from typer.core import TyperGroup
 
 from .._version import __version__
 from ..errors import one_line
-from . import fingers, measure, predict, solve, textures
+from . import explore, fingers, measure, predict, solve, textures
 from .common import EXIT_USER_ERROR
 
 
@@ -74,7 +74,7 @@ app = typer.Typer(
     pretty_exceptions_show_locals=False,
 )
 
-for _module in (solve, textures, predict, fingers, measure):
+for _module in (solve, textures, predict, fingers, measure, explore):
     _module.register(app)
 
 
