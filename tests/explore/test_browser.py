@@ -147,7 +147,7 @@ def test_bem_run_shows_progress_finishes_and_reproduces(page, tmp_path, screensh
 
     page.locator(f"{css('model.kind')} select").select_option("both")
     set_field(page, "texture.spacing", "177um")  # a cell no other test computes: not in the cache
-    set_field(page, "model.grid", "64")  # a given grid: about 130 solves, seconds
+    set_field(page, "model.grid", "128")  # a given grid: the fine cell reports progress for seconds
     expect(page.locator(".fp-pending")).to_be_visible()
     page.locator(".fp-run-bem button").click()
     expect(page.locator(".fp-job-running").first).to_contain_text(re.compile(r"[1-9]\d* / \d+ solves"))
@@ -163,7 +163,7 @@ def test_bem_run_shows_progress_finishes_and_reproduces(page, tmp_path, screensh
     # revisiting is instant: away and back shows the BEM without a run
     set_field(page, "model.grid", "32")
     expect(page.locator(".fp-pending")).to_be_visible()
-    set_field(page, "model.grid", "64")
+    set_field(page, "model.grid", "128")
     expect(page.locator(".fp-current")).to_contain_text("bem")
     set_field(page, "model.grid", "")
     set_field(page, "texture.spacing", "175um")
@@ -175,7 +175,7 @@ def test_cancel_stops_a_bem_run(page):
 
     page.locator(f"{css('model.kind')} select").select_option("both")
     set_field(page, "texture.spacing", "190um")  # a cell not in the cache
-    set_field(page, "model.grid", "")
+    set_field(page, "model.grid", "256")  # a fine cell of many seconds: cancelled long before its end
     expect(page.locator(".fp-pending")).to_be_visible()
     page.locator(".fp-run-bem button").click()
     expect(page.locator(".fp-job-running").first).to_contain_text(re.compile(r"[1-9]\d* / \d+ solves"),
@@ -183,6 +183,7 @@ def test_cancel_stops_a_bem_run(page):
     page.locator(".fp-cancel-bem button").click()
     expect(page.locator(".fp-job-cancelled")).to_be_visible(timeout=60_000)
     expect(page.locator(".fp-pending")).to_be_visible()  # still the Hertz curves, the BEM not shown
+    set_field(page, "model.grid", "")
     set_field(page, "texture.spacing", "175um")
 
 
@@ -237,6 +238,7 @@ def test_map_click_opens_the_clicked_texture(page, screenshot_dir):
     }""")
     assert where is not None
     page.mouse.click(*where)
+    expect(page.locator(".bk-tab.bk-active")).to_have_text("Texture")  # the view switched
     expect(page.locator(f"{css('texture.spacing')} input")).to_have_value("0.0002")
     expect(page.locator(f"{css('texture.height')} input")).to_have_value("3e-05")
     expect(page.locator(".fp-current")).to_be_visible()  # the base study's model (hertz) is shown

@@ -83,4 +83,5 @@ class ExplorerApp:
     def open_design(self, data: dict[str, Any]) -> None:
         """Show a design (study sections) in the single-texture view and switch to it."""
         self.single.load_data(copy.deepcopy(data))
-        self.tabs.active = 0
+        # on the next tick: a change of the tabs inside a figure's own callback does not reach the page
+        pn.state.execute(lambda: setattr(self.tabs, "active", 0), schedule=True)

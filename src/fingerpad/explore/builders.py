@@ -199,8 +199,7 @@ def zone_specs(pred: Any) -> tuple[PlotSpec, PlotSpec]:
 
     z = pred.zones
     a, at, af = z["ridge_radius"], z["transition_radius"], z["full_contact_radius"]
-    zones = PlotSpec(key="zones", title=f"contact zones of the ridge disc at F = {z['load']:.4g} N "
-                                        f"(A_re/A_fr = {z['area_ratio']:.4g}, centre: {z['contact_state']})",
+    zones = PlotSpec(key="zones", title=f"zones at F = {z['load']:.4g} N (centre: {z['contact_state']})",
                      x_label="x (mm)", y_label="y (mm)", equal_aspect=True, meta={**_meta(pred), "zones": dict(z)})
     for radius, inner, state in ((a, at, "asperity"), (at, af, "transition"), (af, 0.0, "full")):
         if radius > 0:
@@ -231,12 +230,12 @@ def contact_specs(res: Any) -> tuple[PlotSpec, PlotSpec]:
     meta = {"mean_pressure_Pa": float(res.mean_pressure), "contact_fraction": float(res.contact_fraction),
             "contact_state": str(res.contact_state), "max_pressure_Pa": float(res.max_pressure),
             "converged": bool(res.converged), "iterations": int(res.iterations), "grid": list(tex.shape)}
-    title = (f"at p = {res.mean_pressure:.4g} Pa: psi = {res.contact_fraction:.4g}, state {res.contact_state}"
+    title = (f"at p = {res.mean_pressure / 1e3:.4g} kPa: psi = {res.contact_fraction:.3g}"
              + ("" if res.converged else " (NOT converged)"))
-    pmap = PlotSpec(key="pressure-map", title="contact pressure " + title, x_label="x (um)", y_label="y (um)",
+    pmap = PlotSpec(key="pressure-map", title="pressure " + title, x_label="x (um)", y_label="y (um)",
                     equal_aspect=True, meta=meta,
                     images=[Image(pressure, 0.0, lx * 1e6, 0.0, ly * 1e6, "contact pressure (kPa)", "viridis")])
-    cmap = PlotSpec(key="contact-map", title="contact (red) over the texture " + title, x_label="x (um)",
+    cmap = PlotSpec(key="contact-map", title=f"contact (red), state {res.contact_state}", x_label="x (um)",
                     y_label="y (um)", equal_aspect=True, meta=meta,
                     images=[Image(np.asarray(tex.heights, float).T * 1e6, 0.0, lx * 1e6, 0.0, ly * 1e6, "height (um)",
                                   "greys", overlay=np.asarray(res.pressure > 0).T)])

@@ -86,7 +86,7 @@ class SingleView:
 
         self.cards = {k: PlotCard(k, height=h) for k, h in (
             ("areas", 330), ("friction", 330), ("friction-normalised", 330), ("psi", 330), ("height-map", 360),
-            ("pressure-map", 360), ("contact-map", 360), ("zones", 380), ("zone-profile", 330))}
+            ("pressure-map", 360), ("contact-map", 360), ("zones", 330), ("zone-profile", 330))}
         self.exports = pn.Row(
             pn.pane.HTML("<b style='font-size:12px'>export:</b>", margin=(6, 4)),
             download("study TOML", "fingerpad-study.toml", self.export_toml, "fp-export-toml"),
