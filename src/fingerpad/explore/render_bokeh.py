@@ -60,7 +60,9 @@ def _slots(spec: PlotSpec) -> list[tuple[tuple[Any, ...], dict[str, Any], str | 
             out.append((("overlay", k), {"image": [rgba_overlay(im.overlay)], "x": [im.x0], "y": [im.y0],
                                          "dw": [im.x1 - im.x0], "dh": [im.y1 - im.y0]}, None))
     for k, disc in enumerate(sorted(spec.discs, key=lambda d: (d.state == "outline", -d.radius))):
-        out.append((("disc", k, disc.state), {"x": [0.0], "y": [0.0], "r": [disc.radius]}, disc.label))
+        t = np.linspace(0.0, 2.0 * np.pi, 241)  # a polygon: exact in data units whatever the scales
+        out.append((("disc", k, disc.state), {"xs": [disc.radius * np.cos(t)], "ys": [disc.radius * np.sin(t)]},
+                    disc.label))
     for ln in spec.lines:
         x = _clean(ln.x, spec.x_log)
         y = _clean(ln.y, spec.y_log and ln.axis == "left")
@@ -106,7 +108,11 @@ def bokeh_figure(spec: PlotSpec, *, height: int = 330, width: int | None = None)
         "x_axis_type": "log" if spec.x_log else "linear", "y_axis_type": "log" if spec.y_log else "linear",
         "tools": "pan,wheel_zoom,box_zoom,reset,save", "name": spec.key, "output_backend": "canvas",
     }
-    if spec.images or spec.discs:  # maps: the same scale on x and y
+    if spec.discs:  # the same scale on x and y: data ranges matched to the frame's aspect
+        kwargs["height"] = height
+        kwargs["sizing_mode"] = "stretch_width"
+        kwargs["match_aspect"] = True
+    elif spec.images:  # maps: the same scale on x and y
         frame = height - 70
         kwargs["frame_height"] = frame
         kwargs["frame_width"] = int(min(max(frame * _aspect(spec), 120), 2.2 * frame))
@@ -120,10 +126,6 @@ def bokeh_figure(spec: PlotSpec, *, height: int = 330, width: int | None = None)
         im = spec.images[0]
         kwargs["x_range"] = Range1d(im.x0, im.x1)
         kwargs["y_range"] = Range1d(im.y0, im.y1)
-    elif spec.discs:
-        lim = 1.12 * max(d.radius for d in spec.discs)
-        kwargs["x_range"] = Range1d(-lim, lim)
-        kwargs["y_range"] = Range1d(-lim, lim)
     elif spec.y_range is not None:
         kwargs["y_range"] = Range1d(*spec.y_range)
     p = figure(**kwargs)
@@ -162,11 +164,11 @@ def bokeh_figure(spec: PlotSpec, *, height: int = 330, width: int | None = None)
         elif kind == "disc":
             disc = discs[key[1]]
             if disc.state == "outline":
-                r = p.circle(x="x", y="y", radius="r", source=src, fill_color=None, line_color="black",
-                             line_dash="dashed", line_width=1.5, **legend)
+                r = p.patches(xs="xs", ys="ys", source=src, fill_color=None, line_color="black",
+                              line_dash="dashed", line_width=1.5, **legend)
             else:
-                r = p.circle(x="x", y="y", radius="r", source=src, fill_color=STATE_FILL.get(disc.state, "#eeeeee"),
-                             fill_alpha=0.9, line_color="black", line_width=1, **legend)
+                r = p.patches(xs="xs", ys="ys", source=src, fill_color=STATE_FILL.get(disc.state, "#eeeeee"),
+                              fill_alpha=0.9, line_color="black", line_width=1, **legend)
         elif kind == "line":
             ln = lines_by_name[key[1]]
             extra = {"y_range_name": "right"} if ln.axis == "right" and spec.y2_label else {}
@@ -198,7 +200,7 @@ def bokeh_figure(spec: PlotSpec, *, height: int = 330, width: int | None = None)
         legend.click_policy = "hide"
         legend.location = "top_left"
         if not spec.images:  # beside the plot, not over the curves
-            p.add_layout(legend, "below" if spec.discs else "right")
+            p.add_layout(legend, "right")
         items = {id(r): item for item in legend.items for r in item.renderers}
         drawn.legend = [items.get(id(r)) if label else None for r, label in renderers]
     else:
@@ -226,10 +228,6 @@ def update_figure(drawn: Drawn, spec: PlotSpec) -> bool:
         p.y_range.start, p.y_range.end = im.y0, im.y1
         for mapper, img in zip(drawn.mappers, spec.images, strict=False):
             mapper.low, mapper.high = _limits(np.asarray(img.z, float))
-    elif spec.discs:
-        lim = 1.12 * max(d.radius for d in spec.discs)
-        p.x_range.start, p.x_range.end = -lim, lim
-        p.y_range.start, p.y_range.end = -lim, lim
     elif spec.y_range is not None:
         p.y_range.start, p.y_range.end = spec.y_range
     return True
