@@ -33,7 +33,7 @@ from typer.core import TyperGroup
 
 from .._version import __version__
 from ..errors import one_line
-from . import deflection, design, fingers, measure, predict, solve, sweep, textures
+from . import deflection, design, explore, fingers, measure, predict, solve, sweep, textures
 from .common import EXIT_USER_ERROR
 
 
@@ -74,7 +74,7 @@ app = typer.Typer(
     pretty_exceptions_show_locals=False,
 )
 
-for _module in (solve, textures, predict, fingers, measure, sweep, design, deflection):
+for _module in (solve, textures, predict, fingers, measure, sweep, design, deflection, explore):
     _module.register(app)
 
 

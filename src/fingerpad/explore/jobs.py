@@ -1,0 +1,168 @@
+"""Running predictions for the explorer: at once (cheap models) or as background jobs (the BEM).
+
+A prediction is always :func:`fingerpad.study.run.run_study` on a study that
+:func:`fingerpad.study.spec.study_from_dict` built: the explorer computes nothing itself.
+
+* :func:`run_data` runs a study's sections in the calling thread (the Hertz cell: milliseconds).
+* :class:`Job` runs one in a background thread, reports progress after each unit-cell solve and
+  can be cancelled: the progress callback raises :class:`JobCancelled` at the next solve, so the
+  cache is left consistent (the BEM cell stores complete phases only, under a file lock). The BEM
+  curves go through the on-disk cache of unit cells (:mod:`fingerpad.micro.cache`), so a revisited
+  design runs no solve; :class:`Memo` also remembers the last predictions in memory.
+* :func:`contact_at` solves the contact on the unit cell at one mean pressure
+  (:class:`fingerpad.contact.HalfSpaceSolver`).
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+import warnings
+from collections import OrderedDict
+from collections.abc import Callable, Mapping
+from typing import Any
+
+from ..errors import FingerpadError, one_line
+from .inputs import data_key, labels_for
+
+__all__ = ["Job", "JobCancelled", "Memo", "contact_at", "run_data"]
+
+
+class JobCancelled(Exception):
+    """Raised inside a job's progress callback once the job is cancelled."""
+
+
+def run_data(data: Mapping[str, Mapping[str, Any]], progress: Callable[[int, int], None] | None = None) -> Any:
+    """Run the study of ``data`` (validated by ``study_from_dict``) and return its Prediction.
+
+    Warnings of the run (convergence, resolution) are recorded in the prediction's notes rather
+    than printed.
+    """
+    from ..study.run import run_study
+    from ..study.spec import study_from_dict
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        study = study_from_dict(data, labels_for(data))
+        pred = run_study(study, progress=progress)
+    for w in caught:
+        if issubclass(w.category, (DeprecationWarning, PendingDeprecationWarning)):
+            continue
+        msg = one_line(str(w.message))
+        if "mpi4py" in msg or "contact solve did not converge" in msg:
+            continue
+        if msg not in pred.notes and not issubclass(w.category, (ResourceWarning,)):
+            if not any(msg in n for n in pred.notes):
+                pred.notes.append(f"warning: {msg}")
+    return pred
+
+
+class Memo:
+    """The last ``size`` predictions by their study (in memory, per server)."""
+
+    def __init__(self, size: int = 24) -> None:
+        self.size = size
+        self._items: OrderedDict[str, Any] = OrderedDict()
+        self._lock = threading.Lock()
+
+    def get(self, data: Mapping[str, Any]) -> Any:
+        key = data_key(data)
+        with self._lock:
+            if key in self._items:
+                self._items.move_to_end(key)
+                return self._items[key]
+        return None
+
+    def put(self, data: Mapping[str, Any], pred: Any) -> None:
+        key = data_key(data)
+        with self._lock:
+            self._items[key] = pred
+            self._items.move_to_end(key)
+            while len(self._items) > self.size:
+                self._items.popitem(last=False)
+
+
+class Job:
+    """A prediction in a background thread, with progress and cancellation.
+
+    Attributes
+    ----------
+    state
+        ``"running"``, ``"done"``, ``"cancelled"`` or ``"failed"``.
+    done, total
+        Unit-cell solves so far and the current estimate of their number.
+    result
+        The Prediction once done; ``error`` the message once failed.
+    """
+
+    def __init__(self, data: Mapping[str, Mapping[str, Any]], memo: Memo | None = None) -> None:
+        self.data = {k: dict(v) for k, v in data.items()}
+        self.memo = memo
+        self.state = "running"
+        self.done = 0
+        self.total = 0
+        self.result: Any = None
+        self.error: str | None = None
+        self.started = time.monotonic()
+        self.seconds = 0.0
+        self._cancel = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="fingerpad-explore-job", daemon=True)
+        self._thread.start()
+
+    def _progress(self, i: int, n: int) -> None:
+        self.done, self.total = i, n
+        if self._cancel.is_set():
+            raise JobCancelled
+
+    def _run(self) -> None:
+        try:
+            if self._cancel.is_set():
+                raise JobCancelled
+            pred = run_data(self.data, self._progress)
+        except JobCancelled:
+            self.state = "cancelled"
+        except FingerpadError as exc:
+            self.error, self.state = one_line(str(exc)), "failed"
+        except Exception as exc:  # noqa: BLE001 -- a bug must show in the page, not kill the thread silently
+            self.error, self.state = f"internal error: {type(exc).__name__}: {one_line(str(exc))}", "failed"
+        else:
+            if self._cancel.is_set():
+                self.state = "cancelled"
+            else:
+                self.result = pred
+                if self.memo is not None:
+                    self.memo.put(self.data, pred)
+                self.state = "done"
+        finally:
+            self.seconds = time.monotonic() - self.started
+
+    def cancel(self) -> None:
+        """Ask the job to stop at its next unit-cell solve."""
+        self._cancel.set()
+
+    @property
+    def cancelling(self) -> bool:
+        return self._cancel.is_set() and self.state == "running"
+
+    @property
+    def finished(self) -> bool:
+        return self.state != "running"
+
+    def wait(self, timeout: float | None = None) -> bool:
+        self._thread.join(timeout)
+        return self.finished
+
+    @property
+    def fraction(self) -> float:
+        return min(1.0, self.done / self.total) if self.total else 0.0
+
+
+def contact_at(texture: Any, modulus: float, pressure: float, *, tol: float = 1e-8, max_iter: int = 5000) -> Any:
+    """The contact of the skin on the unit cell at mean nominal pressure ``pressure`` (Pa):
+    a :class:`~fingerpad.contact.ContactResult` of :class:`~fingerpad.contact.HalfSpaceSolver`
+    with the reduced modulus E1* (Eq. 3.4)."""
+    from ..contact import HalfSpaceSolver
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return HalfSpaceSolver(texture, modulus, tol=tol, max_iter=max_iter).solve_pressure(pressure)

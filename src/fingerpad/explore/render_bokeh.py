@@ -1,0 +1,233 @@
+"""Drawing a :class:`~.specs.PlotSpec` as an interactive Bokeh figure (hover, zoom, legend).
+
+:func:`bokeh_figure` builds the figure and returns a :class:`Drawn` handle; :func:`update_figure`
+puts a new spec of the same structure (same series, lines, bands, images) into an existing
+figure by replacing its data only, which is what keeps the page live: rebuilding a figure costs
+the server and the browser far more than new data.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .specs import STATE_FILL, PlotSpec
+
+__all__ = ["Drawn", "bokeh_figure", "rgba_overlay", "update_figure"]
+
+_DASH = {"solid": "solid", "dashed": "dashed", "dotted": "dotted", "dotdash": "dotdash"}
+
+
+def _clean(a: Any, log: bool) -> np.ndarray:
+    """Finite values (non-positive ones dropped on a log axis) as floats, others NaN (a gap)."""
+    v = np.asarray(a, dtype=float).copy()
+    bad = ~np.isfinite(v)
+    if log:
+        bad |= v <= 0
+    v[bad] = np.nan
+    return v
+
+
+def rgba_overlay(mask: np.ndarray, rgb: tuple[int, int, int] = (214, 39, 40), alpha: int = 150) -> np.ndarray:
+    """A uint32 RGBA image: ``rgb`` with ``alpha`` where ``mask``, transparent elsewhere."""
+    m = np.asarray(mask, bool)
+    img = np.zeros(m.shape, dtype=np.uint32)
+    view = img.view(dtype=np.uint8).reshape(m.shape + (4,))
+    view[m, 0], view[m, 1], view[m, 2], view[m, 3] = rgb[0], rgb[1], rgb[2], alpha
+    return img
+
+
+def _aspect(spec: PlotSpec) -> float:
+    if spec.images:
+        im = spec.images[0]
+        return round(abs(im.x1 - im.x0) / max(abs(im.y1 - im.y0), 1e-300), 3)
+    return 1.0
+
+
+def _slots(spec: PlotSpec) -> list[tuple[tuple[Any, ...], dict[str, Any], str | None]]:
+    """The figure's data sources in drawing order: (structure key, data, legend label)."""
+    out: list[tuple[tuple[Any, ...], dict[str, Any], str | None]] = []
+    for state in dict.fromkeys(b.state for b in spec.bands):
+        mine = [b for b in spec.bands if b.state == state]
+        out.append((("band", state), {"x0": [b.x0 for b in mine], "x1": [b.x1 for b in mine]}, f"centre: {state}"))
+    for k, im in enumerate(spec.images):
+        z = np.asarray(im.z, float)
+        out.append((("image", k, im.palette, im.label), {"image": [z], "x": [im.x0], "y": [im.y0],
+                                                         "dw": [im.x1 - im.x0], "dh": [im.y1 - im.y0]}, None))
+        if im.overlay is not None:
+            out.append((("overlay", k), {"image": [rgba_overlay(im.overlay)], "x": [im.x0], "y": [im.y0],
+                                         "dw": [im.x1 - im.x0], "dh": [im.y1 - im.y0]}, None))
+    for k, disc in enumerate(sorted(spec.discs, key=lambda d: (d.state == "outline", -d.radius))):
+        t = np.linspace(0.0, 2.0 * np.pi, 241)  # a polygon: exact in data units whatever the scales
+        out.append((("disc", k, disc.state), {"xs": [disc.radius * np.cos(t)], "ys": [disc.radius * np.sin(t)]},
+                    disc.label))
+    for ln in spec.lines:
+        x = _clean(ln.x, spec.x_log)
+        y = _clean(ln.y, spec.y_log and ln.axis == "left")
+        data: dict[str, Any] = {"x": x, "y": y, "name": [ln.name] * x.size}
+        data.update({k: np.asarray(v) for k, v in ln.tooltips.items()})
+        out.append((("line", ln.name, ln.line, ln.markers, ln.axis, ln.dash, ln.color, tuple(ln.tooltips)), data,
+                    ln.name))
+    for k, v in enumerate(spec.vlines):
+        out.append((("vline", k, v.dash, v.color), {"x": [v.x]}, v.label))
+    return out
+
+
+def _structure(spec: PlotSpec) -> tuple[Any, ...]:
+    return (spec.key, spec.x_log, spec.y_log, spec.y2_label, spec.equal_aspect, _aspect(spec),
+            spec.y_range is not None, tuple(s for s, _, _ in _slots(spec)))
+
+
+@dataclass
+class Drawn:
+    """A drawn figure and what :func:`update_figure` needs to put new data in it."""
+
+    figure: Any
+    structure: tuple[Any, ...]
+    sources: list[Any] = field(default_factory=list)
+    legend: list[Any] = field(default_factory=list)  # LegendItem per slot (None: not in the legend)
+    mappers: list[Any] = field(default_factory=list)
+
+
+def _limits(z: np.ndarray) -> tuple[float, float]:
+    finite = z[np.isfinite(z)]
+    low, high = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+    return (low, high if high > low else low + 1.0)
+
+
+def bokeh_figure(spec: PlotSpec, *, height: int = 330, width: int | None = None) -> Drawn:
+    """The Bokeh figure of ``spec`` (named ``spec.key`` so tests and scripts can find it)."""
+    from bokeh.models import ColorBar, ColumnDataSource, HoverTool, LinearAxis, LinearColorMapper, Range1d
+    from bokeh.palettes import Greys256, Viridis256
+    from bokeh.plotting import figure
+
+    kwargs: dict[str, Any] = {
+        "title": spec.title, "x_axis_label": spec.x_label, "y_axis_label": spec.y_label,
+        "x_axis_type": "log" if spec.x_log else "linear", "y_axis_type": "log" if spec.y_log else "linear",
+        "tools": "pan,wheel_zoom,box_zoom,reset,save", "name": spec.key, "output_backend": "canvas",
+    }
+    if spec.discs:  # the same scale on x and y: data ranges matched to the frame's aspect
+        kwargs["height"] = height
+        kwargs["sizing_mode"] = "stretch_width"
+        kwargs["match_aspect"] = True
+    elif spec.images:  # maps: the same scale on x and y
+        frame = height - 70
+        kwargs["frame_height"] = frame
+        kwargs["frame_width"] = int(min(max(frame * _aspect(spec), 120), 2.2 * frame))
+    else:
+        kwargs["height"] = height
+        if width is not None:
+            kwargs["width"] = width
+        else:
+            kwargs["sizing_mode"] = "stretch_width"
+    if spec.images:
+        im = spec.images[0]
+        kwargs["x_range"] = Range1d(im.x0, im.x1)
+        kwargs["y_range"] = Range1d(im.y0, im.y1)
+    elif spec.y_range is not None:
+        kwargs["y_range"] = Range1d(*spec.y_range)
+    p = figure(**kwargs)
+    p.toolbar.logo = None
+    p.title.text_font_size = "10pt"
+    drawn = Drawn(p, _structure(spec))
+    if spec.y2_label:
+        p.extra_y_ranges = {"right": Range1d(*(spec.y2_range or (0.0, 1.0)))}
+        p.add_layout(LinearAxis(y_range_name="right", axis_label=spec.y2_label), "right")
+
+    lines_by_name = {ln.name: ln for ln in spec.lines}
+    discs = sorted(spec.discs, key=lambda d: (d.state == "outline", -d.radius))
+    hover_lines = []
+    renderers = []
+    for key, data, label in _slots(spec):
+        src = ColumnDataSource(data)
+        drawn.sources.append(src)
+        legend = {"legend_label": label} if label else {}
+        kind = key[0]
+        if kind == "band":
+            r = p.vstrip(x0="x0", x1="x1", source=src, fill_color=STATE_FILL.get(key[1], "#eeeeee"), fill_alpha=0.7,
+                         line_alpha=0, level="underlay", **legend)
+        elif kind == "image":
+            im = spec.images[key[1]]
+            low, high = _limits(np.asarray(im.z, float))
+            mapper = LinearColorMapper(palette=Greys256 if im.palette == "greys" else Viridis256, low=low, high=high)
+            drawn.mappers.append(mapper)
+            r = p.image(image="image", x="x", y="y", dw="dw", dh="dh", color_mapper=mapper, source=src)
+            p.add_tools(HoverTool(renderers=[r], tooltips=[("x", "$x{0.00}"), ("y", "$y{0.00}"),
+                                                           (im.label, "@image{0.0000}")]))
+            p.add_layout(ColorBar(color_mapper=mapper, title=im.label, width=10), "right")
+        elif kind == "overlay":
+            r = p.image_rgba(image="image", x="x", y="y", dw="dw", dh="dh", source=src)
+            p.scatter([spec.images[key[1]].x0], [spec.images[key[1]].y0], marker="square", size=0.1,
+                      color="#d62728", alpha=0.6, legend_label="in contact")
+        elif kind == "disc":
+            disc = discs[key[1]]
+            if disc.state == "outline":
+                r = p.patches(xs="xs", ys="ys", source=src, fill_color=None, line_color="black",
+                              line_dash="dashed", line_width=1.5, **legend)
+            else:
+                r = p.patches(xs="xs", ys="ys", source=src, fill_color=STATE_FILL.get(disc.state, "#eeeeee"),
+                              fill_alpha=0.9, line_color="black", line_width=1, **legend)
+        elif kind == "line":
+            ln = lines_by_name[key[1]]
+            extra = {"y_range_name": "right"} if ln.axis == "right" and spec.y2_label else {}
+            r = None
+            if ln.line:
+                r = p.line("x", "y", source=src, color=ln.color, line_width=ln.width,
+                           line_dash=_DASH.get(ln.dash, "solid"), **legend, **extra)
+                hover_lines.append(r)
+            if ln.markers:
+                m = p.scatter("x", "y", source=src, color=ln.color, size=6, **legend, **extra)
+                hover_lines.append(m)
+                r = r or m
+        else:  # vline
+            v = spec.vlines[key[1]]
+            r = p.vspan(x="x", source=src, line_color=v.color, line_dash=_DASH.get(v.dash, "solid"), line_width=1.3,
+                        **legend)
+        renderers.append((r, label))
+    if hover_lines:
+        tips = [("", "@name"), (spec.x_label, "@x{%0.5g}"), ("value", "@y{%0.5g}")]
+        tips += [(k, f"@{k}") for ln in spec.lines for k in ln.tooltips]
+        p.add_tools(HoverTool(renderers=hover_lines, tooltips=tips, formatters={"@x": "printf", "@y": "printf"}))
+
+    if p.legend:
+        legend = p.legend[0]
+        legend.label_text_font_size = "8pt"
+        legend.background_fill_alpha = 0.75
+        legend.spacing = 0
+        legend.padding = 4
+        legend.click_policy = "hide"
+        legend.location = "top_left"
+        if not spec.images:  # beside the plot, not over the curves
+            p.add_layout(legend, "right")
+        items = {id(r): item for item in legend.items for r in item.renderers}
+        drawn.legend = [items.get(id(r)) if label else None for r, label in renderers]
+    else:
+        drawn.legend = [None] * len(renderers)
+    return drawn
+
+
+def update_figure(drawn: Drawn, spec: PlotSpec) -> bool:
+    """Put ``spec`` into the figure of ``drawn`` if its structure is the same (new data, labels,
+    title, ranges); ``False`` when the figure must be rebuilt."""
+    from bokeh.core.property.vectorization import value
+
+    if _structure(spec) != drawn.structure:
+        return False
+    p = drawn.figure
+    slots = _slots(spec)
+    for src, item, (_, data, label) in zip(drawn.sources, drawn.legend, slots, strict=True):
+        src.data = data
+        if item is not None and label is not None and getattr(item.label, "value", None) != label:
+            item.label = value(label)
+    p.title.text = spec.title
+    if spec.images:
+        im = spec.images[0]
+        p.x_range.start, p.x_range.end = im.x0, im.x1
+        p.y_range.start, p.y_range.end = im.y0, im.y1
+        for mapper, img in zip(drawn.mappers, spec.images, strict=False):
+            mapper.low, mapper.high = _limits(np.asarray(img.z, float))
+    elif spec.y_range is not None:
+        p.y_range.start, p.y_range.end = spec.y_range
+    return True

@@ -1,0 +1,126 @@
+"""Pieces every view shares: a plot card (Bokeh figure + CSV/JSON/PNG/SVG downloads), number
+formatting, HTML tables of results."""
+
+from __future__ import annotations
+
+import html
+import io
+import math
+from collections.abc import Callable, Sequence
+from functools import partial
+from typing import Any
+
+import lazy_loader
+
+pn = lazy_loader.load("panel")
+
+from ..specs import PlotSpec, spec_csv, spec_json
+
+__all__ = ["PlotCard", "download", "fmt", "html_table", "num_span"]
+
+FORMATS = ("csv", "json", "png", "svg")
+
+
+def fmt(value: Any, digits: int = 4) -> str:
+    """A number for display (``-`` for None/NaN, ``inf`` spelled out)."""
+    if value is None:
+        return "-"
+    if isinstance(value, str):
+        return value
+    v = float(value)
+    if math.isnan(v):
+        return "-"
+    if math.isinf(v):
+        return "never (inf)" if v > 0 else "-inf"
+    return f"{v:.{digits}g}"
+
+
+def num_span(key: str, value: Any, unit: str = "", digits: int = 4) -> str:
+    """A number in the page with its full-precision value in ``data-value`` (read by tests and
+    scripts; what is shown is rounded)."""
+    raw = "" if value is None else repr(float(value)) if not isinstance(value, str) else value
+    text = fmt(value, digits) + (f" {unit}" if unit and value is not None and fmt(value) != "-" else "")
+    return f'<span class="fp-num" data-key="{html.escape(key)}" data-value="{html.escape(raw)}">{html.escape(text)}</span>'
+
+
+def html_table(columns: Sequence[tuple[str, str]], rows: Sequence[dict[str, Any]], css: str) -> str:
+    """An HTML table; ``columns``: (key, header); each cell carries ``data-key``/``data-value``."""
+    head = "".join(f"<th>{html.escape(h)}</th>" for _, h in columns)
+    body = []
+    for row in rows:
+        cells = []
+        for key, _ in columns:
+            v = row.get(key)
+            raw = "" if v is None else (repr(float(v)) if isinstance(v, (int, float)) and not isinstance(v, bool)
+                                        else str(v))
+            shown = fmt(v) if not isinstance(v, str) else v
+            cells.append(f'<td data-key="{html.escape(key)}" data-value="{html.escape(raw)}">{html.escape(shown)}</td>')
+        body.append("<tr>" + "".join(cells) + "</tr>")
+    style = ("<style>.fp-table{border-collapse:collapse;font-size:12px}.fp-table th,.fp-table td{border-bottom:1px "
+             "solid #ddd;padding:2px 6px;text-align:right;white-space:nowrap}.fp-table th{background:#f4f4f4}</style>")
+    return f'{style}<table class="fp-table {css}"><thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table>'
+
+
+def download(label: str, filename: str, make: Callable[[], bytes | str], css: str) -> Any:
+    """A download button whose file is made when clicked (in memory, nothing written on disk)."""
+
+    def callback() -> io.BytesIO:
+        data = make()
+        return io.BytesIO(data.encode("utf-8") if isinstance(data, str) else data)
+
+    return pn.widgets.FileDownload(callback=callback, filename=filename, label=label, button_type="light",
+                                   css_classes=[css], embed=False, width=70, height=30, margin=(0, 4))
+
+
+class PlotCard:
+    """A plot of the explorer: its Bokeh figure and downloads of its data and image."""
+
+    def __init__(self, key: str, height: int = 330, width: int | None = None) -> None:
+        self.key = key
+        self.height = height
+        self.width = width
+        self.spec: PlotSpec | None = None
+        self.drawn: Any = None
+        self.pane = pn.pane.Bokeh(None, sizing_mode="stretch_width" if width is None else "fixed",
+                                  css_classes=[f"fp-plot-{key}"], min_height=height)
+        self.note = pn.pane.HTML("", css_classes=[f"fp-plot-{key}-note"], visible=False,
+                                 styles={"color": "#666", "font-size": "12px"})
+        buttons = [download(f.upper(), f"fingerpad-{key}.{f}", partial(self._data, f), f"fp-dl-{key}-{f}")
+                   for f in FORMATS]
+        self.downloads = pn.Row(pn.pane.HTML("<span style='font-size:12px;color:#555'>download:</span>",
+                                             margin=(6, 4)), *buttons, visible=False)
+        self.panel = pn.Column(self.pane, self.note, self.downloads, sizing_mode="stretch_width",
+                               css_classes=["fp-card", f"fp-card-{key}"],
+                               styles={"border": "1px solid #e3e3e3", "border-radius": "4px"}, margin=(4, 4))
+
+    def _data(self, fmt_: str) -> bytes | str:
+        spec = self.spec
+        if spec is None:
+            return b""
+        if fmt_ == "csv":
+            return spec_csv(spec)
+        if fmt_ == "json":
+            return spec_json(spec)
+        from ..render_mpl import spec_image
+
+        return spec_image(spec, fmt_)
+
+    def set(self, spec: PlotSpec | None, note: str | None = None) -> None:
+        """Show ``spec`` (``None``: nothing, with ``note`` saying why). A spec of the same structure
+        as the one shown only replaces the figure's data."""
+        from ..render_bokeh import bokeh_figure, update_figure
+
+        self.spec = spec if spec is not None and not spec.empty else None
+        if self.spec is None:
+            self.pane.visible = False
+            self.downloads.visible = False
+        else:
+            with pn.io.unlocked():  # changes the figure's models directly (Panel dispatches them)
+                updated = self.drawn is not None and update_figure(self.drawn, self.spec)
+            if not updated:
+                self.drawn = bokeh_figure(self.spec, height=self.height, width=self.width)
+                self.pane.object = self.drawn.figure
+            self.pane.visible = True
+            self.downloads.visible = True
+        self.note.object = html.escape(note) if note else ""
+        self.note.visible = bool(note)

@@ -1,0 +1,246 @@
+"""The input form of the single-texture view: one widget per study value, a message beside it.
+
+Fields are built from the library's declarations: a texture family's :class:`~fingerpad.textures.Param`
+(kind, unit, doc, default, choices), the finger's :data:`~fingerpad.finger.FINGER_FIELDS` and
+presets. A field holds the text a user would type on the command line; :mod:`..inputs` turns the
+form into a study and routes the library's messages back to the fields.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import lazy_loader
+
+pn = lazy_loader.load("panel")
+
+from ...finger import FINGER_FIELDS, FINGER_PRESETS
+from ..inputs import FAMILY_EXAMPLES, FINGER_LABELS, field_label
+
+__all__ = ["Field", "Form", "css_name"]
+
+MEASURED = "measured map (upload)"
+_DIM_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "none": "-"}
+
+
+def css_name(fid: str) -> str:
+    """The CSS class of a field's widget, e.g. ``fp-field-texture-radius``."""
+    return "fp-field-" + fid.replace(".", "-").replace("_", "-")
+
+
+def _fmt_default(value: Any, dim: str) -> str:
+    from ...units import format_quantity
+
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        if dim in ("length", "pressure", "force"):
+            return format_quantity(float(value), dim).replace(" ", "")
+        return f"{value:g}"
+    return str(value)
+
+
+class Field:
+    """One input: a widget (text, choice or checkbox) and the message shown beside it."""
+
+    def __init__(self, fid: str, title: str, *, kind: str = "text", value: Any = "", options: Any = None,
+                 placeholder: str = "", doc: str = "") -> None:
+        self.fid = fid
+        css = css_name(fid)
+        if kind == "choice":
+            self.widget = pn.widgets.Select(name=title, options=list(options), value=value, css_classes=[css],
+                                            description=doc or None, sizing_mode="stretch_width")
+        elif kind == "bool":
+            self.widget = pn.widgets.Checkbox(name=title, value=bool(value), css_classes=[css])
+        else:
+            self.widget = pn.widgets.TextInput(name=title, value=str(value), placeholder=placeholder,
+                                               css_classes=[css], description=doc or None,
+                                               sizing_mode="stretch_width")
+        self.kind = kind
+        self.message = pn.pane.HTML("", css_classes=[css + "-msg", "fp-msg"], margin=(0, 10, 2, 10),
+                                    sizing_mode="stretch_width", visible=False)
+        self.panel = pn.Column(self.widget, self.message, margin=0, sizing_mode="stretch_width")
+
+    @property
+    def value(self) -> Any:
+        return self.widget.value
+
+    def set_value(self, value: Any) -> None:
+        if self.kind == "bool":
+            self.widget.value = bool(value) if not isinstance(value, str) else value.strip().lower() in (
+                "1", "true", "yes", "on")
+        elif self.kind == "choice":
+            text = str(value).strip().lower()
+            if text in self.widget.options:
+                self.widget.value = text
+        else:
+            self.widget.value = "" if value is None else str(value)
+
+    def show(self, text: str | None, warning: bool = False) -> None:
+        """Show ``text`` beside the field (red for an error, amber for a warning); ``None`` clears."""
+        import html
+
+        if not text:
+            self.message.object = ""
+            self.message.visible = False
+            return
+        colour = "#8a5a00" if warning else "#b00020"
+        kind = "warning" if warning else "error"
+        self.message.object = (f'<div class="fp-{kind}" style="color:{colour};font-size:12px;line-height:1.25">'
+                               f"{html.escape(text)}</div>")
+        self.message.visible = True
+
+
+class Form:
+    """All fields of the view, grouped in cards; the texture's own fields change with the family."""
+
+    def __init__(self) -> None:
+        from ...textures import registry
+
+        self.families = registry()
+        self.family = Field("texture.name", "texture family", kind="choice", value="caps",
+                            options=[*self.families, MEASURED],
+                            doc="generators of `fingerpad textures`; or a measured height map")
+        self.texture_fields: dict[str, Field] = {}
+        self.texture_box = pn.Column(margin=0, sizing_mode="stretch_width")
+        self.grid = Field("model.grid", "grid (points along x)", placeholder="automatic (by accuracy)",
+                          doc="grid of the BEM unit cell; empty: doubled until the estimated error of A_re/A_fr "
+                              "is below the accuracy")
+        self.material = {
+            "modulus": Field("material.modulus", "material modulus E_m (Pa)", value="0.5GPa",
+                             placeholder="rigid", doc="Young's modulus of the textured material, or 'rigid'"),
+            "poisson": Field("material.poisson", "material Poisson ratio (-)", value="0.4", placeholder="0.35"),
+        }
+        self.preset = Field("finger.preset", "finger preset", kind="choice", value="default",
+                            options=list(FINGER_PRESETS),
+                            doc="; ".join(f"{k}: {f.description}" for k, f in FINGER_PRESETS.items()))
+        self.finger = {k: Field(f"finger.{k}", f"{FINGER_LABELS[k]} ({_DIM_UNIT[dim]})", doc=f"overrides the preset's {k}")
+                       for k, dim in FINGER_FIELDS.items()}
+        self.loads = {
+            "range": Field("loads.range", "loads (N)", value="0.1N:4N:40", placeholder="0.1N:4N:40",
+                           doc="START:STOP:COUNT, or one load"),
+            "log": Field("loads.log", "log-spaced loads", kind="bool", value=True),
+            "zones_at": Field("loads.zones_at", "zone-map load (N)", placeholder="the largest load",
+                              doc="load of the zone map"),
+        }
+        self.model = {
+            "kind": Field("model.kind", "unit-cell model", kind="choice", value="both", options=["hertz", "bem", "both"],
+                          doc="hertz: per-asperity Hertz (Eqs. 3.1-3.6, live); bem: numerical unit cell (background)"),
+            "accuracy": Field("model.accuracy", "accuracy (-)", placeholder="0.02",
+                              doc="target of the estimated relative error of A_re/A_fr (automatic grid)"),
+        }
+        self.measured = {
+            "size": Field("texture.size", "map size LX[,LY] (m)", placeholder="from the file",
+                          doc="physical size of the map (bare files)"),
+            "pixel_size": Field("texture.pixel_size", "pixel size DX[,DY] (m)", doc="instead of the map size"),
+            "height_unit": Field("texture.height_unit", "height unit", placeholder="from the file",
+                                 doc="unit of the heights of a bare file (um, nm, m)"),
+            "periodize": Field("texture.periodize", "periodize (mirror into a periodic cell)", kind="bool", value=True),
+            "periodic": Field("texture.periodic", "the map is one period", kind="bool", value=False),
+            "fill_missing": Field("texture.fill_missing", "fill missing points", kind="bool", value=False),
+            "base_quantile": Field("texture.base_quantile", "base quantile (-)", placeholder="0.05"),
+        }
+        self.surface = Field("texture.surface", "measured map", placeholder="upload a file")
+        self.surface.widget.disabled = True
+        self.set_family("caps")
+        self._refresh_finger_placeholders()
+        self.preset.widget.param.watch(lambda e: self._refresh_finger_placeholders(), "value")
+
+    # ------------------------------------------------------------------ families
+
+    def set_family(self, name: str, values: Mapping[str, Any] | None = None) -> None:
+        """Show the fields of family ``name`` (its declared parameters), filled with ``values``
+        or the family's example values."""
+        self.texture_fields = {}
+        if name == MEASURED:
+            self.texture_fields = {"surface": self.surface, **self.measured}
+        else:
+            family = self.families[name]
+            examples = FAMILY_EXAMPLES.get(name, {}) if values is None else dict(values)
+            for p in family.user_params():
+                unit = p.unit if p.kind != "choice" else ""
+                title = f"{field_label('texture', p.name)}" + (f" ({unit})" if unit else "")
+                if p.kind == "choice":
+                    default = p.default if isinstance(p.default, str) else p.choices[0]
+                    f = Field(f"texture.{p.name}", title, kind="choice", options=list(p.choices),
+                              value=str(examples.get(p.name, default)).lower(), doc=p.doc)
+                else:
+                    if p.required:
+                        placeholder = "required"
+                    elif p.default is None:
+                        placeholder = "automatic"
+                    elif p.kind == "angle":
+                        placeholder = f"{math.degrees(p.default):g} deg"
+                    else:
+                        placeholder = _fmt_default(p.default, "length" if p.kind in ("length", "size") else "none")
+                    f = Field(f"texture.{p.name}", title, value=examples.get(p.name, ""), placeholder=placeholder,
+                              doc=p.doc + (" (a bare number is in degrees)" if p.kind == "angle" else ""))
+                self.texture_fields[p.name] = f
+        self.texture_box.objects = [f.panel for f in self.texture_fields.values()]
+
+    def _refresh_finger_placeholders(self) -> None:
+        finger = FINGER_PRESETS.get(self.preset.value)
+        if finger is None:
+            return
+        for key, f in self.finger.items():
+            f.widget.placeholder = f"{_fmt_default(getattr(finger, key), FINGER_FIELDS[key])} (preset)"
+
+    # ------------------------------------------------------------------ values
+
+    def all_fields(self) -> list[Field]:
+        return [self.family, *self.texture_fields.values(), self.grid, *self.material.values(), self.preset,
+                *self.finger.values(), *self.loads.values(), *self.model.values()]
+
+    def values(self) -> dict[str, Any]:
+        """``"section.key" -> value`` of every field shown (the input of :func:`..inputs.study_data`)."""
+        out: dict[str, Any] = {}
+        for f in self.all_fields():
+            if f is self.family:
+                if f.value != MEASURED:
+                    out["texture.name"] = f.value
+                continue
+            if f.kind == "bool" and f.fid in ("texture.periodize", "texture.periodic", "texture.fill_missing"):
+                if f.value:
+                    out[f.fid] = True
+                continue
+            out[f.fid] = f.value
+        return out
+
+    def load(self, data: Mapping[str, Mapping[str, Any]]) -> None:
+        """Fill the form from study sections (a pinned design, a design of the map)."""
+        tex = dict(data.get("texture", {}))
+        name = tex.pop("name", None)
+        if name is not None and name in self.families:
+            self.family.widget.value = name
+            self.set_family(name, {k: v for k, v in tex.items() if k != "grid"})
+        grid = data.get("model", {}).get("grid", tex.get("grid"))
+        self.grid.set_value("" if grid is None else grid)
+        mat = data.get("material", {})
+        self.material["modulus"].set_value(mat.get("modulus", "rigid"))
+        self.material["poisson"].set_value(mat.get("poisson", ""))
+        fin = data.get("finger", {})
+        self.preset.set_value(fin.get("preset", "default"))
+        for key, f in self.finger.items():
+            f.set_value(fin.get(key, ""))
+        loads = data.get("loads", {})
+        rng = loads.get("range", loads.get("values", "0.1N:4N:40"))
+        self.loads["range"].set_value(",".join(map(str, rng)) if isinstance(rng, list) else rng)
+        self.loads["log"].set_value(loads.get("log", True))
+        self.loads["zones_at"].set_value(loads.get("zones_at", ""))
+        model = data.get("model", {})
+        self.model["kind"].set_value(model.get("kind", "both"))
+        self.model["accuracy"].set_value(model.get("accuracy", ""))
+
+    def show_messages(self, errors: list[Any], warnings: list[Any]) -> list[Any]:
+        """Put each message beside its field; return those naming no field shown."""
+        by_field: dict[str, tuple[str, bool]] = {}
+        loose = []
+        for item in [*warnings, *errors]:  # errors win over warnings
+            if item.field is not None and any(f.fid == item.field for f in self.all_fields()):
+                by_field[item.field] = (item.message, item.warning)
+            else:
+                loose.append(item)
+        for f in self.all_fields():
+            text, warn = by_field.get(f.fid, (None, False))
+            f.show(text, warn)
+        return loose

@@ -1,0 +1,346 @@
+"""The design-map view (``fingerpad explore --sweep RESULTS.zarr``): the sweep's map over two
+axes, values on hover, a click opens the design in the single-texture view; the inverse-design
+form lists the designs meeting a target.
+
+The store is read through :mod:`..sweepdata` (the reading API of the sweep issue).
+"""
+
+from __future__ import annotations
+
+import csv
+import html
+import io
+import json
+import math
+from typing import Any
+
+import lazy_loader
+import numpy as np
+
+pn = lazy_loader.load("panel")
+
+from ...errors import FingerpadError, one_line
+from .. import sweepdata as sd
+from .common import download, fmt, html_table
+
+__all__ = ["MapView", "map_table"]
+
+_QUANTITIES = {"critical load (N)": "critical_load", "mu / mu_ref at the load": "mu_rel", "region": "region"}
+_NAMES = {v: k for k, v in _QUANTITIES.items()}
+_REGION_COLOURS = ("#f7c9c9", "#fde3c8", "#dbe9f6")
+
+
+def _edges(values: np.ndarray, log: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Cell edges around sorted centres (geometric midpoints on a log axis)."""
+    v = np.asarray(values, float)
+    if v.size == 1:
+        return (v / 1.5, v * 1.5) if log else (v - 0.5 * max(abs(v[0]), 1e-12), v + 0.5 * max(abs(v[0]), 1e-12))
+    mid = np.sqrt(v[1:] * v[:-1]) if log else 0.5 * (v[1:] + v[:-1])
+    first = v[0] ** 2 / mid[0] if log else 2 * v[0] - mid[0]
+    last = v[-1] ** 2 / mid[-1] if log else 2 * v[-1] - mid[-1]
+    return np.concatenate([[first], mid]), np.concatenate([mid, [last]])
+
+
+def map_table(md: Any, x: str, y: str) -> list[dict[str, Any]]:
+    """One row per design of a map (what the hover shows, what the downloads carry)."""
+    rows = []
+    grid = "point" not in md.dims
+    if grid:
+        xs, ys = np.asarray(md[x].values), np.asarray(md[y].values)
+        for j in range(ys.size):
+            for i in range(xs.size):
+                rows.append({"i": i, "j": j, x: xs[i].item(), y: ys[j].item(),
+                             **{k: _val(md[k].values[j, i]) for k in ("critical_load", "mu_rel", "region", "valid")},
+                             "reason": str(md["reason"].values[j, i]) if "reason" in md else ""})
+    else:
+        for n in range(md.sizes["point"]):
+            rows.append({"i": n, "j": n, x: _val(md[x].values[n]), y: _val(md[y].values[n]),
+                         **{k: _val(md[k].values[n]) for k in ("critical_load", "mu_rel", "region", "valid")},
+                         "reason": str(md["reason"].values[n]) if "reason" in md else ""})
+    return rows
+
+
+def _val(v: Any) -> Any:
+    return v.item() if isinstance(v, np.generic) else v
+
+
+class MapView:
+    """The design map of one sweep store."""
+
+    def __init__(self, app: Any, ds: Any, path: str) -> None:
+        self.app = app
+        self.ds = ds
+        self.path = path
+        self.axes = sd.sweep_axes(ds)
+        loads = np.asarray(ds["load"].values, float)
+        self.load_options = {f"{v:.4g} N": float(v) for v in loads}
+        at = sd.default_load(ds)
+        self.x = pn.widgets.Select(name="x axis", options=self.axes, value=self.axes[0], css_classes=["fp-map-x"])
+        self.y = pn.widgets.Select(name="y axis", options=self.axes, value=self.axes[1 % len(self.axes)],
+                                   css_classes=["fp-map-y"])
+        self.quantity = pn.widgets.Select(name="colour", options=_QUANTITIES, value="critical_load",
+                                          css_classes=["fp-map-quantity"])
+        self.at = pn.widgets.Select(name="load for mu / mu_ref", options=self.load_options, value=at,
+                                    css_classes=["fp-map-at"])
+        self.fixed = {a: pn.widgets.Select(name=f"{a} (fixed)", options=self._axis_options(a),
+                                           css_classes=[f"fp-map-fixed-{a}"]) for a in self.axes}
+        self.fixed_box = pn.Column(margin=0)
+        self.plot = pn.pane.Bokeh(None, css_classes=["fp-plot-design-map"], min_height=480, sizing_mode="stretch_width")
+        self.info = pn.pane.HTML("", css_classes=["fp-map-info"], sizing_mode="stretch_width")
+        self.message = pn.pane.HTML("", css_classes=["fp-map-message"], sizing_mode="stretch_width")
+        self.md: Any = None
+        self.rows: list[dict[str, Any]] = []
+        for w in (self.x, self.y, self.quantity, self.at, *self.fixed.values()):
+            w.param.watch(lambda e: self.redraw(), "value")
+        # inverse design
+        self.target = pn.widgets.TextInput(name="target mu / mu_ref", value="0.8", css_classes=["fp-inv-target"])
+        self.tolerance = pn.widgets.TextInput(name="tolerance (+/-)", value="0.05", css_classes=["fp-inv-tol"])
+        self.inv_at = pn.widgets.Select(name="at load", options=self.load_options, value=at, css_classes=["fp-inv-at"])
+        self.min_crit = pn.widgets.TextInput(name="minimum critical load (N)", value="", placeholder="none",
+                                             css_classes=["fp-inv-mincrit"])
+        self.find = pn.widgets.Button(name="Find designs", button_type="primary", css_classes=["fp-inv-find"])
+        self.candidates = pn.pane.HTML("", css_classes=["fp-inv-results"], sizing_mode="stretch_width")
+        self.pick = pn.widgets.Select(name="candidate", options={}, css_classes=["fp-inv-pick"])
+        self.open_pick = pn.widgets.Button(name="Open in the texture view", css_classes=["fp-inv-open"],
+                                           disabled=True)
+        self.find.on_click(lambda e: self.rank())
+        self.open_pick.on_click(lambda e: self.open_candidate())
+        self._candidates: list[dict[str, Any]] = []
+        downloads = pn.Row(pn.pane.HTML("<span style='font-size:12px'>download:</span>", margin=(6, 4)),
+                           download("CSV", "fingerpad-design-map.csv", self.csv, "fp-dl-design-map-csv"),
+                           download("JSON", "fingerpad-design-map.json", self.json, "fp-dl-design-map-json"),
+                           download("PNG", "fingerpad-design-map.png", lambda: self.image("png"),
+                                    "fp-dl-design-map-png"),
+                           download("SVG", "fingerpad-design-map.svg", lambda: self.image("svg"),
+                                    "fp-dl-design-map-svg"))
+        study = html.escape(str(ds.attrs.get("study", ""))[:400])
+        self.panel = pn.Row(
+            pn.Column(
+                pn.pane.HTML(f"<div style='font-size:12px'>sweep <code>{html.escape(path)}</code>, design "
+                             f"{html.escape(str(ds.attrs.get('design', '?')))}, axes {html.escape(', '.join(self.axes))}"
+                             f"<br>base study: <code>{study}</code></div>"),
+                self.x, self.y, self.quantity, self.at, self.fixed_box,
+                pn.pane.HTML("<h4 style='margin:8px 0 2px'>Inverse design</h4><div style='font-size:12px'>designs "
+                             "whose mu / mu_ref at the load is within the tolerance of the target</div>"),
+                self.target, self.tolerance, self.inv_at, self.min_crit, self.find, self.pick, self.open_pick,
+                width=320,
+            ),
+            pn.Column(self.message, self.plot, downloads, self.info, self.candidates, sizing_mode="stretch_width"),
+            sizing_mode="stretch_width", css_classes=["fp-map"],
+        )
+        self.redraw()
+
+    def _axis_options(self, name: str) -> dict[str, Any]:
+        info = sd.axis_info(self.ds, name)
+        vals = np.asarray(info["values"])
+        return {f"{fmt(v) if info['numeric'] else v} {info['units']}".strip(): _val(v) for v in vals}
+
+    # ------------------------------------------------------------------ the map
+
+    def redraw(self) -> None:
+        x, y = self.x.value, self.y.value
+        others = [a for a in self.axes if a not in (x, y)]
+        self.fixed_box.objects = [self.fixed[a] for a in others] if "point" not in self.ds.dims else []
+        try:
+            self.md = sd.map_data(self.ds, x, y, at=self.at.value,
+                                  select={a: self.fixed[a].value for a in others} if "point" not in self.ds.dims
+                                  else None)
+        except FingerpadError as exc:
+            self.message.object = f"<div class='fp-error' style='color:#b00020'>{html.escape(one_line(str(exc)))}</div>"
+            self.plot.object = None
+            return
+        self.message.object = ""
+        self.rows = map_table(self.md, x, y)
+        self.plot.object = self._figure()
+
+    def _figure(self) -> Any:
+        from bokeh.models import ColorBar, ColumnDataSource, HoverTool, LinearColorMapper, LogColorMapper, TapTool
+        from bokeh.palettes import Viridis256
+        from bokeh.plotting import figure
+
+        md, x, y, q = self.md, self.x.value, self.y.value, self.quantity.value
+        grid = "point" not in md.dims
+        xi, yi = sd.axis_info(self.ds, x), sd.axis_info(self.ds, y)
+        data: dict[str, list[Any]] = {k: [] for k in ("left", "right", "bottom", "top", "xc", "yc", "value", "crit",
+                                                      "mu", "region", "valid", "reason", "i", "j")}
+        xs = np.asarray(md[x].values)
+        ys = np.asarray(md[y].values)
+        xpos = xs.astype(float) if xi["numeric"] else np.arange(xs.size, dtype=float)
+        ypos = ys.astype(float) if yi["numeric"] else np.arange(ys.size, dtype=float)
+        xlog, ylog = xi["log"] and xi["numeric"], yi["log"] and yi["numeric"]
+        if grid:
+            xl, xr = _edges(xpos, xlog)
+            yb, yt = _edges(ypos, ylog)
+        for row in self.rows:
+            i, j = row["i"], row["j"]
+            if grid:
+                data["left"].append(xl[i]), data["right"].append(xr[i])
+                data["bottom"].append(yb[j]), data["top"].append(yt[j])
+                data["xc"].append(xpos[i]), data["yc"].append(ypos[j])
+            else:
+                data["xc"].append(float(row[x])), data["yc"].append(float(row[y]))
+                for k in ("left", "right", "bottom", "top"):
+                    data[k].append(math.nan)
+            v = row[q]
+            data["value"].append(math.nan if v is None else float(v))
+            data["crit"].append(fmt(row["critical_load"]))
+            data["mu"].append(fmt(row["mu_rel"]))
+            data["region"].append(sd.REGIONS.get(int(row["region"]), "-") if row["region"] is not None and
+                                  not math.isnan(float(row["region"])) else "-")
+            data["valid"].append("yes" if row["valid"] else f"no: {row['reason']}")
+            data["reason"].append(row["reason"])
+            data["i"].append(i), data["j"].append(j)
+        data["xlabel"] = [fmt(r[x]) if xi["numeric"] else str(r[x]) for r in self.rows]
+        data["ylabel"] = [fmt(r[y]) if yi["numeric"] else str(r[y]) for r in self.rows]
+        src = ColumnDataSource(data)
+        vals = np.asarray(data["value"], float)
+        fin = vals[np.isfinite(vals)]
+        if q == "region":
+            mapper = LinearColorMapper(palette=list(_REGION_COLOURS), low=-0.5, high=2.5, nan_color="#dddddd")
+        elif q == "critical_load" and fin.size and fin.min() > 0:
+            mapper = LogColorMapper(palette=Viridis256, low=float(fin.min()), high=float(max(fin.max(), fin.min() * 1.01)),
+                                    nan_color="#dddddd")
+        else:
+            lo, hi = (float(fin.min()), float(fin.max())) if fin.size else (0.0, 1.0)
+            mapper = LinearColorMapper(palette=Viridis256, low=lo, high=hi if hi > lo else lo + 1, nan_color="#dddddd")
+        p = figure(name="design-map", height=480, sizing_mode="stretch_width",
+                   x_axis_type="log" if xlog else "linear", y_axis_type="log" if ylog else "linear",
+                   x_axis_label=f"{x} ({xi['units']})", y_axis_label=f"{y} ({yi['units']})",
+                   title=f"design map: {_NAMES[q]} (mu / mu_ref at {md.attrs['at']:.4g} N); click a design to open it",
+                   tools="pan,wheel_zoom,box_zoom,reset,save,tap")
+        p.toolbar.logo = None
+        fill = {"field": "value", "transform": mapper}
+        if grid:
+            r = p.quad(left="left", right="right", bottom="bottom", top="top", source=src, fill_color=fill,
+                       line_color="white", line_width=0.5, selection_line_color="black", selection_line_width=2,
+                       nonselection_fill_alpha=0.8)
+        else:
+            r = p.scatter("xc", "yc", source=src, size=14, fill_color=fill, line_color="black",
+                          nonselection_fill_alpha=0.8)
+        if not xi["numeric"]:
+            p.xaxis.ticker = list(range(xs.size))
+            p.xaxis.major_label_overrides = {k: str(v) for k, v in enumerate(xs)}
+        if not yi["numeric"]:
+            p.yaxis.ticker = list(range(ys.size))
+            p.yaxis.major_label_overrides = {k: str(v) for k, v in enumerate(ys)}
+        p.add_tools(HoverTool(renderers=[r], tooltips=[(x, "@xlabel"), (y, "@ylabel"), ("critical load (N)", "@crit"),
+                                                        ("mu / mu_ref", "@mu"), ("region", "@region"),
+                                                        ("valid", "@valid")]))
+        p.select_one(TapTool).renderers = [r]
+        p.add_layout(ColorBar(color_mapper=mapper, title=q, width=12), "right")
+        src.selected.on_change("indices", self._tapped)
+        return p
+
+    def _tapped(self, attr: str, old: Any, new: Any) -> None:
+        if not new:
+            return
+        row = self.rows[int(new[0])]
+        self.open_row(row)
+
+    def _index(self, row: dict[str, Any]) -> Any:
+        if "point" in self.ds.dims:
+            return int(row["i"])
+        x, y = self.x.value, self.y.value
+        index = {}
+        for a in self.axes:
+            values = list(np.asarray(self.ds[a].values))
+            if a == x:
+                index[a] = values.index(row[x]) if row[x] in values else int(row["i"])
+            elif a == y:
+                index[a] = values.index(row[y]) if row[y] in values else int(row["j"])
+            else:
+                index[a] = values.index(self.fixed[a].value)
+        return index
+
+    def open_row(self, row: dict[str, Any]) -> None:
+        values = sd.design_values(self.ds, self._index(row))
+        self.open_values(values, row.get("critical_load"), row.get("mu_rel"))
+
+    def open_values(self, values: dict[str, Any], crit: Any = None, mu: Any = None) -> None:
+        data = sd.design_data(self.ds, values)
+        self.info.object = (f"<div class='fp-map-opened' style='font-size:12px'>opened "
+                            f"{html.escape(', '.join(f'{k} = {v}' for k, v in values.items()))} "
+                            f"(critical load {fmt(crit)} N, mu/mu_ref {fmt(mu)}) in the texture view</div>")
+        self.app.open_design(data)
+
+    # ------------------------------------------------------------------ inverse design
+
+    def rank(self) -> None:
+        from ...study.values import quantity
+
+        try:
+            target = quantity(self.target.value, "none", "target mu / mu_ref")
+            tol = quantity(self.tolerance.value, "none", "tolerance")
+            mc = self.min_crit.value.strip()
+            min_crit = quantity(mc, "force", "minimum critical load") if mc else None
+            if tol < 0:
+                raise FingerpadError("tolerance: must not be negative")
+            found = sd.rank_sweep(self.ds, {"mu_rel": target, "at": self.inv_at.value, "tolerance": tol},
+                                  min_critical_load=min_crit)
+        except FingerpadError as exc:
+            self.candidates.object = f"<div class='fp-error' style='color:#b00020'>{html.escape(one_line(str(exc)))}</div>"
+            return
+        self._candidates = found
+        if not found:
+            self.candidates.object = "<div class='fp-inv-none'>no design of the sweep meets the target</div>"
+            self.pick.options, self.open_pick.disabled = {}, True
+            return
+        cols = [("rank", "#"), *((a, a) for a in self.axes), ("critical_load", "critical load (N)"),
+                ("mu_rel", f"mu/mu_ref at {found[0]['at']:.4g} N")]
+        rows = [{"rank": str(k + 1), **c} for k, c in enumerate(found)]
+        self.candidates.object = f"<div style='font-size:12px'>{len(found)} candidate(s), best first</div>" + \
+            html_table(cols, rows, "fp-inv-table")
+        self.pick.options = {f"#{k + 1}: " + ", ".join(f"{a}={fmt(c[a]) if not isinstance(c[a], str) else c[a]}"
+                                                        for a in self.axes): k for k, c in enumerate(found)}
+        self.pick.value = 0
+        self.open_pick.disabled = False
+
+    def open_candidate(self) -> None:
+        if not self._candidates or self.pick.value is None:
+            return
+        c = self._candidates[int(self.pick.value)]
+        self.open_values({a: c[a] for a in self.axes}, c["critical_load"], c["mu_rel"])
+
+    # ------------------------------------------------------------------ downloads
+
+    def csv(self) -> str:
+        out = io.StringIO()
+        x, y = self.x.value, self.y.value
+        cols = [x, y, "critical_load", "mu_rel", "region", "valid", "reason"]
+        w = csv.writer(out, lineterminator="\n")
+        w.writerow([f"{x} ({sd.axis_info(self.ds, x)['units']})", f"{y} ({sd.axis_info(self.ds, y)['units']})",
+                    "critical_load_N", f"mu_rel_at_{self.md.attrs['at']:.6g}N", "region", "valid", "reason"])
+        for r in self.rows:
+            w.writerow(["" if r[c] is None else repr(r[c]) if isinstance(r[c], float) else r[c] for c in cols])
+        return out.getvalue()
+
+    def json(self) -> str:
+        payload = {"sweep": self.path, "x": self.x.value, "y": self.y.value, "at_N": self.md.attrs["at"],
+                   "regions": sd.REGIONS, "designs": self.rows}
+        return json.dumps(payload, indent=1, default=lambda v: None if isinstance(v, float) and math.isnan(v) else
+                          _val(v)) + "\n"
+
+    def image(self, fmt_: str) -> bytes:
+        from matplotlib.figure import Figure
+
+        md, x, y, q = self.md, self.x.value, self.y.value, self.quantity.value
+        fig = Figure(figsize=(7, 5.2))
+        ax = fig.subplots()
+        if "point" not in md.dims and sd.axis_info(self.ds, x)["numeric"] and sd.axis_info(self.ds, y)["numeric"]:
+            art = ax.pcolormesh(np.asarray(md[x].values, float), np.asarray(md[y].values, float),
+                                np.asarray(md[q].values, float), shading="nearest")
+        else:
+            art = ax.scatter([float(r[x]) if not isinstance(r[x], str) else r["i"] for r in self.rows],
+                             [float(r[y]) if not isinstance(r[y], str) else r["j"] for r in self.rows],
+                             c=[math.nan if r[q] is None else r[q] for r in self.rows], s=80)
+        fig.colorbar(art, ax=ax, label=q)
+        if sd.axis_info(self.ds, x)["log"]:
+            ax.set_xscale("log")
+        if sd.axis_info(self.ds, y)["log"]:
+            ax.set_yscale("log")
+        ax.set_xlabel(f"{x} ({sd.axis_info(self.ds, x)['units']})")
+        ax.set_ylabel(f"{y} ({sd.axis_info(self.ds, y)['units']})")
+        ax.set_title(f"design map: {q} (mu/mu_ref at {md.attrs['at']:.4g} N)", fontsize="small")
+        buf = io.BytesIO()
+        fig.savefig(buf, format=fmt_, dpi=130)
+        return buf.getvalue()

@@ -1,0 +1,447 @@
+"""The single-texture view: a texture, its materials, finger and loads in; the model's curves out.
+
+Every change of a field rebuilds the study from the form and validates it with the library
+(:func:`..inputs.validate`); messages appear beside the fields. The per-asperity Hertz model
+updates at once; the BEM unit cell runs as a background :class:`..jobs.Job` (progress bar,
+cancel) through the on-disk cache, and a design seen before shows at once. The contact map at a
+chosen pressure is one :class:`~fingerpad.contact.HalfSpaceSolver` solve, in a worker thread.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import copy
+import csv
+import html
+import io
+import json
+from typing import Any
+
+import lazy_loader
+
+pn = lazy_loader.load("panel")
+
+from ...errors import FingerpadError, one_line
+from .. import builders
+from ..inputs import data_key, study_data, to_toml, validate
+from ..jobs import Job, contact_at, run_data
+from .common import PlotCard, download, html_table, num_span
+from .fields import MEASURED, Field, Form
+from .upload import Upload
+
+__all__ = ["SingleView"]
+
+_RESULT_COLUMNS = (
+    ("load", "load F (N)"), ("gross_area", "A_g (m²)"), ("ridge_area", "A_fr (m²)"), ("real_area", "A_re (m²)"),
+    ("area_ratio", "A_re/A_fr"), ("transition_radius", "r_trans (m)"), ("full_contact_radius", "r_full (m)"),
+    ("mu", "μ"), ("mu_ref", "μ_ref"), ("mu_normalised", "μ/μ_ref"), ("contact_state", "centre"),
+)
+
+
+def _with_kind(data: dict[str, Any], kind: str) -> dict[str, Any]:
+    out = copy.deepcopy(data)
+    out.setdefault("model", {})["kind"] = kind
+    return out
+
+
+class SingleView:
+    """The single-texture view of one browser session."""
+
+    def __init__(self, app: Any) -> None:
+        self.app = app
+        self.form = Form()
+        self.upload = Upload(app.upload_dir, app.max_upload_bytes, self._on_upload)
+        self.data: dict[str, Any] | None = None  # the last valid inputs
+        self.shown_data: dict[str, Any] | None = None  # the study of the results shown
+        self.pred: Any = None
+        self.texture: Any = None
+        self.job: Job | None = None
+        self._contact_token: object | None = None
+        self._loading = False
+        self.doc = pn.state.curdoc  # the session's document: async work changes it on its next tick
+
+        self.form_error = pn.pane.HTML("", css_classes=["fp-form-error"], visible=False, sizing_mode="stretch_width")
+        self.status = pn.pane.HTML("", css_classes=["fp-status"], sizing_mode="stretch_width")
+        self.summary = pn.pane.HTML("", css_classes=["fp-summary"], sizing_mode="stretch_width")
+        self.notes = pn.pane.HTML("", css_classes=["fp-notes"], sizing_mode="stretch_width")
+        self.table = pn.pane.HTML("", css_classes=["fp-results-pane"], sizing_mode="stretch_width",
+                                  styles={"overflow-x": "auto", "max-height": "420px", "overflow-y": "auto"})
+        self.run_button = pn.widgets.Button(name="Run BEM", button_type="primary", css_classes=["fp-run-bem"],
+                                            width=110)
+        self.cancel_button = pn.widgets.Button(name="Cancel", button_type="warning", css_classes=["fp-cancel-bem"],
+                                               width=90, disabled=True)
+        self.auto_bem = pn.widgets.Checkbox(name="run the BEM on every change", value=False,
+                                            css_classes=["fp-auto-bem"])
+        self.progress = pn.indicators.Progress(value=0, max=100, width=220, visible=False,
+                                               css_classes=["fp-progress"], bar_color="primary")
+        self.job_status = pn.pane.HTML("", css_classes=["fp-job-status"], sizing_mode="stretch_width")
+        self.pin_button = pn.widgets.Button(name="Pin for comparison", button_type="default",
+                                            css_classes=["fp-pin"], width=160)
+        self.pressure = Field("view.pressure", "contact-map pressure (Pa)",
+                              placeholder="centre pressure at the zone load",
+                              doc="mean nominal pressure on the unit cell for the contact and pressure maps")
+        self.run_button.on_click(lambda e: self.start_bem())
+        self.cancel_button.on_click(lambda e: self.cancel_bem())
+        self.pin_button.on_click(lambda e: self.pin())
+
+        self.cards = {k: PlotCard(k, height=h) for k, h in (
+            ("areas", 330), ("friction", 330), ("friction-normalised", 330), ("psi", 330), ("height-map", 360),
+            ("pressure-map", 360), ("contact-map", 360), ("zones", 330), ("zone-profile", 330))}
+        self.exports = pn.Row(
+            pn.pane.HTML("<b style='font-size:12px'>export:</b>", margin=(6, 4)),
+            download("study TOML", "fingerpad-study.toml", self.export_toml, "fp-export-toml"),
+            download("results JSON", "fingerpad-predict.json", self.export_json, "fp-export-json"),
+            download("results CSV", "fingerpad-predict.csv", self.export_csv, "fp-export-csv"),
+        )
+        for w in self.exports.objects[1:]:
+            w.width = 120
+        self._watch_form()
+        self.panel = self._layout()
+        self.refresh()
+
+    # ------------------------------------------------------------------ layout
+
+    def _card(self, title: str, *items: Any) -> Any:
+        return pn.Card(*items, title=title, collapsible=True, sizing_mode="stretch_width", margin=(4, 0))
+
+    def _layout(self) -> Any:
+        f = self.form
+        texture_card = self._card("Texture", f.family.panel, f.texture_box, self.upload.panel, f.grid.panel)
+        inputs = pn.Column(
+            self.form_error,
+            texture_card,
+            self._card("Counter-surface material", *(x.panel for x in f.material.values())),
+            self._card("Finger", f.preset.panel, *(x.panel for x in f.finger.values())),
+            self._card("Loads", *(x.panel for x in f.loads.values())),
+            self._card("Model", *(x.panel for x in f.model.values())),
+            width=340, css_classes=["fp-inputs"], styles={"overflow-y": "auto"}, margin=(0, 8, 0, 0),
+        )
+        bem = pn.Row(self.run_button, self.cancel_button, self.progress, self.job_status, self.auto_bem,
+                     sizing_mode="stretch_width", css_classes=["fp-bem-bar"])
+        c = self.cards
+        results = pn.Column(
+            self.status, bem, self.summary, pn.Row(self.pin_button, self.exports), self.notes,
+            pn.GridBox(c["areas"].panel, c["friction"].panel, c["friction-normalised"].panel, c["psi"].panel,
+                       ncols=2, sizing_mode="stretch_width"),
+            pn.pane.HTML("<h4 style='margin:6px 0'>Unit cell</h4>"),
+            pn.Row(self.pressure.panel, width=340),
+            pn.GridBox(c["height-map"].panel, c["pressure-map"].panel, c["contact-map"].panel, ncols=3,
+                       sizing_mode="stretch_width"),
+            pn.pane.HTML("<h4 style='margin:6px 0'>Contact zones of the ridge disc</h4>"),
+            pn.GridBox(c["zones"].panel, c["zone-profile"].panel, ncols=2, sizing_mode="stretch_width"),
+            pn.pane.HTML("<h4 style='margin:6px 0'>Numbers (as <code>fingerpad predict</code>)</h4>"),
+            self.table,
+            sizing_mode="stretch_width",
+        )
+        return pn.Row(inputs, results, sizing_mode="stretch_width", css_classes=["fp-single"])
+
+    def _watch_form(self) -> None:
+        def changed(event: Any) -> None:
+            if not self._loading:
+                self.refresh()
+
+        def family_changed(event: Any) -> None:
+            if self._loading:
+                return
+            self.form.set_family(event.new)
+            self.upload.panel.visible = event.new == MEASURED
+            for fl in self.form.texture_fields.values():
+                fl.widget.param.watch(changed, "value")
+            self.refresh()
+
+        self.form.family.widget.param.watch(family_changed, "value")
+        self.upload.panel.visible = False
+        for fl in self.form.all_fields():
+            if fl is not self.form.family:
+                fl.widget.param.watch(changed, "value")
+        for fl in self.form.measured.values():
+            fl.widget.param.watch(changed, "value")
+        self.pressure.widget.param.watch(lambda e: pn.state.execute(self._update_contact), "value")
+
+    # ------------------------------------------------------------------ inputs
+
+    def load_data(self, data: dict[str, Any]) -> None:
+        """Show the design of study sections ``data`` (from a pin or the design map)."""
+        self._loading = True
+        try:
+            self.form.load(data)
+            for fl in self.form.texture_fields.values():
+                fl.widget.param.watch(lambda e: None if self._loading else self.refresh(), "value")
+            self.upload.panel.visible = self.form.family.value == MEASURED
+        finally:
+            self._loading = False
+        self.refresh()
+
+    def _on_upload(self, path: str | None, message: str | None) -> None:
+        self.form.surface.set_value(path or "")
+        self.form.surface.show(message, warning=path is not None)
+        self.refresh()
+
+    def current_data(self) -> dict[str, Any]:
+        return study_data(self.form.values())
+
+    # ------------------------------------------------------------------ computing
+
+    def refresh(self) -> None:
+        """Rebuild and check the study from the form; show what is known for it."""
+        data = self.current_data()
+        check = validate(data)
+        loose = self.form.show_messages(check.errors, check.warnings)
+        errors = [e for e in loose if not e.warning]
+        warns = [e for e in loose if e.warning]
+        self.form_error.object = "".join(
+            f'<div class="fp-{"warning" if e.warning else "error"}" style="color:{"#8a5a00" if e.warning else "#b00020"};'
+            f'font-size:12px">{html.escape(e.message)}</div>' for e in [*errors, *warns])
+        self.form_error.visible = bool(errors or warns)
+        if not check.ok:
+            self.data = None
+            self.run_button.disabled = True
+            self.status.object = ('<div class="fp-stale" style="background:#fff3cd;padding:4px 8px">Fix the inputs '
+                                  'marked in red; the plots show the last valid design.</div>')
+            return
+        self.data = data
+        self.run_button.disabled = self.job is not None and not self.job.finished
+        self.texture = check.study.build_texture()
+        kind = data.get("model", {}).get("kind", "both")
+        pred, shown, pending = None, None, False
+        try:
+            if kind == "hertz":
+                pred = self._hertz(data)
+                shown = data
+            else:
+                pred = self.app.memo.get(data)
+                shown = data if pred is not None else None
+                if pred is None:
+                    pending = True
+                    if kind == "both" and self._supports_hertz():
+                        shown = _with_kind(data, "hertz")
+                        pred = self._hertz(shown)
+        except FingerpadError as exc:
+            self.status.object = f'<div class="fp-error" style="color:#b00020">{html.escape(one_line(str(exc)))}</div>'
+            return
+        self.show(pred, shown, pending)
+        if pending and self.auto_bem.value:
+            self.start_bem()
+
+    def _supports_hertz(self) -> bool:
+        from ...micro.hertz import supports_hertz
+
+        return self.texture is not None and supports_hertz(self.texture)
+
+    def _hertz(self, data: dict[str, Any]) -> Any:
+        pred = self.app.memo.get(data)
+        if pred is None:
+            pred = run_data(data)
+            self.app.memo.put(data, pred)
+        return pred
+
+    def start_bem(self) -> None:
+        """Run the BEM study of the current inputs in the background (a running job is cancelled)."""
+        if self.data is None:
+            return
+        data = self.data if self.data.get("model", {}).get("kind") != "hertz" else _with_kind(self.data, "both")
+        if self.job is not None and not self.job.finished:
+            self.job.cancel()
+        self.job = Job(data, self.app.memo)
+        self.progress.value, self.progress.visible = 0, True
+        self.cancel_button.disabled, self.run_button.disabled = False, True
+        self.job_status.object = '<span class="fp-job-running">BEM unit cell: starting...</span>'
+        pn.state.execute(self._watch_job)
+
+    def cancel_bem(self) -> None:
+        if self.job is not None and not self.job.finished:
+            self.job.cancel()
+            self.job_status.object = '<span class="fp-job-cancelling">cancelling after the current solve...</span>'
+
+    async def _watch_job(self) -> None:
+        job = self.job
+        while job is not None and not job.finished:
+            if job is not self.job:
+                return
+            if not job.cancelling:
+                self.progress.value = int(100 * job.fraction)
+                self.job_status.object = (f'<span class="fp-job-running">BEM unit cell: {job.done} / {job.total} '
+                                          f"solves, {job.seconds or 0:.0f} s</span>" if job.total else
+                                          '<span class="fp-job-running">BEM unit cell: preparing...</span>')
+            await asyncio.sleep(0.25)
+        if job is None or job is not self.job:
+            return
+        self._locked(lambda: self._job_finished(job))
+
+    def _locked(self, fn: Any) -> None:
+        """Run ``fn`` holding the document's lock (from async work: on the document's next tick)."""
+        if self.doc is not None and self.doc.session_context is not None:
+            self.doc.add_next_tick_callback(fn)
+        else:
+            fn()
+
+    def _job_finished(self, job: Job) -> None:
+        self.progress.visible = False
+        self.cancel_button.disabled = True
+        self.run_button.disabled = self.data is None
+        if job.state == "done":
+            solves = job.result.resolution["solves"] if job.result.resolution else 0
+            self.job_status.object = (f'<span class="fp-job-done">BEM done in {job.seconds:.1f} s '
+                                      f"({solves} solves{', from the cache' if solves == 0 else ''})</span>")
+            if self.data is not None and data_key(job.data) == data_key(
+                    self.data if self.data.get("model", {}).get("kind") != "hertz" else _with_kind(self.data, "both")):
+                self.show(job.result, job.data, False)
+        elif job.state == "cancelled":
+            self.job_status.object = '<span class="fp-job-cancelled">BEM cancelled</span>'
+        else:
+            self.job_status.object = f'<span class="fp-job-failed" style="color:#b00020">BEM failed: ' \
+                                     f"{html.escape(job.error or '')}</span>"
+
+    # ------------------------------------------------------------------ showing
+
+    def show(self, pred: Any, shown: dict[str, Any] | None, pending: bool) -> None:
+        self.pred, self.shown_data = pred, shown
+        kind = (self.data or {}).get("model", {}).get("kind", "both")
+        if pending:
+            what = "BEM not computed for these inputs: press Run BEM (the curves shown are Hertz's)" \
+                if pred is not None else "BEM not computed for these inputs: press Run BEM"
+            self.status.object = f'<div class="fp-pending" style="background:#e8f0fe;padding:4px 8px">{what}</div>'
+        else:
+            self.status.object = (f'<div class="fp-current" style="background:#e6f4ea;padding:4px 8px">showing: '
+                                  f"model {html.escape(pred.primary_model if pred else kind)} for the inputs on the "
+                                  "left</div>")
+        self.pin_button.disabled = pred is None
+        self.cards["height-map"].set(builders.height_map_spec(pred.texture if pred is not None and pred.cell
+                                                              is not None else self.texture))
+        if pred is None:
+            for key in ("areas", "friction", "friction-normalised", "psi", "zones", "zone-profile"):
+                self.cards[key].set(None, "run the BEM to see this plot")
+            self.summary.object = ""
+            self.table.object = ""
+            self.notes.object = ""
+        else:
+            self.cards["areas"].set(builders.areas_spec(pred))
+            mu, norm = builders.friction_specs(pred)
+            self.cards["friction"].set(mu)
+            self.cards["friction-normalised"].set(norm)
+            self.cards["psi"].set(builders.psi_spec(pred, self._contact_pressure()))
+            zones, profile = builders.zone_specs(pred)
+            self.cards["zones"].set(zones)
+            self.cards["zone-profile"].set(profile)
+            self._show_numbers(pred)
+        pn.state.execute(self._update_contact)
+
+    def _show_numbers(self, pred: Any) -> None:
+        from ...study.outputs import prediction_json
+
+        payload = prediction_json(pred)
+        crit, full = payload["critical_load"], payload["full_contact_load"]
+        parts = [f"<b>shown model:</b> {html.escape(payload['model'])}",
+                 f"E1* = {num_span('reduced_modulus', payload['inputs']['reduced_modulus'], 'Pa')}"]
+        for model in ("bem", "hertz"):
+            if crit.get(model) is not None:
+                parts.append(f"critical load ({model}) = {num_span('critical_load_' + model, crit[model], 'N')}")
+        if full.get("bem") is not None:
+            parts.append(f"full contact from = {num_span('full_contact_load_bem', full['bem'], 'N')}")
+        res = (payload.get("cell") or {}).get("resolution")
+        if res and res.get("area_ratio_error") is not None:
+            parts.append(f"grid {'x'.join(map(str, res['grid']))} px, estimated error of A_re/A_fr "
+                         f"{num_span('area_ratio_error', 100 * res['area_ratio_error'], '%', 2)}")
+        z = payload["zones"]
+        parts.append(f"at {num_span('zones_load', z['load'], 'N')}: A_re/A_fr = "
+                     f"{num_span('zones_area_ratio', z['area_ratio'])}, centre {html.escape(z['contact_state'])}")
+        self.summary.object = '<div style="font-size:13px;line-height:1.6">' + " &middot; ".join(parts) + "</div>"
+        self.notes.object = "".join(f'<div style="font-size:12px;color:#555">note: {html.escape(n)}</div>'
+                                    for n in payload["notes"])
+        self.table.object = html_table(_RESULT_COLUMNS, payload["results"], "fp-results")
+
+    def _contact_pressure(self) -> float | None:
+        """The pressure of the contact map: the field's value, else the centre pressure at the zone load."""
+        from ...study.values import quantity
+
+        text = str(self.pressure.value).strip()
+        if text:
+            try:
+                p = quantity(text, "pressure", "contact-map pressure")
+                if p <= 0:
+                    raise FingerpadError(f"contact-map pressure: must be positive, got {text!r}")
+            except FingerpadError as exc:
+                self.pressure.show(one_line(str(exc)))
+                return None
+            self.pressure.show(None)
+            return p
+        self.pressure.show(None)
+        if self.pred is not None:
+            return float(self.pred.zones["peak_pressure"])
+        return None
+
+    async def _update_contact(self) -> None:
+        token = object()
+        self._contact_token = token
+        pred = self.pred
+        pressure = self._contact_pressure()
+        if pressure is None or self.data is None:
+            def clear() -> None:
+                for key in ("pressure-map", "contact-map"):
+                    self.cards[key].set(None, "give a valid contact-map pressure" if self.data else None)
+
+            self._locked(clear)
+            return
+        texture = pred.texture if pred is not None and pred.cell is not None else self.texture
+        study = validate(self.data, check=False).study
+        if texture is None or study is None or not texture.periodic:
+            return
+        e1 = study.reduced_modulus
+        loop = asyncio.get_running_loop()
+        try:
+            res = await loop.run_in_executor(None, lambda: contact_at(texture, e1, pressure, tol=study.tol,
+                                                                      max_iter=study.max_iter))
+        except FingerpadError as exc:
+            if self._contact_token is token:
+                self.pressure.show(one_line(str(exc)))
+            return
+        if self._contact_token is not token:
+            return
+
+        def apply() -> None:
+            if self._contact_token is not token:
+                return
+            pmap, cmap = builders.contact_specs(res)
+            self.cards["pressure-map"].set(pmap)
+            self.cards["contact-map"].set(cmap)
+            if self.pred is not None:
+                self.cards["psi"].set(builders.psi_spec(self.pred, pressure))
+
+        self._locked(apply)
+
+    # ------------------------------------------------------------------ pins and exports
+
+    def pin(self) -> None:
+        if self.pred is not None and self.shown_data is not None:
+            self.app.pin(self.shown_data, self.pred)
+
+    def export_toml(self) -> str:
+        if self.shown_data is None:
+            return "# nothing to export: the inputs are not valid\n"
+        data = self.shown_data
+        header = None
+        tex = data.get("texture", {})
+        if "surface" in tex:
+            data = copy.deepcopy(data)
+            data["texture"]["surface"] = self.upload.original_name or "map"
+            header = (f"the measured map was uploaded as {self.upload.original_name!r}: "
+                      "put that file beside this study file")
+        return to_toml(data, header=header)
+
+    def export_json(self) -> str:
+        from ...study.outputs import prediction_json
+
+        if self.pred is None:
+            return "{}\n"
+        return json.dumps(prediction_json(self.pred), indent=2) + "\n"
+
+    def export_csv(self) -> str:
+        from ...study.outputs import CSV_COLUMNS, prediction_rows
+
+        if self.pred is None:
+            return ""
+        out = io.StringIO()
+        writer = csv.DictWriter(out, fieldnames=[h for _, h in CSV_COLUMNS], lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(prediction_rows(self.pred))
+        return out.getvalue()

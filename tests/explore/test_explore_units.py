@@ -1,0 +1,293 @@
+"""The explorer's parts that need no browser: the form as a study (the CLI's validation), study
+files that `fingerpad predict` reproduces, plot data, background jobs, uploads, the sweep adapter,
+the command line."""
+
+from __future__ import annotations
+
+import copy
+import csv
+import io
+import json
+import math
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from fingerpad.cli import app
+from fingerpad.explore import builders
+from fingerpad.explore.inputs import study_data, to_toml, validate
+from fingerpad.explore.jobs import Job, Memo, contact_at, run_data
+from fingerpad.explore.specs import spec_csv, spec_json
+from fingerpad.study.spec import DEFAULT_STUDY, study_from_dict
+
+runner = CliRunner()
+HERTZ = {**copy.deepcopy(DEFAULT_STUDY), "model": {"kind": "hertz"}}
+
+
+def form(**over: str) -> dict:
+    values = {"texture.name": "caps", "texture.radius": "100um", "texture.height": "20um",
+              "texture.spacing": "175um", "texture.lattice": "hexagonal", "model.grid": "",
+              "material.modulus": "0.5GPa", "material.poisson": "0.4", "finger.preset": "default",
+              "finger.skin_modulus": "", "loads.range": "0.1N:4N:40", "loads.log": True, "loads.zones_at": "",
+              "model.kind": "hertz", "model.accuracy": ""}
+    values.update(over)
+    return values
+
+
+def test_form_is_the_study_the_cli_reads():
+    data = study_data(form())
+    assert data == HERTZ | {"material": {"modulus": "0.5GPa", "poisson": "0.4"}}  # text, as typed
+    check = validate(data)
+    assert check.ok and not check.warnings
+    ref = study_from_dict(HERTZ)
+    assert check.study.reduced_modulus == ref.reduced_modulus
+    assert np.array_equal(check.study.loads, ref.loads)
+
+
+def test_rigid_material_drops_the_poisson_ratio():
+    data = study_data(form(**{"material.modulus": "rigid"}))
+    assert data["material"] == {"modulus": "rigid"}
+    assert validate(data).ok
+
+
+@pytest.mark.parametrize("field, value, needle", [
+    ("texture.radius", "100 furlongs", "unknown unit 'furlongs'"),
+    ("texture.lattice", "triangular", None),  # a Select offers only the choices; typed text is refused too
+    ("loads.range", "4N:0.1N:10", "STOP"),
+    ("material.poisson", "0.7", "material Poisson ratio"),
+    ("finger.skin_modulus", "-3kPa", "skin modulus"),
+    ("model.kind", "fem", "must be one of"),
+])
+def test_bad_values_are_reported_beside_their_field(field, value, needle):
+    check = validate(study_data(form(**{field: value})))
+    assert not check.ok
+    mine = [e for e in check.errors if e.field == field]
+    assert mine, check.errors
+    if needle:
+        assert needle in mine[0].message
+
+
+def test_several_bad_fields_are_reported_at_once():
+    check = validate(study_data(form(**{"texture.radius": "1 parsec", "loads.range": "4N:0.1N:10"})))
+    assert {e.field for e in check.errors} == {"texture.radius", "loads.range"}
+
+
+def test_implausible_value_is_a_warning_beside_its_field():
+    check = validate(study_data(form(**{"finger.skin_modulus": "3"})))
+    assert check.ok
+    assert [w.field for w in check.warnings] == ["finger.skin_modulus"]
+    assert "unit" in check.warnings[0].message
+
+
+def test_geometry_error_of_the_generator_is_shown():
+    check = validate(study_data(form(**{"texture.height": "200um"})))
+    assert not check.ok and "exceeds the sphere radius" in check.errors[0].message
+
+
+def test_exported_toml_reproduces_the_prediction(tmp_path):
+    data = study_data(form(**{"loads.range": "0.2N:3N:7", "loads.zones_at": "1N", "finger.skin_modulus": "0.4MPa"}))
+    text = to_toml(data)
+    assert tomllib.loads(text) == data
+    path = tmp_path / "study.toml"
+    path.write_text(text)
+    res = runner.invoke(app, ["predict", str(path), "--json", "-"])
+    assert res.exit_code == 0, res.output
+    from fingerpad.study.outputs import prediction_json
+
+    mine = json.loads(json.dumps(prediction_json(run_data(data))))
+    theirs = json.loads(res.stdout)
+    assert mine["results"] == theirs["results"]  # exactly the same numbers
+    assert mine["critical_load"] == theirs["critical_load"]
+
+
+def test_plot_data_carry_the_prediction_numbers():
+    pred = run_data(HERTZ)
+    spec = builders.areas_spec(pred)
+    rows = list(csv.reader(io.StringIO(spec_csv(spec))))
+    col = rows[0].index("real A_re (hertz) [contact area (mm^2)]")
+    assert [float(r[0]) for r in rows[1:]] == list(pred.primary.load)
+    assert np.allclose([float(r[col]) * 1e-6 for r in rows[1:]], pred.primary.real_area, rtol=1e-14, atol=0)
+    payload = json.loads(spec_json(spec))
+    assert payload["reference_lines"][0]["x"] == pytest.approx(pred.critical_load["hertz"], rel=1e-15)
+    mu, norm = builders.friction_specs(pred)
+    assert json.loads(spec_json(norm))["series"][0]["y"] == pytest.approx(list(pred.primary.mu_normalised), rel=1e-15)
+    # the bands split the loads at the critical load
+    bands = builders.state_bands(pred)
+    assert [b.state for b in bands] == ["asperity", "transition"]
+    assert bands[0].x1 == pytest.approx(pred.critical_load["hertz"])
+
+
+def test_images_are_png_and_svg():
+    pytest.importorskip("matplotlib")
+    from fingerpad.explore.render_mpl import spec_image
+
+    pred = run_data(HERTZ)
+    zones, profile = builders.zone_specs(pred)
+    assert spec_image(zones, "png").startswith(b"\x89PNG")
+    assert b"<svg" in spec_image(profile, "svg")[:2000]
+    with pytest.raises(ValueError):
+        spec_image(zones, "gif")
+
+
+def test_contact_map_is_one_solver_solve():
+    pred = run_data(HERTZ)
+    res = contact_at(pred.texture, pred.reduced_modulus, 20e3)
+    assert res.converged and math.isclose(res.mean_pressure, 20e3)
+    pmap, cmap = builders.contact_specs(res)
+    # the map's mean pressure is the one asked for (kPa on the map)
+    assert float(np.mean(pmap.images[0].z)) == pytest.approx(20.0, rel=1e-6)
+    assert cmap.images[0].overlay.mean() == pytest.approx(res.contact_fraction)
+
+
+def test_job_finishes_through_the_cache_and_is_remembered(tmp_path):
+    data = {**copy.deepcopy(DEFAULT_STUDY), "model": {"kind": "bem", "grid": 32, "cache": str(tmp_path)}}
+    memo = Memo()
+    job = Job(data, memo)
+    assert job.wait(300) and job.state == "done", job.error
+    assert 0 < job.done <= job.total  # progress was reported, solve by solve
+    assert memo.get(data) is job.result
+    again = Job(data)  # a fresh job on the same cell: every node from the cache
+    assert again.wait(120) and again.state == "done"
+    assert again.result.resolution["solves"] == 0
+    assert again.result.critical_load["bem"] == job.result.critical_load["bem"]
+
+
+def test_job_cancel_stops_at_the_next_solve(tmp_path):
+    data = {**copy.deepcopy(DEFAULT_STUDY), "model": {"kind": "bem", "grid": 64, "cache": str(tmp_path)}}
+    job = Job(data)
+    for _ in range(600):
+        if job.done > 0 or job.finished:
+            break
+        job.wait(0.05)
+    job.cancel()
+    assert job.wait(120)
+    assert job.state == "cancelled" and job.result is None
+
+
+def test_job_reports_a_user_error():
+    job = Job({"texture": {"name": "ridges", "width": "40um", "height": "10um", "spacing": "120um"},
+               "model": {"kind": "hertz"}})
+    assert job.wait(60) and job.state == "failed" and "Hertz" in job.error
+
+
+def test_uploads_are_size_limited_and_never_named_by_the_user(tmp_path):
+    from fingerpad.explore.views.upload import store_upload
+
+    folder = tmp_path / "uploads"
+    path = store_upload(folder, "../../etc/passwd.npy", b"123", limit=100)
+    assert path.parent == folder and path.suffix == ".npy" and "passwd" not in path.name
+    with pytest.raises(ValueError, match="limited"):
+        store_upload(folder, "big.txt", b"x" * 101, limit=100)
+    with pytest.raises(ValueError, match="suffix"):
+        store_upload(folder, "map.t$t", b"1", 100)
+    assert sorted(p.name for p in tmp_path.rglob("*") if p.is_file()) == [path.name]
+
+
+# ---------------------------------------------------------------------------------------------
+# the sweep store
+
+
+@pytest.fixture(scope="module")
+def store(tmp_path_factory):
+    pytest.importorskip("zarr")
+    from synthetic_sweep import synthetic_sweep
+
+    return synthetic_sweep(tmp_path_factory.mktemp("sweep") / "s.zarr")
+
+
+def test_open_sweep_refuses_what_is_not_a_store(tmp_path):
+    from fingerpad.errors import FingerpadError
+    from fingerpad.explore.sweepdata import open_sweep
+
+    with pytest.raises(FingerpadError, match="no such sweep store"):
+        open_sweep(tmp_path / "none.zarr")
+    (tmp_path / "empty.zarr").mkdir()
+    with pytest.raises(FingerpadError, match="not a fingerpad sweep store"):
+        open_sweep(tmp_path / "empty.zarr")
+
+
+def test_map_data_follows_the_schema(store):
+    from synthetic_sweep import HEIGHTS, SPACINGS
+
+    from fingerpad.explore import sweepdata as sd
+
+    ds = sd.open_sweep(store)
+    md = sd.map_data(ds, "spacing", "height", at=1.0)
+    assert md["critical_load"].dims == ("height", "spacing")
+    crit = md["critical_load"].values
+    bem = ds["critical_load_bem"].transpose("height", "spacing").values
+    hertz = ds["critical_load_hertz"].transpose("height", "spacing").values
+    assert np.array_equal(crit, np.where(np.isnan(bem), hertz, bem), equal_nan=True)
+    loads = ds["load"].values
+    region = md["region"].values
+    assert np.all(region[np.isinf(crit)] == 2)  # never reaching the transition: asperity contact throughout
+    inside = np.isfinite(crit) & (crit >= loads.min()) & (crit <= loads.max())
+    assert np.all(region[inside] == 1)
+    assert np.isnan(region[~md["valid"].values]).all()
+    assert md.attrs["at"] == pytest.approx(loads[np.argmin(abs(loads - 1.0))])
+    assert list(md["spacing"].values) == list(SPACINGS) and list(md["height"].values) == list(HEIGHTS)
+
+
+def test_rank_sweep_lists_designs_meeting_the_target(store):
+    from fingerpad.explore import sweepdata as sd
+
+    ds = sd.open_sweep(store)
+    found = sd.rank_sweep(ds, {"mu_rel": 0.8, "at": 1.0, "tolerance": 0.05})
+    assert found
+    errors = [abs(c["mu_rel"] - 0.8) for c in found]
+    assert errors == sorted(errors) and max(errors) <= 0.05
+    for c in found:  # the values listed are the store's
+        idx = c["index"]
+        assert ds["mu_rel"].isel(**idx).sel(load=c["at"]).item() == c["mu_rel"]
+    assert not sd.rank_sweep(ds, {"mu_rel": 5.0, "tolerance": 0.01})
+    strict = sd.rank_sweep(ds, {"mu_rel": 0.8, "at": 1.0, "tolerance": 0.05}, min_critical_load=1.0)
+    assert all(c["critical_load"] >= 1.0 for c in strict)
+
+
+def test_a_design_of_the_map_is_a_study_with_its_exact_values(store):
+    from fingerpad.explore import sweepdata as sd
+    from fingerpad.textures import get_family
+
+    ds = sd.open_sweep(store)
+    values = sd.design_values(ds, {"spacing": 2, "height": 2})
+    data = sd.design_data(ds, values)
+    fam = get_family("caps")
+    assert fam.param("spacing").parse(data["texture"]["spacing"]) == values["spacing"]
+    assert fam.param("height").parse(data["texture"]["height"]) == values["height"]
+    assert validate(data).ok
+
+
+def test_points_design(tmp_path):
+    pytest.importorskip("zarr")
+    from synthetic_sweep import synthetic_sweep
+
+    from fingerpad.explore import sweepdata as sd
+
+    ds = sd.open_sweep(synthetic_sweep(tmp_path / "p.zarr", "points"))
+    md = sd.map_data(ds, "spacing", "height")
+    assert md["critical_load"].dims == ("point",)
+    assert sd.rank_sweep(ds, {"mu_rel": 0.7, "tolerance": 1.0})[0]["index"] in range(4)
+
+
+# ---------------------------------------------------------------------------------------------
+# the command
+
+
+def test_explore_command_help_and_lazy_imports():
+    res = runner.invoke(app, ["explore", "--help"])
+    assert res.exit_code == 0 and "--sweep" in res.output and "--no-browser" in res.output
+    code = "import sys, fingerpad.cli\nprint([m for m in ('panel', 'bokeh', 'tornado') if m in sys.modules])"
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.stdout.strip() == "[]", proc.stdout + proc.stderr
+
+
+def test_explore_with_a_missing_store_is_a_user_error(tmp_path):
+    pytest.importorskip("panel")
+    res = runner.invoke(app, ["explore", "--no-browser", "--sweep", str(tmp_path / "nope.zarr")])
+    assert res.exit_code == 2
+    assert "no such sweep store" in res.output
