@@ -226,7 +226,7 @@ def open_sweep(path: str | Path) -> Any:
 
     p = Path(path)
     if not p.exists():
-        raise FingerpadError(f"sweep store {str(p)!r}: no such folder")
+        raise FingerpadError(f"{str(p)!r}: no such sweep store (a folder written by `fingerpad sweep`)")
     if _read_attrs(p) is None:
         raise FingerpadError(f"{str(p)!r} is not a fingerpad sweep store (made by `fingerpad sweep`)")
     with warnings.catch_warnings():

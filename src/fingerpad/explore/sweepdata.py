@@ -45,7 +45,7 @@ def open_sweep(path: str | os.PathLike[str]) -> Any:
 
     p = os.fspath(path)
     try:
-        ds = open_store(p)
+        ds = open_store(p).load()  # a sweep's results are small; the view reads them many times
     except FingerpadError as exc:
         raise FingerpadError(f"--sweep: {exc}") from None
     for var in ("valid", "critical_load_bem", "critical_load_hertz", "mu_rel"):
@@ -247,7 +247,7 @@ def design_data(ds: Any, values: Mapping[str, Any]) -> dict[str, dict[str, Any]]
     data = json.loads(base) if isinstance(base, str) else dict(base or {})
     data = {k: dict(v) for k, v in data.items() if isinstance(v, Mapping) and not k.startswith("_")}
     family = None if "texture" in values else data.get("texture", {}).get("name")
-    for name, value in values.items():
+    for name, value in sorted(values.items(), key=lambda kv: kv[0] != "texture"):  # the family first
         units = str(ds[name].attrs.get("units", ""))
         text = _as_text(value, units)
         axis = resolve_axis(name, family)
