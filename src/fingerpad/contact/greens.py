@@ -23,7 +23,8 @@ import numpy as np
 
 from ..textures import Texture
 
-__all__ = ["Backend", "FFTOperator", "compliance_operator", "stiffness_operator", "wavenumbers", "love_rectangle"]
+__all__ = ["Backend", "FFTOperator", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
+           "love_rectangle"]
 
 class Backend:
     """Array namespace plus real FFTs; NumPy uses SciPy's threaded FFT."""
@@ -102,12 +103,22 @@ class FFTOperator:
         self.fshape = (2 * shape[0], 2 * shape[1]) if padded else shape
         xp = backend.xp
         self.multiplier = xp.asarray(multiplier)
-        # Parseval on the half spectrum: interior columns stand for two conjugate modes.
-        w = np.full(multiplier.shape, 2.0)
-        w[:, 0] = 1.0
-        if self.fshape[1] % 2 == 0:
-            w[:, -1] = 1.0
-        self.quad_weights = xp.asarray(w * np.real(multiplier) / (self.fshape[0] * self.fshape[1]))
+        self._host_multiplier = multiplier
+        self._quad_weights: Any = None
+
+    @property
+    def quad_weights(self) -> Any:
+        """Weights of ``t.A t = sum(weights |t_q|^2)`` on the half spectrum (built on first use)."""
+        if self._quad_weights is None:
+            # Parseval on the half spectrum: interior columns stand for two conjugate modes.
+            m = self._host_multiplier
+            w = np.full(m.shape, 2.0)
+            w[:, 0] = 1.0
+            if self.fshape[1] % 2 == 0:
+                w[:, -1] = 1.0
+            self._quad_weights = self.b.xp.asarray(w * np.real(m) / (self.fshape[0] * self.fshape[1]))
+            self._host_multiplier = None
+        return self._quad_weights
 
     def forward(self, x: Any) -> Any:
         return self.b.rfft2(x, s=self.fshape) if self.padded else self.b.rfft2(x)
@@ -141,6 +152,22 @@ def compliance_operator(backend: Backend, texture: Texture, modulus: float) -> F
     kernel = love_rectangle(X, Y, dx / 2, dy / 2) / (np.pi * modulus)
     mult = np.fft.rfft2(kernel)
     return FFTOperator(backend, shape, mult, padded=True)
+
+
+def preconditioner(backend: Backend, texture: Texture, modulus: float, form: str) -> FFTOperator:
+    """Approximate inverse of the solver's operator, for the preconditioned conjugate gradient.
+
+    ``form="primal"``: the periodic stiffness ``E* |q| / 2`` on the texture's own grid (also for
+    finite bodies, whose compliance it inverts up to the longest wavelengths); ``"dual"``: the
+    periodic compliance ``2 / (E* |q|)``. The q = 0 mode, which the operators leave undefined,
+    takes the value of the lowest non-zero wavenumber so that the preconditioner is positive
+    definite (under a mean constraint the solver removes that mode anyway).
+    """
+    q = wavenumbers(texture.shape, texture.spacing)
+    q0 = float(np.min(q[q > 0]))
+    q = np.where(q > 0, q, q0)
+    mult = modulus * q / 2.0 if form == "primal" else 2.0 / (modulus * q)
+    return FFTOperator(backend, texture.shape, mult, padded=False)
 
 
 def stiffness_operator(backend: Backend, texture: Texture, modulus: float) -> FFTOperator:

@@ -33,7 +33,7 @@ class ArrayKernels:
         xp = self.xp
         free = x > 0
         d = xp.where(free, ax - b - shift, 0.0)
-        return int(xp.sum(free)), float(xp.sum(d)), float(xp.sum(d * d))
+        return int(xp.count_nonzero(free)), float(xp.sum(d)), float(xp.sum(d * d))
 
     def direction(self, ax: Any, b: Any, x: Any, lam: float, t: Any, beta: float) -> tuple[Any, float, float, float, float]:
         """New direction ``t = free ? r + beta t : 0`` and (|KKT violation|^2 off the free set,
@@ -83,6 +83,57 @@ class ArrayKernels:
 
     def scale(self, x: Any, factor: float) -> Any:
         return x * factor
+
+    # ---- preconditioned path (working set W = free points and bound points with a descent gradient)
+
+    def mask_like(self, x: Any) -> Any:
+        """A boolean mask buffer of the shape of ``x``."""
+        return self.xp.zeros(x.shape, dtype=self.xp.bool)
+
+    def work_residual(self, ax: Any, b: Any, x: Any, lam: float, rw: Any, w: Any) -> tuple[Any, Any, int, float, float, int]:
+        """Gradient on the working set: ``w = (x > 0) | (r < 0)``, ``rw = w ? r : 0`` with
+        ``r = ax - b - lam``. Returns (rw, w, |W|, sum of rw, |KKT violation|^2 off the free set,
+        number of bound points in W)."""
+        xp = self.xp
+        r = ax - b - lam
+        free = x > 0
+        enter = (~free) & (r < 0)
+        w_new = free | enter
+        rw_new = xp.where(w_new, r, 0.0)
+        viol = xp.where(enter, r, 0.0)
+        return (
+            rw_new,
+            w_new,
+            int(xp.count_nonzero(w_new)),
+            float(xp.sum(rw_new)),
+            float(xp.sum(viol * viol)),
+            int(xp.count_nonzero(enter)),
+        )
+
+    def shift_on(self, a: Any, w: Any, c: float) -> Any:
+        """``a - c`` on the mask ``w`` (``a`` is zero off it)."""
+        return self.xp.where(w, a - c, 0.0)
+
+    def pre_stats(self, rw: Any, z: Any, w: Any, t: Any) -> tuple[float, float, float]:
+        """(rw . z, sum of z on W, sum of t on W)."""
+        xp = self.xp
+        return float(xp.sum(rw * z)), float(xp.sum(xp.where(w, z, 0.0))), float(xp.sum(xp.where(w, t, 0.0)))
+
+    def pre_direction(self, z: Any, w: Any, t: Any, beta: float, c: float, rw: Any) -> tuple[Any, float]:
+        """``t = w ? z + beta t - c : 0`` and ``rw . t``."""
+        xp = self.xp
+        t_new = xp.where(w, z + beta * t - c, 0.0)
+        return t_new, float(xp.sum(rw * t_new))
+
+    def pstep(self, x: Any, t: Any, tau: float) -> tuple[Any, int, float]:
+        """``x - tau t`` clipped at 0: (new x, number of clipped points, sum of new x)."""
+        xp = self.xp
+        s = x - tau * t
+        nclip = int(xp.count_nonzero(s < 0))
+        if nclip:
+            s = xp.maximum(s, 0.0)
+        return s, nclip, float(xp.sum(s))
+
 
 
 def _build_numba() -> Any:
@@ -168,7 +219,76 @@ def _build_numba() -> Any:
         for i in nb.prange(x.size):
             x[i] *= f
 
-    return free_stats, direction, centre, step, quad, axpy, scale
+    @nb.njit(**opts)
+    def work_residual(ax, b, x, lam, rw, w):  # pragma: no cover - compiled
+        nw = 0
+        ne = 0
+        srw = 0.0
+        v = 0.0
+        for i in nb.prange(x.size):
+            r = ax[i] - b[i] - lam
+            if x[i] > 0:
+                rw[i] = r
+                w[i] = 1
+                nw += 1
+                srw += r
+            elif r < 0:
+                rw[i] = r
+                w[i] = 1
+                nw += 1
+                ne += 1
+                srw += r
+                v += r * r
+            else:
+                rw[i] = 0.0
+                w[i] = 0
+        return nw, srw, v, ne
+
+    @nb.njit(**opts)
+    def shift_on(a, w, c):  # pragma: no cover - compiled
+        for i in nb.prange(a.size):
+            if w[i]:
+                a[i] -= c
+
+    @nb.njit(**opts)
+    def pre_stats(rw, z, w, t):  # pragma: no cover - compiled
+        rz = 0.0
+        sz = 0.0
+        st = 0.0
+        for i in nb.prange(z.size):
+            if w[i]:
+                rz += rw[i] * z[i]
+                sz += z[i]
+                st += t[i]
+        return rz, sz, st
+
+    @nb.njit(**opts)
+    def pre_direction(z, w, t, beta, c, rw):  # pragma: no cover - compiled
+        rt = 0.0
+        for i in nb.prange(z.size):
+            if w[i]:
+                tn = z[i] + beta * t[i] - c
+                t[i] = tn
+                rt += rw[i] * tn
+            else:
+                t[i] = 0.0
+        return rt
+
+    @nb.njit(**opts)
+    def pstep(x, t, tau):  # pragma: no cover - compiled
+        nclip = 0
+        total = 0.0
+        for i in nb.prange(x.size):
+            s = x[i] - tau * t[i]
+            if s < 0:
+                s = 0.0
+                nclip += 1
+            x[i] = s
+            total += s
+        return nclip, total
+
+    return (free_stats, direction, centre, step, quad, axpy, scale,
+            work_residual, shift_on, pre_stats, pre_direction, pstep)
 
 
 _NUMBA: Any = None
@@ -182,7 +302,8 @@ class NumbaKernels(ArrayKernels):
         if _NUMBA is None:
             _NUMBA = _build_numba()
         (self._free_stats, self._direction, self._centre, self._step, self._quad,
-         self._axpy, self._scale) = _NUMBA
+         self._axpy, self._scale, self._work_residual, self._shift_on, self._pre_stats,
+         self._pre_direction, self._pstep) = _NUMBA
         super().__init__(np)
 
     @staticmethod
@@ -217,6 +338,32 @@ class NumbaKernels(ArrayKernels):
     def scale(self, x, factor):
         self._scale(self._flat(x), float(factor))
         return x
+
+    def mask_like(self, x):
+        return np.zeros(x.shape, dtype=np.uint8)
+
+    def work_residual(self, ax, b, x, lam, rw, w):
+        f = self._flat
+        nw, srw, v, ne = self._work_residual(f(ax), f(b), f(x), float(lam), f(rw), f(w))
+        return rw, w, int(nw), float(srw), float(v), int(ne)
+
+    def shift_on(self, a, w, c):
+        self._shift_on(self._flat(a), self._flat(w), float(c))
+        return a
+
+    def pre_stats(self, rw, z, w, t):
+        f = self._flat
+        rz, sz, st = self._pre_stats(f(rw), f(z), f(w), f(t))
+        return float(rz), float(sz), float(st)
+
+    def pre_direction(self, z, w, t, beta, c, rw):
+        f = self._flat
+        rt = self._pre_direction(f(z), f(w), f(t), float(beta), float(c), f(rw))
+        return t, float(rt)
+
+    def pstep(self, x, t, tau):
+        nclip, total = self._pstep(self._flat(x), self._flat(t), float(tau))
+        return x, int(nclip), float(total)
 
 
 def kernels_for(xp: Any, is_numpy: bool) -> ArrayKernels:
