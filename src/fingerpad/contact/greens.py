@@ -105,6 +105,8 @@ class FFTOperator:
         self.multiplier = xp.asarray(multiplier)
         self._host_multiplier = multiplier
         self._quad_weights: Any = None
+        self._low_mult: Any = None
+        self._low_weights: Any = None
 
     @property
     def quad_weights(self) -> Any:
@@ -122,6 +124,39 @@ class FFTOperator:
 
     def forward(self, x: Any) -> Any:
         return self.b.rfft2(x, s=self.fshape) if self.padded else self.b.rfft2(x)
+
+    # Single-precision helpers. The preconditioner and the line search's curvature t.A t need
+    # only a few significant digits (the iterate, A x and the residual stay in double
+    # precision), and a float32 transform costs 1/3 to 1/5 of a float64 one (measured 1024^2,
+    # 2048^2). Since a float32 preconditioner is not exactly symmetric, the conjugate gradient
+    # keeps its descent safeguard (ccg.py).
+
+    def _low(self) -> tuple[Any, Any]:
+        if self._low_mult is None:
+            xp = self.b.xp
+            m = self.multiplier
+            dt = xp.complex64 if xp.isdtype(m.dtype, "complex floating") else xp.float32
+            self._low_mult = xp.astype(m, dt)
+        if self._low_weights is None:
+            self._low_weights = self.b.xp.astype(self.quad_weights, self.b.xp.float32)
+        return self._low_mult, self._low_weights
+
+    def apply_low(self, x: Any) -> Any:
+        """``A x`` in single precision (float32 result, the field's shape)."""
+        xp = self.b.xp
+        mult, _ = self._low()
+        xh = self.forward(xp.astype(x, xp.float32))
+        xh *= mult
+        out = self.b.irfft2(xh, self.fshape)
+        return out[: self.shape[0], : self.shape[1]] if self.padded else out
+
+    def quad_low(self, t: Any) -> float:
+        """``t.A t`` from a single-precision transform of ``t`` (Parseval), summed in double."""
+        xp = self.b.xp
+        _, w = self._low()
+        th = self.forward(xp.astype(t, xp.float32))
+        re, im = xp.real(th), xp.imag(th)
+        return float(xp.sum(w * (re * re + im * im), dtype=xp.float64))
 
     def apply_hat(self, xh: Any) -> Any:
         out = self.b.irfft2(xh * self.multiplier, s=self.fshape)
