@@ -136,6 +136,102 @@ class ArrayKernels:
 
 
 
+class NumpyKernels(ArrayKernels):
+    """NumPy, in place: each operation writes into a buffer the solver owns, so that an
+    iteration allocates nothing (memory at 4096^2) and makes as few passes over the fields as
+    NumPy allows. Used by default for NumPy arrays: on the 2-core development machine it
+    measured as fast as the compiled loops (the FFTs dominate) without their ~1 s load time.
+    """
+
+    def __init__(self) -> None:
+        super().__init__(np)
+        self._buf: dict[tuple[str, tuple[int, ...]], np.ndarray] = {}
+
+    def _scratch(self, name: str, shape: tuple[int, ...], dtype: Any = np.float64) -> np.ndarray:
+        key = (name, shape)
+        a = self._buf.get(key)
+        if a is None:
+            a = self._buf[key] = np.empty(shape, dtype=dtype)
+        return a
+
+    @staticmethod
+    def _dot(a: np.ndarray, b: np.ndarray) -> float:
+        # einsum: single-threaded SIMD; BLAS dot spawns threads whose wake-up on a loaded
+        # 2-core machine measured up to 8x slower (16 ms against 2 ms at 2048^2)
+        return float(np.einsum("i,i->", a.reshape(-1), b.reshape(-1)))
+
+    def mask_like(self, x):
+        return np.zeros(x.shape, dtype=bool)
+
+    def free_stats(self, ax, b, x, shift):
+        d = self._scratch("d", x.shape)
+        free = self._scratch("free", x.shape, bool)
+        np.subtract(ax, b, out=d)
+        if shift:
+            d -= shift
+        np.greater(x, 0.0, out=free)
+        d *= free
+        return int(np.count_nonzero(free)), float(d.sum()), self._dot(d, d)
+
+    def work_residual(self, ax, b, x, lam, rw, w):
+        free = self._scratch("free", x.shape, bool)
+        enter = self._scratch("enter", x.shape, bool)
+        np.subtract(ax, b, out=rw)
+        if lam:
+            rw -= lam
+        np.greater(x, 0.0, out=free)
+        np.less(rw, 0.0, out=enter)
+        np.greater(enter, free, out=enter)  # r < 0 and not free
+        ne = int(np.count_nonzero(enter))
+        if ne:
+            np.logical_or(free, enter, out=w)
+            rw *= w
+            d = self._scratch("d", x.shape)
+            np.multiply(rw, enter, out=d)
+            viol = self._dot(d, d)
+        else:
+            np.copyto(w, free)
+            rw *= w
+            viol = 0.0
+        return rw, w, int(np.count_nonzero(w)), float(rw.sum()), viol, ne
+
+    def shift_on(self, a, w, c):
+        np.subtract(a, c, out=a, where=w)
+        return a
+
+    def pre_stats(self, rw, z, w, t):
+        z64 = self._scratch("z", rw.shape)
+        np.multiply(z, w, out=z64)  # z on W, in double precision
+        t *= w  # the old direction restricted to the current working set
+        return self._dot(rw, z64), float(z64.sum()), float(t.sum())
+
+    def pre_direction(self, z, w, t, beta, c, rw):
+        z64 = self._buf[("z", rw.shape)]
+        if beta:
+            t *= beta
+            t += z64
+        else:
+            np.copyto(t, z64)
+        if c:
+            np.subtract(t, c, out=t, where=w)
+        return t, self._dot(rw, t)
+
+    def pstep(self, x, t, tau):
+        d = self._scratch("d", x.shape)
+        np.multiply(t, tau, out=d)
+        x -= d
+        neg = self._scratch("enter", x.shape, bool)
+        np.less(x, 0.0, out=neg)
+        nclip = int(np.count_nonzero(neg))
+        if nclip:
+            np.maximum(x, 0.0, out=x)
+        return x, nclip, float(x.sum())
+
+    def scale(self, x, factor):
+        x *= factor
+        return x
+
+
 def _build_numba() -> Any:
     import numba as nb  # noqa: PLC0415
 
@@ -366,11 +462,14 @@ class NumbaKernels(ArrayKernels):
         return x, int(nclip), float(total)
 
 
-def kernels_for(xp: Any, is_numpy: bool) -> ArrayKernels:
-    """Fused Numba kernels for NumPy when Numba is available, else the array-namespace ones."""
-    if is_numpy:
+def kernels_for(xp: Any, choice: str) -> ArrayKernels:
+    """``"numpy"``: in-place NumPy kernels; ``"numba"``: compiled loops (NumPy arrays, falls
+    back to NumPy when Numba does not import); ``"array"``: the array-namespace reference."""
+    if choice == "numba":
         try:
             return NumbaKernels()
         except ImportError:
-            pass
+            return NumpyKernels()
+    if choice == "numpy":
+        return NumpyKernels()
     return ArrayKernels(xp)

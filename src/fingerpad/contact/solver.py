@@ -83,8 +83,6 @@ _PROBE_MIN = 128  # the cold-start probe of the contact fraction solves at about
 STALL_ITERATIONS = 150
 #: Contact fraction above which auto mode solves the dual (gap) problem.
 DUAL_ABOVE = 0.75
-#: Grids from this many points on use the compiled kernels (their load time is ~2 s).
-NUMBA_MIN_SIZE = 512 * 512  # do not coarsen below this many points along an axis
 
 
 def contact_state(contact: np.ndarray, base: np.ndarray) -> str:
@@ -178,9 +176,9 @@ class HalfSpaceSolver:
     workers
         FFT threads (default: all cores).
     kernels
-        ``"auto"``: fused Numba loops for NumPy grids of at least :data:`NUMBA_MIN_SIZE` points
-        when Numba is installed; ``"numba"``: always those; ``"array"``: plain array-namespace
-        operations.
+        Element-wise work: ``"auto"`` = ``"numpy"`` (in-place NumPy) for NumPy arrays, else
+        ``"array"`` (the array-namespace reference); ``"numba"``: compiled parallel loops
+        (NumPy arrays; a ~1 s load per process).
     precondition
         Preconditioned conjugate gradient (the inverse operator as preconditioner, see
         :func:`fingerpad.contact.ccg.constrained_cg`); ``False`` gives the plain Polonsky-Keer
@@ -232,12 +230,15 @@ class HalfSpaceSolver:
         self._S = stiffness_operator(self.backend, texture, self.modulus) if texture.periodic else None
         self._Sh = self._S(self.h) if self._S is not None else None
         self._xp = xp_
-        if kernels not in ("auto", "array", "numba"):
-            raise FingerpadError(f"kernels must be auto, array or numba, got {kernels!r}")
+        if kernels not in ("auto", "array", "numpy", "numba"):
+            raise FingerpadError(f"kernels must be auto, array, numpy or numba, got {kernels!r}")
         self._kernels_choice = kernels
-        # Compiled kernels pay a one-off load (seconds) that small grids never earn back.
-        use_numba = self.backend.is_numpy and (kernels == "numba" or (kernels == "auto" and h.size >= NUMBA_MIN_SIZE))
-        self._kern = kernels_for(xp_, use_numba)
+        if kernels in ("numpy", "numba") and not self.backend.is_numpy:
+            raise FingerpadError(f"kernels={kernels!r} needs NumPy arrays")
+        # NumPy arrays: in-place NumPy kernels (the compiled ones pay a ~1 s load per process and
+        # measured no faster on 2 cores); other namespaces: the array-API reference.
+        choice = ("numpy" if self.backend.is_numpy else "array") if kernels == "auto" else kernels
+        self._kern = kernels_for(xp_, choice)
         self.precondition = bool(precondition)
         self._pre: dict[str, Any] = {}
         self._coarse: dict[str, HalfSpaceSolver | None] = {}
