@@ -84,6 +84,9 @@ class ArrayKernels:
     def scale(self, x: Any, factor: float) -> Any:
         return x * factor
 
+    def release(self) -> None:
+        """Drop scratch buffers between solves (none here)."""
+
     # ---- preconditioned path (working set W = free points and bound points with a descent gradient)
 
     def mask_like(self, x: Any) -> Any:
@@ -148,6 +151,8 @@ class NumpyKernels(ArrayKernels):
         self._buf: dict[tuple[str, tuple[int, ...]], np.ndarray] = {}
 
     def _scratch(self, name: str, shape: tuple[int, ...], dtype: Any = np.float64) -> np.ndarray:
+        # "d" (a difference) and "z" (the preconditioned gradient) are never live together
+        name = "d" if name == "z" else name
         key = (name, shape)
         a = self._buf.get(key)
         if a is None:
@@ -162,6 +167,9 @@ class NumpyKernels(ArrayKernels):
 
     def mask_like(self, x):
         return np.zeros(x.shape, dtype=bool)
+
+    def release(self) -> None:
+        self._buf.clear()
 
     def free_stats(self, ax, b, x, shift):
         d = self._scratch("d", x.shape)
@@ -206,7 +214,7 @@ class NumpyKernels(ArrayKernels):
         return self._dot(rw, z64), float(z64.sum()), float(t.sum())
 
     def pre_direction(self, z, w, t, beta, c, rw):
-        z64 = self._buf[("z", rw.shape)]
+        z64 = self._buf[("d", rw.shape)]
         if beta:
             t *= beta
             t += z64

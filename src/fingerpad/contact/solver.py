@@ -227,8 +227,8 @@ class HalfSpaceSolver:
         self.h = self.backend.asarray(h)
         self.base = h <= h.min() + BASE_LEVEL_RTOL * texture.peak_to_valley
         self._K = compliance_operator(self.backend, texture, self.modulus)
-        self._S = stiffness_operator(self.backend, texture, self.modulus) if texture.periodic else None
-        self._Sh = self._S(self.h) if self._S is not None else None
+        self._S_op: Any = None  # the dual's stiffness and S h, built on first use (memory)
+        self._Sh_field: Any = None
         self._xp = xp_
         if kernels not in ("auto", "array", "numpy", "numba"):
             raise FingerpadError(f"kernels must be auto, array, numpy or numba, got {kernels!r}")
@@ -340,13 +340,17 @@ class HalfSpaceSolver:
                 coarse = half._solve(mode, value, None, form=form)
                 fx, fy = half._factors
                 rep = lambda a: np.repeat(np.repeat(a, fx, axis=0), fy, axis=1)  # noqa: E731
-                seed = _Seed(rep(coarse.pressure), rep(coarse.gap))
+                # only the field the formulation starts from (memory at 4096^2)
+                seed = _Seed(rep(coarse.pressure) if form == "primal" else None,
+                             rep(coarse.gap) if form == "dual" else None)
+                del coarse
         auto = self.formulation == "auto" and self.texture.periodic
         raw = self._run(form, mode, value, seed, stall=STALL_ITERATIONS if auto else None)
+        self._kern.release()
         if not raw.converged and auto:
             # The other formulation is the fallback (e.g. near full contact for the primal).
             other = "dual" if form == "primal" else "primal"
-            raw2 = self._run(other, mode, value, seed)
+            raw2 = self._run(other, mode, value, seed if isinstance(seed, ContactResult) else None)
             raw2.iterations += raw.iterations
             if raw2.converged or raw2.residual < raw.residual:
                 raw, form = raw2, other
@@ -359,6 +363,18 @@ class HalfSpaceSolver:
                 stacklevel=3,
             )
         return result
+
+    @property
+    def _S(self) -> Any:
+        if self._S_op is None and self.texture.periodic:
+            self._S_op = stiffness_operator(self.backend, self.texture, self.modulus)
+        return self._S_op
+
+    @property
+    def _Sh(self) -> Any:
+        if self._Sh_field is None and self.texture.periodic:
+            self._Sh_field = self._S(self.h)
+        return self._Sh_field
 
     def _precond(self, form: str) -> Any:
         if not self.precondition:
