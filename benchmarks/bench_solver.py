@@ -238,12 +238,19 @@ def section_command(args, report) -> None:
             solve_s, res = median_time(lambda: solve_inprocess(tex, p), args.reps)
             with count_transforms(tex.heights.size) as cnt:
                 solve_inprocess(tex, p)
+            if not args.no_previous:
+                prev_s, prev = median_time(lambda: solve_inprocess(tex, p, precondition=False), 1)
+                row_prev = {"seconds": prev_s, "iterations": prev.iterations, "formulation": prev.formulation,
+                            "contact_fraction": prev.contact_fraction}
+                log(f"  previous solver (plain Polonsky-Keer): {prev_s:.2f} s, {prev.iterations} it")
+            else:
+                row_prev = None
             row = {"grid": g, "load": load, "pressure": p, "iterations": res.iterations,
                    "contact_fraction": res.contact_fraction, "converged": res.converged,
                    "residual_ours_metric": kkt_residual(tex, res.pressure), "command_wall": wall,
                    "command_walls": [c["wall"] for c in cmds], "command_solver_seconds": [c["seconds"] for c in cmds],
                    "solver_seconds": solve_s, "f64_pairs": cnt["f64"], "f32_pairs": cnt["f32"],
-                   "command": cmds[0]["command"]}
+                   "command": cmds[0]["command"], "previous": row_prev}
             log(f"  fingerpad: command {wall:.2f} s, solver {solve_s:.2f} s, {res.iterations} it, "
                 f"cf {res.contact_fraction:.5f}, {cnt['f64']:.1f} f64 + {cnt['f32']:.1f} f32 pairs")
             if tm_version and g in args.peer_grids:
@@ -308,6 +315,18 @@ def section_curve(args, report) -> None:
     out = {"grid": g, "points": len(pressures), "seconds": secs, "iterations": int(c.iterations.sum()),
            "max_iterations": int(c.iterations.max()), "all_converged": bool(c.converged.all()),
            "one_solve_seconds": one, "one_solve_iterations": r1.iterations, "ratio_to_one_solve": secs / one}
+    if not args.no_previous:
+        def curve_prev():
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                return load_curve(HalfSpaceSolver(tex, MODULUS, tol=TOL, precondition=False), pressures,
+                                  keep_fields=False)
+
+        ps, pc = median_time(curve_prev, 1)
+        one_p, r1p = median_time(lambda: solve_inprocess(tex, 15e3, precondition=False), 1)
+        out["previous"] = {"seconds": ps, "iterations": int(pc.iterations.sum()), "one_solve_seconds": one_p,
+                           "one_solve_iterations": r1p.iterations, "all_converged": bool(pc.converged.all())}
+        log(f"curve, previous solver: {ps:.2f} s, {out['previous']['iterations']} it")
     log(f"curve {g}^2 x50: {secs:.2f} s, {out['iterations']} it (one cold solve {one:.2f} s, {r1.iterations} it)")
     report["curve"] = out
 
@@ -406,6 +425,13 @@ def markdown(rep: dict[str, Any]) -> str:
                 f"| {c['contact_fraction'] - r['contact_fraction'] if c else float('nan'):+.1e} "
                 f"| {r['residual_ours_metric']:.1e} / {t['residual_ours_metric'] if t else float('nan'):.1e} / "
                 f"{c['residual_ours_metric'] if c else float('nan'):.1e} |")
+        L += ["", "| grid | load | previous solver (plain PK, in-process) s | iterations | this solver s | speed-up |",
+              "|---:|---|---:|---:|---:|---:|"]
+        for r in rep["command"]:
+            q = r.get("previous")
+            if q:
+                L.append(f"| {r['grid']}² | {r['load']} | {q['seconds']:.2f} | {q['iterations']} | {r['solver_seconds']:.2f} "
+                         f"| {q['seconds'] / r['solver_seconds']:.1f}x |")
         L += ["", "f64 pairs/it: float64 rfft2+irfft2 pairs per fine iteration, coarse levels weighted by size; "
               "f32: the single-precision preconditioner and curvature transforms, same units; cost/it = solver "
               "seconds / (iterations x one float64 pair timed in the same run); command s: median wall time of "
@@ -427,7 +453,13 @@ def markdown(rep: dict[str, Any]) -> str:
               f"{c['points']} pressures 0.1-100 kPa on {c['grid']}²: {c['seconds']:.2f} s, {c['iterations']} iterations in all "
               f"(at most {c['max_iterations']} per point, all converged: {c['all_converged']}); one cold solve at 15 kPa: "
               f"{c['one_solve_seconds']:.2f} s, {c['one_solve_iterations']} iterations; the curve costs "
-              f"{c['ratio_to_one_solve']:.1f} cold solves.", ""]
+              f"{c['ratio_to_one_solve']:.1f} cold solves."]
+        if c.get("previous"):
+            q = c["previous"]
+            L += ["", f"Previous solver (plain Polonsky-Keer, `precondition=False`), same curve: {q['seconds']:.2f} s, "
+                  f"{q['iterations']} iterations (all converged: {q['all_converged']}); one cold solve "
+                  f"{q['one_solve_seconds']:.2f} s, {q['one_solve_iterations']} iterations."]
+        L.append("")
     if "maps" in rep:
         L += ["### Measured-like (non-periodic) maps", "",
               "| map | contact fraction | PCG it | PCG s | PCG cost/it | plain it | plain s | plain cost/it |",
@@ -459,6 +491,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tamaas-python", default=sys.executable, help="interpreter with tamaas (default: this one)")
     ap.add_argument("--no-tamaas", action="store_true")
     ap.add_argument("--no-cm", action="store_true")
+    ap.add_argument("--no-previous", action="store_true",
+                    help="skip the previous solver (precondition=False) in the command and curve sections")
     ap.add_argument("--quick", action="store_true", help="256^2/512^2, sweep and curve at 256^2, memory 1024^2")
     ap.add_argument("--out", type=Path, default=DEFAULT_OUT)
     ap.add_argument("--_memory-child", type=int, default=None, help=argparse.SUPPRESS)
