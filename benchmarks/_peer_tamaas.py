@@ -22,7 +22,7 @@ Conventions of tamaas 2.9 (checked on a cell solved by both codes: same contact 
   conjugate gradient at a fixed mean pressure. Its stopping test is tamaas' own (a relative
   complementarity error); ``tol`` is passed unchanged and the benchmark reports the residual
   of the returned field in fingerpad's own metric beside the contact fractions.
-* tamaas prints ``iteration  energy  error`` lines on the C++ stdout every ``dump_freq``
+* tamaas prints ``iteration  energy  error`` lines on stderr every ``dump_freq``
   iterations and once at the end; with ``dump_freq = 1000`` that is the first and the closing
   line (the final iteration count), which the benchmark reads.
 

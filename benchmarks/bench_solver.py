@@ -81,6 +81,12 @@ RADIUS, HEIGHT, SPACING = 50e-6, 10e-6, 100e-6  # m
 MODULUS = 0.3e6  # Pa, reduced modulus E*
 LOADS = {"mid": 15e3, "full": 100e3}  # Pa
 TOL = 1e-8
+try:  # the previous solver: plain Polonsky-Keer iteration with its compiled loops where Numba imports
+    import numba  # noqa: F401
+
+    PREVIOUS: dict[str, Any] = {"precondition": False, "kernels": "numba"}
+except ImportError:
+    PREVIOUS = {"precondition": False}
 
 
 def log(msg: str) -> None:
@@ -184,18 +190,15 @@ def run_tamaas(tex, pressures: list[float], python: str) -> list[dict[str, Any]]
                              capture_output=True, text=True, check=False)
         if out.returncode != 0:
             raise RuntimeError(f"tamaas worker failed: {out.stderr[-1500:]}")
-        rows, last_it = [], None
-        for line in out.stdout.splitlines():
-            if line.startswith("RESULT "):
-                r = json.loads(line[7:])
-                r["iterations"] = last_it
-                r["_pressure"] = np.load(Path(tmp) / r.pop("pressure_file"))
-                rows.append(r)
-                last_it = None
-            else:
-                parts = line.split()
-                if parts and parts[0].isdigit():
-                    last_it = int(parts[0])
+        # tamaas writes its "iteration cost error" lines to stderr: the last one is the count
+        its = [int(ln.split()[0]) for ln in out.stderr.splitlines() if ln.split() and ln.split()[0].isdigit()]
+        finals = [its[i] for i in range(len(its)) if i + 1 == len(its) or its[i + 1] == 0]
+        rows = []
+        for k, line in enumerate(ln for ln in out.stdout.splitlines() if ln.startswith("RESULT ")):
+            r = json.loads(line[7:])
+            r["iterations"] = finals[k] if k < len(finals) else None
+            r["_pressure"] = np.load(Path(tmp) / r.pop("pressure_file"))
+            rows.append(r)
         return rows
 
 
@@ -239,7 +242,7 @@ def section_command(args, report) -> None:
             with count_transforms(tex.heights.size) as cnt:
                 solve_inprocess(tex, p)
             if not args.no_previous:
-                prev_s, prev = median_time(lambda: solve_inprocess(tex, p, precondition=False), 1)
+                prev_s, prev = median_time(lambda: solve_inprocess(tex, p, **PREVIOUS), 1)
                 row_prev = {"seconds": prev_s, "iterations": prev.iterations, "formulation": prev.formulation,
                             "contact_fraction": prev.contact_fraction}
                 log(f"  previous solver (plain Polonsky-Keer): {prev_s:.2f} s, {prev.iterations} it")
@@ -282,7 +285,7 @@ def section_sweep(args, report) -> None:
     tex = cell(g)
     loads = [200.0, 1e3, 5e3, 15e3, 40e3, 100e3, 200e3]
     variants = {"PCG + coarse-to-fine (default)": {}, "PCG, cold": {"coarse_to_fine": False},
-                "plain Polonsky-Keer (previous auto)": {"precondition": False}}
+                "plain Polonsky-Keer (previous auto)": PREVIOUS}
     rows = []
     for p in loads:
         row = {"grid": g, "pressure": p}
@@ -319,11 +322,11 @@ def section_curve(args, report) -> None:
         def curve_prev():
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                return load_curve(HalfSpaceSolver(tex, MODULUS, tol=TOL, precondition=False), pressures,
+                return load_curve(HalfSpaceSolver(tex, MODULUS, tol=TOL, **PREVIOUS), pressures,
                                   keep_fields=False)
 
         ps, pc = median_time(curve_prev, 1)
-        one_p, r1p = median_time(lambda: solve_inprocess(tex, 15e3, precondition=False), 1)
+        one_p, r1p = median_time(lambda: solve_inprocess(tex, 15e3, **PREVIOUS), 1)
         out["previous"] = {"seconds": ps, "iterations": int(pc.iterations.sum()), "one_solve_seconds": one_p,
                            "one_solve_iterations": r1p.iterations, "all_converged": bool(pc.converged.all())}
         log(f"curve, previous solver: {ps:.2f} s, {out['previous']['iterations']} it")
@@ -411,16 +414,17 @@ def markdown(rep: dict[str, Any]) -> str:
     if "command" in rep:
         L += ["### Whole command against the peers", "",
               "| grid | load | iterations | f64 pairs/it | f32 pairs/it | solver s | cost/it | command s "
-              "| tamaas s | tamaas / command | CM s | CM / command | cf | Δcf tamaas | Δcf CM | residual ours / tamaas / CM |",
+              "| tamaas s (it) | tamaas / command | CM s (it) | CM / command | cf | Δcf tamaas | Δcf CM | residual ours / tamaas / CM |",
               "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
         for r in rep["command"]:
             t, c = r.get("tamaas"), r.get("cm")
             L.append(
                 f"| {r['grid']}² | {r['load']} | {r['iterations']} | {r['f64_pairs_per_iteration']:.2f} "
                 f"| {r['f32_pairs'] / max(r['iterations'], 1):.2f} | {r['solver_seconds']:.2f} | {r['cost_per_iteration']:.2f} "
-                f"| {r['command_wall']:.2f} | {t['seconds'] if t else float('nan'):.1f} "
+                f"| {r['command_wall']:.2f} | {t['seconds'] if t else float('nan'):.1f} ({t.get('iterations') if t else '–'}) "
                 f"| {t['seconds'] / r['command_wall'] if t else float('nan'):.1f}x "
-                f"| {c['seconds'] if c else float('nan'):.1f} | {c['seconds'] / r['command_wall'] if c else float('nan'):.1f}x "
+                f"| {c['seconds'] if c else float('nan'):.1f} ({c.get('iterations') if c else '–'}) "
+                f"| {c['seconds'] / r['command_wall'] if c else float('nan'):.1f}x "
                 f"| {r['contact_fraction']:.5f} | {t['contact_fraction'] - r['contact_fraction'] if t else float('nan'):+.1e} "
                 f"| {c['contact_fraction'] - r['contact_fraction'] if c else float('nan'):+.1e} "
                 f"| {r['residual_ours_metric']:.1e} / {t['residual_ours_metric'] if t else float('nan'):.1e} / "

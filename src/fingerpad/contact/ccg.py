@@ -201,13 +201,7 @@ def _preconditioned_cg(
     best, best_it = math.inf, 0
     it = 0
     while True:
-        nfree, s1, s2 = kern.free_stats(ax, b, x, lam if mean is not None else 0.0)
-        if mean is not None and nfree > 0:
-            lam += s1 / nfree
-            g = max(s2 - s1 * s1 / nfree, 0.0)
-        else:
-            g = s2
-        rw, w, nwork, srw, viol2, nenter = kern.work_residual(ax, b, x, lam, rw, w)
+        rw, w, lam, g, viol2, nwork, srw, nenter = kern.gradient(ax, b, x, lam, mean is not None, rw, w)
         residual = math.sqrt((g + viol2) / n) / scale
         if residual < tol:
             return CCGResult(x, it, residual, True, lam, ax)
@@ -220,8 +214,9 @@ def _preconditioned_cg(
             return CCGResult(x, it, residual, False, lam)
         if nwork == 0:
             return CCGResult(x, it, residual, False, lam)
-        if mean is not None and srw != 0.0:
+        if mean is not None and nenter:
             # feasible directions keep the mean: the gradient projected on sum(t) = 0 over W
+            # (without released points it sums to zero on W already, by the multiplier)
             rw = kern.shift_on(rw, w, srw / nwork)
         z = precond.apply_low(rw)
         rz, sz, st = kern.pre_stats(rw, z, w, t)
@@ -236,7 +231,7 @@ def _preconditioned_cg(
         tat = op.quad_low(t)
         if rt <= 0 or tat <= 0:
             return CCGResult(x, it, residual, False, lam)
-        x, nclip, total = kern.pstep(x, t, rt / tat)
+        x, nclip, total = kern.pstep(x, t, rt / tat, mean is not None)
         if mean is not None and total > 0 and (nclip or abs(total - mean * n) > 1e-14 * mean * n):
             # back onto mean(x) = mean after clipping (or rounding drift of the centred steps)
             x = kern.scale(x, mean * n / total)

@@ -1,15 +1,21 @@
 """Element-wise building blocks of the constrained conjugate gradient.
 
-The solver's iteration is a few FFTs plus a dozen element-wise operations and reductions. Done
-one NumPy call at a time those operations read and write the whole field a dozen times on one
-core and cost more than the FFTs; fused into four loops compiled with Numba (parallel over the
-cores) they cost a fraction of one FFT pair. Two implementations share one interface:
+An iteration is a few FFTs plus a dozen element-wise operations and reductions. Three
+implementations share one interface:
 
-* :class:`ArrayKernels` - any array namespace (NumPy, CuPy, ...), one call per operation;
-* :class:`NumbaKernels` - NumPy arrays on the CPU, fused parallel loops (used when Numba imports).
+* :class:`ArrayKernels` - the reference, one array-API call per operation, for any namespace
+  (``array_api_strict`` in the tests, CuPy or PyTorch on a GPU);
+* :class:`NumpyKernels` - NumPy in place, into buffers owned by the kernels (no allocation per
+  iteration, as few passes as NumPy allows); the default for NumPy arrays;
+* :class:`NumbaKernels` - fused parallel loops compiled with Numba (``kernels="numba"``). On the
+  2-core development machine they measured no faster than the NumPy ones (the FFTs dominate,
+  and two threads contend with other work) and cost ~1 s of compilation-cache loading per
+  process, which the whole ``fingerpad solve`` command cannot afford.
 
 Notation: ``x`` the iterate (pressure or gap), ``ax`` = A x, ``b`` the linear term, ``lam``
-the multiplier of the mean constraint, ``free`` = ``x > 0``, ``r = ax - b - lam`` the gradient.
+the multiplier of the mean constraint, ``free`` = ``x > 0``, ``r = ax - b - lam`` the gradient,
+``W`` the working set of the preconditioned iteration (free points and bound points with
+``r < 0``).
 """
 
 from __future__ import annotations
@@ -93,6 +99,20 @@ class ArrayKernels:
         """A boolean mask buffer of the shape of ``x``."""
         return self.xp.zeros(x.shape, dtype=self.xp.bool)
 
+    def gradient(self, ax: Any, b: Any, x: Any, lam: float, constrained: bool, rw: Any, w: Any) -> tuple:
+        """The gradient of the preconditioned iteration in one call: the multiplier updated from
+        the free points (``constrained``: the mean of x is fixed), the free-set variance ``g``,
+        then :meth:`work_residual` with the new multiplier. Returns (rw, w, lam, g, viol2,
+        |W|, sum of rw, number of released points)."""
+        nfree, s1, s2 = self.free_stats(ax, b, x, lam if constrained else 0.0)
+        if constrained and nfree > 0:
+            lam += s1 / nfree
+            g = max(s2 - s1 * s1 / nfree, 0.0)
+        else:
+            g = s2
+        rw, w, nwork, srw, viol2, nenter = self.work_residual(ax, b, x, lam, rw, w)
+        return rw, w, lam, g, viol2, nwork, srw, nenter
+
     def work_residual(self, ax: Any, b: Any, x: Any, lam: float, rw: Any, w: Any) -> tuple[Any, Any, int, float, float, int]:
         """Gradient on the working set: ``w = (x > 0) | (r < 0)``, ``rw = w ? r : 0`` with
         ``r = ax - b - lam``. Returns (rw, w, |W|, sum of rw, |KKT violation|^2 off the free set,
@@ -128,8 +148,9 @@ class ArrayKernels:
         t_new = xp.where(w, z + beta * t - c, 0.0)
         return t_new, float(xp.sum(rw * t_new))
 
-    def pstep(self, x: Any, t: Any, tau: float) -> tuple[Any, int, float]:
-        """``x - tau t`` clipped at 0: (new x, number of clipped points, sum of new x)."""
+    def pstep(self, x: Any, t: Any, tau: float, need_total: bool = True) -> tuple[Any, int, float]:
+        """``x - tau t`` clipped at 0: (new x, number of clipped points, sum of new x). The sum
+        may be skipped (NaN) when ``need_total`` is false and nothing was clipped."""
         xp = self.xp
         s = x - tau * t
         nclip = int(xp.count_nonzero(s < 0))
@@ -181,6 +202,38 @@ class NumpyKernels(ArrayKernels):
         d *= free
         return int(np.count_nonzero(free)), float(d.sum()), self._dot(d, d)
 
+    def gradient(self, ax, b, x, lam, constrained, rw, w):
+        # Same results as the reference, in fewer passes: r0 = ax - b - lam_old once; the
+        # multiplier's change dl and the free-set statistics from r0 on the free set; the
+        # released points are those with r0 < dl off it.
+        d = self._scratch("d", x.shape)
+        enter = self._scratch("enter", x.shape, bool)
+        np.subtract(ax, b, out=rw)
+        if constrained and lam:
+            rw -= lam
+        np.greater(x, 0.0, out=w)
+        np.multiply(rw, w, out=d)
+        nfree = int(np.count_nonzero(w))
+        s1 = float(d.sum())
+        s2 = self._dot(d, d)
+        dl = s1 / nfree if constrained and nfree > 0 else 0.0
+        g = max(s2 - s1 * dl, 0.0) if dl else s2
+        np.less(rw, dl, out=enter)
+        np.greater(enter, w, out=enter)  # r < 0 and not free
+        ne = int(np.count_nonzero(enter))
+        if ne == 0:
+            # rw = r on the free set: r0 - dl there, 0 elsewhere (d holds r0 on it)
+            if dl:
+                np.subtract(d, dl, out=d, where=w)
+            np.copyto(rw, d)
+            return rw, w, lam + dl, g, 0.0, nfree, 0.0, 0
+        if dl:
+            rw -= dl
+        np.logical_or(w, enter, out=w)
+        rw *= w
+        np.multiply(rw, enter, out=d)
+        return rw, w, lam + dl, g, self._dot(d, d), nfree + ne, float(rw.sum()), ne
+
     def work_residual(self, ax, b, x, lam, rw, w):
         free = self._scratch("free", x.shape, bool)
         enter = self._scratch("enter", x.shape, bool)
@@ -208,9 +261,10 @@ class NumpyKernels(ArrayKernels):
         return a
 
     def pre_stats(self, rw, z, w, t):
+        # t is already zero off W: pstep zeroes it where it clips, the only points that leave W
+        # while t is still used (a release restarts with beta = 0)
         z64 = self._scratch("z", rw.shape)
         np.multiply(z, w, out=z64)  # z on W, in double precision
-        t *= w  # the old direction restricted to the current working set
         return self._dot(rw, z64), float(z64.sum()), float(t.sum())
 
     def pre_direction(self, z, w, t, beta, c, rw):
@@ -224,16 +278,21 @@ class NumpyKernels(ArrayKernels):
             np.subtract(t, c, out=t, where=w)
         return t, self._dot(rw, t)
 
-    def pstep(self, x, t, tau):
+    def pstep(self, x, t, tau, need_total=True):
         d = self._scratch("d", x.shape)
         np.multiply(t, tau, out=d)
         x -= d
-        neg = self._scratch("enter", x.shape, bool)
-        np.less(x, 0.0, out=neg)
-        nclip = int(np.count_nonzero(neg))
-        if nclip:
+        nclip = 0
+        if float(x.min()) < 0.0:
+            neg = self._scratch("enter", x.shape, bool)
+            np.less(x, 0.0, out=neg)
+            nclip = int(np.count_nonzero(neg))
             np.maximum(x, 0.0, out=x)
-        return x, nclip, float(x.sum())
+            np.copyto(t, 0.0, where=neg)  # clipped points leave the working set
+        self._steps = getattr(self, "_steps", 0) + 1
+        if nclip or need_total and self._steps % 8 == 0:
+            return x, nclip, float(x.sum())
+        return x, nclip, float("nan")
 
     def scale(self, x, factor):
         x *= factor
@@ -465,7 +524,7 @@ class NumbaKernels(ArrayKernels):
         rt = self._pre_direction(f(z), f(w), f(t), float(beta), float(c), f(rw))
         return t, float(rt)
 
-    def pstep(self, x, t, tau):
+    def pstep(self, x, t, tau, need_total=True):
         nclip, total = self._pstep(self._flat(x), self._flat(t), float(tau))
         return x, int(nclip), float(total)
 
