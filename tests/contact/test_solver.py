@@ -308,3 +308,19 @@ def test_preconditioned_matches_plain_polonsky_keer() -> None:
     assert np.array_equal(a.contact, b.contact)
     np.testing.assert_allclose(b.pressure, a.pressure, rtol=0, atol=1e-6 * a.max_pressure)
     assert b.iterations < a.iterations
+
+
+def test_two_grid_warm_start_matches_cold_solves() -> None:
+    """Along a load curve each solve starts from the previous fine solution plus the coarse
+    level's change; the answers are those of cold solves (same contact sets, same fields)."""
+    tex = caps(128, 100e-6, 50e-6, 10e-6)
+    pressures = [2e3, 5e3, 1.2e4, 3e4, 8e4]
+    solver = HalfSpaceSolver(tex, E, tol=1e-10)
+    curve = load_curve(solver, pressures)
+    assert np.all(curve.converged)
+    for p, warm in zip(pressures, curve.results):
+        cold = HalfSpaceSolver(tex, E, tol=1e-10).solve_pressure(p)
+        assert np.array_equal(warm.contact, cold.contact)
+        np.testing.assert_allclose(warm.pressure, cold.pressure, rtol=0, atol=1e-6 * cold.max_pressure)
+    # the warm path was taken: the solver keeps its last solution's coarse companion
+    assert solver._warm is not None and solver._warm[0]() is curve.results[-1].pressure
