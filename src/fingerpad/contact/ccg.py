@@ -41,6 +41,7 @@ def constrained_cg(
     max_iter: int,
     stall: int | None = None,
     precond: FFTOperator | None = None,
+    own: bool = False,
 ) -> CCGResult:
     """Minimise 1/2 x.Ax - b.x subject to x >= 0 (and mean(x) = ``mean`` if given).
 
@@ -61,11 +62,12 @@ def constrained_cg(
     cycle while the other converges at once.
 
     With ``precond`` (an approximate inverse of ``A``, applied by FFT) the iteration is the
-    preconditioned variant :func:`_preconditioned_cg`.
+    preconditioned variant :func:`_preconditioned_cg`; ``own=True`` lets it update ``x0`` in
+    place (the caller gives it up).
     """
     if precond is not None:
         return _preconditioned_cg(kern, op, precond, b, x0, mean=mean, scale=scale, tol=tol, max_iter=max_iter,
-                                  stall=stall)
+                                  stall=stall, own=own)
     xp = kern.xp
     n = x0.size
     x = xp.asarray(x0, copy=True)  # updated in place by the kernels
@@ -161,6 +163,7 @@ def _preconditioned_cg(
     tol: float,
     max_iter: int,
     stall: int | None,
+    own: bool = False,
 ) -> CCGResult:
     """Preconditioned, projected conjugate gradient on the working set.
 
@@ -185,7 +188,8 @@ def _preconditioned_cg(
     """
     xp = kern.xp
     n = x0.size
-    x = xp.asarray(x0, copy=True)
+    x = x0 if own else xp.asarray(x0, copy=True)  # own: the caller hands x0 over
+    del x0
     if mean is not None:
         m = float(xp.mean(x))
         if m > 0:
@@ -235,6 +239,7 @@ def _preconditioned_cg(
         if mean is not None and total > 0 and (nclip or abs(total - mean * n) > 1e-14 * mean * n):
             # back onto mean(x) = mean after clipping (or rounding drift of the centred steps)
             x = kern.scale(x, mean * n / total)
+        ax = None  # release the old A x before the transform allocates the new one
         ax = op(x)
 
 

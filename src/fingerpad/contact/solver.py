@@ -369,12 +369,15 @@ class HalfSpaceSolver:
             coarse_p = coarse.pressure
             del coarse
         auto = self.formulation == "auto" and self.texture.periodic
-        raw = self._run(form, mode, value, seed, stall=STALL_ITERATIONS if auto else None)
+        # hand the seed over (memory: a nested start's seed is a full-size field of its own)
+        holder = [seed]
+        del seed
+        raw = self._run(form, mode, value, holder.pop(), stall=STALL_ITERATIONS if auto else None)
         self._kern.release()
         if not raw.converged and auto:
             # The other formulation is the fallback (e.g. near full contact for the primal).
             other = "dual" if form == "primal" else "primal"
-            raw2 = self._run(other, mode, value, seed if isinstance(seed, ContactResult) else None)
+            raw2 = self._run(other, mode, value, initial)
             raw2.iterations += raw.iterations
             if raw2.converged or raw2.residual < raw.residual:
                 raw, form = raw2, other
@@ -416,28 +419,32 @@ class HalfSpaceSolver:
             if mode == "pressure":
                 b = self.h
                 x0 = be.asarray(seed.pressure) if seed is not None else xp.full(self.h.shape, value)
-                x0 = xp.maximum(x0, 0.0)
+                x0 = xp.maximum(x0, 0.0)  # a fresh array: the solve updates it in place
+                del seed  # the caller's seed may be the only other full-size field alive
                 m = float(xp.mean(x0))
-                x0 = x0 * (value / m) if m > 0 else xp.full(self.h.shape, value)
-                return constrained_cg(self._kern, self._K, b, x0, mean=value, scale=self.pv, tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre)
+                if m > 0:
+                    x0 *= value / m
+                else:
+                    x0 = xp.full(self.h.shape, value)
+                return constrained_cg(self._kern, self._K, b, x0, mean=value, scale=self.pv, tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre, own=True)
             b = self.h - (self.h_max - value)
             if seed is not None:
                 x0 = xp.maximum(be.asarray(seed.pressure), 0.0)
             else:
                 x0 = xp.where(b > 0, b, 0.0) * (self.modulus / max(self.texture.size) * 4)
-            return constrained_cg(self._kern, self._K, b, x0, mean=None, scale=self.pv, tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre)
+            return constrained_cg(self._kern, self._K, b, x0, mean=None, scale=self.pv, tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre, own=True)
         # dual: unknown gap, gradient = pressure
         if mode == "pressure":
             b = -(self._Sh + value)
             x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else self._gap_guess()
-            return constrained_cg(self._kern, self._S, b, x0, mean=None, scale=value, tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre)
+            return constrained_cg(self._kern, self._S, b, x0, mean=None, scale=value, tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre, own=True)
         target = self.h_max - value - self.h_mean  # mean gap for a zero-mean displacement
         b = -self._Sh
         x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else xp.maximum(self.h_max - self.h, 0.0)
         mx = float(xp.mean(x0))
         x0 = x0 * (target / mx) if mx > 0 else xp.full(self.h.shape, target)
         scale = self.modulus * self.pv / max(self.texture.size)
-        return constrained_cg(self._kern, self._S, b, x0, mean=target, scale=scale, tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre)
+        return constrained_cg(self._kern, self._S, b, x0, mean=target, scale=scale, tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre, own=True)
 
     def _gap_guess(self) -> Any:
         # Skin plane at the texture's mid-height, gaps where it does not reach: only a starting
