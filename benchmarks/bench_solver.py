@@ -21,8 +21,8 @@ Sections (``--sections``, comma-separated; default all):
       the pair timed here before and after the cases;
     * tamaas 2.9 ``PolonskyKeerRey`` (``benchmarks/_peer_tamaas.py``, a child process; model +
       solver construction + solve, imports excluded) and ContactMechanics 1.8
-      ``NonSmoothContactSystem.minimize_proxy`` (``benchmarks/_peer_contactmechanics.py``,
-      in-process; system construction + solve). Ratios = peer seconds / fingerpad *command*
+      ``NonSmoothContactSystem.minimize_proxy`` (``benchmarks/_peer_contactmechanics.py``, also
+      a child process; system construction + solve). Ratios = peer seconds / fingerpad *command*
       seconds (so fingerpad carries its start-up, the peers do not). Contact fractions are
       compared and every field's residual is evaluated with fingerpad's own KKT criterion.
 
@@ -209,26 +209,37 @@ def tamaas_available(python: str) -> str | None:
     return json.loads(out.stdout.split("RESULT ", 1)[1]).get("tamaas")
 
 
-def cm_module():
-    try:
-        import ContactMechanics  # noqa: F401, PLC0415
-
-        sys.path.insert(0, str(HERE))
-        import _peer_contactmechanics as pcm  # noqa: PLC0415
-
-        return pcm
-    except ImportError:
+def cm_version(python: str) -> str | None:
+    out = subprocess.run([python, str(HERE / "_peer_contactmechanics.py"), "--versions"], capture_output=True, text=True)
+    if out.returncode != 0:
         return None
+    return json.loads(out.stdout.strip().splitlines()[-1]).get("ContactMechanics")
+
+
+def run_cm(tex, pressures: list[float], python: str) -> list[dict[str, Any]]:
+    """ContactMechanics in a child process (its threads and imports stay out of this one)."""
+    with tempfile.TemporaryDirectory(prefix="fingerpad-cm-") as tmp:
+        np.save(Path(tmp) / "h.npy", tex.heights)
+        job = {"heights": "h.npy", "size": list(tex.size), "modulus": MODULUS, "tol": TOL, "pressures": pressures}
+        (Path(tmp) / "job.json").write_text(json.dumps(job))
+        out = subprocess.run([python, str(HERE / "_peer_contactmechanics.py"), str(Path(tmp) / "job.json")],
+                             capture_output=True, text=True, check=False)
+        if out.returncode != 0:
+            raise RuntimeError(f"ContactMechanics worker failed: {out.stderr[-1500:]}")
+        rows = [json.loads(ln) for ln in out.stdout.splitlines() if ln.startswith("{")]
+        for r in rows:
+            r["_pressure"] = np.load(Path(tmp) / r.pop("pressure_file"))
+        return rows
 
 
 # ----------------------------------------------------------------------------------- sections
 
 
 def section_command(args, report) -> None:
-    pcm = None if args.no_cm else cm_module()
+    cm = None if args.no_cm else cm_version(args.cm_python)
     tm_version = None if args.no_tamaas else tamaas_available(args.tamaas_python)
     report["meta"]["tamaas"] = tm_version
-    report["meta"]["ContactMechanics"] = pcm.versions().get("ContactMechanics") if pcm else None
+    report["meta"]["ContactMechanics"] = cm
     rows = []
     for g in args.grids:
         tex = cell(g)
@@ -263,9 +274,9 @@ def section_command(args, report) -> None:
                 q["residual_ours_metric"] = kkt_residual(tex, pq)
                 row["tamaas"] = q
                 log(f"  tamaas: {q['seconds']:.2f} s, {q['iterations']} it, cf {q['contact_fraction']:.5f}")
-            if pcm and g in args.cm_grids:
+            if cm and g in args.cm_grids:
                 log(f"  ContactMechanics {g}^2 {load} ...")
-                q = pcm.solve_case(tex.heights, tuple(tex.size), MODULUS, p, TOL, keep_pressure=True)
+                q = run_cm(tex, [p], args.cm_python)[0]
                 pq = q.pop("_pressure")
                 q["residual_ours_metric"] = kkt_residual(tex, pq)
                 row["cm"] = q
@@ -493,6 +504,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--curve-grid", type=int, default=1024)
     ap.add_argument("--memory", type=int, default=4096)
     ap.add_argument("--tamaas-python", default=sys.executable, help="interpreter with tamaas (default: this one)")
+    ap.add_argument("--cm-python", default=sys.executable, help="interpreter with ContactMechanics (default: this one)")
     ap.add_argument("--no-tamaas", action="store_true")
     ap.add_argument("--no-cm", action="store_true")
     ap.add_argument("--no-previous", action="store_true",
