@@ -530,8 +530,12 @@ def main(argv: list[str] | None = None) -> int:
         "date": _dt.datetime.now().isoformat(timespec="seconds"), "host": platform.node(),
         "cpu_count": os.cpu_count(), "loadavg": ", ".join(f"{x:.2f}" for x in os.getloadavg()),
         "python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__, "tol": TOL}}
-    # warm-up: imports and FFT plans, excluded as the peers' imports are
+    # warm-up: imports, FFT plans and the previous solver's compiled loops (their ~1 s cache
+    # load), excluded as the peers' imports are
     solve_inprocess(cell(64), LOADS["mid"])
+    if not args.no_previous:
+        solve_inprocess(cell(64), LOADS["mid"], **PREVIOUS)
+        solve_inprocess(cell(64), LOADS["full"], **PREVIOUS)
     sections = [s.strip() for s in args.sections.split(",") if s.strip()]
     if "memory" in sections:  # first: a child's peak RSS, measured before this process grows
         section_memory(args, report)

@@ -31,9 +31,10 @@ x >= 0`` with an optional fixed mean of ``x``:
 
 Both are solved by a *preconditioned* projected conjugate gradient (:mod:`.ccg`): the inverse
 operator (the stiffness ``E*|q|/2`` for the primal, the compliance for the dual) applied to the
-gradient on the working set. Plain Polonsky-Keer iterations grow like n^(1/4) on an n x n grid
-(92 at 1024^2 on a cap cell, 134 at 2048^2); preconditioned they barely grow (17, 20, 24 at
-256^2, 512^2, 1024^2 from a cold start) across contact fractions 1-100 %, so
+gradient on the working set. Plain Polonsky-Keer iterations grow like sqrt(n) on an n x n grid
+(55, 72, 92, 113-134 at 256^2 ... 2048^2 on a cap cell at 35 % contact); preconditioned they
+barely grow (17, 20, 24 at 256^2, 512^2, 1024^2 from a cold start) across contact fractions
+1-100 %, so
 ``formulation="auto"`` takes the primal everywhere and keeps the dual as the fallback of a
 stalled solve. ``precondition=False`` restores the plain iteration (and, for periodic cells,
 the former choice: the dual above 75 % contact judged from a ~128-point probe).
