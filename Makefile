@@ -22,7 +22,7 @@ test-slow: $(STAMP)
 
 bench: $(STAMP)
 	$(PY) -m pip install --quiet --disable-pip-version-check -e ".[bench]"
-	$(PY) benchmarks/bench_solver.py --grids 256,512,1024,2048 --peer-grids 256,512,1024,2048 --memory 4096
+	$(PY) benchmarks/bench_solver.py --grids 1024,2048 --memory 4096
 	$(PY) benchmarks/bench_predict.py
 	$(PY) benchmarks/bench_startup.py
 	$(PY) benchmarks/bench_sweep.py

@@ -1,13 +1,10 @@
 """Peer worker: solve periodic contact cells with ContactMechanics (Pastewka group).
 
-Used by ``benchmarks/bench_solver.py`` in two ways:
+Run by ``benchmarks/bench_solver.py`` as a script in a child interpreter (the benchmark's own,
+or ``--cm-python`` pointing at one that has ContactMechanics + SurfaceTopography), so that its
+imports and threads stay out of the timed process::
 
-* imported in-process (``solve_case``) when ``import ContactMechanics`` works in the benchmark's
-  own interpreter;
-* run as a script in another interpreter that has ContactMechanics + SurfaceTopography
-  (``--peer-python /tmp/tv/bin/python``)::
-
-      PEER_PYTHON benchmarks/_peer_contactmechanics.py JOB.json
+      PYTHON benchmarks/_peer_contactmechanics.py JOB.json
 
   ``JOB.json`` holds ``{"heights": "h.npy", "size": [Lx, Ly], "modulus": E*, "tol": tol,
   "pressures": [p1, p2, ...], "maxiter": n}``; the heights (m) are read from the .npy next to

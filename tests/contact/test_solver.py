@@ -191,11 +191,12 @@ def test_invariants(texture_kind: str, load: float) -> None:
     np.testing.assert_allclose(g, res.gap, atol=1e-9 * pv)
 
 
-def test_primal_and_dual_agree() -> None:
+@pytest.mark.parametrize("precondition", [True, False])
+def test_primal_and_dual_agree(precondition: bool) -> None:
     tex = random_rough(128, 1e-4, 1e-6, seed=3)
     pbar = 0.3 * E * tex.peak_to_valley / tex.size[0]
-    a = HalfSpaceSolver(tex, E, formulation="primal", tol=1e-10).solve_pressure(pbar)
-    b = HalfSpaceSolver(tex, E, formulation="dual", tol=1e-10).solve_pressure(pbar)
+    a = HalfSpaceSolver(tex, E, formulation="primal", tol=1e-10, precondition=precondition).solve_pressure(pbar)
+    b = HalfSpaceSolver(tex, E, formulation="dual", tol=1e-10, precondition=precondition).solve_pressure(pbar)
     assert a.converged and b.converged
     assert np.array_equal(a.contact, b.contact)
     np.testing.assert_allclose(a.pressure, b.pressure, atol=1e-6 * a.max_pressure)
@@ -280,13 +281,46 @@ def test_bad_numerics() -> None:
         HalfSpaceSolver(paraboloid(32, 1e-4, 1e-3, periodic=False), E, formulation="dual")
 
 
+@pytest.mark.parametrize("precondition", [True, False])
+@pytest.mark.parametrize("kernels", ["numpy", "numba"])
 @pytest.mark.parametrize("formulation", ["primal", "dual"])
-def test_compiled_kernels_match_array_kernels(formulation: str) -> None:
-    pytest.importorskip("numba")
+def test_fast_kernels_match_array_kernels(formulation: str, kernels: str, precondition: bool) -> None:
+    if kernels == "numba":
+        pytest.importorskip("numba")
     tex = random_rough(64, 1e-4, 1e-6, seed=5)
     pbar = 0.3 * E * tex.peak_to_valley / tex.size[0]
-    a = HalfSpaceSolver(tex, E, formulation=formulation, kernels="array").solve_pressure(pbar)
-    b = HalfSpaceSolver(tex, E, formulation=formulation, kernels="numba").solve_pressure(pbar)
+    kw = dict(formulation=formulation, precondition=precondition)
+    a = HalfSpaceSolver(tex, E, kernels="array", **kw).solve_pressure(pbar)
+    b = HalfSpaceSolver(tex, E, kernels=kernels, **kw).solve_pressure(pbar)
     assert a.iterations == b.iterations
     assert np.array_equal(a.contact, b.contact)
     np.testing.assert_allclose(a.pressure, b.pressure, rtol=0, atol=1e-9 * a.max_pressure)
+
+
+def test_preconditioned_matches_plain_polonsky_keer() -> None:
+    """Both iterations solve the same problem: same contact set and fields at tol 1e-10; the
+    preconditioned one in fewer iterations (an invariant of the method, not a timing)."""
+    tex = random_rough(128, 1e-4, 1e-6, seed=4)
+    pbar = 0.5 * E * tex.peak_to_valley / tex.size[0]
+    a = HalfSpaceSolver(tex, E, tol=1e-10, precondition=False, formulation="primal").solve_pressure(pbar)
+    b = HalfSpaceSolver(tex, E, tol=1e-10, coarse_to_fine=False).solve_pressure(pbar)
+    assert a.converged and b.converged
+    assert np.array_equal(a.contact, b.contact)
+    np.testing.assert_allclose(b.pressure, a.pressure, rtol=0, atol=1e-6 * a.max_pressure)
+    assert b.iterations < a.iterations
+
+
+def test_two_grid_warm_start_matches_cold_solves() -> None:
+    """Along a load curve each solve starts from the previous fine solution plus the coarse
+    level's change; the answers are those of cold solves (same contact sets, same fields)."""
+    tex = caps(128, 100e-6, 50e-6, 10e-6)
+    pressures = [2e3, 5e3, 1.2e4, 3e4, 8e4]
+    solver = HalfSpaceSolver(tex, E, tol=1e-10)
+    curve = load_curve(solver, pressures)
+    assert np.all(curve.converged)
+    for p, warm in zip(pressures, curve.results):
+        cold = HalfSpaceSolver(tex, E, tol=1e-10).solve_pressure(p)
+        assert np.array_equal(warm.contact, cold.contact)
+        np.testing.assert_allclose(warm.pressure, cold.pressure, rtol=0, atol=1e-6 * cold.max_pressure)
+    # the warm path was taken: the solver keeps its last solution's coarse companion
+    assert solver._warm is not None and solver._warm[0]() is curve.results[-1].pressure

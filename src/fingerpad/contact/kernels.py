@@ -1,15 +1,22 @@
 """Element-wise building blocks of the constrained conjugate gradient.
 
-The solver's iteration is a few FFTs plus a dozen element-wise operations and reductions. Done
-one NumPy call at a time those operations read and write the whole field a dozen times on one
-core and cost more than the FFTs; fused into four loops compiled with Numba (parallel over the
-cores) they cost a fraction of one FFT pair. Two implementations share one interface:
+An iteration is a few FFTs plus a dozen element-wise operations and reductions. Three
+implementations share one interface:
 
-* :class:`ArrayKernels` - any array namespace (NumPy, CuPy, ...), one call per operation;
-* :class:`NumbaKernels` - NumPy arrays on the CPU, fused parallel loops (used when Numba imports).
+* :class:`ArrayKernels` - the reference, one array-API call per operation, for any namespace
+  (``array_api_strict`` in the tests, CuPy or PyTorch on a GPU);
+* :class:`NumpyKernels` - NumPy in place, into buffers owned by the kernels (no allocation per
+  iteration, as few passes as NumPy allows); the default for NumPy arrays;
+* :class:`~fingerpad.contact.kernels_numba.NumbaKernels` - fused parallel loops compiled with
+  Numba (``kernels="numba"``, module :mod:`fingerpad.contact.kernels_numba`). On the
+  2-core development machine they measured no faster than the NumPy ones (the FFTs dominate,
+  and two threads contend with other work) and cost ~1 s of compilation-cache loading per
+  process, which the whole ``fingerpad solve`` command cannot afford.
 
 Notation: ``x`` the iterate (pressure or gap), ``ax`` = A x, ``b`` the linear term, ``lam``
-the multiplier of the mean constraint, ``free`` = ``x > 0``, ``r = ax - b - lam`` the gradient.
+the multiplier of the mean constraint, ``free`` = ``x > 0``, ``r = ax - b - lam`` the gradient,
+``W`` the working set of the preconditioned iteration (free points and bound points with
+``r < 0``).
 """
 
 from __future__ import annotations
@@ -33,7 +40,7 @@ class ArrayKernels:
         xp = self.xp
         free = x > 0
         d = xp.where(free, ax - b - shift, 0.0)
-        return int(xp.sum(free)), float(xp.sum(d)), float(xp.sum(d * d))
+        return int(xp.count_nonzero(free)), float(xp.sum(d)), float(xp.sum(d * d))
 
     def direction(self, ax: Any, b: Any, x: Any, lam: float, t: Any, beta: float) -> tuple[Any, float, float, float, float]:
         """New direction ``t = free ? r + beta t : 0`` and (|KKT violation|^2 off the free set,
@@ -84,146 +91,225 @@ class ArrayKernels:
     def scale(self, x: Any, factor: float) -> Any:
         return x * factor
 
+    def release(self) -> None:
+        """Drop scratch buffers between solves (none here)."""
 
-def _build_numba() -> Any:
-    import numba as nb  # noqa: PLC0415
+    # ---- preconditioned path (working set W = free points and bound points with a descent gradient)
 
-    opts = dict(parallel=True, fastmath=False, cache=True, nogil=True)
+    def mask_like(self, x: Any) -> Any:
+        """A boolean mask buffer of the shape of ``x``."""
+        return self.xp.zeros(x.shape, dtype=self.xp.bool)
 
-    @nb.njit(**opts)
-    def free_stats(ax, b, x, shift):  # pragma: no cover - compiled
-        n = 0
-        s1 = 0.0
-        s2 = 0.0
-        for i in nb.prange(x.size):
-            if x[i] > 0:
-                d = ax[i] - b[i] - shift
-                n += 1
-                s1 += d
-                s2 += d * d
-        return n, s1, s2
+    def gradient(self, ax: Any, b: Any, x: Any, lam: float, constrained: bool, rw: Any, w: Any) -> tuple:
+        """The gradient of the preconditioned iteration in one call: the multiplier updated from
+        the free points (``constrained``: the mean of x is fixed), the free-set variance ``g``,
+        then :meth:`work_residual` with the new multiplier. Returns (rw, w, lam, g, viol2,
+        |W|, sum of rw, number of released points)."""
+        nfree, s1, s2 = self.free_stats(ax, b, x, lam if constrained else 0.0)
+        if constrained and nfree > 0:
+            lam += s1 / nfree
+            g = max(s2 - s1 * s1 / nfree, 0.0)
+        else:
+            g = s2
+        rw, w, nwork, srw, viol2, nenter = self.work_residual(ax, b, x, lam, rw, w)
+        return rw, w, lam, g, viol2, nwork, srw, nenter
 
-    @nb.njit(**opts)
-    def direction(ax, b, x, lam, t, beta):  # pragma: no cover - compiled
-        v = 0.0
-        st = 0.0
-        rt = 0.0
-        for i in nb.prange(x.size):
-            r = ax[i] - b[i] - lam
-            if x[i] > 0:
-                tn = r + beta * t[i]
-                t[i] = tn
-                st += tn
-                rt += r * tn
-            else:
-                t[i] = 0.0
-                if r < 0:
-                    v += r * r
-        return v, st, rt
+    def work_residual(self, ax: Any, b: Any, x: Any, lam: float, rw: Any, w: Any) -> tuple[Any, Any, int, float, float, int]:
+        """Gradient on the working set: ``w = (x > 0) | (r < 0)``, ``rw = w ? r : 0`` with
+        ``r = ax - b - lam``. Returns (rw, w, |W|, sum of rw, |KKT violation|^2 off the free set,
+        number of bound points in W)."""
+        xp = self.xp
+        r = ax - b - lam
+        free = x > 0
+        enter = (~free) & (r < 0)
+        w_new = free | enter
+        rw_new = xp.where(w_new, r, 0.0)
+        viol = xp.where(enter, r, 0.0)
+        return (
+            rw_new,
+            w_new,
+            int(xp.count_nonzero(w_new)),
+            float(xp.sum(rw_new)),
+            float(xp.sum(viol * viol)),
+            int(xp.count_nonzero(enter)),
+        )
 
-    @nb.njit(**opts)
-    def centre(t, x, c):  # pragma: no cover - compiled
-        for i in nb.prange(x.size):
-            if x[i] > 0:
-                t[i] -= c
+    def shift_on(self, a: Any, w: Any, c: float) -> Any:
+        """``a - c`` on the mask ``w`` (``a`` is zero off it)."""
+        return self.xp.where(w, a - c, 0.0)
 
-    @nb.njit(**opts)
-    def step(x, t, tau, ax, b, lam):  # pragma: no cover - compiled
-        nclip = 0
-        nenter = 0
-        total = 0.0
-        for i in nb.prange(x.size):
-            xi = x[i]
-            if xi > 0:
-                s = xi - tau * t[i]
-                if s < 0:
-                    s = 0.0
-                    nclip += 1
-            else:
-                r = ax[i] - b[i] - lam
-                if r < 0:
-                    s = -tau * r
-                    nenter += 1
-                else:
-                    s = 0.0
-            x[i] = s
-            total += s
-        return nclip, nenter, total
+    def pre_stats(self, rw: Any, z: Any, w: Any, t: Any) -> tuple[float, float, float]:
+        """(rw . z, sum of z on W, sum of t on W)."""
+        xp = self.xp
+        return float(xp.sum(rw * z)), float(xp.sum(xp.where(w, z, 0.0))), float(xp.sum(xp.where(w, t, 0.0)))
 
-    @nb.njit(**opts)
-    def quad(w, th):  # pragma: no cover - compiled
-        q = 0.0
-        for i in nb.prange(th.size):
-            z = th[i]
-            q += w[i] * (z.real * z.real + z.imag * z.imag)
-        return q
+    def pre_direction(self, z: Any, w: Any, t: Any, beta: float, c: float, rw: Any) -> tuple[Any, float]:
+        """``t = w ? z + beta t - c : 0`` and ``rw . t``."""
+        xp = self.xp
+        t_new = xp.where(w, z + beta * t - c, 0.0)
+        return t_new, float(xp.sum(rw * t_new))
 
-    @nb.njit(**opts)
-    def axpy(xh, tau, th):  # pragma: no cover - compiled
-        for i in nb.prange(xh.size):
-            xh[i] -= tau * th[i]
-
-    @nb.njit(**opts)
-    def scale(x, f):  # pragma: no cover - compiled
-        for i in nb.prange(x.size):
-            x[i] *= f
-
-    return free_stats, direction, centre, step, quad, axpy, scale
+    def pstep(self, x: Any, t: Any, tau: float, need_total: bool = True) -> tuple[Any, int, float]:
+        """``x - tau t`` clipped at 0: (new x, number of clipped points, sum of new x). The sum
+        may be skipped (NaN) when ``need_total`` is false and nothing was clipped."""
+        xp = self.xp
+        s = x - tau * t
+        nclip = int(xp.count_nonzero(s < 0))
+        if nclip:
+            s = xp.maximum(s, 0.0)
+        return s, nclip, float(xp.sum(s))
 
 
-_NUMBA: Any = None
 
-
-class NumbaKernels(ArrayKernels):
-    """Fused, parallel loops for NumPy arrays (in place where the algorithm allows)."""
+class NumpyKernels(ArrayKernels):
+    """NumPy, in place: each operation writes into a buffer the solver owns, so that an
+    iteration allocates nothing (memory at 4096^2) and makes as few passes over the fields as
+    NumPy allows. Used by default for NumPy arrays: on the 2-core development machine it
+    measured as fast as the compiled loops (the FFTs dominate) without their ~1 s load time.
+    """
 
     def __init__(self) -> None:
-        global _NUMBA
-        if _NUMBA is None:
-            _NUMBA = _build_numba()
-        (self._free_stats, self._direction, self._centre, self._step, self._quad,
-         self._axpy, self._scale) = _NUMBA
         super().__init__(np)
+        self._buf: dict[tuple[str, tuple[int, ...]], np.ndarray] = {}
+
+    def _scratch(self, name: str, shape: tuple[int, ...], dtype: Any = np.float64) -> np.ndarray:
+        # "d" (a difference) and "z" (the preconditioned gradient) are never live together
+        name = "d" if name == "z" else name
+        key = (name, shape)
+        a = self._buf.get(key)
+        if a is None:
+            a = self._buf[key] = np.empty(shape, dtype=dtype)
+        return a
 
     @staticmethod
-    def _flat(a: np.ndarray) -> np.ndarray:
-        return a.reshape(-1)
+    def _dot(a: np.ndarray, b: np.ndarray) -> float:
+        # einsum: single-threaded SIMD; BLAS dot spawns threads whose wake-up on a loaded
+        # 2-core machine measured up to 8x slower (16 ms against 2 ms at 2048^2)
+        return float(np.einsum("i,i->", a.reshape(-1), b.reshape(-1)))
+
+    def mask_like(self, x):
+        return np.zeros(x.shape, dtype=bool)
+
+    def release(self) -> None:
+        self._buf.clear()
 
     def free_stats(self, ax, b, x, shift):
-        n, s1, s2 = self._free_stats(self._flat(ax), self._flat(b), self._flat(x), float(shift))
-        return int(n), float(s1), float(s2)
+        d = self._scratch("d", x.shape)
+        free = self._scratch("free", x.shape, bool)
+        np.subtract(ax, b, out=d)
+        if shift:
+            d -= shift
+        np.greater(x, 0.0, out=free)
+        d *= free
+        return int(np.count_nonzero(free)), float(d.sum()), self._dot(d, d)
 
-    def direction(self, ax, b, x, lam, t, beta):
-        t = np.array(t, copy=True) if not t.flags.writeable else t
-        v, st, rt = self._direction(self._flat(ax), self._flat(b), self._flat(x), float(lam), self._flat(t), float(beta))
-        return t, v, st, rt
+    def gradient(self, ax, b, x, lam, constrained, rw, w):
+        # Same results as the reference, in fewer passes: r0 = ax - b - lam_old once; the
+        # multiplier's change dl and the free-set statistics from r0 on the free set; the
+        # released points are those with r0 < dl off it.
+        d = self._scratch("d", x.shape)
+        enter = self._scratch("enter", x.shape, bool)
+        np.subtract(ax, b, out=rw)
+        if constrained and lam:
+            rw -= lam
+        np.greater(x, 0.0, out=w)
+        np.multiply(rw, w, out=d)
+        nfree = int(np.count_nonzero(w))
+        s1 = float(d.sum())
+        s2 = self._dot(d, d)
+        dl = s1 / nfree if constrained and nfree > 0 else 0.0
+        g = max(s2 - s1 * dl, 0.0) if dl else s2
+        np.less(rw, dl, out=enter)
+        np.greater(enter, w, out=enter)  # r < 0 and not free
+        ne = int(np.count_nonzero(enter))
+        if ne == 0:
+            # rw = r on the free set: r0 - dl there, 0 elsewhere (d holds r0 on it)
+            if dl:
+                np.subtract(d, dl, out=d, where=w)
+            np.copyto(rw, d)
+            return rw, w, lam + dl, g, 0.0, nfree, 0.0, 0
+        if dl:
+            rw -= dl
+        np.logical_or(w, enter, out=w)
+        rw *= w
+        np.multiply(rw, enter, out=d)
+        return rw, w, lam + dl, g, self._dot(d, d), nfree + ne, float(rw.sum()), ne
 
-    def centre(self, t, x, c):
-        self._centre(self._flat(t), self._flat(x), float(c))
-        return t
+    def work_residual(self, ax, b, x, lam, rw, w):
+        free = self._scratch("free", x.shape, bool)
+        enter = self._scratch("enter", x.shape, bool)
+        np.subtract(ax, b, out=rw)
+        if lam:
+            rw -= lam
+        np.greater(x, 0.0, out=free)
+        np.less(rw, 0.0, out=enter)
+        np.greater(enter, free, out=enter)  # r < 0 and not free
+        ne = int(np.count_nonzero(enter))
+        if ne:
+            np.logical_or(free, enter, out=w)
+            rw *= w
+            d = self._scratch("d", x.shape)
+            np.multiply(rw, enter, out=d)
+            viol = self._dot(d, d)
+        else:
+            np.copyto(w, free)
+            rw *= w
+            viol = 0.0
+        return rw, w, int(np.count_nonzero(w)), float(rw.sum()), viol, ne
 
-    def step(self, x, t, tau, ax, b, lam):
-        # in place: the solver owns its iterate and does not need the old one
-        nclip, nenter, total = self._step(self._flat(x), self._flat(t), float(tau), self._flat(ax), self._flat(b), float(lam))
-        return x, nclip > 0, nenter > 0, float(total)
+    def shift_on(self, a, w, c):
+        np.subtract(a, c, out=a, where=w)
+        return a
 
-    def quad(self, weights, th):
-        return float(self._quad(self._flat(weights), self._flat(th)))
+    def pre_stats(self, rw, z, w, t):
+        # t is already zero off W: pstep zeroes it where it clips, the only points that leave W
+        # while t is still used (a release restarts with beta = 0)
+        z64 = self._scratch("z", rw.shape)
+        np.multiply(z, w, out=z64)  # z on W, in double precision
+        return self._dot(rw, z64), float(z64.sum()), float(t.sum())
 
-    def axpy_spectrum(self, xh, tau, th):
-        self._axpy(self._flat(xh), float(tau), self._flat(th))
-        return xh
+    def pre_direction(self, z, w, t, beta, c, rw):
+        z64 = self._buf[("d", rw.shape)]
+        if beta:
+            t *= beta
+            t += z64
+        else:
+            np.copyto(t, z64)
+        if c:
+            np.subtract(t, c, out=t, where=w)
+        return t, self._dot(rw, t)
+
+    def pstep(self, x, t, tau, need_total=True):
+        d = self._scratch("d", x.shape)
+        np.multiply(t, tau, out=d)
+        x -= d
+        nclip = 0
+        if float(x.min()) < 0.0:
+            neg = self._scratch("enter", x.shape, bool)
+            np.less(x, 0.0, out=neg)
+            nclip = int(np.count_nonzero(neg))
+            np.maximum(x, 0.0, out=x)
+            np.copyto(t, 0.0, where=neg)  # clipped points leave the working set
+        self._steps = getattr(self, "_steps", 0) + 1
+        if nclip or need_total and self._steps % 8 == 0:
+            return x, nclip, float(x.sum())
+        return x, nclip, float("nan")
 
     def scale(self, x, factor):
-        self._scale(self._flat(x), float(factor))
+        x *= factor
         return x
 
 
-def kernels_for(xp: Any, is_numpy: bool) -> ArrayKernels:
-    """Fused Numba kernels for NumPy when Numba is available, else the array-namespace ones."""
-    if is_numpy:
+def kernels_for(xp: Any, choice: str) -> ArrayKernels:
+    """``"numpy"``: in-place NumPy kernels; ``"numba"``: compiled loops (NumPy arrays, falls
+    back to NumPy when Numba does not import); ``"array"``: the array-namespace reference."""
+    if choice == "numba":
         try:
+            from .kernels_numba import NumbaKernels  # noqa: PLC0415 - optional, ~1 s to load
+
             return NumbaKernels()
         except ImportError:
-            pass
+            return NumpyKernels()
+    if choice == "numpy":
+        return NumpyKernels()
     return ArrayKernels(xp)
