@@ -167,6 +167,23 @@ def test_netcdf_round_trip(tmp_path):
 
 
 @needs_generators
+def test_long_solve_shows_iterations(monkeypatch):
+    """Large grids show the solver's grid, iteration and residual while they run (on stderr)."""
+    import fingerpad.cli.solve as cli_solve
+
+    shown: list[str] = []
+    monkeypatch.setattr(cli_solve, "_ITERATION_PROGRESS_POINTS", 64 * 64)
+    monkeypatch.setattr(cli_solve.ProgressBar, "detail", lambda self, text: shown.append(text))
+    result = invoke("solve", *CAPS[:-1], "128", "--pressure", "15kPa", "--json", "-")
+    assert result.exit_code == 0, result.output
+    assert shown and shown[-1].startswith("grid 128x224  iteration ")  # hexagonal cell: 1 x sqrt(3)
+    assert any(s.startswith("grid 64x112") for s in shown)  # the coarse level of the nested start
+    monkeypatch.setattr(cli_solve, "_ITERATION_PROGRESS_POINTS", 1024 * 1024)
+    shown.clear()
+    assert invoke("solve", *CAPS, "--pressure", "15kPa", "--json", "-").exit_code == 0
+    assert not shown  # small grids: no per-iteration display
+
+
 def test_single_pressure_netcdf_and_plot(tmp_path):
     from fingerpad.netcdf import load_dataset
 

@@ -235,6 +235,24 @@ def test_warm_start_saves_iterations() -> None:
     assert warm.contact_fraction == cold.contact_fraction
 
 
+def test_progress_reports_every_level_and_the_final_residual() -> None:
+    tex = caps(256, 100e-6, 50e-6, 10e-6)
+    calls: list[tuple[tuple[int, int], int, float]] = []
+    solver = HalfSpaceSolver(tex, E, progress=lambda shape, it, r: calls.append((shape, it, r)))
+    res = solver.solve_pressure(1.5e4)
+    shapes = [c[0] for c in calls]
+    # the nested start reports its coarse levels first, coarsest first, then the cell itself
+    assert shapes[0] == (64, 64) and shapes[-1] == (256, 256)
+    assert sorted(set(shapes)) == [(64, 64), (128, 128), (256, 256)]
+    assert shapes == sorted(shapes)
+    fine = [c for c in calls if c[0] == (256, 256)]
+    assert [c[1] for c in fine] == list(range(len(fine)))  # one call per iteration, in order
+    assert fine[-1][1] == res.iterations and fine[-1][2] == pytest.approx(res.residual)
+    assert res.converged and fine[-1][2] < solver.tol <= fine[-2][2]  # stops at the first residual below tol
+    with pytest.raises(FingerpadError, match="progress"):
+        HalfSpaceSolver(tex, E, progress="yes")  # type: ignore[arg-type]
+
+
 # --------------------------------------------------------------- contact states, critical p
 
 

@@ -130,23 +130,34 @@ def option(*decls: str, help_texts: dict[str, str], panel: str, metavar: str | N
 
 
 class ProgressBar:
-    """A Rich progress bar on stderr, started on the first call ``bar(i, n)`` (none if never called)."""
+    """A Rich progress bar on stderr, started on the first call ``bar(i, n)`` or
+    ``bar.detail(text)`` (none if neither is ever called)."""
 
-    def __init__(self, console: Any, label: str) -> None:
+    def __init__(self, console: Any, label: str, total: int = 1) -> None:
         self.console = console
         self.label = label
+        self.total = total
         self.bar: Any = None
         self.task: Any = None
 
+    def _start(self, n: int) -> None:
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+        self.bar = Progress(TextColumn(self.label), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                            TextColumn("{task.fields[detail]}"), console=self.console)
+        self.bar.start()
+        self.task = self.bar.add_task(self.label, total=n, detail="")
+
     def __call__(self, i: int, n: int) -> None:
         if self.bar is None:
-            from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
-            self.bar = Progress(TextColumn(self.label), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                                console=self.console)
-            self.bar.start()
-            self.task = self.bar.add_task(self.label, total=n)
+            self._start(n)
         self.bar.update(self.task, completed=min(i, n), total=n)
+
+    def detail(self, text: str) -> None:
+        """Show ``text`` after the bar (e.g. the iteration of a long solve)."""
+        if self.bar is None:
+            self._start(self.total)
+        self.bar.update(self.task, detail=text)
 
     def close(self) -> None:
         if self.bar is not None:

@@ -161,6 +161,10 @@ def _print_table(results: Sequence[Any], texture: Any) -> None:
     console.print(table)
 
 
+#: Grids of at least this many points (1024^2) show the solver's iterations while they run.
+_ITERATION_PROGRESS_POINTS = 1024 * 1024
+
+
 def run_job(job: Any) -> int:
     """Solve, write the outputs (all or none), report. Returns the exit code (0 or 1)."""
     import json
@@ -169,8 +173,15 @@ def run_job(job: Any) -> int:
     from ..units import format_quantity
 
     err = stderr_console()
-    with warnings_to(err), ProgressBar(err, "solving") as bar:
-        outcome = run_solve(job, progress=bar if len(job.pressures) > 1 else None)
+    n = len(job.pressures)
+    with warnings_to(err), ProgressBar(err, "solving", total=n) as bar:
+        iterations = None
+        if job.texture.heights.size >= _ITERATION_PROGRESS_POINTS:
+            # A 2048^2 solve takes seconds, 4096^2 tens of seconds: show that it moves.
+            def iterations(shape: tuple[int, int], it: int, residual: float) -> None:
+                bar.detail(f"grid {shape[0]}x{shape[1]}  iteration {it}  residual {residual:.1e} (tol {job.tol:.0e})")
+
+        outcome = run_solve(job, progress=bar if n > 1 else None, iterations=iterations)
     write_solve_outputs(job, outcome)
     results, critical = outcome.results, outcome.critical
     if job.json_path == "-":

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from collections.abc import Callable
 from typing import Any
 
 from .greens import FFTOperator
@@ -42,6 +43,7 @@ def constrained_cg(
     stall: int | None = None,
     precond: FFTOperator | None = None,
     own: bool = False,
+    callback: Callable[[int, float], None] | None = None,
 ) -> CCGResult:
     """Minimise 1/2 x.Ax - b.x subject to x >= 0 (and mean(x) = ``mean`` if given).
 
@@ -64,10 +66,13 @@ def constrained_cg(
     With ``precond`` (an approximate inverse of ``A``, applied by FFT) the iteration is the
     preconditioned variant :func:`_preconditioned_cg`; ``own=True`` lets it update ``x0`` in
     place (the caller gives it up).
+
+    ``callback(iteration, residual)``, if given, is called once per iteration (progress of long
+    solves; it must be cheap).
     """
     if precond is not None:
         return _preconditioned_cg(kern, op, precond, b, x0, mean=mean, scale=scale, tol=tol, max_iter=max_iter,
-                                  stall=stall, own=own)
+                                  stall=stall, own=own, callback=callback)
     xp = kern.xp
     n = x0.size
     x = xp.asarray(x0, copy=True)  # updated in place by the kernels
@@ -92,6 +97,8 @@ def constrained_cg(
         t, viol2, sum_t, rf_t = kern.direction(ax, b, x, lam, t, beta)
         # KKT: zero gradient on the free set, non-negative gradient on the bound set.
         residual = math.sqrt((g + viol2) / n) / scale
+        if callback is not None:
+            callback(it, residual)
         if residual < tol:
             if fresh:
                 return CCGResult(x, it, residual, True, lam, ax)
@@ -164,6 +171,7 @@ def _preconditioned_cg(
     max_iter: int,
     stall: int | None,
     own: bool = False,
+    callback: Callable[[int, float], None] | None = None,
 ) -> CCGResult:
     """Preconditioned, projected conjugate gradient on the working set.
 
@@ -207,6 +215,8 @@ def _preconditioned_cg(
     while True:
         rw, w, lam, g, viol2, nwork, srw, nenter = kern.gradient(ax, b, x, lam, mean is not None, rw, w)
         residual = math.sqrt((g + viol2) / n) / scale
+        if callback is not None:
+            callback(it, residual)
         if residual < tol:
             return CCGResult(x, it, residual, True, lam, ax)
         if it >= max_iter:

@@ -66,6 +66,7 @@ import time
 import warnings
 import weakref
 from dataclasses import dataclass, field, replace
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -195,6 +196,10 @@ class HalfSpaceSolver:
         Preconditioned conjugate gradient (the inverse operator as preconditioner, see
         :func:`fingerpad.contact.ccg.constrained_cg`); ``False`` gives the plain Polonsky-Keer
         iteration (a diagnostic: slower on every cell measured).
+    progress
+        ``progress(shape, iteration, residual)``, called once per iteration of every level of a
+        solve (the coarse levels of the nested start report their own, smaller ``shape``): the
+        progress of long solves (2048^2 and up take seconds). Must be cheap.
     """
 
     def __init__(
@@ -210,6 +215,7 @@ class HalfSpaceSolver:
         workers: int | None = None,
         kernels: str = "auto",
         precondition: bool = True,
+        progress: Callable[[tuple[int, int], int, float], None] | None = None,
     ) -> None:
         if not isinstance(texture, Texture):
             raise FingerpadError("texture must be a fingerpad.Texture")
@@ -257,6 +263,9 @@ class HalfSpaceSolver:
         self._warm: tuple[Any, Any] | None = None  # (weakref to the last pressure field, its coarse pressure)
         self._coarse_tol = min(max(self.tol, 1e-6) * 10, 1e-3)
         self._factors = (1, 1)
+        if progress is not None and not callable(progress):
+            raise FingerpadError("progress must be a callable (shape, iteration, residual) or None")
+        self.progress = progress
 
     # ---------------------------------------------------------------- public API
 
@@ -328,7 +337,7 @@ class HalfSpaceSolver:
                 replace(self.texture, heights=hc), self.modulus, tol=self._coarse_tol,
                 max_iter=self.max_iter, formulation=self.formulation, coarse_to_fine=kind == "half",
                 xp=self.backend.xp, workers=self.backend.workers, kernels=self._kernels_choice,
-                precondition=self.precondition,
+                precondition=self.precondition, progress=self.progress,
             )
             solver._factors = (fx, fy)
             solver._coarse_tol = self._coarse_tol
@@ -407,6 +416,13 @@ class HalfSpaceSolver:
             self._Sh_field = self._S(self.h)
         return self._Sh_field
 
+    def _callback(self) -> Callable[[int, float], None] | None:
+        """The per-iteration callback of the conjugate gradient: ``progress`` with this grid."""
+        if self.progress is None:
+            return None
+        report, shape = self.progress, self.texture.shape
+        return lambda it, residual: report(shape, it, residual)
+
     def _precond(self, form: str) -> Any:
         if not self.precondition:
             return None
@@ -430,26 +446,30 @@ class HalfSpaceSolver:
                 else:
                     x0 = xp.full(self.h.shape, value)
                 return constrained_cg(self._kern, self._K, b, x0, mean=value, scale=self._gap_scale(value), tol=self.tol,
-                                      max_iter=self.max_iter, stall=stall, precond=pre, own=True)
+                                      max_iter=self.max_iter, stall=stall, precond=pre, own=True,
+                                      callback=self._callback())
             b = self.h - (self.h_max - value)
             if seed is not None:
                 x0 = xp.maximum(be.asarray(seed.pressure), 0.0)
             else:
                 x0 = xp.where(b > 0, b, 0.0) * (self.modulus / max(self.texture.size) * 4)
             return constrained_cg(self._kern, self._K, b, x0, mean=None, scale=max(self.pv, 1e-3 * abs(value)),
-                                  tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre, own=True)
+                                  tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre, own=True, callback=self._callback())
         # dual: unknown gap, gradient = pressure
         if mode == "pressure":
             b = -(self._Sh + value)
             x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else self._gap_guess()
-            return constrained_cg(self._kern, self._S, b, x0, mean=None, scale=value, tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre, own=True)
+            return constrained_cg(self._kern, self._S, b, x0, mean=None, scale=value, tol=self.tol,
+                                  max_iter=self.max_iter, stall=stall, precond=pre, own=True,
+                                  callback=self._callback())
         target = self.h_max - value - self.h_mean  # mean gap for a zero-mean displacement
         b = -self._Sh
         x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else xp.maximum(self.h_max - self.h, 0.0)
         mx = float(xp.mean(x0))
         x0 = x0 * (target / mx) if mx > 0 else xp.full(self.h.shape, target)
         scale = self.modulus * self.pv / max(self.texture.size)
-        return constrained_cg(self._kern, self._S, b, x0, mean=target, scale=scale, tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre, own=True)
+        return constrained_cg(self._kern, self._S, b, x0, mean=target, scale=scale, tol=self.tol,
+                              max_iter=self.max_iter, stall=stall, precond=pre, own=True, callback=self._callback())
 
     def _gap_scale(self, pressure: float) -> float:
         """Length that makes the primal residual relative: the texture's peak-to-valley height,

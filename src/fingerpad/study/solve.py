@@ -211,8 +211,16 @@ class SolveOutcome:
         return list(self.curve.results)
 
 
-def run_solve(job: SolveJob, progress: Callable[[int, int], None] | None = None) -> SolveOutcome:
-    """Solve the cell at each pressure of ``job`` (and bracket the critical pressure if asked)."""
+def run_solve(
+    job: SolveJob,
+    progress: Callable[[int, int], None] | None = None,
+    iterations: Callable[[tuple[int, int], int, float], None] | None = None,
+) -> SolveOutcome:
+    """Solve the cell at each pressure of ``job`` (and bracket the critical pressure if asked).
+
+    ``progress(i, n)`` is called after each pressure; ``iterations(shape, iteration, residual)``
+    on every conjugate-gradient iteration (see :class:`fingerpad.contact.HalfSpaceSolver`).
+    """
     from ..contact import HalfSpaceSolver
     from ..micro.loadcurve import critical_pressure, load_curve
 
@@ -220,7 +228,7 @@ def run_solve(job: SolveJob, progress: Callable[[int, int], None] | None = None)
         # Unconverged solves are reported by the caller, once per pressure, with the exit code.
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
         solver = HalfSpaceSolver(job.texture, job.materials.modulus, tol=job.tol, max_iter=job.max_iter,
-                                 formulation=job.formulation)
+                                 formulation=job.formulation, progress=iterations)
         curve = load_curve(solver, job.pressures, progress=progress)
         critical = critical_pressure(solver, rtol=job.critical_rtol) if job.critical_rtol is not None else None
     return SolveOutcome(curve, critical, _results_json(job, list(curve.results), critical))
