@@ -291,3 +291,21 @@ def test_explore_with_a_missing_store_is_a_user_error(tmp_path):
     res = runner.invoke(app, ["explore", "--no-browser", "--sweep", str(tmp_path / "nope.zarr")])
     assert res.exit_code == 2
     assert "no such sweep store" in res.output
+
+
+def test_map_view_shows_lengths_in_um_and_downloads_si(store):
+    pytest.importorskip("panel")
+    from fingerpad.explore import sweepdata as sd
+    from fingerpad.explore.views.mapview import MapView
+
+    ds = sd.open_sweep(store)
+    view = MapView(None, ds, str(store))
+    view.x.value, view.y.value = "spacing", "height"
+    fig = view.plot.object
+    assert fig.xaxis[0].axis_label == "spacing (um)" and fig.yaxis[0].axis_label == "height (um)"
+    data = fig.renderers[0].data_source.data
+    spacing_um = np.unique(np.asarray(ds["spacing"].values, float)) * 1e6
+    assert np.unique(np.round(data["xc"], 9)) == pytest.approx(spacing_um)
+    assert all(label.endswith(" um") for label in data["xlabel"])
+    header = view.csv().splitlines()[0]
+    assert header.startswith("spacing (m),height (m)")  # downloads stay SI

@@ -30,6 +30,15 @@ _NAMES = {v: k for k, v in _QUANTITIES.items()}
 _REGION_COLOURS = ("#f7c9c9", "#fde3c8", "#dbe9f6")
 
 
+#: Axes stored in SI are shown in the unit a designer reads (lengths in um); downloads stay SI.
+_SHOWN_UNITS = {"m": (1e6, "um")}
+
+
+def _shown(info: dict[str, Any]) -> tuple[float, str]:
+    """Factor from the stored (SI) unit of an axis to the unit shown, and the shown unit."""
+    return _SHOWN_UNITS.get(info["units"], (1.0, info["units"])) if info["numeric"] else (1.0, info["units"])
+
+
 def _edges(values: np.ndarray, log: bool) -> tuple[np.ndarray, np.ndarray]:
     """Cell edges around sorted centres (geometric midpoints on a log axis)."""
     v = np.asarray(values, float)
@@ -165,8 +174,9 @@ class MapView:
                                                       "mu", "region", "valid", "reason", "i", "j")}
         xs = np.asarray(md[x].values)
         ys = np.asarray(md[y].values)
-        xpos = xs.astype(float) if xi["numeric"] else np.arange(xs.size, dtype=float)
-        ypos = ys.astype(float) if yi["numeric"] else np.arange(ys.size, dtype=float)
+        (fx, ux), (fy, uy) = _shown(xi), _shown(yi)
+        xpos = xs.astype(float) * fx if xi["numeric"] else np.arange(xs.size, dtype=float)
+        ypos = ys.astype(float) * fy if yi["numeric"] else np.arange(ys.size, dtype=float)
         xlog, ylog = xi["log"] and xi["numeric"], yi["log"] and yi["numeric"]
         if grid:
             xl, xr = _edges(xpos, xlog)
@@ -178,7 +188,7 @@ class MapView:
                 data["bottom"].append(yb[j]), data["top"].append(yt[j])
                 data["xc"].append(xpos[i]), data["yc"].append(ypos[j])
             else:
-                data["xc"].append(float(row[x])), data["yc"].append(float(row[y]))
+                data["xc"].append(float(row[x]) * fx), data["yc"].append(float(row[y]) * fy)
                 for k in ("left", "right", "bottom", "top"):
                     data[k].append(math.nan)
             v = row[q]
@@ -190,8 +200,8 @@ class MapView:
             data["valid"].append("yes" if row["valid"] else f"no: {row['reason']}")
             data["reason"].append(row["reason"])
             data["i"].append(i), data["j"].append(j)
-        data["xlabel"] = [fmt(r[x]) if xi["numeric"] else str(r[x]) for r in self.rows]
-        data["ylabel"] = [fmt(r[y]) if yi["numeric"] else str(r[y]) for r in self.rows]
+        data["xlabel"] = [f"{fmt(r[x] * fx)} {ux}" if xi["numeric"] else str(r[x]) for r in self.rows]
+        data["ylabel"] = [f"{fmt(r[y] * fy)} {uy}" if yi["numeric"] else str(r[y]) for r in self.rows]
         src = ColumnDataSource(data)
         vals = np.asarray(data["value"], float)
         fin = vals[np.isfinite(vals)]
@@ -205,7 +215,7 @@ class MapView:
             mapper = LinearColorMapper(palette=Viridis256, low=lo, high=hi if hi > lo else lo + 1, nan_color="#dddddd")
         p = figure(name="design-map", height=480, sizing_mode="stretch_width",
                    x_axis_type="log" if xlog else "linear", y_axis_type="log" if ylog else "linear",
-                   x_axis_label=f"{x} ({xi['units']})", y_axis_label=f"{y} ({yi['units']})",
+                   x_axis_label=f"{x} ({ux})", y_axis_label=f"{y} ({uy})",
                    title=f"design map: {_NAMES[q]} (mu / mu_ref at {md.attrs['at']:.4g} N); click a design to open it",
                    tools="pan,wheel_zoom,box_zoom,reset,save,tap")
         p.toolbar.logo = None
@@ -326,20 +336,22 @@ class MapView:
         md, x, y, q = self.md, self.x.value, self.y.value, self.quantity.value
         fig = Figure(figsize=(7, 5.2))
         ax = fig.subplots()
-        if "point" not in md.dims and sd.axis_info(self.ds, x)["numeric"] and sd.axis_info(self.ds, y)["numeric"]:
-            art = ax.pcolormesh(np.asarray(md[x].values, float), np.asarray(md[y].values, float),
+        xi, yi = sd.axis_info(self.ds, x), sd.axis_info(self.ds, y)
+        (fx, ux), (fy, uy) = _shown(xi), _shown(yi)
+        if "point" not in md.dims and xi["numeric"] and yi["numeric"]:
+            art = ax.pcolormesh(np.asarray(md[x].values, float) * fx, np.asarray(md[y].values, float) * fy,
                                 np.asarray(md[q].values, float), shading="nearest")
         else:
-            art = ax.scatter([float(r[x]) if not isinstance(r[x], str) else r["i"] for r in self.rows],
-                             [float(r[y]) if not isinstance(r[y], str) else r["j"] for r in self.rows],
+            art = ax.scatter([float(r[x]) * fx if not isinstance(r[x], str) else r["i"] for r in self.rows],
+                             [float(r[y]) * fy if not isinstance(r[y], str) else r["j"] for r in self.rows],
                              c=[math.nan if r[q] is None else r[q] for r in self.rows], s=80)
         fig.colorbar(art, ax=ax, label=q)
-        if sd.axis_info(self.ds, x)["log"]:
+        if xi["log"]:
             ax.set_xscale("log")
-        if sd.axis_info(self.ds, y)["log"]:
+        if yi["log"]:
             ax.set_yscale("log")
-        ax.set_xlabel(f"{x} ({sd.axis_info(self.ds, x)['units']})")
-        ax.set_ylabel(f"{y} ({sd.axis_info(self.ds, y)['units']})")
+        ax.set_xlabel(f"{x} ({ux})")
+        ax.set_ylabel(f"{y} ({uy})")
         ax.set_title(f"design map: {q} (mu/mu_ref at {md.attrs['at']:.4g} N)", fontsize="small")
         buf = io.BytesIO()
         fig.savefig(buf, format=fmt_, dpi=130)
