@@ -231,7 +231,7 @@ def test_map_click_opens_the_clicked_texture(page, screenshot_dir):
         for (const v of Bokeh.index.all_views()) {
             if (v.model && v.model.name === 'design-map' && v.frame) {
                 const r = v.el.getBoundingClientRect();
-                return [r.left + v.frame.x_scale.compute(0.0002), r.top + v.frame.y_scale.compute(3e-5)];
+                return [r.left + v.frame.x_scale.compute(200), r.top + v.frame.y_scale.compute(30)];
             }
         }
         return null;
