@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import re
+from decimal import Decimal, InvalidOperation
 
 from .errors import FingerpadError
 
@@ -35,6 +36,19 @@ UNITS: dict[str, tuple[str, float]] = {
     "deg": ("angle", math.pi / 180.0),
     "rad": ("angle", 1.0),
 }
+
+
+
+def _decimal_exponent(factor: float) -> int | None:
+    """k if ``factor`` is exactly the float 10**k, else None."""
+    k = round(math.log10(factor))
+    return k if float(f"1e{k}") == factor else None
+
+
+#: Decimal prefixes are applied by shifting the decimal exponent, not by a float product, so that
+#: "50um" is the very float 5e-05 (50 * 1e-6 is 5.0000000000000004e-05): the same input written
+#: either way gives the same numbers, the same cache keys and the same file names.
+_EXPONENT = {unit: _decimal_exponent(factor) for unit, (_, factor) in UNITS.items()}
 
 SI_SYMBOL = {"length": "m", "pressure": "Pa", "force": "N", "angle": "rad"}
 
@@ -78,7 +92,14 @@ def parse_quantity(text: str | float | int, dimension: str, *, name: str = "valu
                 raise FingerpadError(
                     f"{name}: {text!r} is a {unit_dim}, expected a {dimension}"
                 )
-            value *= factor
+            exponent = _EXPONENT[unit]
+            if exponent is None:
+                value *= factor
+            elif exponent:
+                try:
+                    value = float(Decimal(number).scaleb(exponent))
+                except InvalidOperation:  # pragma: no cover - the pattern admits decimal numbers only
+                    value *= factor
     if not math.isfinite(value):
         raise FingerpadError(f"{name}: {text!r} is not a finite number")
     return value

@@ -239,8 +239,8 @@ def test_map_click_opens_the_clicked_texture(page, screenshot_dir):
     assert where is not None
     page.mouse.click(*where)
     expect(page.locator(".bk-tab.bk-active")).to_have_text("Texture")  # the view switched
-    expect(page.locator(f"{css('texture.spacing')} input")).to_have_value("0.0002")
-    expect(page.locator(f"{css('texture.height')} input")).to_have_value("3e-05")
+    expect(page.locator(f"{css('texture.spacing')} input")).to_have_value("200um")
+    expect(page.locator(f"{css('texture.height')} input")).to_have_value("30um")
     expect(page.locator(".fp-current")).to_be_visible()  # the base study's model (hertz) is shown
     # the opened design is the sweep's: its inputs validate and run as the study TOML
     assert num(page, "critical_load_hertz") > 0
