@@ -99,7 +99,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # static analysers see the eager imports
-    from .contact.solver import ContactResult, HalfSpaceSolver
+    from .contact import ContactResult, HalfSpaceSolver
     from .coupling import couple, critical_load, predict_curve
     from .errors import FingerpadError
     from .finger import FINGER_PRESETS, Finger, get_finger

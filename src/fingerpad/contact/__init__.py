@@ -4,12 +4,13 @@ A load travels through it in three named hops:
 
 1. :mod:`.solver` - :class:`HalfSpaceSolver` sets up the contact problem of a texture against the
    skin (an elastic half-space) at a given mean pressure or approach, chooses the primal or dual
-   form and returns a :class:`ContactResult`;
+   form and returns a :class:`ContactResult` (:mod:`.result`, with the contact state);
 2. :mod:`.ccg` - :func:`constrained_cg`, the Polonsky-Keer constrained conjugate gradient;
 3. :mod:`.greens` - the elastic operators (Boussinesq compliance and stiffness) applied by FFT,
    periodic or zero-padded; :mod:`.kernels` fuses the element-wise work.
 """
 
-from .solver import FULL_CONTACT_TOL, ContactResult, HalfSpaceSolver, contact_state
+from .result import FULL_CONTACT_TOL, ContactResult, contact_state
+from .solver import HalfSpaceSolver
 
 __all__ = ["FULL_CONTACT_TOL", "ContactResult", "HalfSpaceSolver", "contact_state"]

@@ -9,8 +9,8 @@ the compliance as ``A``; the dual has the gaps as ``x`` and the stiffness as ``A
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 from .greens import FFTOperator

@@ -271,7 +271,7 @@ class BEMUnitCell:
     @property
     def full_contact_pressure(self) -> float:
         """Mean cell pressure (Pa) from which the skin follows the whole texture: at most
-        :data:`~fingerpad.contact.solver.FULL_CONTACT_TOL` of the cell out of contact (geometric middle
+        :data:`~fingerpad.contact.result.FULL_CONTACT_TOL` of the cell out of contact (geometric middle
         of a bracket of relative width ``rtol``; inf if beyond :data:`STATE_SEARCH_CAP` E*)."""
         if self.flat:
             return 0.0
