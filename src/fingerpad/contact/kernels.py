@@ -298,18 +298,3 @@ class NumpyKernels(ArrayKernels):
     def scale(self, x, factor):
         x *= factor
         return x
-
-
-def kernels_for(xp: Any, choice: str) -> ArrayKernels:
-    """``"numpy"``: in-place NumPy kernels; ``"numba"``: compiled loops (NumPy arrays, falls
-    back to NumPy when Numba does not import); ``"array"``: the array-namespace reference."""
-    if choice == "numba":
-        try:
-            from .kernels_numba import NumbaKernels  # noqa: PLC0415 - optional, ~1 s to load
-
-            return NumbaKernels()
-        except ImportError:
-            return NumpyKernels()
-    if choice == "numpy":
-        return NumpyKernels()
-    return ArrayKernels(xp)

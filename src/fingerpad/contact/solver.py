@@ -76,7 +76,7 @@ from ..materials import check_modulus
 from ..textures import Texture
 from .ccg import CCGResult, constrained_cg
 from .greens import Backend, compliance_operator, preconditioner, stiffness_operator
-from .kernels import kernels_for
+from .kernels import ArrayKernels, NumpyKernels
 from .result import FULL_CONTACT_TOL, ContactResult, contact_state
 
 __all__ = ["HalfSpaceSolver", "ContactResult", "contact_state", "FULL_CONTACT_TOL"]  # re-exported
@@ -92,6 +92,21 @@ DUAL_ABOVE = 0.75
 
 # Solver
 # --------------------------------------------------------------------------------------------
+
+
+def _kernels_for(xp: Any, choice: str) -> ArrayKernels:
+    """``"numpy"``: in-place NumPy kernels; ``"numba"``: compiled loops (NumPy arrays, falls
+    back to NumPy when Numba does not import); ``"array"``: the array-namespace reference."""
+    if choice == "numba":
+        try:
+            from .kernels_numba import NumbaKernels  # noqa: PLC0415 - optional, ~1 s to load
+
+            return NumbaKernels()
+        except ImportError:
+            return NumpyKernels()
+    if choice == "numpy":
+        return NumpyKernels()
+    return ArrayKernels(xp)
 
 
 class HalfSpaceSolver:
@@ -183,7 +198,7 @@ class HalfSpaceSolver:
         # NumPy arrays: in-place NumPy kernels (the compiled ones pay a ~1 s load per process and
         # measured no faster on 2 cores); other namespaces: the array-API reference.
         choice = ("numpy" if self.backend.is_numpy else "array") if kernels == "auto" else kernels
-        self._kern = kernels_for(xp_, choice)
+        self._kern = _kernels_for(xp_, choice)
         self.precondition = bool(precondition)
         self._pre: dict[str, Any] = {}
         self._coarse: dict[str, HalfSpaceSolver | None] = {}

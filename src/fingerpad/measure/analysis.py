@@ -11,6 +11,7 @@ from typing import Any, Literal
 import numpy as np
 import pandas as pd
 
+from .._version import __version__
 from ..errors import FingerpadError
 from .breakpoint import Breakpoint, find_breakpoint
 from .curves import fit_curves, fit_row, normalise, sense_ratio, spread_summary, spread_table
@@ -422,3 +423,29 @@ def load_grid(result: StudyResult, n: int = 60) -> np.ndarray:
     """``n`` log-spaced loads (N) over the study's measured range, for curves and figures."""
     loads = result.strokes["load"].to_numpy()
     return np.geomspace(float(loads.min()), float(loads.max()), n)
+
+
+def study_info(result: StudyResult) -> dict[str, Any]:
+    """The facts of a study and the analysis settings, as written to the report and its JSON."""
+    s = result.strokes
+    opts = result.options
+    return {
+        "fingerpad_version": __version__,
+        "reference_sample": opts.reference,
+        "participants": sorted(s["participant"].unique()),
+        "samples": sorted(s["sample"].unique()),
+        "n_files": int(s["file"].nunique()),
+        "n_strokes": int(len(s)),
+        "n_outliers": int(s["outlier"].sum()),
+        "confidence_level": opts.level,
+        "stroke_trim": opts.strokes.trim,
+        "outlier_z": opts.outlier_z,
+        "breakpoint": {"space": opts.breakpoint_space, "method": opts.breakpoint_method,
+                       "trend": opts.breakpoint_trend, "test": "sup likelihood ratio, parametric bootstrap",
+                       "n_null": opts.n_null, "alpha": 1 - opts.level},
+        "intervals": "random intercept per recording (session), REML; Student t with between-recording df",
+        "warnings": list(result.warnings),
+        "modulus_bounds_pa": list(opts.modulus_bounds),
+        "finger": getattr(opts.finger, "name", opts.finger) or "default",
+        "textures": {k: (None if v is None else vars(v)) for k, v in result.textures.items()},
+    }

@@ -19,6 +19,7 @@ import numpy as np
 
 from .._version import __version__
 from .analysis import StudyResult, condition_label
+from .analysis import study_info as default_study_info
 from .breakpoint import format_p
 
 CSS = """
@@ -221,9 +222,7 @@ def html_report(
 ) -> str:
     """One self-contained HTML page: study facts, warnings, tables, figures (base64 PNG) and
     links to the per-recording QC figures."""
-    from .report import _study_info
-
-    info = (study_info or _study_info)(result)
+    info = (study_info or default_study_info)(result)
     lv = 100 * info["confidence_level"]
     parts = [
         "<!DOCTYPE html><html lang='en'><head><meta charset='utf-8'>",

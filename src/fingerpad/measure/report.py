@@ -37,7 +37,7 @@ import pandas as pd
 from .._version import __version__
 from ..io import check_replaceable, existing_parent, replace_folder
 from ..plotting.measure import figure_participant, figure_qc, figure_sample, png_bytes
-from .analysis import StudyResult, condition_label, load_grid
+from .analysis import StudyResult, condition_label, load_grid, study_info
 from .htmlreport import html_report
 
 __all__ = ["curves_dataset", "html_report", "write_report"]
@@ -190,31 +190,6 @@ def _records(df: pd.DataFrame) -> list[dict[str, Any]]:
     return [_jsonable(r) for r in df.to_dict("records")]
 
 
-def _study_info(result: StudyResult) -> dict[str, Any]:
-    s = result.strokes
-    opts = result.options
-    return {
-        "fingerpad_version": __version__,
-        "reference_sample": opts.reference,
-        "participants": sorted(s["participant"].unique()),
-        "samples": sorted(s["sample"].unique()),
-        "n_files": int(s["file"].nunique()),
-        "n_strokes": int(len(s)),
-        "n_outliers": int(s["outlier"].sum()),
-        "confidence_level": opts.level,
-        "stroke_trim": opts.strokes.trim,
-        "outlier_z": opts.outlier_z,
-        "breakpoint": {"space": opts.breakpoint_space, "method": opts.breakpoint_method,
-                       "trend": opts.breakpoint_trend, "test": "sup likelihood ratio, parametric bootstrap",
-                       "n_null": opts.n_null, "alpha": 1 - opts.level},
-        "intervals": "random intercept per recording (session), REML; Student t with between-recording df",
-        "warnings": list(result.warnings),
-        "modulus_bounds_pa": list(opts.modulus_bounds),
-        "finger": getattr(opts.finger, "name", opts.finger) or "default",
-        "textures": {k: (None if v is None else vars(v)) for k, v in result.textures.items()},
-    }
-
-
 # =============================================================================================
 # writing everything
 # =============================================================================================
@@ -268,7 +243,7 @@ def write_report(
         csv_file("population_fits.csv", result.population_fits)
         csv_file("sensitivity.csv", result.sensitivity)
         summary = {
-            "study": _jsonable(_study_info(result)),
+            "study": _jsonable(study_info(result)),
             "spread": _records(result.spread_summary),
             "participants": _records(result.participants),
             "conditions": _records(result.conditions),
