@@ -68,13 +68,12 @@ def test_a_buckled_start_folds_toward_the_sliding_direction():
 def test_slender_ellipsoid_section_reaches_high_shear_at_the_lowest_default_pressure():
     """The issue's slender case (45 x 135 x 90 um ellipsoids, 300 um lattice, E 0.3 MPa both,
     nu 0.49, short-axis section) at the lowest pressure level of predict's default load range
-    (14.5 kPa): the section buckles under the normal load (flagged), snaps at mu = 0 (limit
-    point) and the ramp reaches mu 1.5 with more contact than at zero shear."""
+    (14.5 kPa): the ramp reaches mu 1.5 with more contact than at zero shear (it stalled at
+    mu 1.43 before the path followed the shear level with its sign)."""
     mats = SectionMaterials(0.3e6, 0.49, 0.3e6, 0.49)
     sec = section_for(EllipsoidGeometry(45e-6, 135e-6, 90e-6, 300e-6, 300e-6), 0.0)
     (ramp,) = solve_section(sec, mats, np.array([14514.7]), tau0=8.1e3, alpha=0.1,
                             settings=DeflectionSettings(time_limit=120.0))
-    assert ramp.buckled and ramp.limit_mu == 0.0
     assert ramp.stopped is None and ramp.mu_reached >= 1.5 - 1e-9
     mu, gain = ramp.branch()
     assert mu[0] == 0.0 and np.all(np.diff(mu) > 0)

@@ -6,8 +6,10 @@ node-to-segment fold contact acts between the first flank nodes and the first ba
 adjacent, short and rotating with the crease -- where the Newton iteration stopped converging.
 Moulded asperities do not have sharp feet (the mould's cavity edge is rounded), so the mesh
 rounds each foot with a fillet of radius ``rho`` (units of the half-width r), tangent to the base
-and to the flank: the fold then rolls over a smooth surface and the flank meets the base away
-from the foot.
+and to the flank, so that the fold rolls over a smooth surface and the flank meets the base
+away from the foot. Measured on the slender ellipsoid section (docs/deflection.md, "Limits and
+doubts"), it did *not* help: at 26.8 kPa the ramp stalled earlier (mu -0.03 at rho = 0.15 r
+against 0.2-0.27 with the sharp foot), so it is opt-in (``SectionGeometry.fillet``, default 0).
 
 How: the mesh is built for the sharp profile (with elements graded toward the feet, see
 :func:`.mesh.build_mesh`), then *morphed*: the surface nodes within the tangent length of a foot
