@@ -194,9 +194,21 @@ class FoldContact:
         # 0.15 r it made the closing crease converge worse, hence 0 by default
         xp = mesh.nodes[prof]
         s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xp, axis=0).T))])
+        rho = mesh.geometry.fillet
+        if rho > 0:
+            # a filleted foot is one smooth surface from the base onto the flank: a node of it
+            # lies within a segment length of its neighbouring segments' lines, and pairing them
+            # would be spurious self-contact of a smooth surface (it fired at zero shear). The
+            # fillet arc (its tangent length, about rho, on each leg) is left out of the fold
+            # contact on both sides; the folded flank meets the base beyond it.
+            foot_gap = max(foot_gap, 1.05 * rho)
         far = (s > foot_gap) & (s < s[-1] - foot_gap)
         self.slaves = prof[far]
-        self.sides = [mesh.right_base, mesh.left_base]
+        self.sides = []
+        for side in (mesh.right_base, mesh.left_base):
+            xb = mesh.nodes[side]
+            sb = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xb, axis=0).T))])
+            self.sides.append(side[sb >= (1.05 * rho if rho > 0 else 0.0)])
         self.k = float(stiffness)
 
     def pair(self, x: np.ndarray) -> list[np.ndarray]:

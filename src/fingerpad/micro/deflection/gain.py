@@ -27,7 +27,7 @@ from .section import EllipsoidGeometry, Geometry, RidgeGeometry, Section, sectio
 from .solve import FrictionLaw, SectionSolver
 
 #: Bump when a change of the section model alters cached numbers.
-MODEL_VERSION = 2
+MODEL_VERSION = 3
 
 __all__ = ["DeflectionSettings", "EllipsoidGeometry", "GainCurve", "MODEL_VERSION", "PressureRamp", "RidgeGeometry",
            "Section", "SectionMaterials", "as_dataset", "directional_gain", "section_for", "solve_section",
@@ -160,16 +160,22 @@ class PressureRamp:
     bend_dx: np.ndarray = field(default_factory=lambda: np.zeros(0))
     bend_dz: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
+    def _along(self) -> np.ndarray:
+        """Shear level along the sliding direction of the ramp (+x unless every state has
+        mu <= 0). Signed, not |mu|: past a buckled start the path's shear level first falls
+        below zero (the folding column pushes the tip on) before it carries shear again."""
+        return -self.mu if self.mu.size and np.all(self.mu <= 0) else self.mu
+
     @property
     def mu_reached(self) -> float:
-        return float(np.max(np.abs(self.mu))) if self.mu.size else 0.0
+        return float(max(0.0, np.max(self._along()))) if self.mu.size else 0.0
 
     def branch(self) -> tuple[np.ndarray, np.ndarray]:
         """(mu, gain) on the branch a load-controlled ramp follows: the states whose shear level
         exceeds every earlier one (past a limit point the asperity snaps to the next state
         that carries more shear)."""
-        mu = np.abs(self.mu)
-        keep = mu >= np.maximum.accumulate(mu) - 1e-12
+        mu = self._along()
+        keep = (mu >= np.maximum.accumulate(mu) - 1e-12) & (mu >= 0)
         m, gn = mu[keep], self.gain[keep]
         m, idx = np.unique(m, return_index=True)
         return m, gn[idx]
@@ -250,7 +256,7 @@ def _to_ramp(solver: SectionSolver, ramp: Any, pressure: float, load: float, r: 
         kt = np.gradient(q, tip) if len(st) > 2 else np.full(len(st), math.nan)
     fold = info("fold_nodes")
     onset = float(np.abs(mu)[np.argmax(fold > 0)]) if np.any(fold > 0) else math.nan
-    amu = np.abs(mu)
+    amu = -mu if np.all(mu <= 0) else mu  # along the sliding direction, signed (see PressureRamp)
     drops = np.nonzero(np.diff(amu) < -1e-9)[0]
     limit = float(amu[drops[0]]) if drops.size else math.nan
     eig = info("min_eigenvalue")

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import FingerpadError
+from .fillet import FILLET_ELEMENT, fillet_feet
 
 #: Profiles the mesher supports: a semi-ellipse (section of an ellipsoid) and a circular-arc
 #: segment (circular ridge). Both meet the base at a finite angle, which the patch needs.
@@ -45,12 +46,17 @@ class SectionGeometry:
         Section period lambda / r (>= 2).
     base_thickness
         Base layer thickness t_b / r.
+    fillet
+        Radius of the concave fillet rounding each foot (the corner between the flank and the
+        base), units of r; 0: a sharp corner. Moulded asperities have rounded feet; the fillet
+        also keeps a folding flank from closing a sharp crease at its foot (see :mod:`.fillet`).
     """
 
     profile: str
     height: float
     period: float
     base_thickness: float
+    fillet: float = 0.0
 
     def __post_init__(self) -> None:
         if self.profile not in PROFILES:
@@ -63,6 +69,10 @@ class SectionGeometry:
             raise FingerpadError("deflection model: the asperity is wider than its period (neighbours overlap)")
         if not self.base_thickness > 0:
             raise FingerpadError("deflection model: the base thickness must be positive")
+        if not (0.0 <= self.fillet <= 0.3 and math.isfinite(self.fillet)):
+            raise FingerpadError("deflection model: the foot fillet radius must lie in [0, 0.3] half-widths")
+        if self.fillet > 0 and self.period - 2.0 < 2.0 * self.fillet:
+            raise FingerpadError("deflection model: no room for the foot fillets between neighbouring asperities")
 
     def dense_profile(self, n: int = 8001) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Points (x, z) along the profile from the left foot to the right foot and their
@@ -140,6 +150,21 @@ def _graded(length: float, first: float, growth: float) -> np.ndarray:
     return arr * (length / arr.sum())
 
 
+def _capped(length: float, first: float, growth: float, cap: float) -> np.ndarray:
+    """Element sizes growing geometrically from ``first`` up to ``cap`` (then uniform), scaled
+    so that their sum is exactly ``length``."""
+    sizes: list[float] = []
+    total, size = 0.0, min(first, cap)
+    while total + 0.5 * size < length:
+        sizes.append(size)
+        total += size
+        size = min(size * growth, cap)
+    if not sizes:
+        sizes = [length]
+    arr = np.asarray(sizes)
+    return arr * (length / arr.sum())
+
+
 def _with_midpoints(edges: np.ndarray) -> np.ndarray:
     """Element edge coordinates -> Q2 node coordinates (edges and midpoints)."""
     out = np.empty(2 * edges.size - 1)
@@ -175,14 +200,25 @@ def build_mesh(geometry: SectionGeometry, resolution: int = 8, growth: float = 1
     xc = math.cos(math.pi / 4.0)
     s_side = float(np.interp(-xc, px, ps))
     s_top = total - 2.0 * s_side
-    n_xi = max(2, int(math.ceil(s_top / delta)))
-    n_eta = max(1, int(math.ceil(s_side / delta)))
+    if g.fillet > 0:
+        # a fillet needs elements smaller than itself at the feet: graded toward the feet along
+        # the chord (and with it the profile's top) and up the flanks, capped at the uniform size
+        first = min(delta, FILLET_ELEMENT * g.fillet)
+        chord_el0 = 2.0 / max(2, int(math.ceil(s_top / delta)))
+        half = _capped(1.0, first, growth, chord_el0)
+        u_edges = np.concatenate([[0.0], np.cumsum(np.concatenate([half, half[::-1]]))]) / 2.0
+        v_edges = np.concatenate([[0.0], np.cumsum(_capped(s_side, first, growth, delta))]) / s_side
+    else:
+        u_edges = np.linspace(0.0, 1.0, max(2, int(math.ceil(s_top / delta))) + 1)
+        v_edges = np.linspace(0.0, 1.0, max(1, int(math.ceil(s_side / delta))) + 1)
+    u_edges[-1], v_edges[-1] = 1.0, 1.0
+    n_xi, n_eta = u_edges.size - 1, v_edges.size - 1
 
     def on_profile(s: np.ndarray) -> np.ndarray:
         return np.column_stack([np.interp(s, ps, px), np.interp(s, ps, pz)])
 
-    u = np.linspace(0.0, 1.0, 2 * n_xi + 1)  # Q2 node parameters (edges and midpoints)
-    v = np.linspace(0.0, 1.0, 2 * n_eta + 1)
+    u = _with_midpoints(u_edges)  # Q2 node parameters (edges and midpoints)
+    v = _with_midpoints(v_edges)
     bottom = np.column_stack([-1.0 + 2.0 * u, np.zeros_like(u)])
     top = on_profile(s_side + u * s_top)
     left = on_profile(v * s_side)
@@ -198,10 +234,10 @@ def build_mesh(geometry: SectionGeometry, resolution: int = 8, growth: float = 1
     )
 
     # base columns: outside widths graded from the chord element width, mirrored left/right
-    chord_el = 2.0 / n_xi
+    chord_el = 2.0 * float(u_edges[1])  # the chord's element next to the foot
     outside = _graded(0.5 * g.period - 1.0, chord_el, growth)
     right_edges = 1.0 + np.concatenate([[0.0], np.cumsum(outside)])
-    chord_edges = -1.0 + chord_el * np.arange(n_xi + 1)
+    chord_edges = -1.0 + 2.0 * u_edges
     x_edges = np.concatenate([-right_edges[::-1], chord_edges[1:-1], right_edges])
     z_sizes = _graded(g.base_thickness, min(chord_el, delta), growth)[::-1]  # fine at the top
     z_edges = np.concatenate([[-g.base_thickness], -g.base_thickness + np.cumsum(z_sizes)])
@@ -241,6 +277,9 @@ def build_mesh(geometry: SectionGeometry, resolution: int = 8, growth: float = 1
     on_asp = np.zeros(surface.size, dtype=bool)
     on_asp[left_surface.size - 1: left_surface.size - 1 + profile_nodes.size] = True
     periodic = np.column_stack([base_id[0, :], base_id[-1, :]])
+    if g.fillet > 0:
+        coords = fillet_feet(coords, elements, profile_nodes, left_surface[::-1], right_surface,
+                             np.concatenate([base_id[:, 0], base_id[0, :], base_id[-1, :]]), g.fillet)
     return SectionMesh(
         nodes=coords,
         elements=elements,

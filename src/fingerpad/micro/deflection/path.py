@@ -97,22 +97,47 @@ def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float 
     cuts = 0
     # first step under load control gives the initial compliance d(tip)/d(mu)
     mu1 = min(target, 0.25 * dmu)
+    first = None
     while True:
         try:
             first = solver.solve(load, sign * mu1, start.copy(), lag=start)
             break
-        except NoConvergence as exc:
+        except NoConvergence:
             cuts += 1
             mu1 *= 0.5
             if mu1 < 1e-4:
-                return Ramp(states, f"lost convergence at mu = 0 ({exc})", cuts)
-    if check_stability:
-        first.info["min_eigenvalue"] = solver.min_eigenvalue(first)
-    states.append(first)
+                first = None
+                break
+    unstable = check_stability and start.info["min_eigenvalue"] < 0
+    if first is not None and sign * first.info["tip_dx"] > 0 and not unstable:
+        if check_stability:
+            first.info["min_eigenvalue"] = solver.min_eigenvalue(first)
+        states.append(first)
+    else:
+        # The pressed state is unstable (buckled under the normal load alone: the column would
+        # fall over sideways without friction) or a small shear moved the tip against itself
+        # (negative stiffness on that symmetric branch). Under load control the asperity snaps at
+        # zero shear onto the branch folded toward the sliding direction; follow that branch by
+        # prescribing the tip's displacement toward the sliding direction from the start: the
+        # path's shear level then first falls below zero and comes back (reported as a limit
+        # point at mu = 0), and a load-controlled ramp joins it where the shear exceeds zero.
+        tip0 = largest_tip
+        while True:
+            try:
+                first = solver.solve(load, 0.0, start.copy(), lag=start, tip=sign * tip0)
+                break
+            except NoConvergence as exc:
+                cuts += 1
+                tip0 *= 0.5
+                if tip0 < smallest_tip:
+                    return Ramp(states, f"lost convergence at mu = 0 ({exc})", cuts)
+        if check_stability:
+            first.info["min_eigenvalue"] = solver.min_eigenvalue(first)
+        states.append(first)
     step = None
     for _ in range(max_steps):
         last = states[-1]
-        mu_now = abs(last.shear)
+        mu_now = sign * last.shear  # along the sliding direction (negative past a buckled start)
         if mu_now >= target - 1e-9:
             return Ramp(states, None, cuts)
         tip_now = sign * last.info["tip_dx"]
@@ -122,7 +147,7 @@ def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float 
             return Ramp(states, f"tip displacement limit reached at mu = {mu_now:.3g}", cuts)
         prev = states[-2]
         dtip = tip_now - sign * prev.info["tip_dx"]
-        slope = (mu_now - abs(prev.shear)) / dtip if dtip > 0 else 0.0  # d mu / d tip
+        slope = (mu_now - sign * prev.shear) / dtip if dtip > 0 else 0.0  # d mu / d tip
         if step is None:
             step = largest_tip
         wanted = dmu / slope if slope > 1e-9 else largest_tip
