@@ -68,7 +68,7 @@ def download(label: str, filename: str, make: Callable[[], bytes | str], css: st
         data = make()
         return io.BytesIO(data.encode("utf-8") if isinstance(data, str) else data)
 
-    return pn.widgets.FileDownload(callback=callback, filename=filename, label=label, button_type="light",
+    return pn.widgets.FileDownload(callback=callback, filename=filename, label=label, color="light",
                                    css_classes=[css], embed=False, width=70, height=30, margin=(0, 4))
 
 

@@ -54,8 +54,8 @@ class CompareView:
             text = (f"<span style='display:inline-block;width:12px;height:12px;background:{colour}'></span> "
                     f"<b>{html.escape(pin['label'])}</b> &middot; critical load "
                     f"{num_span(f'pin{k}_critical_load', crit, 'N')}")
-            open_b = pn.widgets.Button(name="open", width=70, css_classes=[f"fp-pin-open-{k}"])
-            remove_b = pn.widgets.Button(name="remove", width=80, css_classes=[f"fp-pin-remove-{k}"])
+            open_b = pn.widgets.Button(label="open", width=70, css_classes=[f"fp-pin-open-{k}"])
+            remove_b = pn.widgets.Button(label="remove", width=80, css_classes=[f"fp-pin-remove-{k}"])
             open_b.on_click(lambda e, d=pin["data"]: self.app.open_design(d))
             remove_b.on_click(lambda e, i=k: self.app.unpin(i))
             rows.append(pn.Row(pn.pane.HTML(text, sizing_mode="stretch_width"), open_b, remove_b,

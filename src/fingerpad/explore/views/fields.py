@@ -48,12 +48,12 @@ class Field:
         self.fid = fid
         css = css_name(fid)
         if kind == "choice":
-            self.widget = pn.widgets.Select(name=title, options=list(options), value=value, css_classes=[css],
+            self.widget = pn.widgets.Select(label=title, options=list(options), value=value, css_classes=[css],
                                             description=doc or None, sizing_mode="stretch_width")
         elif kind == "bool":
-            self.widget = pn.widgets.Checkbox(name=title, value=bool(value), css_classes=[css])
+            self.widget = pn.widgets.Checkbox(label=title, value=bool(value), css_classes=[css])
         else:
-            self.widget = pn.widgets.TextInput(name=title, value=str(value), placeholder=placeholder,
+            self.widget = pn.widgets.TextInput(label=title, value=str(value), placeholder=placeholder,
                                                css_classes=[css], description=doc or None,
                                                sizing_mode="stretch_width")
         self.kind = kind

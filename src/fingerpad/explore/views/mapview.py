@@ -84,14 +84,14 @@ class MapView:
         loads = np.asarray(ds["load"].values, float)
         self.load_options = {f"{v:.4g} N": float(v) for v in loads}
         at = sd.default_load(ds)
-        self.x = pn.widgets.Select(name="x axis", options=self.axes, value=self.axes[0], css_classes=["fp-map-x"])
-        self.y = pn.widgets.Select(name="y axis", options=self.axes, value=self.axes[1 % len(self.axes)],
+        self.x = pn.widgets.Select(label="x axis", options=self.axes, value=self.axes[0], css_classes=["fp-map-x"])
+        self.y = pn.widgets.Select(label="y axis", options=self.axes, value=self.axes[1 % len(self.axes)],
                                    css_classes=["fp-map-y"])
-        self.quantity = pn.widgets.Select(name="colour", options=_QUANTITIES, value="critical_load",
+        self.quantity = pn.widgets.Select(label="colour", options=_QUANTITIES, value="critical_load",
                                           css_classes=["fp-map-quantity"])
-        self.at = pn.widgets.Select(name="load for mu / mu_ref", options=self.load_options, value=at,
+        self.at = pn.widgets.Select(label="load for mu / mu_ref", options=self.load_options, value=at,
                                     css_classes=["fp-map-at"])
-        self.fixed = {a: pn.widgets.Select(name=f"{a} (fixed)", options=self._axis_options(a),
+        self.fixed = {a: pn.widgets.Select(label=f"{a} (fixed)", options=self._axis_options(a),
                                            css_classes=[f"fp-map-fixed-{a}"]) for a in self.axes}
         self.fixed_box = pn.Column(margin=0)
         self.plot = pn.pane.Bokeh(None, css_classes=["fp-plot-design-map"], min_height=480, sizing_mode="stretch_width")
@@ -102,15 +102,15 @@ class MapView:
         for w in (self.x, self.y, self.quantity, self.at, *self.fixed.values()):
             w.param.watch(lambda e: self.redraw(), "value")
         # inverse design
-        self.target = pn.widgets.TextInput(name="target mu / mu_ref", value="0.8", css_classes=["fp-inv-target"])
-        self.tolerance = pn.widgets.TextInput(name="tolerance (+/-)", value="0.05", css_classes=["fp-inv-tol"])
-        self.inv_at = pn.widgets.Select(name="at load", options=self.load_options, value=at, css_classes=["fp-inv-at"])
-        self.min_crit = pn.widgets.TextInput(name="minimum critical load (N)", value="", placeholder="none",
+        self.target = pn.widgets.TextInput(label="target mu / mu_ref", value="0.8", css_classes=["fp-inv-target"])
+        self.tolerance = pn.widgets.TextInput(label="tolerance (+/-)", value="0.05", css_classes=["fp-inv-tol"])
+        self.inv_at = pn.widgets.Select(label="at load", options=self.load_options, value=at, css_classes=["fp-inv-at"])
+        self.min_crit = pn.widgets.TextInput(label="minimum critical load (N)", value="", placeholder="none",
                                              css_classes=["fp-inv-mincrit"])
-        self.find = pn.widgets.Button(name="Find designs", button_type="primary", css_classes=["fp-inv-find"])
+        self.find = pn.widgets.Button(label="Find designs", color="primary", css_classes=["fp-inv-find"])
         self.candidates = pn.pane.HTML("", css_classes=["fp-inv-results"], sizing_mode="stretch_width")
-        self.pick = pn.widgets.Select(name="candidate", options={}, css_classes=["fp-inv-pick"])
-        self.open_pick = pn.widgets.Button(name="Open in the texture view", css_classes=["fp-inv-open"],
+        self.pick = pn.widgets.Select(label="candidate", options={}, css_classes=["fp-inv-pick"])
+        self.open_pick = pn.widgets.Button(label="Open in the texture view", css_classes=["fp-inv-open"],
                                            disabled=True)
         self.find.on_click(lambda e: self.rank())
         self.open_pick.on_click(lambda e: self.open_candidate())

@@ -66,16 +66,16 @@ class SingleView:
         self.notes = pn.pane.HTML("", css_classes=["fp-notes"], sizing_mode="stretch_width")
         self.table = pn.pane.HTML("", css_classes=["fp-results-pane"], sizing_mode="stretch_width",
                                   styles={"overflow-x": "auto", "max-height": "420px", "overflow-y": "auto"})
-        self.run_button = pn.widgets.Button(name="Run BEM", button_type="primary", css_classes=["fp-run-bem"],
+        self.run_button = pn.widgets.Button(label="Run BEM", color="primary", css_classes=["fp-run-bem"],
                                             width=110)
-        self.cancel_button = pn.widgets.Button(name="Cancel", button_type="warning", css_classes=["fp-cancel-bem"],
+        self.cancel_button = pn.widgets.Button(label="Cancel", color="warning", css_classes=["fp-cancel-bem"],
                                                width=90, disabled=True)
-        self.auto_bem = pn.widgets.Checkbox(name="run the BEM on every change", value=False,
+        self.auto_bem = pn.widgets.Checkbox(label="run the BEM on every change", value=False,
                                             css_classes=["fp-auto-bem"])
         self.progress = pn.indicators.Progress(value=0, max=100, width=220, visible=False,
                                                css_classes=["fp-progress"], bar_color="primary")
         self.job_status = pn.pane.HTML("", css_classes=["fp-job-status"], sizing_mode="stretch_width")
-        self.pin_button = pn.widgets.Button(name="Pin for comparison", button_type="default",
+        self.pin_button = pn.widgets.Button(label="Pin for comparison", color="default",
                                             css_classes=["fp-pin"], width=160)
         self.pressure = Field("view.pressure", "contact-map pressure (Pa)",
                               placeholder="centre pressure at the zone load",
