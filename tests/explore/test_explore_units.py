@@ -309,3 +309,19 @@ def test_map_view_shows_lengths_in_um_and_downloads_si(store):
     assert all(label.endswith(" um") for label in data["xlabel"])
     header = view.csv().splitlines()[0]
     assert header.startswith("spacing (m),height (m)")  # downloads stay SI
+
+
+def test_log_ticks_label_a_narrow_load_range():
+    """A 0.1-4 N load axis gets 1-2-5 labels (Bokeh's own log ticker shows only 1 2 3 4 there);
+    more than three decades get one label per decade; no positive value, no ticks."""
+    from fingerpad.explore.render_bokeh import log_ticks
+
+    major, minor = log_ticks(np.geomspace(0.1, 4.0, 20))
+    inside = [t for t in major if 0.1 - 1e-12 <= t <= 4.0]
+    assert np.allclose(inside, [0.1, 0.2, 0.5, 1.0, 2.0])
+    assert any(abs(t - 0.3) < 1e-12 for t in minor)
+    wide, _ = log_ticks(np.array([1e-3, 1e2]))
+    assert np.allclose([t for t in wide if 1e-3 <= t <= 1e2], [1e-3, 1e-2, 1e-1, 1, 10, 100])
+    narrow, _ = log_ticks(np.array([0.33, 0.9]))
+    assert np.allclose([t for t in narrow if 0.33 <= t <= 0.9], [0.5])
+    assert log_ticks(np.array([0.0, -1.0, np.nan])) is None

@@ -97,9 +97,26 @@ def _limits(z: np.ndarray) -> tuple[float, float]:
     return (low, high if high > low else low + 1.0)
 
 
+def log_ticks(values: np.ndarray) -> tuple[list[float], list[float]] | None:
+    """Major (1-2-3-5 within one decade, 1-2-5 up to 3 decades, 1 per decade beyond) and minor
+    (1..9 per decade) tick positions spanning the positive finite ``values``; None if none."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v) & (v > 0)]
+    if v.size == 0:
+        return None
+    lo, hi = int(np.floor(np.log10(v.min()))), int(np.ceil(np.log10(v.max())))
+    span = hi - lo
+    mantissas = (1.0, 2.0, 3.0, 5.0) if span <= 1 else (1.0, 2.0, 5.0) if span <= 3 else (1.0,)
+    decades = [10.0 ** e for e in range(lo - 1, hi + 1)]
+    major = [m * d for d in decades for m in mantissas]
+    minor = [m * d for d in decades for m in range(1, 10)]
+    return major, minor
+
+
 def bokeh_figure(spec: PlotSpec, *, height: int = 330, width: int | None = None) -> Drawn:
     """The Bokeh figure of ``spec`` (named ``spec.key`` so tests and scripts can find it)."""
-    from bokeh.models import ColorBar, ColumnDataSource, HoverTool, LinearAxis, LinearColorMapper, Range1d
+    from bokeh.models import (ColorBar, ColumnDataSource, HoverTool, LinearAxis, LinearColorMapper, FixedTicker,
+                              Range1d)
     from bokeh.palettes import Greys256, Viridis256
     from bokeh.plotting import figure
 
@@ -130,6 +147,15 @@ def bokeh_figure(spec: PlotSpec, *, height: int = 330, width: int | None = None)
         kwargs["y_range"] = Range1d(*spec.y_range)
     p = figure(**kwargs)
     p.toolbar.logo = None
+    # Bokeh's log ticker falls back to linear steps on ranges under about two decades: a load
+    # axis of 0.1-4 N then shows only "1 2 3 4". Label a 1-2-5 sequence (or decades on wide ranges).
+    for axis_is_log, axis, which in ((spec.x_log, p.xaxis, "x"), (spec.y_log, p.yaxis, "y")):
+        if axis_is_log:
+            values = np.concatenate([np.ravel(getattr(ln, which)) for ln in spec.lines
+                                     if which == "x" or ln.axis == "left"] or [np.empty(0)])
+            ticks = log_ticks(values)
+            if ticks is not None:
+                axis.ticker = FixedTicker(ticks=ticks[0], minor_ticks=ticks[1])
     p.title.text_font_size = "10pt"
     drawn = Drawn(p, _structure(spec))
     if spec.y2_label:
