@@ -82,5 +82,6 @@ def synthetic_sweep(path: Path, design: str = "grid") -> Path:
         "sweep": json.dumps({"spacing": "150um:200um:3", "height": "10um:40um:4"}), "design": design,
         "axes": json.dumps(["spacing", "height"]), "fingerpad_version": "test",
     })
-    ds.to_zarr(path, mode="w")
+    # the format the sweep store writes (fingerpad.design.store): Zarr v2, consolidated metadata
+    ds.to_zarr(path, mode="w", zarr_format=2, consolidated=True)
     return path
