@@ -128,6 +128,7 @@ class SectionSolver:
         self.skin = float(skin_modulus)
         self.friction = friction
         self.fold = FoldContact(mesh, fold_penalty)
+        self.repair_each = True
         self.rtol = float(rtol)
         self.period = mesh.geometry.period
         nd = self.solid.ndof
@@ -200,10 +201,14 @@ class SectionSolver:
         surf, m, nred = self.surface, self.m, self.nred
         scale_f = max(load, 1e-12)
         prev_active = None
+        if self.solid.min_jacobian(self.displacement(v)) <= 0:  # e.g. an extrapolated guess
+            raise NoConvergence("inverted elements in the first guess")
         pairs = self.fold.pair(self.positions(v))
         repairs = 0
         for it in range(1, max_iter + 1):
             x = self.positions(v)
+            if it > 1 and self.repair_each:
+                pairs = self.fold.update_pairs(x, pairs)
             xs = x[surf]
             tiles = self._tiles(xs)
             comp, dcomp = skin_compliance(xs[:, 0], tiles, self.period, self.skin, derivative=True)
@@ -344,11 +349,13 @@ class SectionSolver:
             return force, sp.csr_matrix((nd, nd)), 0
         rows, cols, vals = [], [], []
         k = self.fold.k
-        for dofs, grad, g, hess in terms:
-            np.add.at(force, dofs.ravel(), (k * g[:, None] * grad).ravel())
-            rows.append(np.repeat(dofs, 6, axis=1).ravel())
-            cols.append(np.tile(dofs, (1, 6)).ravel())
-            vals.append((k * (grad[:, :, None] * grad[:, None, :] + g[:, None, None] * hess)).ravel())
+        for dofs, grad, g, hess, w in terms:
+            kw = k * w
+            nd_t = dofs.shape[1]
+            np.add.at(force, dofs.ravel(), (kw[:, None] * g[:, None] * grad).ravel())
+            rows.append(np.repeat(dofs, nd_t, axis=1).ravel())
+            cols.append(np.tile(dofs, (1, nd_t)).ravel())
+            vals.append((kw[:, None, None] * (grad[:, :, None] * grad[:, None, :] + g[:, None, None] * hess)).ravel())
         kf = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nd, nd))
         return force, kf, n_act
 
