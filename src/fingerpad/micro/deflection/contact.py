@@ -180,11 +180,25 @@ def normal_gap(s: np.ndarray, p: np.ndarray, q: np.ndarray) -> tuple[np.ndarray,
 class FoldContact:
     """Penalty contact of the asperity's flanks on the free base surface (fold-over).
 
-    Node-to-segment: each flank node is tested against the deformed base segment of the same
-    side it projects into (closest-point projection), with the signed normal distance to that
-    segment's line. Energy ``k/2 g^2`` for ``g < 0``, frictionless (texture on texture). The normal gap
-    matters: where a folding flank closes the corner at its foot, the base next to the foot is
-    pulled down and steep, and a vertical gap would misjudge the penetration there.
+    Flank points on base segments: the contact points are the 3 Gauss points of every Q2 face of
+    the flank (interpolated by the face's shape functions, weighted by their share of the face's
+    reference length -- the slave side of a segment-to-segment contact), each tested against the
+    deformed base segment (chord between consecutive surface nodes) it projects into
+    (closest-point projection), with the signed normal distance to that segment's line. Energy
+    ``k/2 w g^2`` for ``g < 0``, frictionless (texture on texture); the weights are scaled so that
+    the penalty per unit length is that of one node per half face (``k`` per node spacing). The
+    normal gap matters: where a folding flank closes the corner at its foot, the base next to the
+    foot is pulled down and steep, and a vertical gap would misjudge the penetration there.
+
+    Why Gauss points, not nodes: node-to-segment with one penalty per Q2 node loads a face's
+    corner nodes as much as its mid-side node; on a folded-flat flank the corners lifted off
+    while the mid-side nodes chattered in and out of contact (a spurious surface mode), and the
+    Newton iteration stalled near the foot. Measured on the slender section's 26.8 kPa ramp:
+    nodes, pairs frozen per solve: mu 0.20; Gauss points: 0.40; nodes re-paired at every
+    iteration: 0.18; Gauss points re-paired at every iteration: 1.5 (its target).
+
+    The base of each side runs on over the other side's periodic image, so a flank folded past
+    the period edge lies on the neighbouring cell's base (``chains``).
     """
 
     def __init__(self, mesh: SectionMesh, stiffness: float, foot_gap: float = 0.0, points: str = "gauss") -> None:
@@ -271,7 +285,7 @@ class FoldContact:
         return a, b, p, q
 
     def pair(self, x: np.ndarray) -> list[np.ndarray]:
-        """Closest-point projection: per side, the base segment each flank node projects into
+        """Closest-point projection: per chain, the base segment each flank point projects into
         with the smallest |distance| (within one segment length of it), or -1."""
         xs = self.points(x)
         out = []
@@ -290,10 +304,11 @@ class FoldContact:
         return out
 
     def update_pairs(self, x: np.ndarray, old: list[np.ndarray], tolerance: float = 0.25) -> list[np.ndarray]:
-        """Re-pair after convergence: a slave keeps its segment while its projection stays within
-        ``tolerance`` (in segment lengths) of it -- near a kink of the base the line of the old
-        segment is as good a surface as the next one, and hopping to it would kick the Newton
-        iteration off a converged state -- and takes its fresh closest-point pair otherwise."""
+        """Re-pair (the solver does it at every Newton iteration): a point keeps its segment while
+        its projection stays within ``tolerance`` (in segment lengths) of it -- near a kink of the
+        base the line of the old segment is as good a surface as the next one, and hopping to it
+        would make the iteration chatter -- and takes its fresh closest-point pair otherwise (an
+        unpaired point is paired as soon as it projects into a segment)."""
         fresh = self.pair(x)
         xs = self.points(x)
         out = []
@@ -312,18 +327,18 @@ class FoldContact:
         return out
 
     def evaluate(self, x: np.ndarray, pairs: list[np.ndarray] | None = None) -> tuple[np.ndarray, list, int, float]:
-        """Active gaps and their derivatives for the given slave-segment ``pairs`` (fresh
-        closest-point pairs if None). The solver freezes the pairs during a Newton solve -- a
-        flank lying node over node on the base would otherwise hop between segments at their
-        kinks and the iteration chatter -- and re-pairs at convergence.
+        """Active gaps and their derivatives for the given point-segment ``pairs`` (fresh
+        closest-point pairs if None).
 
         Returns
         -------
         gaps, terms, n_active, min_gap
-            ``terms`` is a list of (dof ids (a, 6), gradients (a, 6), gaps (a,), Hessians
-            (a, 6, 6)) per side, variables ordered (x_s, z_s, p_x, p_z, q_x, q_z); the force is
-            ``k g grad`` and the stiffness ``k (grad grad^T + g hess)`` (the second term is of
-            the size of the contact force, not of the penetration: Newton needs it).
+            ``terms`` is a list of (dof ids (a, n), gradients (a, n), gaps (a,), Hessians
+            (a, n, n), weights (a,)) per chain, over the positions of the point's face nodes and
+            the segment's two nodes (n = 10 for Gauss points); the force is ``k w g grad`` and
+            the stiffness ``k w (grad grad^T + g hess)`` (the second term is of the size of the
+            contact force, not of the penetration: Newton needs it). ``n_active``: contact points
+            in contact.
         """
         if pairs is None:
             pairs = self.pair(x)

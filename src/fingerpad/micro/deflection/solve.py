@@ -128,7 +128,6 @@ class SectionSolver:
         self.skin = float(skin_modulus)
         self.friction = friction
         self.fold = FoldContact(mesh, fold_penalty)
-        self.repair_each = True
         self.rtol = float(rtol)
         self.period = mesh.geometry.period
         nd = self.solid.ndof
@@ -207,7 +206,10 @@ class SectionSolver:
         repairs = 0
         for it in range(1, max_iter + 1):
             x = self.positions(v)
-            if it > 1 and self.repair_each:
+            if it > 1:
+                # re-pair at every iteration (keeping a pair while its projection stays near its
+                # segment): a flank point unpaired at the start would otherwise slide under a
+                # short base segment unresisted and be found deep in the base at convergence
                 pairs = self.fold.update_pairs(x, pairs)
             xs = x[surf]
             tiles = self._tiles(xs)
