@@ -31,7 +31,6 @@ marks a state past a bifurcation (buckling).
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -273,12 +272,10 @@ class SectionSolver:
                 rhs.append([r_t])
             jac = sp.bmat(blocks, format="csc")
             rhs = -np.concatenate(rhs)
-            try:
-                with warnings.catch_warnings():  # a singular matrix is reported below
-                    warnings.simplefilter("ignore", spla.MatrixRankWarning)
-                    dy = spla.spsolve(jac, rhs, permc_spec="MMD_AT_PLUS_A")
-            except RuntimeError as exc:  # singular factor
-                raise NoConvergence(f"singular Jacobian ({exc})") from None
+            try:  # the same SuperLU factorisation as spsolve's (same ordering and pivoting), without its overhead
+                dy = spla.splu(jac, permc_spec="MMD_AT_PLUS_A").solve(rhs)
+            except RuntimeError:  # singular factor
+                raise NoConvergence("singular Jacobian") from None
             if not np.all(np.isfinite(dy)):
                 raise NoConvergence("singular Jacobian")
             dv, df, dz0 = dy[:nred], dy[nred:nred + m], float(dy[nred + m])
@@ -320,7 +317,7 @@ class SectionSolver:
         if self.solid.min_jacobian(self.displacement(v)) <= 0:
             return math.inf  # an inverted element: no state
         fint, _ = self.solid.assemble(self.displacement(v), tangent=False)
-        fold_f, _, _ = self._fold(x, pairs)
+        fold_f, _, _ = self._fold(x, pairs, tangent=False)
         fext = np.zeros(self.solid.ndof)
         fext[2 * self.surface] = mu * (a0 * f + b0)
         fext[2 * self.surface + 1] = -f
@@ -336,19 +333,24 @@ class SectionSolver:
         tiles[0] += tiles[-1]
         return tiles
 
-    def _fold(self, x: np.ndarray, pairs: list[np.ndarray] | None = None) -> tuple[np.ndarray, sp.csr_matrix, int]:
+    def _fold(self, x: np.ndarray, pairs: list[np.ndarray] | None = None,
+              tangent: bool = True) -> tuple[np.ndarray, sp.csr_matrix | None, int]:
         _, terms, n_act, _ = self.fold.evaluate(x, pairs)
         nd = self.solid.ndof
         force = np.zeros(nd)
         if not terms:
-            return force, sp.csr_matrix((nd, nd)), 0
+            return force, sp.csr_matrix((nd, nd)) if tangent else None, 0
         rows, cols, vals = [], [], []
         k = self.fold.k
         for dofs, grad, g, hess in terms:
             np.add.at(force, dofs.ravel(), (k * g[:, None] * grad).ravel())
+            if not tangent:
+                continue
             rows.append(np.repeat(dofs, 6, axis=1).ravel())
             cols.append(np.tile(dofs, (1, 6)).ravel())
             vals.append((k * (grad[:, :, None] * grad[:, None, :] + g[:, None, None] * hess)).ravel())
+        if not tangent:
+            return force, None, n_act
         kf = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nd, nd))
         return force, kf, n_act
 
