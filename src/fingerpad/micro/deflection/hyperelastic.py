@@ -163,13 +163,22 @@ class Solid:
         conn = mesh.elements
         self.edofs = (2 * conn[:, :, None] + np.arange(2)[None, None, :]).reshape(conn.shape[0], 18)
         self.ndof = 2 * mesh.n_nodes
-        self._rows = np.repeat(self.edofs, 18, axis=1).ravel()
-        self._cols = np.tile(self.edofs, (1, 18)).ravel()
+        rows = np.repeat(self.edofs, 18, axis=1).ravel()
+        cols = np.tile(self.edofs, (1, 18)).ravel()
+        # the stiffness pattern once: CSR slot of every element-matrix entry (sorted columns), so
+        # that assembling is one weighted bincount into the slots
+        key = rows.astype(np.int64) * self.ndof + cols
+        uniq, self._slot = np.unique(key, return_inverse=True)
+        self._indices = (uniq % self.ndof).astype(np.int32)
+        self._indptr = np.searchsorted(uniq // self.ndof, np.arange(self.ndof + 1)).astype(np.int32)
+        # B^T of each rule with the quadrature points stacked: (e, 18, 4 q), for one batched product
+        self._bt = {id(rule): np.ascontiguousarray(np.swapaxes(rule.bmat, -1, -2).transpose(0, 2, 1, 3).reshape(
+            rule.bmat.shape[0], 18, -1)) for rule in (self.full, self.reduced)}
         self._memo: list[dict] = []
 
     def deformation_gradients(self, u: np.ndarray, rule: _Rule) -> np.ndarray:
         ue = u.reshape(-1, 2)[self.mesh.elements]  # (e, 9, 2)
-        return _I2 + np.einsum("eki,eqkj->eqij", ue, rule.grad)
+        return _I2 + np.matmul(np.swapaxes(ue, 1, 2)[:, None], rule.grad)  # sum_k u_ki dN_k/dX_j
 
     def _kinematics(self, u: np.ndarray) -> dict:
         """Deformation gradients of both rules at ``u`` (and, once computed, the internal force
@@ -201,25 +210,28 @@ class Solid:
         known = entry.get("fint")
         if known is not None and not tangent:
             return known.copy(), None
-        fint = np.zeros(self.ndof)
         ne = self.edofs.shape[0]
+        fe = np.zeros((ne, 18)) if known is None else None
         ke = np.zeros((ne, 18, 18)) if tangent else None
         for f, rule, law, modulus in zip(entry["f"], (self.full, self.reduced), (isochoric, volumetric),
                                          (self.mu, self.kappa)):
             p, a = law(f, modulus, self.linear, tangent=tangent)
-            bt = np.swapaxes(rule.bmat, -1, -2)  # (e, q, 18, 4)
+            bt = self._bt[id(rule)]  # (e, 18, 4 q): sum over q and the stress components at once
             if known is None:
-                pw = p.reshape(ne, -1, 4) * rule.wdet[..., None]
-                fe = np.matmul(bt, pw[..., None])[..., 0].sum(axis=1)
-                np.add.at(fint, self.edofs.ravel(), fe.ravel())
+                pw = p.reshape(ne, -1) * np.repeat(rule.wdet, 4, axis=1)
+                fe += np.matmul(bt, pw[..., None])[..., 0]
             if tangent:
-                aw = a.reshape(ne, -1, 4, 4) * rule.wdet[..., None, None]
-                ke += np.matmul(bt, np.matmul(aw, rule.bmat)).sum(axis=1)
+                nq = rule.wdet.shape[1]
+                aw = a.reshape(ne, nq, 4, 4) * rule.wdet[..., None, None]
+                ke += np.matmul(bt, np.matmul(aw, rule.bmat).reshape(ne, 4 * nq, 18))
         if known is None:
+            fint = np.bincount(self.edofs.ravel(), weights=fe.ravel(), minlength=self.ndof)
             entry["fint"] = fint.copy()
         else:
             fint = known.copy()
         if not tangent:
             return fint, None
-        k = sp.csr_matrix((ke.reshape(-1), (self._rows, self._cols)), shape=(self.ndof, self.ndof))
+        data = np.bincount(self._slot, weights=ke.reshape(-1), minlength=self._indices.size)
+        k = sp.csr_matrix((data, self._indices, self._indptr), shape=(self.ndof, self.ndof))
+        k.has_sorted_indices = True
         return fint, k

@@ -273,7 +273,7 @@ class SectionSolver:
             jac = sp.bmat(blocks, format="csc")
             rhs = -np.concatenate(rhs)
             try:  # the same SuperLU factorisation as spsolve's (same ordering and pivoting), without its overhead
-                dy = spla.splu(jac, permc_spec="MMD_AT_PLUS_A").solve(rhs)
+                dy = spla.splu(jac, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1).solve(rhs)
             except RuntimeError:  # singular factor
                 raise NoConvergence("singular Jacobian") from None
             if not np.all(np.isfinite(dy)):
