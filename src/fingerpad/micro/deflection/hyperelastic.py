@@ -97,8 +97,10 @@ _SWAP4 = np.einsum("il,jk->ijkl", _I2, _I2)  # d_iL d_kJ
 _TRACE4 = np.einsum("ij,kl->ijkl", _I2, _I2)  # d_iJ d_kL
 
 
-def isochoric(f: np.ndarray, mu: float, linear: bool = False) -> tuple[np.ndarray, np.ndarray]:
-    """First Piola stress and tangent dP/dF of ``mu/2 (J^-2/3 I1 - 3)`` (plane strain)."""
+def isochoric(f: np.ndarray, mu: float, linear: bool = False,
+              tangent: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+    """First Piola stress and tangent dP/dF of ``mu/2 (J^-2/3 I1 - 3)`` (plane strain);
+    ``tangent=False`` returns the stress only (None for the tangent)."""
     if linear:
         a = mu * (_DELTA4 + _SWAP4 - 2.0 / 3.0 * _TRACE4)
         return np.einsum("ijkl,...kl->...ij", a, f - _I2), np.broadcast_to(a, f.shape[:-2] + (2, 2, 2, 2))
@@ -106,6 +108,8 @@ def isochoric(f: np.ndarray, mu: float, linear: bool = False) -> tuple[np.ndarra
     i1 = np.einsum("...ij,...ij->...", f, f) + 1.0
     c = mu * det ** (-2.0 / 3.0)
     p = c[..., None, None] * (f - (i1 / 3.0)[..., None, None] * h)
+    if not tangent:
+        return p, None
     fh = np.einsum("...ij,...kl->...ijkl", f, h)
     hh = np.einsum("...ij,...kl->...ijkl", h, h)
     hs = np.einsum("...il,...kj->...ijkl", h, h)
@@ -117,8 +121,10 @@ def isochoric(f: np.ndarray, mu: float, linear: bool = False) -> tuple[np.ndarra
     return p, a
 
 
-def volumetric(f: np.ndarray, kappa: float, linear: bool = False) -> tuple[np.ndarray, np.ndarray]:
-    """First Piola stress and tangent of ``U(J) = kappa/4 (J^2 - 1 - 2 ln J)``."""
+def volumetric(f: np.ndarray, kappa: float, linear: bool = False,
+               tangent: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+    """First Piola stress and tangent of ``U(J) = kappa/4 (J^2 - 1 - 2 ln J)``;
+    ``tangent=False`` returns the stress only (None for the tangent)."""
     if linear:
         a = kappa * _TRACE4
         return np.einsum("ijkl,...kl->...ij", a, f - _I2), np.broadcast_to(a, f.shape[:-2] + (2, 2, 2, 2))
@@ -126,6 +132,8 @@ def volumetric(f: np.ndarray, kappa: float, linear: bool = False) -> tuple[np.nd
     d1 = 0.5 * kappa * (det - 1.0 / det)  # U'
     d2 = 0.5 * kappa * (1.0 + 1.0 / det**2)  # U''
     p = (d1 * det)[..., None, None] * h
+    if not tangent:
+        return p, None
     hh = np.einsum("...ij,...kl->...ijkl", h, h)
     hs = np.einsum("...il,...kj->...ijkl", h, h)
     a = (d2 * det**2 + d1 * det)[..., None, None, None, None] * hh - (d1 * det)[..., None, None, None, None] * hs
@@ -155,37 +163,75 @@ class Solid:
         conn = mesh.elements
         self.edofs = (2 * conn[:, :, None] + np.arange(2)[None, None, :]).reshape(conn.shape[0], 18)
         self.ndof = 2 * mesh.n_nodes
-        self._rows = np.repeat(self.edofs, 18, axis=1).ravel()
-        self._cols = np.tile(self.edofs, (1, 18)).ravel()
+        rows = np.repeat(self.edofs, 18, axis=1).ravel()
+        cols = np.tile(self.edofs, (1, 18)).ravel()
+        # the stiffness pattern once: CSR slot of every element-matrix entry (sorted columns), so
+        # that assembling is one weighted bincount into the slots
+        key = rows.astype(np.int64) * self.ndof + cols
+        uniq, self._slot = np.unique(key, return_inverse=True)
+        self._indices = (uniq % self.ndof).astype(np.int32)
+        self._indptr = np.searchsorted(uniq // self.ndof, np.arange(self.ndof + 1)).astype(np.int32)
+        # B^T of each rule with the quadrature points stacked: (e, 18, 4 q), for one batched product
+        self._bt = {id(rule): np.ascontiguousarray(np.swapaxes(rule.bmat, -1, -2).transpose(0, 2, 1, 3).reshape(
+            rule.bmat.shape[0], 18, -1)) for rule in (self.full, self.reduced)}
+        self._memo: list[dict] = []
 
     def deformation_gradients(self, u: np.ndarray, rule: _Rule) -> np.ndarray:
         ue = u.reshape(-1, 2)[self.mesh.elements]  # (e, 9, 2)
-        return _I2 + np.einsum("eki,eqkj->eqij", ue, rule.grad)
+        return _I2 + np.matmul(np.swapaxes(ue, 1, 2)[:, None], rule.grad)  # sum_k u_ki dN_k/dX_j
+
+    def _kinematics(self, u: np.ndarray) -> dict:
+        """Deformation gradients of both rules at ``u`` (and, once computed, the internal force
+        and the smallest J there), memoised for the last few displacement fields: the Newton
+        iteration asks for the same state up to four times (element-inversion check, line-search
+        merit, next iteration's tangent), and the values are the same arrays each time."""
+        for entry in self._memo:
+            if np.array_equal(entry["u"], u):
+                return entry
+        entry = {"u": np.array(u, dtype=float, copy=True),
+                 "f": tuple(self.deformation_gradients(u, rule) for rule in (self.full, self.reduced))}
+        self._memo.insert(0, entry)
+        del self._memo[4:]
+        return entry
 
     def min_jacobian(self, u: np.ndarray) -> float:
         """Smallest J over all quadrature points (<= 0 means an inverted element)."""
-        jmin = np.inf
-        for rule in (self.full, self.reduced):
-            f = self.deformation_gradients(u, rule)
-            jmin = min(jmin, float(np.min(f[..., 0, 0] * f[..., 1, 1] - f[..., 0, 1] * f[..., 1, 0])))
-        return jmin
+        entry = self._kinematics(u)
+        if "jmin" not in entry:
+            jmin = np.inf
+            for f in entry["f"]:
+                jmin = min(jmin, float(np.min(f[..., 0, 0] * f[..., 1, 1] - f[..., 0, 1] * f[..., 1, 0])))
+            entry["jmin"] = jmin
+        return entry["jmin"]
 
     def assemble(self, u: np.ndarray, tangent: bool = True) -> tuple[np.ndarray, sp.csr_matrix | None]:
         """Internal force vector (ndof,) and, with ``tangent``, the stiffness (ndof x ndof)."""
-        fint = np.zeros(self.ndof)
+        entry = self._kinematics(u)
+        known = entry.get("fint")
+        if known is not None and not tangent:
+            return known.copy(), None
         ne = self.edofs.shape[0]
+        fe = np.zeros((ne, 18)) if known is None else None
         ke = np.zeros((ne, 18, 18)) if tangent else None
-        for rule, law, modulus in ((self.full, isochoric, self.mu), (self.reduced, volumetric, self.kappa)):
-            f = self.deformation_gradients(u, rule)
-            p, a = law(f, modulus, self.linear)
-            bt = np.swapaxes(rule.bmat, -1, -2)  # (e, q, 18, 4)
-            pw = p.reshape(ne, -1, 4) * rule.wdet[..., None]
-            fe = np.matmul(bt, pw[..., None])[..., 0].sum(axis=1)
-            np.add.at(fint, self.edofs.ravel(), fe.ravel())
+        for f, rule, law, modulus in zip(entry["f"], (self.full, self.reduced), (isochoric, volumetric),
+                                         (self.mu, self.kappa)):
+            p, a = law(f, modulus, self.linear, tangent=tangent)
+            bt = self._bt[id(rule)]  # (e, 18, 4 q): sum over q and the stress components at once
+            if known is None:
+                pw = p.reshape(ne, -1) * np.repeat(rule.wdet, 4, axis=1)
+                fe += np.matmul(bt, pw[..., None])[..., 0]
             if tangent:
-                aw = a.reshape(ne, -1, 4, 4) * rule.wdet[..., None, None]
-                ke += np.matmul(bt, np.matmul(aw, rule.bmat)).sum(axis=1)
+                nq = rule.wdet.shape[1]
+                aw = a.reshape(ne, nq, 4, 4) * rule.wdet[..., None, None]
+                ke += np.matmul(bt, np.matmul(aw, rule.bmat).reshape(ne, 4 * nq, 18))
+        if known is None:
+            fint = np.bincount(self.edofs.ravel(), weights=fe.ravel(), minlength=self.ndof)
+            entry["fint"] = fint.copy()
+        else:
+            fint = known.copy()
         if not tangent:
             return fint, None
-        k = sp.csr_matrix((ke.reshape(-1), (self._rows, self._cols)), shape=(self.ndof, self.ndof))
+        data = np.bincount(self._slot, weights=ke.reshape(-1), minlength=self._indices.size)
+        k = sp.csr_matrix((data, self._indices, self._indptr), shape=(self.ndof, self.ndof))
+        k.has_sorted_indices = True
         return fint, k

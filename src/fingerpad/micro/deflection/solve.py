@@ -31,7 +31,6 @@ marks a state past a bifurcation (buckling).
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -153,6 +152,7 @@ class SectionSolver:
         self.base_centre = int(np.argmin(np.hypot(mesh.nodes[:, 0], mesh.nodes[:, 1])))
         self.zred = red[2 * self.surface + 1]
         self.xred = red[2 * self.surface]
+        self._kr_map = None  # reduced stiffness pattern (see _reduced_stiffness)
 
     # ------------------------------------------------------------------ helpers
     def displacement(self, v: np.ndarray) -> np.ndarray:
@@ -248,44 +248,56 @@ class SectionSolver:
                 self._finish(state, xs, tiles, comp, gap, mu * a0, mu * b0)
                 return state
             prev_active = active
-            # Jacobian
-            kr = self.M.T @ ((kmat + fold_k) @ self.M)
+            # Jacobian, block rows (u, contact, load[, tip]) x columns (v, f, Z0[, mu]), as one COO
+            kr = self._reduced_stiffness(kmat, fold_k).tocoo()
+            ai = np.nonzero(active)[0]
+            xr, okx = self.xred, self.xred >= 0
+            # d r_u / d f: the friction (c_f on x) and the skin pressure (-1 on z)
             e_rows = np.concatenate([self.xred, self.zred])
-            e_vals = np.concatenate([np.full(m, cf), -np.ones(m)])
+            e_vals = -np.concatenate([np.full(m, cf), -np.ones(m)])
             e_cols = np.concatenate([np.arange(m), np.arange(m)])
             ok = e_rows >= 0
-            er = sp.csr_matrix((e_vals[ok], (e_rows[ok], e_cols[ok])), shape=(nred, m))
-            ai = np.nonzero(active)[0]
             # d gap_i / d u: -1 on z_i, and the skin lift's dependence on the x positions
             dlift = dcomp * f[None, :]
             dlift = (np.diag(dlift.sum(axis=1)) - dlift)[ai]
-            xr = self.xred
-            okx = xr >= 0
-            rr = np.concatenate([ai, np.repeat(ai, int(okx.sum()))])
-            cc = np.concatenate([self.zred[ai], np.tile(xr[okx], ai.size)])
-            vv = np.concatenate([-np.ones(ai.size), dlift[:, okx].ravel()])
-            dz = sp.csr_matrix((vv, (rr, cc)), shape=(m, nred))
-            cblock = np.where(active[:, None], comp, np.eye(m))
-            ones_col = sp.csr_matrix(active.astype(float)[:, None])
-            blocks = [[kr, -er, None], [dz, sp.csr_matrix(cblock), ones_col],
-                      [None, sp.csr_matrix(np.ones((1, m))), None]]
+            # d gap_i / d f (active rows: the compliance) and d f_i / d f_i = 1 (free rows)
+            free = np.nonzero(~active)[0]
+            ca = comp[ai]
+            nz = ca != 0.0
+            parts_r = [kr.row, e_rows[ok],
+                       nred + ai, np.repeat(nred + ai, int(okx.sum())),
+                       nred + np.repeat(ai, m)[nz.ravel()], nred + free,
+                       nred + ai,  # d gap_i / d Z0
+                       np.full(m, nred + m)]  # the load equation: sum f
+            parts_c = [kr.col, nred + e_cols[ok],
+                       self.zred[ai], np.tile(xr[okx], ai.size),
+                       nred + np.tile(np.arange(m), ai.size)[nz.ravel()], nred + free,
+                       np.full(ai.size, nred + m),
+                       nred + np.arange(m)]
+            parts_v = [kr.data, e_vals[ok],
+                       -np.ones(ai.size), dlift[:, okx].ravel(),
+                       ca[nz], np.ones(free.size),
+                       np.ones(ai.size),
+                       np.ones(m)]
             rhs = [r_u, r_c, [r_z]]
+            size = nred + m + 1
             if tip is not None:  # unknown mu: its column d(-f_ext)/d mu and the tip equation
                 dmu = np.zeros(self.solid.ndof)
                 dmu[2 * surf] = a0 * f + b0
-                blocks[0].append(sp.csr_matrix(-(self.M.T @ dmu)[:, None]))
-                blocks[1].append(None)
-                blocks[2].append(None)
-                blocks.append([sp.csr_matrix(([1.0], ([0], [tip_dof])), shape=(1, nred)), None, None, None])
+                col = -(self.M.T @ dmu)
+                nzc = np.nonzero(col)[0]
+                parts_r += [nzc, [size]]
+                parts_c += [np.full(nzc.size, size), [tip_dof]]
+                parts_v += [col[nzc], [1.0]]
                 rhs.append([r_t])
-            jac = sp.bmat(blocks, format="csc")
+                size += 1
+            jac = sp.csc_matrix((np.concatenate(parts_v), (np.concatenate(parts_r), np.concatenate(parts_c))),
+                                shape=(size, size))
             rhs = -np.concatenate(rhs)
-            try:
-                with warnings.catch_warnings():  # a singular matrix is reported below
-                    warnings.simplefilter("ignore", spla.MatrixRankWarning)
-                    dy = spla.spsolve(jac, rhs, permc_spec="MMD_AT_PLUS_A")
-            except RuntimeError as exc:  # singular factor
-                raise NoConvergence(f"singular Jacobian ({exc})") from None
+            try:  # SuperLU, threshold partial pivoting (the diagonal unless 10x below the column maximum)
+                dy = spla.splu(jac, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1).solve(rhs)
+            except RuntimeError:  # singular factor
+                raise NoConvergence("singular Jacobian") from None
             if not np.all(np.isfinite(dy)):
                 raise NoConvergence("singular Jacobian")
             dv, df, dz0 = dy[:nred], dy[nred:nred + m], float(dy[nred + m])
@@ -312,6 +324,30 @@ class SectionSolver:
             v, f, z0, mu = best[1]
         raise NoConvergence(f"no convergence in {max_iter} iterations")
 
+    def _reduced_stiffness(self, kmat: sp.csr_matrix, fold_k: sp.csr_matrix | None) -> sp.csr_matrix:
+        """``M^T (K + K_fold) M`` on the reduced displacements. M only selects and merges dofs
+        (periodic sides, clamped bottom), so the solid's part is a bincount of K's values into the
+        reduced pattern, computed once (K's pattern is fixed)."""
+        if self._kr_map is None:
+            sol = self.solid
+            rows = np.repeat(np.arange(sol.ndof), np.diff(sol._indptr))
+            rr, cc = self.red[rows], self.red[sol._indices]
+            valid = (rr >= 0) & (cc >= 0)
+            key = rr[valid] * self.nred + cc[valid]
+            uniq, slot = np.unique(key, return_inverse=True)
+            indptr = np.searchsorted(uniq // self.nred, np.arange(self.nred + 1))
+            self._kr_map = (valid, slot, (uniq % self.nred).astype(np.int32), indptr.astype(np.int32), uniq.size)
+        valid, slot, indices, indptr, nnz = self._kr_map
+        if kmat.nnz != valid.size:  # not the solid's fixed pattern (should not happen): the general product
+            kr = self.M.T @ (kmat @ self.M)
+        else:
+            kr = sp.csr_matrix((np.bincount(slot, weights=kmat.data[valid], minlength=nnz), indices, indptr),
+                               shape=(self.nred, self.nred))
+            kr.has_sorted_indices = True
+        if fold_k is not None and fold_k.nnz:
+            kr = kr + self.M.T @ (fold_k @ self.M)
+        return kr
+
     def _merit(self, r_u: np.ndarray, f: np.ndarray, gap: np.ndarray, r_z: float, r_t: float) -> float:
         """Norm of the natural residual: equilibrium, ``min(f, c g)`` per contact candidate (force
         units), the load and the tip equations."""
@@ -327,7 +363,7 @@ class SectionSolver:
         if self.solid.min_jacobian(self.displacement(v)) <= 0:
             return math.inf  # an inverted element: no state
         fint, _ = self.solid.assemble(self.displacement(v), tangent=False)
-        fold_f, _, _ = self._fold(x, pairs)
+        fold_f, _, _ = self._fold(x, pairs, tangent=False)
         fext = np.zeros(self.solid.ndof)
         fext[2 * self.surface] = mu * (a0 * f + b0)
         fext[2 * self.surface + 1] = -f
@@ -343,21 +379,26 @@ class SectionSolver:
         tiles[0] += tiles[-1]
         return tiles
 
-    def _fold(self, x: np.ndarray, pairs: list[np.ndarray] | None = None) -> tuple[np.ndarray, sp.csr_matrix, int]:
+    def _fold(self, x: np.ndarray, pairs: list[np.ndarray] | None = None,
+              tangent: bool = True) -> tuple[np.ndarray, sp.csr_matrix | None, int]:
         _, terms, n_act, _ = self.fold.evaluate(x, pairs)
         nd = self.solid.ndof
         force = np.zeros(nd)
         if not terms:
-            return force, sp.csr_matrix((nd, nd)), 0
+            return force, sp.csr_matrix((nd, nd)) if tangent else None, 0
         rows, cols, vals = [], [], []
         k = self.fold.k
         for dofs, grad, g, hess, w in terms:
             kw = k * w
             nd_t = dofs.shape[1]
             np.add.at(force, dofs.ravel(), (kw[:, None] * g[:, None] * grad).ravel())
+            if not tangent:
+                continue
             rows.append(np.repeat(dofs, nd_t, axis=1).ravel())
             cols.append(np.tile(dofs, (1, nd_t)).ravel())
             vals.append((kw[:, None, None] * (grad[:, :, None] * grad[:, None, :] + g[:, None, None] * hess)).ravel())
+        if not tangent:
+            return force, None, n_act
         kf = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nd, nd))
         return force, kf, n_act
 
@@ -407,7 +448,7 @@ class SectionSolver:
         _, kmat = self.solid.assemble(u)
         x = self.positions(state.v)
         _, fold_k, _ = self._fold(x, state.info.get("pairs"))
-        kr = self.M.T @ ((kmat + fold_k) @ self.M)
+        kr = self._reduced_stiffness(kmat, fold_k)
         kr = 0.5 * (kr + kr.T)
         act = np.nonzero(state.contact_mask & (state.f > 0))[0]
         if act.size:
