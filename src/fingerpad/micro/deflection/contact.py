@@ -216,6 +216,8 @@ class FoldContact:
             # fillet arc (its tangent length, about rho, on each leg) is left out of the fold
             # contact on both sides; the folded flank meets the base beyond it.
             foot_gap = max(foot_gap, 1.05 * rho)
+        # ``points``: "gauss" (default) or "nodes", the node-to-segment contact of MODEL_VERSION <= 4
+        # (kept for comparison; it stalls in the closing crease, see the class docstring)
         if points == "nodes":
             # node-to-segment: every flank node with unit weight
             far = (s > foot_gap) & (s < s[-1] - foot_gap)
