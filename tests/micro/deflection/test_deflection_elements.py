@@ -151,3 +151,60 @@ def test_contact_length_recovers_a_hertz_edge_between_nodes():
     assert proj == pytest.approx(arc)
     lin, _ = contact_length(xs, indicator)
     assert abs(arc - 2 * b) < abs(lin - 2 * b)  # the edge asymptotics beat linear interpolation
+
+
+def _folded_flat():
+    """A section whose right flank is laid flat on the right base, slightly into it, and on past
+    the period edge over the neighbouring cell's base (positions only, no equilibrium)."""
+    from fingerpad.micro.deflection.solve import SectionSolver
+
+    mesh = build_mesh(SectionGeometry("ellipse", 2.0, 5.0, 2.0), resolution=3)
+    solver = SectionSolver(mesh, 0.45, 1.0, fold_penalty=20.0)
+    x = mesh.nodes.copy()
+    flank = mesh.surface[mesh.on_asperity][::-1]  # from the right foot up to the left foot
+    xf = x[flank]
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xf, axis=0).T))])
+    right = s < 0.5 * s[-1]  # the right flank
+    foot = x[flank[0]]
+    x[flank[right], 0] = foot[0] + s[right]
+    x[flank[right], 1] = -0.004 * (1.0 + 0.5 * np.sin(7.0 * s[right]))
+    return mesh, solver, x
+
+
+def test_fold_contact_gauss_points_derivatives():
+    mesh, solver, x = _folded_flat()
+    fold = solver.fold
+    pairs = fold.pair(x)
+
+    def energy(xx):
+        _, terms, _, _ = fold.evaluate(xx, pairs)
+        return sum(0.5 * fold.k * float(np.sum(w * g**2)) for _, _, g, _, w in terms)
+
+    force, stiff, n_act = solver._fold(x, pairs)
+    assert n_act > 10
+    rng = np.random.default_rng(3)
+    dx = rng.standard_normal(x.shape) * 1e-6
+    assert (energy(x + dx) - energy(x - dx)) / 2 == pytest.approx(force @ dx.ravel(), rel=1e-6)
+    fp, _, _ = solver._fold(x + dx, pairs)
+    fm, _, _ = solver._fold(x - dx, pairs)
+    assert np.linalg.norm((fp - fm) / 2 - stiff @ dx.ravel()) < 1e-6 * np.linalg.norm(stiff @ dx.ravel())
+    # a face's three Gauss weights add up to its length over the node spacing (two nodes' worth)
+    assert fold.weights.sum() == pytest.approx(2.0 * (fold.point_nodes.shape[0] // 3), rel=0.02)
+
+
+def test_fold_contact_reaches_over_the_period_edge():
+    mesh, solver, x = _folded_flat()
+    fold = solver.fold
+    edge = mesh.geometry.period / 2
+    pts = fold.points(x)
+    beyond = pts[:, 0] > edge + 0.05
+    assert np.any(beyond)
+    right_chain = fold.pair(x)[0]
+    nodes, shift = fold.chains[0]
+    # points past the edge lie on the left base's periodic image, and penetrate it
+    assert np.all(right_chain[beyond] >= 0)
+    seg_end = right_chain[beyond] + 1  # the segment's far end
+    assert np.all(shift[seg_end] == pytest.approx(mesh.geometry.period))
+    assert set(nodes[seg_end]) <= set(mesh.left_base)
+    gaps, _, _, min_gap = fold.evaluate(x)
+    assert min_gap < -0.003 and min_gap > -0.007

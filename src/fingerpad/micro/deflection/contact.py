@@ -180,17 +180,31 @@ def normal_gap(s: np.ndarray, p: np.ndarray, q: np.ndarray) -> tuple[np.ndarray,
 class FoldContact:
     """Penalty contact of the asperity's flanks on the free base surface (fold-over).
 
-    Node-to-segment: each flank node is tested against the deformed base segment of the same
-    side it projects into (closest-point projection), with the signed normal distance to that
-    segment's line. Energy ``k/2 g^2`` for ``g < 0``, frictionless (texture on texture). The normal gap
-    matters: where a folding flank closes the corner at its foot, the base next to the foot is
-    pulled down and steep, and a vertical gap would misjudge the penetration there.
+    Flank points on base segments: the contact points are the 3 Gauss points of every Q2 face of
+    the flank (interpolated by the face's shape functions, weighted by their share of the face's
+    reference length -- the slave side of a segment-to-segment contact), each tested against the
+    deformed base segment (chord between consecutive surface nodes) it projects into
+    (closest-point projection), with the signed normal distance to that segment's line. Energy
+    ``k/2 w g^2`` for ``g < 0``, frictionless (texture on texture); the weights are scaled so that
+    the penalty per unit length is that of one node per half face (``k`` per node spacing). The
+    normal gap matters: where a folding flank closes the corner at its foot, the base next to the
+    foot is pulled down and steep, and a vertical gap would misjudge the penetration there.
+
+    Why Gauss points, not nodes: node-to-segment with one penalty per Q2 node loads a face's
+    corner nodes as much as its mid-side node; on a folded-flat flank the corners lifted off
+    while the mid-side nodes chattered in and out of contact (a spurious surface mode), and the
+    Newton iteration stalled near the foot. Measured on the slender section's 26.8 kPa ramp:
+    nodes, pairs frozen per solve: mu 0.20; Gauss points: 0.40; nodes re-paired at every
+    iteration: 0.18; Gauss points re-paired at every iteration: 1.5 (its target).
+
+    The base of each side runs on over the other side's periodic image, so a flank folded past
+    the period edge lies on the neighbouring cell's base (``chains``).
     """
 
-    def __init__(self, mesh: SectionMesh, stiffness: float, foot_gap: float = 0.0) -> None:
+    def __init__(self, mesh: SectionMesh, stiffness: float, foot_gap: float = 0.0, points: str = "gauss") -> None:
         prof = mesh.surface[mesh.on_asperity]
         # the feet are shared with the base. ``foot_gap`` (units of r, along the profile) leaves
-        # out flank nodes that close to a foot (in effect a small fillet at the crease); tried at
+        # out flank points that close to a foot (in effect a small fillet at the crease); tried at
         # 0.15 r it made the closing crease converge worse, hence 0 by default
         xp = mesh.nodes[prof]
         s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xp, axis=0).T))])
@@ -202,23 +216,83 @@ class FoldContact:
             # fillet arc (its tangent length, about rho, on each leg) is left out of the fold
             # contact on both sides; the folded flank meets the base beyond it.
             foot_gap = max(foot_gap, 1.05 * rho)
-        far = (s > foot_gap) & (s < s[-1] - foot_gap)
-        self.slaves = prof[far]
-        self.sides = []
+        # ``points``: "gauss" (default) or "nodes", the node-to-segment contact of MODEL_VERSION <= 4
+        # (kept for comparison; it stalls in the closing crease, see the class docstring)
+        if points == "nodes":
+            # node-to-segment: every flank node with unit weight
+            far = (s > foot_gap) & (s < s[-1] - foot_gap)
+            self.point_nodes = prof[far][:, None]
+            self.point_shape = np.ones((int(far.sum()), 1))
+            self.weights = np.ones(int(far.sum()))
+        elif points == "gauss":
+            # contact points at the 3 Gauss points of every Q2 face of the flank, interpolated
+            # by the face's shape functions, weighted by their share of the reference face
+            # length (the slave side of a segment-to-segment contact). Scaled so that a face
+            # carries the penalty of its two nodes under node-to-segment, i.e. the same
+            # penalty per unit length
+            g = np.array([0.5 - 0.5 * math.sqrt(0.6), 0.5, 0.5 + 0.5 * math.sqrt(0.6)])
+            gw = np.array([5.0, 8.0, 5.0]) / 18.0
+            shape = np.column_stack([(1 - g) * (1 - 2 * g), 4 * g * (1 - g), g * (2 * g - 1)])
+            dshape = np.column_stack([4 * g - 3, 4 - 8 * g, 4 * g - 1])
+            faces = np.column_stack([prof[0:-1:2], prof[1::2], prof[2::2]])
+            xf = mesh.nodes[faces]  # (faces, 3, 2)
+            jac = np.hypot(*np.einsum("ga,fad->fgd", dshape, xf).transpose(2, 0, 1))  # (faces, 3)
+            sf = s[0:-1:2]
+            # arc position of each point (approximately: Gauss abscissae of the face's arc)
+            sp_ = sf[:, None] + g[None, :] * (s[2::2] - sf)[:, None]
+            far = ((sp_ > foot_gap) & (sp_ < s[-1] - foot_gap)).ravel()
+            ell = s[-1] / (prof.size - 1)  # reference node spacing along the flank
+            self.point_nodes = np.repeat(faces, 3, axis=0)[far]
+            self.point_shape = np.tile(shape, (faces.shape[0], 1))[far]
+            self.weights = (gw[None, :] * jac / ell).ravel()[far]
+        else:
+            raise ValueError(f"points must be 'gauss' or 'nodes', got {points!r}")
+        bases = []
         for side in (mesh.right_base, mesh.left_base):
             xb = mesh.nodes[side]
             sb = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(xb, axis=0).T))])
-            self.sides.append(side[sb >= (1.05 * rho if rho > 0 else 0.0)])
+            bases.append(side[sb >= (1.05 * rho if rho > 0 else 0.0)])
+        right, left = bases
+        lam = mesh.geometry.period
+        # master chains running toward +x. A flank folded far enough crosses the period edge and
+        # lies on the base of the neighbouring cell: the right chain runs from the right foot to
+        # the edge and on over the left base's periodic image (+lambda) to the neighbour's foot,
+        # the left chain over the right base's image (-lambda) and the left base to the left
+        # foot. Each entry: (node ids, x offsets); the edge node and its image are one point.
+        self.chains = [
+            (np.concatenate([right, left[::-1][1:]]),
+             np.concatenate([np.zeros(right.size), np.full(left.size - 1, lam)])),
+            (np.concatenate([right[:-1], left[::-1]]),
+             np.concatenate([np.full(right.size - 1, -lam), np.zeros(left.size)])),
+        ]
         self.k = float(stiffness)
 
+    @property
+    def slaves(self) -> np.ndarray:
+        """Flank nodes taking part in the fold contact."""
+        return np.unique(self.point_nodes)
+
+    def points(self, x: np.ndarray) -> np.ndarray:
+        """Current positions of the flank's contact points (n, 2)."""
+        return np.einsum("pa,pad->pd", self.point_shape, x[self.point_nodes])
+
+    def _segments(self, x: np.ndarray, chain: int, seg: np.ndarray | None = None
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Node ids (a, b) and current end points (p, q) of a chain's segments (all, or ``seg``)."""
+        nodes, shift = self.chains[chain]
+        ia = np.arange(nodes.size - 1) if seg is None else seg
+        a, b = nodes[ia], nodes[ia + 1]
+        p = x[a] + np.column_stack([shift[ia], np.zeros(ia.size)])
+        q = x[b] + np.column_stack([shift[ia + 1], np.zeros(ia.size)])
+        return a, b, p, q
+
     def pair(self, x: np.ndarray) -> list[np.ndarray]:
-        """Closest-point projection: per side, the base segment each flank node projects into
+        """Closest-point projection: per chain, the base segment each flank point projects into
         with the smallest |distance| (within one segment length of it), or -1."""
-        xs = x[self.slaves]
+        xs = self.points(x)
         out = []
-        for side, sign in zip(self.sides, (1.0, -1.0)):
-            a, b = (side[:-1], side[1:]) if sign > 0 else (side[1:], side[:-1])
-            p, q = x[a], x[b]
+        for chain in range(len(self.chains)):
+            _, _, p, q = self._segments(x, chain)
             d = q - p
             ell2 = np.einsum("ij,ij->i", d, d)
             r = xs[:, None, :] - p[None, :, :]
@@ -232,20 +306,20 @@ class FoldContact:
         return out
 
     def update_pairs(self, x: np.ndarray, old: list[np.ndarray], tolerance: float = 0.25) -> list[np.ndarray]:
-        """Re-pair after convergence: a slave keeps its segment while its projection stays within
-        ``tolerance`` (in segment lengths) of it -- near a kink of the base the line of the old
-        segment is as good a surface as the next one, and hopping to it would kick the Newton
-        iteration off a converged state -- and takes its fresh closest-point pair otherwise."""
+        """Re-pair (the solver does it at every Newton iteration): a point keeps its segment while
+        its projection stays within ``tolerance`` (in segment lengths) of it -- near a kink of the
+        base the line of the old segment is as good a surface as the next one, and hopping to it
+        would make the iteration chatter -- and takes its fresh closest-point pair otherwise (an
+        unpaired point is paired as soon as it projects into a segment)."""
         fresh = self.pair(x)
-        xs = x[self.slaves]
+        xs = self.points(x)
         out = []
-        for side, sign, seg_old, seg_new in zip(self.sides, (1.0, -1.0), old, fresh):
-            a, b = (side[:-1], side[1:]) if sign > 0 else (side[1:], side[:-1])
+        for chain, seg_old, seg_new in zip(range(len(self.chains)), old, fresh):
             keep = seg_old >= 0
             merged = seg_new.copy()
             if np.any(keep):
                 sg = seg_old[keep]
-                p, q = x[a[sg]], x[b[sg]]
+                _, _, p, q = self._segments(x, chain, sg)
                 d = q - p
                 t = np.einsum("ij,ij->i", xs[keep] - p, d) / np.einsum("ij,ij->i", d, d)
                 stay = (t >= -tolerance) & (t <= 1.0 + tolerance)
@@ -255,39 +329,50 @@ class FoldContact:
         return out
 
     def evaluate(self, x: np.ndarray, pairs: list[np.ndarray] | None = None) -> tuple[np.ndarray, list, int, float]:
-        """Active gaps and their derivatives for the given slave-segment ``pairs`` (fresh
-        closest-point pairs if None). The solver freezes the pairs during a Newton solve -- a
-        flank lying node over node on the base would otherwise hop between segments at their
-        kinks and the iteration chatter -- and re-pairs at convergence.
+        """Active gaps and their derivatives for the given point-segment ``pairs`` (fresh
+        closest-point pairs if None).
 
         Returns
         -------
         gaps, terms, n_active, min_gap
-            ``terms`` is a list of (dof ids (a, 6), gradients (a, 6), gaps (a,), Hessians
-            (a, 6, 6)) per side, variables ordered (x_s, z_s, p_x, p_z, q_x, q_z); the force is
-            ``k g grad`` and the stiffness ``k (grad grad^T + g hess)`` (the second term is of
-            the size of the contact force, not of the penetration: Newton needs it).
+            ``terms`` is a list of (dof ids (a, n), gradients (a, n), gaps (a,), Hessians
+            (a, n, n), weights (a,)) per chain, over the positions of the point's face nodes and
+            the segment's two nodes (n = 10 for Gauss points); the force is ``k w g grad`` and
+            the stiffness ``k w (grad grad^T + g hess)`` (the second term is of the size of the
+            contact force, not of the penetration: Newton needs it). ``n_active``: contact points
+            in contact.
         """
         if pairs is None:
             pairs = self.pair(x)
-        xs = x[self.slaves]
+        xs = self.points(x)
+        na = self.point_nodes.shape[1]
         terms = []
         gaps_all = []
         min_gap = np.inf
-        for side, sign, seg in zip(self.sides, (1.0, -1.0), pairs):
-            a, b = (side[:-1], side[1:]) if sign > 0 else (side[1:], side[:-1])
+        for chain, seg in zip(range(len(self.chains)), pairs):
             idx = np.nonzero(seg >= 0)[0]
             if idx.size == 0:
                 continue
-            sg = seg[idx]
-            g, grad, hess = normal_gap(xs[idx], x[a[sg]], x[b[sg]])
+            a, b, p, q = self._segments(x, chain, seg[idx])
+            g, grad, hess = normal_gap(xs[idx], p, q)
             min_gap = min(min_gap, float(g.min()))
             act = g < 0
             if not np.any(act):
                 continue
-            s_node, n_p, n_q = self.slaves[idx[act]], a[sg[act]], b[sg[act]]
-            dofs = np.column_stack([2 * s_node, 2 * s_node + 1, 2 * n_p, 2 * n_p + 1, 2 * n_q, 2 * n_q + 1])
-            terms.append((dofs, grad[act], g[act], hess[act]))
+            pts = idx[act]
+            nodes = np.column_stack([self.point_nodes[pts], a[act], b[act]])  # (a, na + 2)
+            dofs = np.stack([2 * nodes, 2 * nodes + 1], axis=2).reshape(nodes.shape[0], -1)
+            # chain rule through the point's interpolation s = sum_a N_a x_a: T maps the
+            # (na + 2) node positions onto (s, p, q)
+            t = np.zeros((pts.size, 6, 2 * (na + 2)))
+            eye = np.eye(2)
+            for j in range(na):
+                t[:, 0:2, 2 * j:2 * j + 2] = self.point_shape[pts, j][:, None, None] * eye
+            t[:, 2:4, 2 * na:2 * na + 2] = eye
+            t[:, 4:6, 2 * na + 2:2 * na + 4] = eye
+            gr = np.einsum("ni,nij->nj", grad[act], t)
+            he = np.einsum("nki,nkl,nlj->nij", t, hess[act], t)
+            terms.append((dofs, gr, g[act], he, self.weights[pts]))
             gaps_all.append(g[act])
-        n_act = int(sum(t[0].shape[0] for t in terms))
+        n_act = int(sum(t[0].shape[0] for t in terms))  # contact points in contact
         return np.concatenate(gaps_all) if gaps_all else np.zeros(0), terms, n_act, min_gap

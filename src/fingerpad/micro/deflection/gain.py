@@ -27,7 +27,7 @@ from .section import EllipsoidGeometry, Geometry, RidgeGeometry, Section, sectio
 from .solve import FrictionLaw, SectionSolver
 
 #: Bump when a change of the section model alters cached numbers.
-MODEL_VERSION = 4  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level)
+MODEL_VERSION = 5  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact
 
 __all__ = ["DeflectionSettings", "EllipsoidGeometry", "GainCurve", "MODEL_VERSION", "PressureRamp", "RidgeGeometry",
            "Section", "SectionMaterials", "as_dataset", "directional_gain", "section_for", "solve_section",

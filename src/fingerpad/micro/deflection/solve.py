@@ -200,10 +200,17 @@ class SectionSolver:
         surf, m, nred = self.surface, self.m, self.nred
         scale_f = max(load, 1e-12)
         prev_active = None
+        if self.solid.min_jacobian(self.displacement(v)) <= 0:  # e.g. an extrapolated guess
+            raise NoConvergence("inverted elements in the first guess")
         pairs = self.fold.pair(self.positions(v))
         repairs = 0
         for it in range(1, max_iter + 1):
             x = self.positions(v)
+            if it > 1:
+                # re-pair at every iteration (keeping a pair while its projection stays near its
+                # segment): a flank point unpaired at the start would otherwise slide under a
+                # short base segment unresisted and be found deep in the base at convergence
+                pairs = self.fold.update_pairs(x, pairs)
             xs = x[surf]
             tiles = self._tiles(xs)
             comp, dcomp = skin_compliance(xs[:, 0], tiles, self.period, self.skin, derivative=True)
@@ -381,13 +388,15 @@ class SectionSolver:
             return force, sp.csr_matrix((nd, nd)) if tangent else None, 0
         rows, cols, vals = [], [], []
         k = self.fold.k
-        for dofs, grad, g, hess in terms:
-            np.add.at(force, dofs.ravel(), (k * g[:, None] * grad).ravel())
+        for dofs, grad, g, hess, w in terms:
+            kw = k * w
+            nd_t = dofs.shape[1]
+            np.add.at(force, dofs.ravel(), (kw[:, None] * g[:, None] * grad).ravel())
             if not tangent:
                 continue
-            rows.append(np.repeat(dofs, 6, axis=1).ravel())
-            cols.append(np.tile(dofs, (1, 6)).ravel())
-            vals.append((k * (grad[:, :, None] * grad[:, None, :] + g[:, None, None] * hess)).ravel())
+            rows.append(np.repeat(dofs, nd_t, axis=1).ravel())
+            cols.append(np.tile(dofs, (1, nd_t)).ravel())
+            vals.append((kw[:, None, None] * (grad[:, :, None] * grad[:, None, :] + g[:, None, None] * hess)).ravel())
         if not tangent:
             return force, None, n_act
         kf = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nd, nd))
