@@ -140,6 +140,19 @@ def volumetric(f: np.ndarray, kappa: float, linear: bool = False,
     return p, a
 
 
+def csr_slots(rows: np.ndarray, cols: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """CSR pattern of an ``n x n`` matrix with entries at (``rows``, ``cols``), repeats summed.
+
+    Returns ``slot`` (the position of each entry in the CSR data, so that the data is
+    ``np.bincount(slot, weights=values)``), ``indices`` and ``indptr`` (sorted columns).
+    """
+    key = np.asarray(rows, dtype=np.int64) * n + cols
+    uniq, slot = np.unique(key, return_inverse=True)
+    indices = (uniq % n).astype(np.int32)
+    indptr = np.searchsorted(uniq // n, np.arange(n + 1)).astype(np.int32)
+    return slot, indices, indptr
+
+
 class Solid:
     """Internal forces and tangent stiffness of the meshed section.
 
@@ -167,14 +180,17 @@ class Solid:
         cols = np.tile(self.edofs, (1, 18)).ravel()
         # the stiffness pattern once: CSR slot of every element-matrix entry (sorted columns), so
         # that assembling is one weighted bincount into the slots
-        key = rows.astype(np.int64) * self.ndof + cols
-        uniq, self._slot = np.unique(key, return_inverse=True)
-        self._indices = (uniq % self.ndof).astype(np.int32)
-        self._indptr = np.searchsorted(uniq // self.ndof, np.arange(self.ndof + 1)).astype(np.int32)
-        # B^T of each rule with the quadrature points stacked: (e, 18, 4 q), for one batched product
-        self._bt = {id(rule): np.ascontiguousarray(np.swapaxes(rule.bmat, -1, -2).transpose(0, 2, 1, 3).reshape(
-            rule.bmat.shape[0], 18, -1)) for rule in (self.full, self.reduced)}
+        self._slot, self._indices, self._indptr = csr_slots(rows, cols, self.ndof)
+        # B^T of each rule (full, reduced) with the quadrature points stacked: (e, 18, 4 q), for
+        # one batched product
+        self._bt = tuple(np.ascontiguousarray(np.swapaxes(rule.bmat, -1, -2).transpose(0, 2, 1, 3).reshape(
+            rule.bmat.shape[0], 18, -1)) for rule in (self.full, self.reduced))
         self._memo: list[dict] = []
+
+    @property
+    def pattern(self) -> tuple[np.ndarray, np.ndarray]:
+        """CSR ``(indptr, indices)`` of the stiffness :meth:`assemble` returns (fixed by the mesh)."""
+        return self._indptr, self._indices
 
     def deformation_gradients(self, u: np.ndarray, rule: _Rule) -> np.ndarray:
         ue = u.reshape(-1, 2)[self.mesh.elements]  # (e, 9, 2)
@@ -213,10 +229,10 @@ class Solid:
         ne = self.edofs.shape[0]
         fe = np.zeros((ne, 18)) if known is None else None
         ke = np.zeros((ne, 18, 18)) if tangent else None
-        for f, rule, law, modulus in zip(entry["f"], (self.full, self.reduced), (isochoric, volumetric),
-                                         (self.mu, self.kappa)):
+        for f, rule, bt, law, modulus in zip(entry["f"], (self.full, self.reduced), self._bt,
+                                             (isochoric, volumetric), (self.mu, self.kappa)):
             p, a = law(f, modulus, self.linear, tangent=tangent)
-            bt = self._bt[id(rule)]  # (e, 18, 4 q): sum over q and the stress components at once
+            # bt (e, 18, 4 q): sum over q and the stress components at once
             if known is None:
                 pw = p.reshape(ne, -1) * np.repeat(rule.wdet, 4, axis=1)
                 fe += np.matmul(bt, pw[..., None])[..., 0]

@@ -39,7 +39,7 @@ import scipy.sparse.linalg as spla
 
 from ...errors import FingerpadError
 from .contact import FoldContact, contact_length, skin_compliance, tile_lengths
-from .hyperelastic import Solid
+from .hyperelastic import Solid, csr_slots
 from .mesh import SectionMesh
 
 FRICTION_LAWS = ("package", "coulomb")
@@ -329,15 +329,13 @@ class SectionSolver:
         (periodic sides, clamped bottom), so the solid's part is a bincount of K's values into the
         reduced pattern, computed once (K's pattern is fixed)."""
         if self._kr_map is None:
-            sol = self.solid
-            rows = np.repeat(np.arange(sol.ndof), np.diff(sol._indptr))
-            rr, cc = self.red[rows], self.red[sol._indices]
+            indptr_k, indices_k = self.solid.pattern
+            rows = np.repeat(np.arange(self.solid.ndof), np.diff(indptr_k))
+            rr, cc = self.red[rows], self.red[indices_k]
             valid = (rr >= 0) & (cc >= 0)
-            key = rr[valid] * self.nred + cc[valid]
-            uniq, slot = np.unique(key, return_inverse=True)
-            indptr = np.searchsorted(uniq // self.nred, np.arange(self.nred + 1))
-            self._kr_map = (valid, slot, (uniq % self.nred).astype(np.int32), indptr.astype(np.int32), uniq.size)
-        valid, slot, indices, indptr, nnz = self._kr_map
+            self._kr_map = (valid, *csr_slots(rr[valid], cc[valid], self.nred))
+        valid, slot, indices, indptr = self._kr_map
+        nnz = indices.size
         if kmat.nnz != valid.size:  # not the solid's fixed pattern (should not happen): the general product
             kr = self.M.T @ (kmat @ self.M)
         else:
