@@ -48,6 +48,8 @@ def _pressure_range(text: str) -> tuple[float, float]:
 
 
 def _table(curves: list[Any]) -> str:
+    """Per direction: the gains (one table), the ramp's state and flags (a second one) and why
+    a ramp stopped (a line each), so that every line fits an 80-column terminal."""
     lines = []
     for c in curves:
         head = f"direction {c.direction_deg:g} deg"
@@ -55,19 +57,22 @@ def _table(curves: list[Any]) -> str:
             lines.append(f"{head}: gain 1 (rigid texture or no shear across the section)")
             continue
         s = c.section
-        lines.append(f"{head}: section half-width {s.half_width * 1e6:.4g} um, height {s.height * 1e6:.4g} um, "
+        lines.append(f"{head}: half-width {s.half_width * 1e6:.4g} um, height {s.height * 1e6:.4g} um, "
                      f"period {s.period * 1e6:.4g} um, shear factor {c.shear_factor:.3g}")
-        lines.append("  p (kPa)  " + "  ".join(f"G(mu={m:g})" for m in TABLE_MU)
-                     + "  bend@max (um)  k_t0 (kPa)  mu reached  fold@mu  limit@mu  buckled  stopped")
+        lines.append("  p (kPa)  " + "  ".join(f"G(mu={m:g})" for m in TABLE_MU) + "  mu reached")
         for r in c.ramps:
             g = [c(r.pressure, m) for m in TABLE_MU]
+            lines.append(f"  {r.pressure / 1e3:7.3g}  " + "  ".join(f"{float(v):9.3f}" for v in g)
+                         + f"  {r.mu_reached:10.3g}")
+        lines.append("  p (kPa)  bend@max (um)  k_t0 (kPa)  fold@mu  limit@mu  buckled")
+        for r in c.ramps:
             kt0 = r.tangential_stiffness[1] if r.tangential_stiffness.size > 1 else math.nan
             tip = r.bend_dx[-1] * 1e6 if r.bend_dx.size else math.nan
-            lines.append(
-                f"  {r.pressure / 1e3:7.3g}  " + "  ".join(f"{float(v):9.3f}" for v in g)
-                + f"  {tip:13.3g}  {kt0 / 1e3:10.3g}  {r.mu_reached:10.3g}  {r.fold_onset_mu:7.3g}  "
-                f"{r.limit_mu:8.3g}  {str(r.buckled):7s}  {r.stopped or '-'}"
-            )
+            lines.append(f"  {r.pressure / 1e3:7.3g}  {tip:13.3g}  {kt0 / 1e3:10.3g}  {r.fold_onset_mu:7.3g}  "
+                         f"{r.limit_mu:8.3g}  {r.buckled}")
+        for r in c.ramps:
+            if r.stopped:
+                lines += [f"  the ramp at {r.pressure / 1e3:.3g} kPa stopped:", f"    {r.stopped}"]
     return "\n".join(lines)
 
 
