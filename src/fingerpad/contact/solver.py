@@ -130,6 +130,10 @@ class HalfSpaceSolver:
         Array namespace (default: NumPy). A GPU namespace runs the same code.
     workers
         FFT threads (default: all cores).
+    fft
+        FFT engine for NumPy arrays: ``"auto"`` (ducc0 when installed, else SciPy; the
+        environment variable ``FINGERPAD_FFT`` overrides it), ``"ducc0"`` or ``"scipy"``
+        (:class:`fingerpad.contact.greens.Backend`).
     kernels
         Element-wise work: ``"auto"`` = ``"numpy"`` (in-place NumPy) for NumPy arrays, else
         ``"array"`` (the array-namespace reference); ``"numba"``: compiled parallel loops
@@ -155,6 +159,7 @@ class HalfSpaceSolver:
         coarse_to_fine: bool = True,
         xp: Any = None,
         workers: int | None = None,
+        fft: str | None = None,
         kernels: str = "auto",
         precondition: bool = True,
         progress: Callable[[tuple[int, int], int, float], None] | None = None,
@@ -178,7 +183,10 @@ class HalfSpaceSolver:
         self.max_iter = max_iter
         self.formulation = formulation
         self.coarse_to_fine = coarse_to_fine
-        self.backend = Backend(xp, workers)
+        try:
+            self.backend = Backend(xp, workers, fft)
+        except ValueError as exc:
+            raise FingerpadError(str(exc)) from None
         xp_ = self.backend.xp
         h = texture.heights
         self.h_max = float(h.max())
@@ -278,7 +286,7 @@ class HalfSpaceSolver:
             solver = HalfSpaceSolver(
                 replace(self.texture, heights=hc), self.modulus, tol=self._coarse_tol,
                 max_iter=self.max_iter, formulation=self.formulation, coarse_to_fine=kind == "half",
-                xp=self.backend.xp, workers=self.backend.workers, kernels=self._kernels_choice,
+                xp=self.backend.xp, workers=self.backend.workers, fft=self.backend.fft, kernels=self._kernels_choice,
                 precondition=self.precondition, progress=self.progress,
             )
             solver._factors = (fx, fy)

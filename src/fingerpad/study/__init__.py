@@ -7,7 +7,14 @@
 * :mod:`.solve` - the one-cell job of ``fingerpad solve``.
 """
 
-from .spec import DEFAULT_STUDY, Study, load_study_file, read_study_file, study_from_dict
-from .texture import TextureSpec
+import lazy_loader
 
-__all__ = ["DEFAULT_STUDY", "Study", "TextureSpec", "load_study_file", "read_study_file", "study_from_dict"]
+# Lazily: `fingerpad solve` needs only .solve and .overrides, and .spec pulls in the finger,
+# ridge and pad models (measured ~40 ms of the command's start-up, benchmarks/bench_startup.py).
+__getattr__, __dir__, __all__ = lazy_loader.attach(
+    __name__,
+    submod_attrs={
+        "spec": ["DEFAULT_STUDY", "Study", "load_study_file", "read_study_file", "study_from_dict"],
+        "texture": ["TextureSpec"],
+    },
+)

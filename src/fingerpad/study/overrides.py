@@ -12,8 +12,6 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from ..errors import FingerpadError
-from ..finger import FINGER_FIELDS
-from .spec import SECTION_KEYS
 
 __all__ = ["FLAGS", "apply_flags", "split_texture_options"]
 
@@ -95,6 +93,11 @@ def apply_flags(
     data, labels
         The merged sections and, for each value a flag set, the flag's name.
     """
+    # Here, not at the top: `fingerpad solve` imports this module for split_texture_options only,
+    # and the study spec pulls in the finger, ridge and pad models (~40 ms of its start-up).
+    from ..finger import FINGER_FIELDS  # noqa: PLC0415
+    from .spec import SECTION_KEYS  # noqa: PLC0415
+
     out: dict[str, dict[str, Any]] = {k: dict(v) for k, v in data.items()}
     labels: dict[tuple[str, str], str] = {}
     unknown = sorted(set(flags) - set(FLAGS))

@@ -1,0 +1,92 @@
+"""The two FFT engines of NumPy arrays (ducc0 and SciPy) give the same transforms and solves.
+
+ducc0 is optional (the ``fast`` extra): without it ``"auto"`` falls back to SciPy, which these
+tests check by hiding the module. The engine only changes rounding, so the transforms agree to
+double precision and solves converge in the same iterations to the same contact set.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+import pytest
+
+from fingerpad.contact import HalfSpaceSolver
+from fingerpad.contact.greens import Backend, compliance_operator
+from fingerpad.errors import FingerpadError
+
+from .test_solver import E, caps, paraboloid, random_rough
+
+ducc0 = pytest.importorskip("ducc0")
+
+
+@pytest.mark.parametrize("shape", [(32, 48), (33, 47), (64, 1)])
+@pytest.mark.parametrize("dtype", [np.float64, np.float32])
+def test_transforms_agree(shape: tuple[int, int], dtype: type) -> None:
+    a = np.random.default_rng(1).standard_normal(shape).astype(dtype)
+    d, s = Backend(fft="ducc0"), Backend(fft="scipy")
+    ha, hb = d.rfft2(a), s.rfft2(a)
+    assert ha.dtype == hb.dtype and ha.shape == hb.shape
+    eps = np.finfo(dtype).eps
+    np.testing.assert_allclose(ha, hb, rtol=0, atol=50 * eps * np.abs(hb).max())
+    # inverse (ducc0 may overwrite its input: hand it a copy) and the zero-padded forward
+    np.testing.assert_allclose(d.irfft2(ha.copy(), shape), a, rtol=0, atol=50 * eps * np.abs(a).max())
+    big = (2 * shape[0], 2 * shape[1])
+    np.testing.assert_allclose(d.rfft2(a, s=big), s.rfft2(a, s=big), rtol=0, atol=100 * eps * np.abs(a).sum())
+
+
+@pytest.mark.parametrize("periodic", [True, False])
+def test_operators_agree(periodic: bool) -> None:
+    tex = paraboloid(48, 1e-4, 1e-3, periodic=periodic)
+    p = np.random.default_rng(2).random(tex.shape) * 1e4
+    ud = compliance_operator(Backend(fft="ducc0"), tex, E)(p)
+    us = compliance_operator(Backend(fft="scipy"), tex, E)(p)
+    np.testing.assert_allclose(ud, us, rtol=0, atol=1e-12 * np.abs(us).max())
+
+
+@pytest.mark.parametrize("formulation", ["primal", "dual"])
+def test_solves_agree(formulation: str) -> None:
+    tex = random_rough(64, 1e-4, 1e-6, seed=5)
+    pbar = 0.3 * E * tex.peak_to_valley / tex.size[0]
+    a = HalfSpaceSolver(tex, E, formulation=formulation, fft="scipy").solve_pressure(pbar)
+    b = HalfSpaceSolver(tex, E, formulation=formulation, fft="ducc0").solve_pressure(pbar)
+    assert a.converged and b.converged
+    assert a.iterations == b.iterations
+    assert np.array_equal(a.contact, b.contact)
+    np.testing.assert_allclose(b.pressure, a.pressure, rtol=0, atol=1e-7 * a.max_pressure)
+
+
+def test_finite_body_solve_agrees() -> None:
+    tex = paraboloid(64, 1e-4, 1e-3, periodic=False)
+    a = HalfSpaceSolver(tex, E, fft="scipy").solve_pressure(2e3)
+    b = HalfSpaceSolver(tex, E, fft="ducc0").solve_pressure(2e3)
+    assert a.iterations == b.iterations and np.array_equal(a.contact, b.contact)
+    np.testing.assert_allclose(b.pressure, a.pressure, rtol=0, atol=1e-7 * a.max_pressure)
+
+
+def test_auto_prefers_ducc0_and_falls_back_to_scipy(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv("FINGERPAD_FFT", raising=False)
+    assert Backend().fft == "ducc0"
+    monkeypatch.setenv("FINGERPAD_FFT", "scipy")
+    assert Backend().fft == "scipy"
+    monkeypatch.delenv("FINGERPAD_FFT")
+    # ducc0 not installed: a None entry in sys.modules makes its import fail
+    monkeypatch.setitem(sys.modules, "ducc0", None)
+    monkeypatch.setitem(sys.modules, "ducc0.fft", None)
+    assert Backend().fft == "scipy"
+    with pytest.raises(ImportError):
+        Backend(fft="ducc0")
+    # the coarse levels of a nested solve use the engine of the fine one
+    solver = HalfSpaceSolver(caps(256, 1e-4, 5e-5, 1e-5), E)
+    assert solver.solve_pressure(1e4).converged
+    assert {s.backend.fft for s in solver._coarse.values() if s is not None} <= {"scipy"}
+
+
+def test_unknown_engine_is_a_clear_error(monkeypatch: pytest.MonkeyPatch) -> None:
+    tex = caps(32, 1e-4, 5e-5, 1e-5)
+    with pytest.raises(FingerpadError, match="FFT engine 'fftw'"):
+        HalfSpaceSolver(tex, E, fft="fftw")
+    monkeypatch.setenv("FINGERPAD_FFT", "mkl")
+    with pytest.raises(FingerpadError, match="FINGERPAD_FFT"):
+        HalfSpaceSolver(tex, E)
