@@ -70,7 +70,6 @@ from typing import Any
 
 import numpy as np
 import scipy
-import scipy.fft as sfft
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -87,6 +86,24 @@ try:  # the previous solver: plain Polonsky-Keer iteration with its compiled loo
     PREVIOUS: dict[str, Any] = {"precondition": False, "kernels": "numba"}
 except ImportError:
     PREVIOUS = {"precondition": False}
+
+
+def _version(dist: str) -> str | None:
+    from importlib.metadata import PackageNotFoundError, version  # noqa: PLC0415
+
+    try:
+        return version(dist)
+    except PackageNotFoundError:
+        return None
+
+
+def _engine() -> str:
+    from fingerpad.contact.greens import Backend  # noqa: PLC0415
+
+    return Backend().fft
+
+
+FFT_ENGINE = _engine()
 
 
 def log(msg: str) -> None:
@@ -109,35 +126,45 @@ def median_time(fn, reps: int) -> tuple[float, Any]:
 
 
 def fft_pair(shape: tuple[int, int], reps: int = 7) -> float:
-    """Median seconds of one float64 rfft2 + irfft2 pair (workers = cpu count), after warm-up."""
-    w = os.cpu_count() or 1
+    """Median seconds of one float64 rfft2 + irfft2 pair with the solver's own FFT engine and
+    threads (fingerpad.contact.greens.Backend: ducc0 when installed, else SciPy), after warm-up."""
+    from fingerpad.contact.greens import Backend  # noqa: PLC0415
+
+    be = Backend()
     a = np.random.default_rng(0).standard_normal(shape)
     for _ in range(2):
-        sfft.irfft2(sfft.rfft2(a, workers=w), s=shape, workers=w)
-    return median_time(lambda: sfft.irfft2(sfft.rfft2(a, workers=w), s=shape, workers=w), reps)[0]
+        be.irfft2(be.rfft2(a), shape)
+    return median_time(lambda: be.irfft2(be.rfft2(a), shape), reps)[0]
 
 
 @contextlib.contextmanager
 def count_transforms(fine_size: int):
-    """Count scipy.fft transforms: float64 ones in fine-grid pairs (weighted by size), float32 apart."""
+    """Count the solver's transforms: float64 ones in fine-grid pairs (weighted by size), float32 apart."""
+    from fingerpad.contact import greens  # noqa: PLC0415
+
     c = {"f64": 0.0, "f32": 0.0}
-    f0, i0 = sfft.rfft2, sfft.irfft2
+    init0 = greens.Backend.__init__
 
-    def rf(a, *args, s=None, **kw):
-        size = math.prod(s) if s is not None else a.size
-        c["f64" if a.dtype == np.float64 else "f32"] += 0.5 * size / fine_size
-        return f0(a, *args, s=s, **kw)
+    def init(self, *args, **kw):
+        init0(self, *args, **kw)
+        f0, i0 = self.rfft2, self.irfft2
 
-    def irf(a, *args, s=None, **kw):
-        size = math.prod(s) if s is not None else 2 * a.size
-        c["f64" if a.dtype == np.complex128 else "f32"] += 0.5 * size / fine_size
-        return i0(a, *args, s=s, **kw)
+        def rf(a, s=None):
+            size = math.prod(s) if s is not None else a.size
+            c["f64" if a.dtype == np.float64 else "f32"] += 0.5 * size / fine_size
+            return f0(a, s)
 
-    sfft.rfft2, sfft.irfft2 = rf, irf
+        def irf(a, s):
+            c["f64" if a.dtype == np.complex128 else "f32"] += 0.5 * math.prod(s) / fine_size
+            return i0(a, s)
+
+        self.rfft2, self.irfft2 = rf, irf
+
+    greens.Backend.__init__ = init
     try:
         yield c
     finally:
-        sfft.rfft2, sfft.irfft2 = f0, i0
+        greens.Backend.__init__ = init0
 
 
 def kkt_residual(tex, pressure: np.ndarray) -> float:
@@ -164,12 +191,13 @@ def solve_inprocess(tex, p: float, **kw) -> Any:
         return HalfSpaceSolver(tex, MODULUS, tol=TOL, **kw).solve_pressure(p)
 
 
-def run_command(grid: int, p: float) -> dict[str, Any]:
+def run_command(grid: int, p: float, fft: str | None = None) -> dict[str, Any]:
     cmd = [FINGERPAD, "solve", "--texture", "caps", "--radius", f"{RADIUS * 1e6:g}um", "--height",
            f"{HEIGHT * 1e6:g}um", "--spacing", f"{SPACING * 1e6:g}um", "--modulus", f"{MODULUS / 1e6:g}MPa",
            "--grid", str(grid), "--pressure", f"{p:g}Pa", "--tol", f"{TOL:g}", "--json", "-"]
+    env = dict(os.environ, FINGERPAD_FFT=fft) if fft else None
     t0 = time.perf_counter()
-    out = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    out = subprocess.run(cmd, capture_output=True, text=True, check=False, env=env)
     wall = time.perf_counter() - t0
     if out.returncode != 0:
         raise RuntimeError(f"fingerpad solve failed ({out.returncode}): {out.stderr[-1000:]}")
@@ -249,6 +277,9 @@ def section_command(args, report) -> None:
             log(f"command {g}^2 {load}: fingerpad solve x{args.reps} ...")
             cmds = [run_command(g, p) for _ in range(args.reps)]
             wall = statistics.median(c["wall"] for c in cmds)
+            # the same command where the optional ducc0 is not installed (SciPy's FFT)
+            wall_scipy = (statistics.median(run_command(g, p, fft="scipy")["wall"] for _ in range(args.reps))
+                          if FFT_ENGINE == "ducc0" else wall)
             solve_s, res = median_time(lambda: solve_inprocess(tex, p), args.reps)
             with count_transforms(tex.heights.size) as cnt:
                 solve_inprocess(tex, p)
@@ -262,10 +293,11 @@ def section_command(args, report) -> None:
             row = {"grid": g, "load": load, "pressure": p, "iterations": res.iterations,
                    "contact_fraction": res.contact_fraction, "converged": res.converged,
                    "residual_ours_metric": kkt_residual(tex, res.pressure), "command_wall": wall,
+                   "command_wall_scipy_fft": wall_scipy,
                    "command_walls": [c["wall"] for c in cmds], "command_solver_seconds": [c["seconds"] for c in cmds],
                    "solver_seconds": solve_s, "f64_pairs": cnt["f64"], "f32_pairs": cnt["f32"],
                    "command": cmds[0]["command"], "previous": row_prev}
-            log(f"  fingerpad: command {wall:.2f} s, solver {solve_s:.2f} s, {res.iterations} it, "
+            log(f"  fingerpad: command {wall:.2f} s (SciPy FFT {wall_scipy:.2f} s), solver {solve_s:.2f} s, {res.iterations} it, "
                 f"cf {res.contact_fraction:.5f}, {cnt['f64']:.1f} f64 + {cnt['f32']:.1f} f32 pairs")
             if tm_version and g in args.peer_grids:
                 log(f"  tamaas {g}^2 {load} ...")
@@ -418,21 +450,22 @@ def markdown(rep: dict[str, Any]) -> str:
     m = rep["meta"]
     L = ["## fingerpad contact solver benchmark", "",
          f"- {m['date']}, host `{m['host']}`, {m['cpu_count']} cores, load average at start {m['loadavg']}; "
-         f"Python {m['python']}, NumPy {m['numpy']}, SciPy {m['scipy']}; tamaas {m.get('tamaas')}, "
+         f"Python {m['python']}, NumPy {m['numpy']}, SciPy {m['scipy']}, FFT engine {m.get('fft')} "
+         f"(ducc0 {m.get('ducc0')}); tamaas {m.get('tamaas')}, "
          f"ContactMechanics {m.get('ContactMechanics')}",
          f"- cell: one spherical cap R {RADIUS * 1e6:g} um, h {HEIGHT * 1e6:g} um in a periodic {SPACING * 1e6:g} um cell, "
          f"E* {MODULUS / 1e6:g} MPa, tol {TOL:g}; mid = {LOADS['mid'] / 1e3:g} kPa, full = {LOADS['full'] / 1e3:g} kPa", ""]
     if "command" in rep:
         L += ["### Whole command against the peers", "",
-              "| grid | load | iterations | f64 pairs/it | f32 pairs/it | solver s | cost/it | command s "
+              "| grid | load | iterations | f64 pairs/it | f32 pairs/it | solver s | cost/it | command s | command s, SciPy FFT "
               "| tamaas s (it) | tamaas / command | CM s (it) | CM / command | cf | Δcf tamaas | Δcf CM | residual ours / tamaas / CM |",
-              "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+              "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
         for r in rep["command"]:
             t, c = r.get("tamaas"), r.get("cm")
             L.append(
                 f"| {r['grid']}² | {r['load']} | {r['iterations']} | {r['f64_pairs_per_iteration']:.2f} "
                 f"| {r['f32_pairs'] / max(r['iterations'], 1):.2f} | {r['solver_seconds']:.2f} | {r['cost_per_iteration']:.2f} "
-                f"| {r['command_wall']:.2f} | {t['seconds'] if t else float('nan'):.1f} ({t.get('iterations') if t else '–'}) "
+                f"| {r['command_wall']:.2f} | {r.get('command_wall_scipy_fft', float('nan')):.2f} | {t['seconds'] if t else float('nan'):.1f} ({t.get('iterations') if t else '–'}) "
                 f"| {t['seconds'] / r['command_wall'] if t else float('nan'):.1f}x "
                 f"| {c['seconds'] if c else float('nan'):.1f} ({c.get('iterations') if c else '–'}) "
                 f"| {c['seconds'] / r['command_wall'] if c else float('nan'):.1f}x "
@@ -449,8 +482,9 @@ def markdown(rep: dict[str, Any]) -> str:
                          f"| {q['seconds'] / r['solver_seconds']:.1f}x |")
         L += ["", "f64 pairs/it: float64 rfft2+irfft2 pairs per fine iteration, coarse levels weighted by size; "
               "f32: the single-precision preconditioner and curvature transforms, same units; cost/it = solver "
-              "seconds / (iterations x one float64 pair timed in the same run); command s: median wall time of "
-              "the whole `fingerpad solve` child process; peers: construction + solve, imports excluded; residual: "
+              "seconds / (iterations x one float64 pair of the solver's FFT engine, timed in the same run); command s: "
+              "median wall time of the whole `fingerpad solve` child process (with FINGERPAD_FFT=scipy: where the "
+              "optional ducc0 is not installed); ratios use the default command; peers: construction + solve, imports excluded; residual: "
               "RMS gap error / PV of each returned field, by fingerpad's criterion.", ""]
     if "sweep" in rep:
         v = rep["sweep"]["variants"]
@@ -529,7 +563,8 @@ def main(argv: list[str] | None = None) -> int:
     report: dict[str, Any] = {"meta": {
         "date": _dt.datetime.now().isoformat(timespec="seconds"), "host": platform.node(),
         "cpu_count": os.cpu_count(), "loadavg": ", ".join(f"{x:.2f}" for x in os.getloadavg()),
-        "python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__, "tol": TOL}}
+        "python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__, "tol": TOL,
+        "fft": FFT_ENGINE, "ducc0": _version("ducc0")}}
     # warm-up: imports, FFT plans and the previous solver's compiled loops (their ~1 s cache
     # load), excluded as the peers' imports are
     solve_inprocess(cell(64), LOADS["mid"])
