@@ -92,12 +92,13 @@ def solve_case(heights: np.ndarray, size: tuple[float, float], modulus: float, m
 
 
 def versions() -> dict:
-    import ContactMechanics  # noqa: PLC0415
-    import SurfaceTopography  # noqa: PLC0415
+    # The installed distributions' versions: the packages' own __version__ is computed by
+    # `git describe` in the working directory, which names fingerpad's commit when run from here.
+    from importlib.metadata import version  # noqa: PLC0415
 
     return {
-        "ContactMechanics": getattr(ContactMechanics, "__version__", "?"),
-        "SurfaceTopography": getattr(SurfaceTopography, "__version__", "?"),
+        "ContactMechanics": version("ContactMechanics"),
+        "SurfaceTopography": version("SurfaceTopography"),
         "numpy": np.__version__,
         "python": sys.version.split()[0],
         "executable": sys.executable,

@@ -278,3 +278,13 @@ def test_scheduler_that_does_not_answer(tmp_path):
                                           f"tcp://127.0.0.1:{_free_port()}"]))
     assert "no Dask scheduler answers" in line and time.monotonic() - t0 < 30
     assert not (tmp_path / "r.zarr").exists()
+
+
+def test_bad_fft_setting_stops_the_sweep_before_any_work(tmp_path, monkeypatch):
+    """Every solve would fail, and a failing point is stored as one that cannot exist: the sweep
+    must refuse at once, with the variable named, and write nothing."""
+    study = write_study(tmp_path)
+    monkeypatch.setenv("FINGERPAD_FFT", "fftw")
+    line = error_line(runner.invoke(app, ["sweep", str(study), "--out", str(tmp_path / "r.zarr")]))
+    assert "unknown FFT engine 'fftw' (FINGERPAD_FFT)" in line
+    assert not (tmp_path / "r.zarr").exists()

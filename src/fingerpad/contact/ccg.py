@@ -192,7 +192,7 @@ def _preconditioned_cg(
     Transforms per iteration: ``A x`` afresh in double precision (one rfft2 + irfft2 pair, so
     no rounding drift accumulates and no final re-check is needed), the preconditioner and
     ``t.A t`` in single precision (one pair and one forward transform in float32, together
-    about a third of a float64 pair).
+    about half a float64 pair with SciPy's FFT, 0.7-1x one with ducc0's).
     """
     xp = kern.xp
     n = x0.size

@@ -21,12 +21,43 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import FingerpadError
 from ..textures import Texture
 
-__all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
+__all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "fft_settings", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
            "love_rectangle"]
 
 FFT_ENGINES = ("auto", "ducc0", "scipy")
+
+
+def fft_settings(fft: str | None = None, workers: int | None = None) -> tuple[str, int]:
+    """The FFT engine asked for and the FFT threads, from the arguments or the environment.
+
+    ``fft`` (``"auto"``, ``"ducc0"`` or ``"scipy"``, any case) wins over the environment variable
+    ``FINGERPAD_FFT``, which replaces the default ``"auto"``; ``workers`` wins over
+    ``FINGERPAD_FFT_WORKERS``, which replaces the default of all cores. Bad values raise
+    :class:`~fingerpad.errors.FingerpadError` naming where they came from. Cheap (no FFT library
+    is imported): commands call it before they start long work, so that a bad setting stops them
+    at once instead of failing every solve.
+    """
+    source = "fft"
+    if fft is None:
+        fft, source = os.environ.get("FINGERPAD_FFT", "") or "auto", "FINGERPAD_FFT"
+    engine = str(fft).strip().lower()
+    if engine not in FFT_ENGINES:
+        raise FingerpadError(f"unknown FFT engine {fft!r} ({source}): choose one of {', '.join(FFT_ENGINES)}")
+    if workers is None:
+        raw = os.environ.get("FINGERPAD_FFT_WORKERS", "").strip()
+        try:
+            workers = int(raw) if raw else 0
+        except ValueError:
+            raise FingerpadError(f"FINGERPAD_FFT_WORKERS must be a whole number of threads, got {raw!r}") from None
+        source = "FINGERPAD_FFT_WORKERS"
+    else:
+        source = "workers"
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
+        raise FingerpadError(f"{source} must be a whole number of threads >= 0 (0: all cores), got {workers!r}")
+    return engine, workers or os.cpu_count() or 1
 
 
 def _ducc0_transforms(workers: int) -> tuple[Any, Any]:
@@ -34,6 +65,8 @@ def _ducc0_transforms(workers: int) -> tuple[Any, Any]:
     import ducc0.fft as dfft  # noqa: PLC0415
 
     def rfft2(a: np.ndarray, s: tuple[int, int] | None = None) -> np.ndarray:
+        if a.dtype not in (np.float32, np.float64):
+            a = a.astype(np.float64)  # ducc0 transforms float32/float64 only; SciPy converts
         if s is not None and tuple(s) != a.shape:
             # zero padding of finite bodies (scipy pads through its `s` argument)
             padded = np.zeros(s, dtype=a.dtype)
@@ -43,7 +76,8 @@ def _ducc0_transforms(workers: int) -> tuple[Any, Any]:
 
     def irfft2(a: np.ndarray, s: tuple[int, int]) -> np.ndarray:
         # Every spectrum the operators invert is a temporary (FFTOperator), so ducc0 may use it
-        # as scratch space: no extra spectrum-sized allocation per inverse transform.
+        # as scratch space: no extra spectrum-sized allocation per inverse transform. (It does
+        # overwrite it: a caller that keeps its spectrum must hand over a copy.)
         return dfft.c2r(a, axes=(0, 1), lastsize=s[1], forward=False, inorm=2, nthreads=workers,
                         allow_overwriting_input=True)
 
@@ -61,11 +95,12 @@ class Backend:
     """Array namespace plus real FFTs.
 
     On NumPy arrays the transforms are ducc0's (``fft="ducc0"``) or SciPy's (``"scipy"``);
-    ``"auto"`` (the default, or the environment variable ``FINGERPAD_FFT``) takes ducc0 when it
-    imports. Both are threaded pocketfft descendants and agree to rounding; ducc0 measured
+    ``"auto"`` takes ducc0 when it imports (see :func:`fft_settings` for the environment
+    variables). Both are threaded pocketfft descendants and agree to rounding; ducc0 measured
     20-35 % faster solves on 1024^2-2048^2 cells and imports in ~5 ms where ``scipy.fft`` takes
     ~0.15-0.25 s (benchmarks/bench_solver.py, bench_startup.py), which the whole
     ``fingerpad solve`` command pays on every start. Other namespaces use their own ``fft``.
+    ``self.fft`` names the engine in use. The inverse transform may overwrite its input.
     """
 
     def __init__(self, xp: Any = None, workers: int | None = None, fft: str | None = None) -> None:
@@ -78,23 +113,21 @@ class Backend:
         self.xp = xp
         self.is_numpy = "numpy" in getattr(xp, "__name__", "")
         # FINGERPAD_FFT_WORKERS: sweep workers run one FFT thread each (their parallelism is theirs).
-        self.workers = workers or int(os.environ.get("FINGERPAD_FFT_WORKERS", "0") or 0) or os.cpu_count() or 1
+        engine, self.workers = fft_settings(fft if self.is_numpy else "auto", workers)
         if not self.is_numpy:
             self.fft = f"{getattr(xp, '__name__', 'xp')}.fft"
             self.rfft2 = lambda a, s=None: xp.fft.rfftn(a, s=s, axes=(0, 1))
             self.irfft2 = lambda a, s: xp.fft.irfftn(a, s=s, axes=(0, 1))
             return
-        fft = fft or os.environ.get("FINGERPAD_FFT", "") or "auto"
-        if fft not in FFT_ENGINES:
-            raise ValueError(f"unknown FFT engine {fft!r} (FINGERPAD_FFT): choose one of {', '.join(FFT_ENGINES)}")
-        if fft in ("auto", "ducc0"):
+        if engine in ("auto", "ducc0"):
             try:
                 self.rfft2, self.irfft2 = _ducc0_transforms(self.workers)
                 self.fft = "ducc0"
                 return
             except ImportError:
-                if fft == "ducc0":
-                    raise
+                if engine == "ducc0":
+                    raise FingerpadError("FFT engine 'ducc0' asked for, but ducc0 is not installed: "
+                                         "pip install 'fingerpad[fast]', or use the SciPy engine") from None
         self.rfft2, self.irfft2 = _scipy_transforms(self.workers)
         self.fft = "scipy"
 
@@ -178,8 +211,8 @@ class FFTOperator:
 
     # Single-precision helpers. The preconditioner and the line search's curvature t.A t need
     # only a few significant digits (the iterate, A x and the residual stay in double
-    # precision), and a float32 transform costs 1/3 to 1/5 of a float64 one (measured 1024^2,
-    # 2048^2). Since a float32 preconditioner is not exactly symmetric, the conjugate gradient
+    # precision), and with SciPy a float32 transform costs 1/2 to 1/5 of a float64 one (measured
+    # 1024^2, 2048^2; with ducc0 0.7-1x, where double precision measured no faster). Since a float32 preconditioner is not exactly symmetric, the conjugate gradient
     # keeps its descent safeguard (ccg.py).
 
     def _low(self) -> tuple[Any, Any]:

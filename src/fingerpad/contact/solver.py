@@ -45,8 +45,8 @@ grid. With the preconditioner the fine grid then needs ~10 iterations (1024^2 an
 
 Each preconditioned iteration transforms the iterate afresh in double precision (one rfft2 +
 irfft2 pair; no rounding drift, no re-check at the end) and runs the preconditioner and the
-line search's curvature ``t.A t`` in single precision (a third of a double pair or less). The
-element-wise work runs in place on NumPy (:mod:`fingerpad.contact.kernels`).
+line search's curvature ``t.A t`` in single precision (half a double pair or less with
+SciPy's FFT). The element-wise work runs in place on NumPy (:mod:`fingerpad.contact.kernels`).
 
 Convergence is measured by the relative KKT residual: the RMS over the cell of the projected
 gradient (gap error where in contact and overlap elsewhere, for the primal; pressure error off
@@ -131,9 +131,9 @@ class HalfSpaceSolver:
     workers
         FFT threads (default: all cores).
     fft
-        FFT engine for NumPy arrays: ``"auto"`` (ducc0 when installed, else SciPy; the
-        environment variable ``FINGERPAD_FFT`` overrides it), ``"ducc0"`` or ``"scipy"``
-        (:class:`fingerpad.contact.greens.Backend`).
+        FFT engine for NumPy arrays: ``"auto"`` (ducc0 when installed, else SciPy), ``"ducc0"``
+        or ``"scipy"``. Default: the environment variable ``FINGERPAD_FFT``, else ``"auto"``
+        (:func:`fingerpad.contact.greens.fft_settings`).
     kernels
         Element-wise work: ``"auto"`` = ``"numpy"`` (in-place NumPy) for NumPy arrays, else
         ``"array"`` (the array-namespace reference); ``"numba"``: compiled parallel loops
@@ -183,10 +183,7 @@ class HalfSpaceSolver:
         self.max_iter = max_iter
         self.formulation = formulation
         self.coarse_to_fine = coarse_to_fine
-        try:
-            self.backend = Backend(xp, workers, fft)
-        except ValueError as exc:
-            raise FingerpadError(str(exc)) from None
+        self.backend = Backend(xp, workers, fft)
         xp_ = self.backend.xp
         h = texture.heights
         self.h_max = float(h.max())

@@ -104,10 +104,17 @@ def run_sweep(
     Raises
     ------
     FingerpadError
-        A store of another sweep without ``overwrite``, a scheduler that does not answer.
+        A store of another sweep without ``overwrite``, a scheduler that does not answer, a bad
+        ``FINGERPAD_FFT`` setting.
     """
     from distributed import as_completed
 
+    from ..contact.greens import Backend
+
+    # A bad FFT setting would make every point's solve fail, and a failing point is stored as
+    # one that cannot exist: check it here, once, before any work (LocalCluster workers inherit
+    # this environment; those of an existing scheduler have their own).
+    Backend()
     t_start = time.perf_counter()
     pressures = sweep_pressures(spec)
     store = SweepStore(store_path, spec, pressures)

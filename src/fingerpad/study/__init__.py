@@ -13,6 +13,7 @@ import lazy_loader
 # ridge and pad models (measured ~40 ms of the command's start-up, benchmarks/bench_startup.py).
 __getattr__, __dir__, __all__ = lazy_loader.attach(
     __name__,
+    submodules=["outputs", "overrides", "run", "solve", "spec", "texture", "values"],
     submod_attrs={
         "spec": ["DEFAULT_STUDY", "Study", "load_study_file", "read_study_file", "study_from_dict"],
         "texture": ["TextureSpec"],
