@@ -314,7 +314,7 @@ class FoldContact:
         fresh = self.pair(x)
         xs = self.points(x)
         out = []
-        for chain, seg_old, seg_new in zip(range(len(self.chains)), old, fresh):
+        for chain, (seg_old, seg_new) in enumerate(zip(old, fresh)):
             keep = seg_old >= 0
             merged = seg_new.copy()
             if np.any(keep):
@@ -349,7 +349,7 @@ class FoldContact:
         terms = []
         gaps_all = []
         min_gap = np.inf
-        for chain, seg in zip(range(len(self.chains)), pairs):
+        for chain, seg in enumerate(pairs):
             idx = np.nonzero(seg >= 0)[0]
             if idx.size == 0:
                 continue
