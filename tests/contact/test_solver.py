@@ -315,6 +315,30 @@ def test_fast_kernels_match_array_kernels(formulation: str, kernels: str, precon
     np.testing.assert_allclose(a.pressure, b.pressure, rtol=0, atol=1e-9 * a.max_pressure)
 
 
+def test_auto_kernels_turn_compiled_from_the_second_solve() -> None:
+    """``kernels="auto"``: NumPy loops for a solver's first solve (no load time), the compiled
+    ones from its second (curves, tables, sweeps), coarse levels included; same solutions."""
+    pytest.importorskip("numba")
+    from fingerpad.contact.kernels import NumpyKernels
+    from fingerpad.contact.kernels_numba import NumbaKernels
+
+    tex = random_rough(128, 1e-4, 1e-6, seed=5)
+    pbar = 0.3 * E * tex.peak_to_valley / tex.size[0]
+    solver = HalfSpaceSolver(tex, E)
+    first = solver.solve_pressure(pbar)
+    assert type(solver._kern) is NumpyKernels
+    second = solver.solve_pressure(pbar)
+    assert isinstance(solver._kern, NumbaKernels)
+    assert isinstance(solver._coarse["half"]._kern, NumbaKernels)
+    ref = HalfSpaceSolver(tex, E, kernels="numpy")
+    ref.solve_pressure(pbar)
+    ref_second = ref.solve_pressure(pbar)
+    assert first.converged and second.converged
+    assert second.iterations == ref_second.iterations
+    assert np.array_equal(second.contact, ref_second.contact)
+    np.testing.assert_allclose(second.pressure, ref_second.pressure, rtol=0, atol=1e-9 * first.max_pressure)
+
+
 def test_preconditioned_matches_plain_polonsky_keer() -> None:
     """Both iterations solve the same problem: same contact set and fields at tol 1e-10; the
     preconditioned one in fewer iterations (an invariant of the method, not a timing)."""

@@ -7,11 +7,10 @@ implementations share one interface:
   (``array_api_strict`` in the tests, CuPy or PyTorch on a GPU);
 * :class:`NumpyKernels` - NumPy in place, into buffers owned by the kernels (no allocation per
   iteration, as few passes as NumPy allows); the default for NumPy arrays;
-* :class:`~fingerpad.contact.kernels_numba.NumbaKernels` - fused parallel loops compiled with
-  Numba (``kernels="numba"``, module :mod:`fingerpad.contact.kernels_numba`). On the
-  2-core development machine they measured no faster than the NumPy ones (the FFTs dominate,
-  and two threads contend with other work) and cost ~1 s of compilation-cache loading per
-  process, which the whole ``fingerpad solve`` command cannot afford.
+* :class:`~fingerpad.contact.kernels_numba.NumbaKernels` - fused serial loops compiled with
+  Numba (``kernels="numba"``, module :mod:`fingerpad.contact.kernels_numba`): ~20 % faster
+  solves, but ~0.4 s to load per process, so ``kernels="auto"`` takes them from a solver's
+  second solve on.
 
 Notation: ``x`` the iterate (pressure or gap), ``ax`` = A x, ``b`` the linear term, ``lam``
 the multiplier of the mean constraint, ``free`` = ``x > 0``, ``r = ax - b - lam`` the gradient,
@@ -164,8 +163,7 @@ class ArrayKernels:
 class NumpyKernels(ArrayKernels):
     """NumPy, in place: each operation writes into a buffer the solver owns, so that an
     iteration allocates nothing (memory at 4096^2) and makes as few passes over the fields as
-    NumPy allows. Used by default for NumPy arrays: on the 2-core development machine it
-    measured as fast as the compiled loops (the FFTs dominate) without their ~1 s load time.
+    NumPy allows. A solver's first solve uses these (no load time; see :mod:`.kernels_numba`).
     """
 
     def __init__(self) -> None:
