@@ -9,6 +9,8 @@ the same code. The optional GPU test runs only where CuPy finds a device.
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 import pytest
 
@@ -64,16 +66,39 @@ def test_strict_namespace_finite_body() -> None:
     _same(ref.solve_pressure(20.0), strict.solve_pressure(20.0))
 
 
-def test_gpu_namespace_if_present() -> None:
-    cp = pytest.importorskip("cupy")
-    try:
-        if cp.cuda.runtime.getDeviceCount() < 1:
-            pytest.skip("no CUDA device")
-    except Exception as exc:  # noqa: BLE001 - no driver: skip cleanly
-        pytest.skip(f"no CUDA device ({exc})")
+def _device_namespace(name: str):
+    """CuPy on a CUDA device, or PyTorch (through array_api_compat) on CUDA if it has one, else
+    on its CPU tensors; skipped where the library is not installed (CI) or CuPy finds no device."""
+    if name == "cupy":
+        cp = pytest.importorskip("cupy")
+        try:
+            if cp.cuda.runtime.getDeviceCount() < 1:
+                pytest.skip("no CUDA device")
+        except Exception as exc:  # noqa: BLE001 - no driver: skip cleanly
+            pytest.skip(f"no CUDA device ({exc})")
+        return cp, contextlib.nullcontext()
+    torch = pytest.importorskip("torch")
+    xtorch = pytest.importorskip("array_api_compat.torch")
+    # new tensors go to that device inside the context (not for the rest of the session)
+    return xtorch, torch.device("cuda" if torch.cuda.is_available() else "cpu")
+
+
+@pytest.mark.parametrize("name", ["cupy", "torch"])
+def test_gpu_namespace_if_present(name: str) -> None:
+    """The solver on CuPy or PyTorch arrays: the NumPy solution (PyTorch's tensors differ from
+    the standard, e.g. ``size`` is a method, and its default dtype is float32)."""
+    xp, device = _device_namespace(name)
     tex = random_rough(128, 1e-4, 1e-6, seed=2)
     pbar = 0.3 * E * tex.peak_to_valley / tex.size[0]
     a = HalfSpaceSolver(tex, E, kernels="array").solve_pressure(pbar)
-    b = HalfSpaceSolver(tex, E, xp=cp).solve_pressure(pbar)
+    with device:
+        solver = HalfSpaceSolver(tex, E, xp=xp)
+        b = solver.solve_pressure(pbar)
+        c = solver.solve_pressure(1.2 * pbar, initial=b)
+        d = solver.solve_approach(b.approach)
     assert b.converged and abs(a.contact_fraction - b.contact_fraction) <= 2 / tex.heights.size
     np.testing.assert_allclose(b.pressure, a.pressure, rtol=0, atol=1e-7 * a.max_pressure)
+    # a warm-started second solve and an approach-controlled one, as in a load curve
+    c_ref = HalfSpaceSolver(tex, E, kernels="array").solve_pressure(1.2 * pbar)
+    assert c.converged and abs(c.contact_fraction - c_ref.contact_fraction) <= 2 / tex.heights.size
+    assert d.converged and abs(d.mean_pressure - pbar) <= 1e-5 * pbar

@@ -74,7 +74,7 @@ def constrained_cg(
         return _preconditioned_cg(kern, op, precond, b, x0, mean=mean, scale=scale, tol=tol, max_iter=max_iter,
                                   stall=stall, own=own, callback=callback)
     xp = kern.xp
-    n = x0.size
+    n = math.prod(x0.shape)  # PyTorch's .size is a method
     x = xp.asarray(x0, copy=True)  # updated in place by the kernels
     xh = op.forward(x)
     ax = op.apply_hat(xh)
@@ -195,7 +195,7 @@ def _preconditioned_cg(
     about half a float64 pair with SciPy's FFT, 0.7-1x one with ducc0's).
     """
     xp = kern.xp
-    n = x0.size
+    n = math.prod(x0.shape)  # PyTorch's .size is a method
     x = x0 if own else xp.asarray(x0, copy=True)  # own: the caller hands x0 over
     del x0
     if mean is not None:

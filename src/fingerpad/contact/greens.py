@@ -139,6 +139,8 @@ class Backend:
             return np.asarray(a)
         if hasattr(a, "get"):  # CuPy
             return a.get()
+        if hasattr(a, "cpu"):  # PyTorch (its GPU tensors do not convert implicitly)
+            return a.cpu().numpy()
         return np.asarray(a)
 
 

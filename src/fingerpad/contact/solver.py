@@ -393,14 +393,14 @@ class HalfSpaceSolver:
         if form == "primal":
             if mode == "pressure":
                 b = self.h
-                x0 = be.asarray(seed.pressure) if seed is not None else xp.full(self.h.shape, value)
+                x0 = be.asarray(seed.pressure) if seed is not None else xp.full(self.h.shape, value, dtype=xp.float64)
                 x0 = xp.maximum(x0, 0.0)  # a fresh array: the solve updates it in place
                 del seed  # the caller's seed may be the only other full-size field alive
                 m = float(xp.mean(x0))
                 if m > 0:
                     x0 *= value / m
                 else:
-                    x0 = xp.full(self.h.shape, value)
+                    x0 = xp.full(self.h.shape, value, dtype=xp.float64)
                 return constrained_cg(self._kern, self._K, b, x0, mean=value, scale=self._gap_scale(value), tol=self.tol,
                                       max_iter=self.max_iter, stall=stall, precond=pre, own=True,
                                       callback=self._callback())
@@ -422,7 +422,7 @@ class HalfSpaceSolver:
         b = -self._Sh
         x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else xp.maximum(self.h_max - self.h, 0.0)
         mx = float(xp.mean(x0))
-        x0 = x0 * (target / mx) if mx > 0 else xp.full(self.h.shape, target)
+        x0 = x0 * (target / mx) if mx > 0 else xp.full(self.h.shape, target, dtype=xp.float64)
         scale = self.modulus * self.pv / max(self.texture.size)
         return constrained_cg(self._kern, self._S, b, x0, mean=target, scale=scale, tol=self.tol,
                               max_iter=self.max_iter, stall=stall, precond=pre, own=True, callback=self._callback())
