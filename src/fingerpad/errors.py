@@ -12,6 +12,12 @@ class FingerpadError(ValueError):
     """A user-facing error with a one-line message."""
 
 
+class SetupError(FingerpadError):
+    """A bad setting of the environment or the installation, not of the problem (an FFT engine
+    or thread count, an optional package asked for but missing). Work that records the points
+    it cannot compute as such (a sweep) stops on it instead of recording every point."""
+
+
 class ConvergenceError(RuntimeError):
     """A solver did not reach its tolerance and the caller asked for strict behaviour."""
 

@@ -104,6 +104,21 @@ def test_impossible_points_are_stored_with_their_reason(tmp_path):
     assert not res["valid"] and "overlap" in res["reason"] and np.all(np.isnan(res["mu"]))
 
 
+def test_a_bad_setting_is_not_stored_as_an_impossible_point(tmp_path, monkeypatch):
+    """A worker whose FFT setting is bad (an external scheduler's workers have their own
+    environment) raises for the chunk, to be retried, instead of storing the point as invalid."""
+    from fingerpad.design.evaluate import evaluate_point
+    from fingerpad.design.spec import read_sweep_file, sweep_from_dict
+    from fingerpad.errors import SetupError
+
+    spec = sweep_from_dict(read_sweep_file(str(write_study(tmp_path))))
+    data = spec.study_data(spec.assignment((0, 0)))
+    monkeypatch.setenv("FINGERPAD_FFT", "fftw")
+    monkeypatch.setenv("FINGERPAD_CACHE", str(tmp_path / "cache"))  # no cached cell to bypass the solver
+    with pytest.raises(SetupError, match="unknown FFT engine 'fftw'"):
+        evaluate_point(data, spec.loads, [1e3, 1e4])
+
+
 def test_the_maps_trends(swept):
     """Critical load rises with height and falls with spacing (fixed radius)."""
     _, _, _, ds = swept

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FingerpadError
+from ..errors import SetupError
 from ..textures import Texture
 
 __all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "fft_settings", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
@@ -36,7 +36,7 @@ def fft_settings(fft: str | None = None, workers: int | None = None) -> tuple[st
     ``fft`` (``"auto"``, ``"ducc0"`` or ``"scipy"``, any case) wins over the environment variable
     ``FINGERPAD_FFT``, which replaces the default ``"auto"``; ``workers`` wins over
     ``FINGERPAD_FFT_WORKERS``, which replaces the default of all cores. Bad values raise
-    :class:`~fingerpad.errors.FingerpadError` naming where they came from. Cheap (no FFT library
+    :class:`~fingerpad.errors.SetupError` naming where they came from. Cheap (no FFT library
     is imported): commands call it before they start long work, so that a bad setting stops them
     at once instead of failing every solve.
     """
@@ -45,18 +45,18 @@ def fft_settings(fft: str | None = None, workers: int | None = None) -> tuple[st
         fft, source = os.environ.get("FINGERPAD_FFT", "") or "auto", "FINGERPAD_FFT"
     engine = str(fft).strip().lower()
     if engine not in FFT_ENGINES:
-        raise FingerpadError(f"unknown FFT engine {fft!r} ({source}): choose one of {', '.join(FFT_ENGINES)}")
+        raise SetupError(f"unknown FFT engine {fft!r} ({source}): choose one of {', '.join(FFT_ENGINES)}")
     if workers is None:
         raw = os.environ.get("FINGERPAD_FFT_WORKERS", "").strip()
         try:
             workers = int(raw) if raw else 0
         except ValueError:
-            raise FingerpadError(f"FINGERPAD_FFT_WORKERS must be a whole number of threads, got {raw!r}") from None
+            raise SetupError(f"FINGERPAD_FFT_WORKERS must be a whole number of threads, got {raw!r}") from None
         source = "FINGERPAD_FFT_WORKERS"
     else:
         source = "workers"
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
-        raise FingerpadError(f"{source} must be a whole number of threads >= 0 (0: all cores), got {workers!r}")
+        raise SetupError(f"{source} must be a whole number of threads >= 0 (0: all cores), got {workers!r}")
     return engine, workers or os.cpu_count() or 1
 
 
@@ -126,7 +126,7 @@ class Backend:
                 return
             except ImportError:
                 if engine == "ducc0":
-                    raise FingerpadError("FFT engine 'ducc0' asked for, but ducc0 is not installed: "
+                    raise SetupError("FFT engine 'ducc0' asked for, but ducc0 is not installed: "
                                          "pip install 'fingerpad[fast]', or use the SciPy engine") from None
         self.rfft2, self.irfft2 = _scipy_transforms(self.workers)
         self.fft = "scipy"

@@ -111,9 +111,9 @@ def run_sweep(
 
     from ..contact.greens import Backend
 
-    # A bad FFT setting would make every point's solve fail, and a failing point is stored as
-    # one that cannot exist: check it here, once, before any work (LocalCluster workers inherit
-    # this environment; those of an existing scheduler have their own).
+    # A bad FFT setting would make every point's solve fail (each chunk then fails with a
+    # SetupError, see evaluate_point): check it here, once, before any work (LocalCluster workers
+    # inherit this environment; those of an existing scheduler have their own).
     Backend()
     t_start = time.perf_counter()
     pressures = sweep_pressures(spec)

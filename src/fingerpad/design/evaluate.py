@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FingerpadError, one_line
+from ..errors import FingerpadError, SetupError, one_line
 
 __all__ = ["STATE_CODES", "cell_key", "evaluate_chunk", "evaluate_point", "limit_threads", "prepare_cell"]
 
@@ -84,7 +84,9 @@ def prepare_cell(data: Mapping[str, Any], loads: Sequence[float], pressures: Seq
 
 def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: Sequence[float]) -> dict[str, Any]:
     """The design-map numbers of one point (see the module docstring); never raises for a
-    point that cannot exist: ``valid`` is False and ``reason`` says why."""
+    point that cannot exist: ``valid`` is False and ``reason`` says why. A
+    :class:`~fingerpad.errors.SetupError` (a bad FFT setting on this worker, say) is raised: it
+    says nothing about the point."""
     from ..study.run import run_study
 
     loads = np.asarray(loads, float)
@@ -103,6 +105,8 @@ def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: S
             data["loads"].pop("zones_at", None)
             study = _study(data)
             pred = run_study(study)
+    except SetupError:
+        raise  # the machine's settings, not this point: the chunk fails and a rerun retries it
     except FingerpadError as exc:
         out["reason"] = one_line(str(exc))[:500]
         out["seconds"] = time.perf_counter() - t0
