@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -337,6 +338,32 @@ def test_auto_kernels_turn_compiled_from_the_second_solve() -> None:
     assert second.iterations == ref_second.iterations
     assert np.array_equal(second.contact, ref_second.contact)
     np.testing.assert_allclose(second.pressure, ref_second.pressure, rtol=0, atol=1e-9 * first.max_pressure)
+
+
+def test_compiled_kernels_that_cannot_load_fall_back_to_numpy(monkeypatch) -> None:
+    """Where Numba cannot build its loops (no writable cache directory, say), the second solve
+    warns once and runs on the NumPy kernels, with the same solution."""
+    import fingerpad.contact.solver as solver_mod
+    from fingerpad.contact import kernels_numba
+    from fingerpad.contact.kernels import NumpyKernels
+
+    def broken() -> None:
+        raise RuntimeError("cannot cache function 'free_stats': no locator available")
+
+    monkeypatch.setattr(kernels_numba, "_NUMBA", None)
+    monkeypatch.setattr(kernels_numba, "_build_numba", broken)
+    monkeypatch.setattr(solver_mod, "_COMPILED_UNAVAILABLE", False)
+    tex = random_rough(64, 1e-4, 1e-6, seed=5)
+    pbar = 0.3 * E * tex.peak_to_valley / tex.size[0]
+    solver = HalfSpaceSolver(tex, E)
+    a = solver.solve_pressure(pbar)
+    with pytest.warns(RuntimeWarning, match="compiled kernels unavailable.*no locator"):
+        b = solver.solve_pressure(pbar)
+    assert type(solver._kern) is NumpyKernels and b.converged
+    np.testing.assert_allclose(b.pressure, a.pressure, rtol=0, atol=1e-9 * a.max_pressure)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # not again in this process
+        HalfSpaceSolver(tex, E, kernels="numba").solve_pressure(pbar)
 
 
 def test_preconditioned_matches_plain_polonsky_keer() -> None:

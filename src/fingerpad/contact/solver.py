@@ -71,7 +71,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FingerpadError
+from ..errors import FingerpadError, one_line
 from ..materials import check_modulus
 from ..textures import Texture
 from .ccg import CCGResult, constrained_cg
@@ -94,19 +94,27 @@ DUAL_ABOVE = 0.75
 # --------------------------------------------------------------------------------------------
 
 
+_COMPILED_UNAVAILABLE = False  # set once the compiled kernels failed to load in this process
+
+
 def _kernels_for(xp: Any, choice: str) -> ArrayKernels:
-    """``"numpy"``: in-place NumPy kernels; ``"numba"``: compiled loops (NumPy arrays, falls
-    back to NumPy when Numba does not import); ``"array"``: the array-namespace reference."""
-    if choice == "numba":
+    """``"numpy"``: in-place NumPy kernels; ``"numba"``: compiled loops (NumPy arrays; the NumPy
+    kernels, with one warning per process, where they cannot load); ``"array"``: the
+    array-namespace reference."""
+    global _COMPILED_UNAVAILABLE
+    if choice == "array":
+        return ArrayKernels(xp)
+    if choice == "numba" and not _COMPILED_UNAVAILABLE:
         try:
             from .kernels_numba import NumbaKernels  # noqa: PLC0415 - ~0.4 s to load
 
             return NumbaKernels()
-        except ImportError:
-            return NumpyKernels()
-    if choice == "numpy":
-        return NumpyKernels()
-    return ArrayKernels(xp)
+        except Exception as exc:  # noqa: BLE001 - no Numba, no writable cache for its loops, ...
+            # same results, ~20 % slower: say so once, do not fail the solve
+            _COMPILED_UNAVAILABLE = True
+            warnings.warn(f"compiled kernels unavailable, NumPy kernels used instead: {one_line(str(exc))}",
+                          RuntimeWarning, stacklevel=2)
+    return NumpyKernels()
 
 
 class HalfSpaceSolver:
