@@ -127,7 +127,7 @@ class Backend:
             except ImportError:
                 if engine == "ducc0":
                     raise SetupError("FFT engine 'ducc0' asked for, but ducc0 is not installed: "
-                                         "pip install 'fingerpad[fast]', or use the SciPy engine") from None
+                                     "pip install 'fingerpad[fast]', or use the SciPy engine") from None
         self.rfft2, self.irfft2 = _scipy_transforms(self.workers)
         self.fft = "scipy"
 
