@@ -340,6 +340,19 @@ def test_auto_kernels_turn_compiled_from_the_second_solve() -> None:
     np.testing.assert_allclose(second.pressure, ref_second.pressure, rtol=0, atol=1e-9 * first.max_pressure)
 
 
+def test_auto_kernels_compiled_from_the_first_solve_on_very_large_grids(monkeypatch) -> None:
+    pytest.importorskip("numba")
+    import fingerpad.contact.solver as solver_mod
+    from fingerpad.contact.kernels_numba import NumbaKernels
+
+    tex = random_rough(128, 1e-4, 1e-6, seed=5)
+    monkeypatch.setattr(solver_mod, "COMPILED_FIRST_POINTS", 128 * 128)  # "very large" = this grid
+    solver = HalfSpaceSolver(tex, E)
+    solver.solve_pressure(0.3 * E * tex.peak_to_valley / tex.size[0])
+    assert isinstance(solver._kern, NumbaKernels)
+    assert type(solver._coarse["half"]._kern) is not NumbaKernels  # 64^2: below the size
+
+
 def test_compiled_kernels_that_cannot_load_fall_back_to_numpy(monkeypatch) -> None:
     """Where Numba cannot build its loops (no writable cache directory, say), the second solve
     warns once and runs on the NumPy kernels, with the same solution."""

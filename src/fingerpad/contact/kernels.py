@@ -9,8 +9,8 @@ implementations share one interface:
   iteration, as few passes as NumPy allows); the default for NumPy arrays;
 * :class:`~fingerpad.contact.kernels_numba.NumbaKernels` - fused serial loops compiled with
   Numba (``kernels="numba"``, module :mod:`fingerpad.contact.kernels_numba`): ~20 % faster
-  solves, but ~0.4 s to load per process, so ``kernels="auto"`` takes them from a solver's
-  second solve on.
+  solves, but ~0.5 s to load per process, so ``kernels="auto"`` takes them from a solver's
+  second solve on (from the first on very large grids).
 
 Notation: ``x`` the iterate (pressure or gap), ``ax`` = A x, ``b`` the linear term, ``lam``
 the multiplier of the mean constraint, ``free`` = ``x > 0``, ``r = ax - b - lam`` the gradient,

@@ -9,10 +9,10 @@ FFT's own threads, which then ran 2x slower (1024^2 cap cell, 2 cores: r2c 148 m
 per solve). Serial, the solve takes ~20 % less time than with the NumPy kernels, and the
 reductions no longer depend on the number of threads.
 
-Importing Numba and loading the compiled loops from its cache costs ~0.4 s per process (~1 s
+Importing Numba and loading the compiled loops from its cache costs ~0.5 s per process (~1 s
 when they must be compiled first), which is why the solver's ``kernels="auto"`` starts every
 solver on :class:`fingerpad.contact.kernels.NumpyKernels` and turns to these from its second
-solve (:class:`fingerpad.contact.HalfSpaceSolver`).
+solve, or from the first on very large grids (:class:`fingerpad.contact.HalfSpaceSolver`).
 """
 
 from __future__ import annotations

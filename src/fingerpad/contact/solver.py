@@ -47,8 +47,9 @@ Each preconditioned iteration transforms the iterate afresh in double precision 
 irfft2 pair; no rounding drift, no re-check at the end) and runs the preconditioner and the
 line search's curvature ``t.A t`` in single precision (half a double pair or less with
 SciPy's FFT). The element-wise work runs in place on NumPy (:mod:`fingerpad.contact.kernels`)
-for a solver's first solve and in fused loops compiled with Numba from its second
-(:mod:`fingerpad.contact.kernels_numba`: ~0.4 s to load once per process, ~20 % per solve).
+for a solver's first solve and in fused loops compiled with Numba from its second, or from the
+first on very large grids (:mod:`fingerpad.contact.kernels_numba`: ~0.5 s to load once per
+process, ~20 % per solve).
 
 Convergence is measured by the relative KKT residual: the RMS over the cell of the projected
 gradient (gap error where in contact and overlap elsewhere, for the primal; pressure error off
@@ -97,6 +98,10 @@ DUAL_ABOVE = 0.75
 
 
 _COMPILED_UNAVAILABLE = False  # set once the compiled kernels failed to load in this process
+#: Grid points from which ``kernels="auto"`` uses the compiled loops from the first solve: their
+#: ~0.5 s load cost 0.2-0.3 s net on one 2048^2 cap-cell solve (1.8 s) and saved ~2 s on one
+#: 4096^2 solve (10.6-11.8 s against 8.3-9.1 s), measured on 2 cores; this lies between.
+COMPILED_FIRST_POINTS = 2**23
 
 
 def _kernels_for(xp: Any, choice: str) -> ArrayKernels:
@@ -108,7 +113,7 @@ def _kernels_for(xp: Any, choice: str) -> ArrayKernels:
         return ArrayKernels(xp)
     if choice == "numba" and not _COMPILED_UNAVAILABLE:
         try:
-            from .kernels_numba import NumbaKernels  # noqa: PLC0415 - ~0.4 s to load
+            from .kernels_numba import NumbaKernels  # noqa: PLC0415 - ~0.5 s to load
 
             return NumbaKernels()
         except Exception as exc:  # noqa: BLE001 - no Numba, no writable cache for its loops, ...
@@ -146,11 +151,12 @@ class HalfSpaceSolver:
         (:func:`fingerpad.contact.greens.fft_settings`).
     kernels
         Element-wise work: ``"numpy"`` (in place, NumPy), ``"numba"`` (fused loops compiled
-        with Numba: ~20 % faster solves, but ~0.4 s to load once per process) or ``"array"``
+        with Numba: ~20 % faster solves, but ~0.5 s to load once per process) or ``"array"``
         (the array-namespace reference). ``"auto"``: for NumPy arrays, ``"numpy"`` for the
         solver's first solve and ``"numba"`` from its second on (a load curve, a response
-        table, a sweep: the load pays back there, not on a single solve); ``"array"`` for
-        other namespaces.
+        table, a sweep: the load pays back there, not on a single solve), or from the first
+        on grids of :data:`COMPILED_FIRST_POINTS` points and more; ``"array"`` for other
+        namespaces.
     precondition
         Preconditioned conjugate gradient (the inverse operator as preconditioner, see
         :func:`fingerpad.contact.ccg.constrained_cg`); ``False`` gives the plain Polonsky-Keer
@@ -218,6 +224,7 @@ class HalfSpaceSolver:
         choice = ("numpy" if self.backend.is_numpy else "array") if kernels == "auto" else kernels
         self._kern = _kernels_for(xp_, choice)
         self._solves = 0
+        self._compiled_tried = False
         self.precondition = bool(precondition)
         self._pre: dict[str, Any] = {}
         self._coarse: dict[str, HalfSpaceSolver | None] = {}
@@ -311,9 +318,11 @@ class HalfSpaceSolver:
         start = time.perf_counter()
         if initial is not None and initial.pressure.shape != self.texture.shape:
             raise FingerpadError("initial solution has a different grid")
-        if self._solves == 1 and self._kernels_choice == "auto" and self.backend.is_numpy:
-            # A second solve means a curve, a table or a sweep: now the compiled loops' one-off
-            # load (~0.4 s per process) pays back (~20 % per solve, measured on 1024^2 cells).
+        if (self._kernels_choice == "auto" and self.backend.is_numpy and not self._compiled_tried
+                and (self._solves >= 1 or math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS)):
+            # A second solve means a curve, a table or a sweep, and a very large grid is one long
+            # solve: there the compiled loops' one-off load (~0.5 s per process) pays back.
+            self._compiled_tried = True
             self._kern = _kernels_for(self._xp, "numba")
         self._solves += 1
         if form is None:
