@@ -316,10 +316,13 @@ def test_fast_kernels_match_array_kernels(formulation: str, kernels: str, precon
     np.testing.assert_allclose(a.pressure, b.pressure, rtol=0, atol=1e-9 * a.max_pressure)
 
 
-def test_auto_kernels_turn_compiled_from_the_second_solve() -> None:
-    """``kernels="auto"``: NumPy loops for a solver's first solve (no load time), the compiled
-    ones from its second (curves, tables, sweeps), coarse levels included; same solutions."""
+def test_auto_kernels_turn_compiled_after_enough_work(monkeypatch) -> None:
+    """``kernels="auto"``: NumPy loops until the solver has done COMPILED_AFTER_WORK (grid
+    points x iterations), the compiled ones from there, coarse levels included; same solutions.
+    The compiled loops then run on the types they were warmed up on (no compile mid-solve)."""
     pytest.importorskip("numba")
+    import fingerpad.contact.solver as solver_mod
+    from fingerpad.contact import kernels_numba
     from fingerpad.contact.kernels import NumpyKernels
     from fingerpad.contact.kernels_numba import NumbaKernels
 
@@ -327,17 +330,22 @@ def test_auto_kernels_turn_compiled_from_the_second_solve() -> None:
     pbar = 0.3 * E * tex.peak_to_valley / tex.size[0]
     solver = HalfSpaceSolver(tex, E)
     first = solver.solve_pressure(pbar)
+    monkeypatch.setattr(solver_mod, "COMPILED_AFTER_WORK", solver._work + 1)  # not yet ...
+    solver.solve_pressure(pbar)
     assert type(solver._kern) is NumpyKernels
-    second = solver.solve_pressure(pbar)
+    monkeypatch.setattr(solver_mod, "COMPILED_AFTER_WORK", solver._work)  # ... now
+    third = solver.solve_pressure(pbar)
     assert isinstance(solver._kern, NumbaKernels)
     assert isinstance(solver._coarse["half"]._kern, NumbaKernels)
     ref = HalfSpaceSolver(tex, E, kernels="numpy")
-    ref.solve_pressure(pbar)
-    ref_second = ref.solve_pressure(pbar)
-    assert first.converged and second.converged
-    assert second.iterations == ref_second.iterations
-    assert np.array_equal(second.contact, ref_second.contact)
-    np.testing.assert_allclose(second.pressure, ref_second.pressure, rtol=0, atol=1e-9 * first.max_pressure)
+    for _ in range(3):
+        ref_third = ref.solve_pressure(pbar)
+    assert first.converged and third.converged
+    assert third.iterations == ref_third.iterations
+    assert np.array_equal(third.contact, ref_third.contact)
+    np.testing.assert_allclose(third.pressure, ref_third.pressure, rtol=0, atol=1e-9 * first.max_pressure)
+    loops = kernels_numba._NUMBA
+    assert all(len(f.signatures) == 1 for f in loops if f.signatures), [f.signatures for f in loops]
 
 
 def test_auto_kernels_compiled_from_the_first_solve_on_very_large_grids(monkeypatch) -> None:
@@ -350,12 +358,24 @@ def test_auto_kernels_compiled_from_the_first_solve_on_very_large_grids(monkeypa
     solver = HalfSpaceSolver(tex, E)
     solver.solve_pressure(0.3 * E * tex.peak_to_valley / tex.size[0])
     assert isinstance(solver._kern, NumbaKernels)
-    assert type(solver._coarse["half"]._kern) is not NumbaKernels  # 64^2: below the size
+    assert isinstance(solver._coarse["half"]._kern, NumbaKernels)  # its levels too, once loaded
+
+
+def test_auto_kernels_stay_numpy_where_numba_jit_is_disabled(monkeypatch) -> None:
+    import fingerpad.contact.solver as solver_mod
+    from fingerpad.contact.kernels import NumpyKernels
+
+    monkeypatch.setenv("NUMBA_DISABLE_JIT", "1")  # the loops would run as plain Python
+    monkeypatch.setattr(solver_mod, "COMPILED_FIRST_POINTS", 1)
+    tex = random_rough(64, 1e-4, 1e-6, seed=5)
+    solver = HalfSpaceSolver(tex, E)
+    solver.solve_pressure(0.3 * E * tex.peak_to_valley / tex.size[0])
+    assert type(solver._kern) is NumpyKernels
 
 
 def test_compiled_kernels_that_cannot_load_fall_back_to_numpy(monkeypatch) -> None:
-    """Where Numba cannot build its loops (no writable cache directory, say), the second solve
-    warns once and runs on the NumPy kernels, with the same solution."""
+    """Where Numba cannot build its loops (no writable cache directory, say), the solve that
+    turns to them warns once and runs on the NumPy kernels, with the same solution."""
     import fingerpad.contact.solver as solver_mod
     from fingerpad.contact import kernels_numba
     from fingerpad.contact.kernels import NumpyKernels
@@ -366,6 +386,7 @@ def test_compiled_kernels_that_cannot_load_fall_back_to_numpy(monkeypatch) -> No
     monkeypatch.setattr(kernels_numba, "_NUMBA", None)
     monkeypatch.setattr(kernels_numba, "_build_numba", broken)
     monkeypatch.setattr(solver_mod, "_COMPILED_UNAVAILABLE", False)
+    monkeypatch.setattr(solver_mod, "COMPILED_AFTER_WORK", 1)  # from the second solve
     tex = random_rough(64, 1e-4, 1e-6, seed=5)
     pbar = 0.3 * E * tex.peak_to_valley / tex.size[0]
     solver = HalfSpaceSolver(tex, E)

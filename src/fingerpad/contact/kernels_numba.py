@@ -17,6 +17,7 @@ solve, or from the first on very large grids (:class:`fingerpad.contact.HalfSpac
 
 from __future__ import annotations
 
+import threading
 from typing import Any
 
 import numpy as np
@@ -183,12 +184,13 @@ def _build_numba() -> Any:
     # to NumPy, and not in the middle of a solve (a cache directory that cannot be written fails
     # already at the decorators above). The plain iteration's loops load on first use (~35 ms
     # each).
-    f, m = np.ones(4), np.ones(4, dtype=np.uint8)
+    # (z, the preconditioned gradient, is float32: greens.FFTOperator.apply_low)
+    f, z, m = np.ones(4), np.ones(4, dtype=np.float32), np.ones(4, dtype=np.uint8)
     free_stats(f, f, f, 0.0)
     work_residual(f, f, f, 0.0, f.copy(), m.copy())
     shift_on(f.copy(), m, 0.0)
-    pre_stats(f, f, m, f)
-    pre_direction(f, m, f.copy(), 0.0, 0.0, f)
+    pre_stats(f, z, m, f)
+    pre_direction(z, m, f.copy(), 0.0, 0.0, f)
     pstep(f.copy(), f, 0.0)
     scale(f.copy(), 1.0)
     return (free_stats, direction, centre, step, quad, axpy, scale,
@@ -196,6 +198,7 @@ def _build_numba() -> Any:
 
 
 _NUMBA: Any = None
+_BUILD = threading.Lock()  # solvers in threads (the explorer's jobs, threaded Dask workers) build once
 
 
 class NumbaKernels(ArrayKernels):
@@ -203,8 +206,9 @@ class NumbaKernels(ArrayKernels):
 
     def __init__(self) -> None:
         global _NUMBA
-        if _NUMBA is None:
-            _NUMBA = _build_numba()
+        with _BUILD:
+            if _NUMBA is None:
+                _NUMBA = _build_numba()
         (self._free_stats, self._direction, self._centre, self._step, self._quad,
          self._axpy, self._scale, self._work_residual, self._shift_on, self._pre_stats,
          self._pre_direction, self._pstep) = _NUMBA

@@ -47,9 +47,9 @@ Each preconditioned iteration transforms the iterate afresh in double precision 
 irfft2 pair; no rounding drift, no re-check at the end) and runs the preconditioner and the
 line search's curvature ``t.A t`` in single precision (half a double pair or less with
 SciPy's FFT). The element-wise work runs in place on NumPy (:mod:`fingerpad.contact.kernels`)
-for a solver's first solve and in fused loops compiled with Numba from its second, or from the
-first on very large grids (:mod:`fingerpad.contact.kernels_numba`: ~0.5 s to load once per
-process, ~20 % per solve).
+at first, and in fused loops compiled with Numba once a solver has done enough work for their
+load to pay back (a long load curve), or from the first solve on very large grids
+(:mod:`fingerpad.contact.kernels_numba`: ~0.5 s to load once per process, ~20 % per solve).
 
 Convergence is measured by the relative KKT residual: the RMS over the cell of the projected
 gradient (gap error where in contact and overlap elsewhere, for the primal; pressure error off
@@ -65,6 +65,7 @@ wrapper) with SciPy's FFTs.
 from __future__ import annotations
 
 import math
+import os
 import time
 import warnings
 import weakref
@@ -98,9 +99,15 @@ DUAL_ABOVE = 0.75
 
 
 _COMPILED_UNAVAILABLE = False  # set once the compiled kernels failed to load in this process
-#: Grid points from which ``kernels="auto"`` uses the compiled loops from the first solve: their
-#: ~0.5 s load cost 0.2-0.3 s net on one 2048^2 cap-cell solve (1.8 s) and saved ~2 s on one
-#: 4096^2 solve (10.6-11.8 s against 8.3-9.1 s), measured on 2 cores; this lies between.
+#: ``kernels="auto"`` turns to the compiled loops once a solver has done this much work (grid
+#: points x fine iterations, summed over its solves; ~2 s of solving on the 2-core development
+#: machine): taking the work done as a guess of the work to come, their ~0.5 s load pays back
+#: from there (~20 % per solve). Measured: a 50-point curve at 1024^2 gains, a 5-point one at
+#: 1024^2 or a 10-point one at 256^2 lost 0.1-0.5 s when they were loaded on the second solve.
+COMPILED_AFTER_WORK = 2**26
+#: ... and from the first solve on grids of this many points: the load cost 0.2-0.3 s net on one
+#: 2048^2 cap-cell solve (1.8 s) and saved ~2 s on one 4096^2 solve (10.6-11.8 s against
+#: 8.3-9.1 s), measured on 2 cores; this lies between.
 COMPILED_FIRST_POINTS = 2**23
 
 
@@ -122,6 +129,12 @@ def _kernels_for(xp: Any, choice: str) -> ArrayKernels:
             warnings.warn(f"compiled kernels unavailable, NumPy kernels used instead: {one_line(str(exc))}",
                           RuntimeWarning, stacklevel=2)
     return NumpyKernels()
+
+
+def _jit_disabled() -> bool:
+    # NUMBA_DISABLE_JIT (coverage runs, debugging) makes the "compiled" loops plain Python,
+    # ~40x slower than NumPy: "auto" then stays on NumPy.
+    return os.environ.get("NUMBA_DISABLE_JIT", "").strip() not in ("", "0")
 
 
 class HalfSpaceSolver:
@@ -152,11 +165,11 @@ class HalfSpaceSolver:
     kernels
         Element-wise work: ``"numpy"`` (in place, NumPy), ``"numba"`` (fused loops compiled
         with Numba: ~20 % faster solves, but ~0.5 s to load once per process) or ``"array"``
-        (the array-namespace reference). ``"auto"``: for NumPy arrays, ``"numpy"`` for the
-        solver's first solve and ``"numba"`` from its second on (a load curve, a response
-        table, a sweep: the load pays back there, not on a single solve), or from the first
-        on grids of :data:`COMPILED_FIRST_POINTS` points and more; ``"array"`` for other
-        namespaces.
+        (the array-namespace reference). ``"auto"``: for NumPy arrays, ``"numpy"`` until the
+        solver has done :data:`COMPILED_AFTER_WORK` grid points x iterations of work (a long
+        load curve or response table, where the load pays back), ``"numba"`` from there, and
+        from the first solve on grids of :data:`COMPILED_FIRST_POINTS` points and more;
+        ``"array"`` for other namespaces.
     precondition
         Preconditioned conjugate gradient (the inverse operator as preconditioner, see
         :func:`fingerpad.contact.ccg.constrained_cg`); ``False`` gives the plain Polonsky-Keer
@@ -223,8 +236,8 @@ class HalfSpaceSolver:
         # namespaces: the array-API reference.
         choice = ("numpy" if self.backend.is_numpy else "array") if kernels == "auto" else kernels
         self._kern = _kernels_for(xp_, choice)
-        self._solves = 0
-        self._compiled_tried = False
+        self._work = 0  # grid points x fine iterations of this solver's solves (kernels="auto")
+        self._compiled = False
         self.precondition = bool(precondition)
         self._pre: dict[str, Any] = {}
         self._coarse: dict[str, HalfSpaceSolver | None] = {}
@@ -309,8 +322,18 @@ class HalfSpaceSolver:
             )
             solver._factors = (fx, fy)
             solver._coarse_tol = self._coarse_tol
+            if self._compiled:
+                solver._use_compiled()
             self._coarse[kind] = solver
         return self._coarse[kind]
+
+    def _use_compiled(self) -> None:
+        """Run this solver and its coarse levels on the compiled loops from now on."""
+        self._compiled = True
+        self._kern = _kernels_for(self._xp, "numba")
+        for level in self._coarse.values():
+            if level is not None and not level._compiled:
+                level._use_compiled()
 
     def _solve(
         self, mode: str, value: float, initial: ContactResult | None, form: str | None = None
@@ -318,13 +341,10 @@ class HalfSpaceSolver:
         start = time.perf_counter()
         if initial is not None and initial.pressure.shape != self.texture.shape:
             raise FingerpadError("initial solution has a different grid")
-        if (self._kernels_choice == "auto" and self.backend.is_numpy and not self._compiled_tried
-                and (self._solves >= 1 or math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS)):
-            # A second solve means a curve, a table or a sweep, and a very large grid is one long
-            # solve: there the compiled loops' one-off load (~0.5 s per process) pays back.
-            self._compiled_tried = True
-            self._kern = _kernels_for(self._xp, "numba")
-        self._solves += 1
+        if (self._kernels_choice == "auto" and self.backend.is_numpy and not self._compiled and not _jit_disabled()
+                and (self._work >= COMPILED_AFTER_WORK or math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS)):
+            # a long curve or table, or one very long solve: the compiled loops' load pays back
+            self._use_compiled()
         if form is None:
             form = self._choose(mode, value, initial)
         seed: Any = initial
@@ -369,6 +389,7 @@ class HalfSpaceSolver:
             if raw2.converged or raw2.residual < raw.residual:
                 raw, form = raw2, other
         result = self._finish(form, mode, value, raw, time.perf_counter() - start)
+        self._work += math.prod(self.texture.shape) * raw.iterations
         self._warm = (weakref.ref(result.pressure), coarse_p) if coarse_p is not None and form == "primal" else None
         if not result.converged:
             warnings.warn(
