@@ -78,12 +78,13 @@ def _device_namespace(name: str):
             pytest.skip(f"no CUDA device ({exc})")
         return cp, contextlib.nullcontext()
     torch = pytest.importorskip("torch")
-    xtorch = pytest.importorskip("array_api_compat.torch")
-    # new tensors go to that device inside the context (not for the rest of the session)
-    return xtorch, torch.device("cuda" if torch.cuda.is_available() else "cpu")
+    # torch itself is taken as array_api_compat's wrapper of it (its own namespace is not the
+    # Array API); new tensors go to the device inside the context (not for the whole session)
+    xp = torch if name == "torch" else pytest.importorskip("array_api_compat.torch")
+    return xp, torch.device("cuda" if torch.cuda.is_available() else "cpu")
 
 
-@pytest.mark.parametrize("name", ["cupy", "torch"])
+@pytest.mark.parametrize("name", ["cupy", "torch", "array_api_compat.torch"])
 def test_gpu_namespace_if_present(name: str) -> None:
     """The solver on CuPy or PyTorch arrays: the NumPy solution (PyTorch's tensors differ from
     the standard, e.g. ``size`` is a method, and its default dtype is float32)."""

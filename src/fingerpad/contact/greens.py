@@ -110,6 +110,10 @@ class Backend:
             import numpy as xp_np  # noqa: PLC0415
 
             xp = xp_np
+        if getattr(xp, "__name__", "") == "torch":
+            # PyTorch's own namespace is not the Array API (rfftn takes dim=, not axes=, ...);
+            # array_api_compat's wrapper of it is
+            from array_api_compat import torch as xp  # noqa: PLC0415
         self.xp = xp
         self.is_numpy = "numpy" in getattr(xp, "__name__", "")
         # FINGERPAD_FFT_WORKERS: sweep workers run one FFT thread each (their parallelism is theirs).
