@@ -565,7 +565,7 @@ def main(argv: list[str] | None = None) -> int:
         "cpu_count": os.cpu_count(), "loadavg": ", ".join(f"{x:.2f}" for x in os.getloadavg()),
         "python": platform.python_version(), "numpy": np.__version__, "scipy": scipy.__version__, "tol": TOL,
         "fft": FFT_ENGINE, "ducc0": _version("ducc0")}}
-    # warm-up: imports, FFT plans and the previous solver's compiled loops (their ~1 s cache
+    # warm-up: imports, FFT plans and the previous solver's compiled loops (their ~0.5 s cache
     # load), excluded as the peers' imports are
     solve_inprocess(cell(64), LOADS["mid"])
     if not args.no_previous:

@@ -9,8 +9,8 @@ implementations share one interface:
   iteration, as few passes as NumPy allows); the default for NumPy arrays;
 * :class:`~fingerpad.contact.kernels_numba.NumbaKernels` - fused serial loops compiled with
   Numba (``kernels="numba"``, module :mod:`fingerpad.contact.kernels_numba`): ~20 % faster
-  solves, but ~0.5 s to load per process, so ``kernels="auto"`` takes them from a solver's
-  second solve on (from the first on very large grids).
+  solves, but ~0.5 s to load per process, so ``kernels="auto"`` takes them once a solver's
+  work makes that pay (long load curves; the first solve on very large grids).
 
 Notation: ``x`` the iterate (pressure or gap), ``ax`` = A x, ``b`` the linear term, ``lam``
 the multiplier of the mean constraint, ``free`` = ``x > 0``, ``r = ax - b - lam`` the gradient,
@@ -163,7 +163,7 @@ class ArrayKernels:
 class NumpyKernels(ArrayKernels):
     """NumPy, in place: each operation writes into a buffer the solver owns, so that an
     iteration allocates nothing (memory at 4096^2) and makes as few passes over the fields as
-    NumPy allows. A solver's first solve uses these (no load time; see :mod:`.kernels_numba`).
+    NumPy allows. A solver starts on these (no load time; see :mod:`.kernels_numba`).
     """
 
     def __init__(self) -> None:

@@ -6,13 +6,15 @@ where the algorithm allows: one pass over the fields where NumPy needs several.
 The loops are serial, on purpose. Parallel ones (``prange`` on OpenMP threads) measured no
 faster than NumPy: after each loop the OpenMP threads spin-wait, and they took the cores from the
 FFT's own threads, which then ran 2x slower (1024^2 cap cell, 2 cores: r2c 148 ms against 77 ms
-per solve). Serial, the solve takes ~20 % less time than with the NumPy kernels, and the
-reductions no longer depend on the number of threads.
+per solve). ``OMP_WAIT_POLICY=PASSIVE`` cured that, but must be set before the process starts.
+Serial, a solve takes ~20 % less time than with the NumPy kernels, and the reductions do not
+depend on the number of threads.
 
 Importing Numba and loading the compiled loops from its cache costs ~0.5 s per process (~1 s
-when they must be compiled first), which is why the solver's ``kernels="auto"`` starts every
-solver on :class:`fingerpad.contact.kernels.NumpyKernels` and turns to these from its second
-solve, or from the first on very large grids (:class:`fingerpad.contact.HalfSpaceSolver`).
+when they must be compiled first), which is why the solver's ``kernels="auto"`` starts on
+:class:`fingerpad.contact.kernels.NumpyKernels` and turns to these only once the work done
+makes that load pay back, or from the first solve on very large grids
+(:class:`fingerpad.contact.HalfSpaceSolver`).
 """
 
 from __future__ import annotations
