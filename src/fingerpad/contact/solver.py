@@ -232,7 +232,7 @@ class HalfSpaceSolver:
         self._kernels_choice = kernels
         if kernels in ("numpy", "numba") and not self.backend.is_numpy:
             raise FingerpadError(f"kernels={kernels!r} needs NumPy arrays")
-        # NumPy arrays: in-place NumPy kernels until the second solve (see _solve); other
+        # NumPy arrays: in-place NumPy kernels until the compiled ones pay (see _solve); other
         # namespaces: the array-API reference.
         choice = ("numpy" if self.backend.is_numpy else "array") if kernels == "auto" else kernels
         self._kern = _kernels_for(xp_, choice)
