@@ -218,8 +218,9 @@ class FFTOperator:
     # Single-precision helpers. The preconditioner and the line search's curvature t.A t need
     # only a few significant digits (the iterate, A x and the residual stay in double
     # precision), and with SciPy a float32 transform costs 1/2 to 1/5 of a float64 one (measured
-    # 1024^2, 2048^2; with ducc0 0.7-1x, where double precision measured no faster). Since a float32 preconditioner is not exactly symmetric, the conjugate gradient
-    # keeps its descent safeguard (ccg.py).
+    # 1024^2, 2048^2; with ducc0 0.7-1x, where double precision measured no faster). Since a
+    # float32 preconditioner is not exactly symmetric, the conjugate gradient keeps its descent
+    # safeguard (ccg.py).
 
     def _low(self) -> tuple[Any, Any]:
         if self._low_mult is None:
