@@ -169,3 +169,157 @@ def test_docs_refer_inside_the_repository():
     for path in [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]:
         text = path.read_text(encoding="utf-8")
         assert "../shared" not in text and "MODEL.md" not in text, path
+
+
+# ------------------------------------------------------------------------------------------------
+# Layer rules (README "Layout"): which part of the package may import which
+# ------------------------------------------------------------------------------------------------
+
+#: The layers, lowest first. A part (a folder, or a module at the package's top) may import its
+#: own modules and any part of a LOWER layer; parts of one layer do not import each other, except
+#: in the foundation, whose small modules form a chain (the cycle test keeps it acyclic).
+LAYERS: list[tuple[str, tuple[str, ...]]] = [
+    ("foundation", ("errors", "_version", "units", "checks", "materials", "plausibility", "discover", "params",
+                    "io", "netcdf")),
+    ("surfaces", ("textures",)),
+    ("contact engine", ("contact",)),
+    ("macro scale", ("macro",)),
+    ("meso scale", ("meso",)),
+    ("finger", ("finger",)),
+    ("micro scale and friction", ("micro", "friction")),
+    ("coupling", ("coupling",)),
+    ("figures", ("plotting",)),
+    ("jobs", ("study", "measure")),
+    ("design", ("design",)),
+    ("explorer", ("explore",)),
+    ("command line", ("cli",)),
+]
+
+#: Heavy toolkits and the one part each may be imported in (at any depth, lazily too).
+TOOLKITS: dict[str, str] = {
+    "typer": "cli", "rich": "cli", "click": "cli",
+    "matplotlib": "plotting",
+    "panel": "explore", "bokeh": "explore", "param": "explore",
+    "dask": "design", "distributed": "design", "zarr": "design",
+    "statsmodels": "measure", "SurfaceTopography": "textures",
+}
+
+
+def _part(module: str) -> str:
+    """``fingerpad.micro.bem`` -> ``micro``; ``fingerpad.coupling`` -> ``coupling``."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else "__init__"
+
+
+def _all_imports(path: Path, module: str) -> tuple[set[str], set[str]]:
+    """Every import of ``path`` outside TYPE_CHECKING blocks, lazy ones inside functions too:
+    (fingerpad modules, top-level names of other packages, including ``lazy_loader.load(...)``)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+    skipped: set[int] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+            skipped.update(id(n) for n in ast.walk(node))
+    ours: set[str] = set()
+    others: set[str] = set()
+    for node in ast.walk(tree):
+        if id(node) in skipped:
+            continue
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                (ours if alias.name.startswith("fingerpad") else others).add(alias.name)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - (node.level - 1)]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            if not target.startswith("fingerpad"):
+                others.add(target)
+                continue
+            submodules = {f"{target}.{a.name}" for a in node.names} & MODULES
+            # `from .. import io` imports the module fingerpad.io, not the package's face
+            ours.update(submodules if submodules and node.module is None else {target, *submodules})
+        elif (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "load"
+              and isinstance(node.func.value, ast.Name) and node.func.value.id == "lazy_loader"
+              and node.args and isinstance(node.args[0], ast.Constant)):
+            others.add(str(node.args[0].value))
+    return ours, {name.split(".")[0] for name in others if name}
+
+
+def _layer_of() -> dict[str, int]:
+    return {part: i for i, (_, parts) in enumerate(LAYERS) for part in parts}
+
+
+def layer_violations(edges: dict[str, set[str]]) -> list[str]:
+    """Imports ``module -> module`` that break :data:`LAYERS` (given module-level edges)."""
+    level = _layer_of()
+    bad = []
+    for source, targets in sorted(edges.items()):
+        a = _part(source)
+        if a == "__init__":
+            continue  # the package's face hands every public name on, lazily
+        for target in sorted(targets):
+            b = _part(target)
+            if a == b or b == "__init__" and target == "fingerpad._version":
+                continue
+            if b == "__init__":
+                bad.append(f"{source} -> {target} (import the module, not the package's face)")
+            elif a not in level or b not in level:
+                bad.append(f"{source} -> {target} (part {a if a not in level else b!r} has no layer: add it)")
+            elif level[b] > level[a] or (level[b] == level[a] and LAYERS[level[a]][0] != "foundation"):
+                bad.append(f"{source} -> {target} ({LAYERS[level[a]][0]} may not import {LAYERS[level[b]][0]})")
+    return bad
+
+
+def _package_imports() -> tuple[dict[str, set[str]], dict[str, set[str]]]:
+    ours: dict[str, set[str]] = {}
+    others: dict[str, set[str]] = {}
+    for path in SRC.rglob("*.py"):
+        rel = path.relative_to(SRC.parent).with_suffix("")
+        parts = list(rel.parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        name = ".".join(parts)
+        found, third = _all_imports(path, name)
+        ours[name] = {m for m in found if m in MODULES and m != name}
+        others[name] = third
+    return ours, others
+
+
+def test_every_part_has_a_layer():
+    parts = {_part(m) for m in MODULES} - {"__init__"}
+    assert parts <= set(_layer_of()), f"parts without a layer: {sorted(parts - set(_layer_of()))}"
+
+
+def test_no_import_breaks_the_layers():
+    """No arrow climbs back up: lazy imports inside functions count too."""
+    ours, _ = _package_imports()
+    assert not layer_violations(ours), "\n".join(layer_violations(ours))
+
+
+def test_heavy_toolkits_stay_in_their_folder():
+    _, others = _package_imports()
+    bad = [f"{module} imports {lib} (only {TOOLKITS[lib]}/ may)"
+           for module, libs in sorted(others.items()) for lib in sorted(libs)
+           if lib in TOOLKITS and _part(module) != TOOLKITS[lib]]
+    assert not bad, "\n".join(bad)
+
+
+def test_layer_checker_finds_a_climb():
+    """The checker itself: an arrow up, a sibling arrow and an arrow to the face are found; arrows
+    down and inside a part are not."""
+    edges = {
+        "fingerpad.plotting.measure": {"fingerpad.measure.analysis", "fingerpad.io"},
+        "fingerpad.study.run": {"fingerpad.measure.curves", "fingerpad.study.spec", "fingerpad.coupling"},
+        "fingerpad.micro.bem": {"fingerpad"},
+        "fingerpad.units": {"fingerpad.errors"},
+    }
+    found = layer_violations(edges)
+    assert len(found) == 3, found
+    assert any("plotting.measure -> fingerpad.measure.analysis" in f for f in found)
+    assert any("study.run -> fingerpad.measure.curves" in f for f in found)
+    assert any("package's face" in f for f in found)
+    _, others = _package_imports()
+    assert "panel" in others["fingerpad.explore.app"]  # lazy_loader.load("panel") is seen

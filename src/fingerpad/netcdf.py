@@ -209,7 +209,7 @@ def to_netcdf(ds: Any, path: str | os.PathLike[str]) -> Path:
 
 
 def save_result(result: Any, path: str | os.PathLike[str], attrs: Mapping[str, Any] | None = None) -> Path:
-    """Write one :class:`~fingerpad.halfspace.ContactResult` to NetCDF (atomically).
+    """Write one :class:`~fingerpad.contact.ContactResult` to NetCDF (atomically).
 
     ``attrs`` (any JSON-like mapping) is added to the global attributes after conversion.
     """
@@ -222,7 +222,7 @@ def save_results(results: Sequence[Any], path: str | os.PathLike[str], attrs: Ma
 
 
 def load_curve_dataset(curve: Any, attrs: Mapping[str, Any] | None = None):
-    """Dataset of a :class:`~fingerpad.unitcell.LoadCurve` (fields stacked by mean pressure)."""
+    """Dataset of a :class:`~fingerpad.micro.loadcurve.LoadCurve` (fields stacked by mean pressure)."""
     import xarray as xr
 
     results = list(getattr(curve, "results", None) or [])
@@ -250,7 +250,7 @@ def load_curve_dataset(curve: Any, attrs: Mapping[str, Any] | None = None):
 
 
 def save_load_curve(curve: Any, path: str | os.PathLike[str], attrs: Mapping[str, Any] | None = None) -> Path:
-    """Write a :class:`~fingerpad.unitcell.LoadCurve` to NetCDF (atomically)."""
+    """Write a :class:`~fingerpad.micro.loadcurve.LoadCurve` to NetCDF (atomically)."""
     return to_netcdf(load_curve_dataset(curve, attrs), path)
 
 

@@ -106,7 +106,7 @@ def solve(
     2 on a user error (nothing written).
     """
     from ..study.overrides import split_texture_options
-    from ..study.solve import build_solve_job
+    from ..study.cell_job import build_solve_job
 
     with user_errors():
         check_texture_options(split_texture_options(ctx.args), texture, command_options(ctx))
@@ -169,7 +169,7 @@ def run_job(job: Any) -> int:
     """Solve, write the outputs (all or none), report. Returns the exit code (0 or 1)."""
     import json
 
-    from ..study.solve import run_solve, write_solve_outputs
+    from ..study.cell_job import run_solve, write_solve_outputs
     from ..units import format_quantity
 
     err = stderr_console()
