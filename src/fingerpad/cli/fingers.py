@@ -68,7 +68,7 @@ def finger_models(
         inputs: dict[str, object] = {}
         if finger is not None:
             from ..finger import get_finger
-            from ..meso.ridges import SinusoidalRidges
+            from ..meso.sinusoidal import SinusoidalRidges
 
             f = get_finger(finger)
             inputs = {"skin_modulus": f.modulus, "radius": f.radius, "source": f"finger preset {f.name!r}"}
