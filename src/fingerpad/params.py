@@ -244,10 +244,10 @@ class Param:
             raise FingerpadError(f"{label}: expected a {self.kind}, got {value!r}")
         if self.kind in DIMENSIONAL:
             if require_unit and _is_bare_number(value) and float(str(value).strip()) != 0:
-                unit = {"length": "um", "pressure": "kPa", "force": "N"}[self.kind]
+                units = ", ".join(u for u, (dim, _) in UNITS.items() if dim == self.dimension and u.isascii())
                 raise FingerpadError(
-                    f"{label}: {value!r} has no unit; give the {self.kind} with one, e.g. \"{value}{unit}\" "
-                    f"(a bare number here would be {value} {self.unit})"
+                    f"{label}: {value!r} has no unit; a {self.kind} needs one here, e.g. "
+                    f"\"{str(value).strip()}{self.unit}\" if SI was meant (units: {units})"
                 )
             number = parse_quantity(value, self.dimension, name=label)
             if self.plausible and number != 0:
