@@ -47,15 +47,16 @@ FINGER_PARAMS: tuple[Param, ...] = (
     PAD_RADIUS,
     PAD_MODULUS,
     Param("beta", "ratio", "viscoelastic hysteresis loss fraction, Eq. 2.4", 0.1, low=0, high=1,
-          label="hysteresis loss fraction beta"),
+          label="hysteresis loss fraction beta", symbol="beta"),
     Param("tau0", "pressure", "interfacial shear strength at zero pressure, Eq. 2.3", 8.1e3, low=0,
-          label="shear strength tau0"),
+          label="shear strength tau0", symbol="tau0"),
     Param("alpha", "ratio", "pressure coefficient of the shear strength, Eq. 2.3", 0.1, low=0,
-          label="pressure coefficient alpha"),
+          label="pressure coefficient alpha", symbol="alpha"),
     Param("skin_modulus", "pressure", "micro-scale skin modulus E_s, Eq. 3.4 (thesis: 0.2-0.5 MPa)",
-          DEFAULT_SKIN_MODULUS, low=0, low_open=True, label="skin modulus E_s", plausible="skin modulus"),
+          DEFAULT_SKIN_MODULUS, low=0, low_open=True, label="skin modulus E_s", plausible="skin modulus",
+          symbol="E_s"),
     Param("skin_poisson", "ratio", "skin Poisson ratio (docs/model.md: 0.48-0.5)", DEFAULT_SKIN_POISSON,
-          low=-1, low_open=True, high=0.5, label="skin Poisson ratio"),
+          low=-1, low_open=True, high=0.5, label="skin Poisson ratio", symbol="nu_s"),
 )
 
 #: Dimension of each declared finger field (derived from :data:`FINGER_PARAMS`).

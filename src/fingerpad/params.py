@@ -97,6 +97,8 @@ class Param:
     plausible
         A role of :data:`fingerpad.plausibility.RANGES`: a value read from user input outside
         its range is warned about (a forgotten unit).
+    symbol
+        The symbol of the equations (``R_fp``), for column heads; default the name.
     """
 
     name: str
@@ -111,6 +113,7 @@ class Param:
     example: Any = None
     label: str | None = None
     plausible: str | None = None
+    symbol: str | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -175,13 +178,19 @@ class Param:
             return "required"
         if self.default is None:
             return "auto"
-        if self.kind == "angle" and isinstance(self.default, (int, float)):
-            return f"{self.default:g} deg"
-        if self.kind in DIMENSIONAL and isinstance(self.default, (int, float)):
+        return self.format(self.default)
+
+    def format(self, value: Any) -> str:
+        """An SI value as listings show it: ``9 mm``, ``40 kPa``, ``30 deg``, ``0.1``."""
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            return str(value)
+        if self.kind == "angle":
+            return f"{math.degrees(value):g} deg"
+        if self.kind in DIMENSIONAL:
             from .units import format_quantity
 
-            return format_quantity(float(self.default), self.dimension)
-        return str(self.default)
+            return format_quantity(float(value), self.dimension)
+        return f"{value:g}"
 
     # ------------------------------------------------------------------ values
 

@@ -29,6 +29,7 @@ def hertz_area(load: np.ndarray, radius: float, modulus: np.ndarray | float) -> 
 
 #: The pad radius R_fp and reduced modulus E_fp* (models that take them get the finger's).
 PAD_RADIUS = Param("radius", "length", "equivalent pad radius R_fp (docs/model.md: 7-11 mm)", low=0, low_open=True,
-                   example="9mm", label="pad radius R_fp", plausible="pad radius")
+                   example="9mm", label="pad radius R_fp", plausible="pad radius", symbol="R_fp")
 PAD_MODULUS = Param("modulus", "pressure", "pad reduced modulus E_fp* (docs/model.md: 10-100 kPa)", low=0,
-                    low_open=True, example="40kPa", label="pad modulus E_fp*", plausible="pad modulus")
+                    low_open=True, example="40kPa", label="pad modulus E_fp*", plausible="pad modulus",
+                    symbol="E_fp*")
