@@ -30,8 +30,8 @@ def fingers_command() -> None:
     table.add_column("preset")
     for p in FINGER_PARAMS:
         table.add_column(head(p), no_wrap=True)
-    table.add_column("gross area")
-    table.add_column("ridge area")
+    table.add_column("gross area", overflow="fold")
+    table.add_column("ridge area", overflow="fold")
     for name, f in FINGER_PRESETS.items():
         table.add_row(f"{name}\n{f.description}", *(p.format(getattr(f, p.name)) for p in FINGER_PARAMS),
                       escape(repr(f.gross_model)), escape(repr(f.ridges)))

@@ -22,7 +22,21 @@ from .two_regime import TwoRegimePowerLawArea
 HELPER_MODULES = frozenset({"pressure"})
 
 
-def _collect() -> dict[str, Model]:
+#: Pad (gross-area) models by name (study files), filled by :func:`discover_models`.
+GROSS_MODELS: dict[str, Model] = {}
+
+
+def discover_models() -> dict[str, Model]:
+    """Find the pad models declared by the files of this package (``MODELS`` of each module of
+    ``__path__``, helpers excepted) and fill :data:`GROSS_MODELS` with them; run on import.
+
+    Raises
+    ------
+    fingerpad.discover.DiscoveryError
+        A module that declares no ``MODELS`` (see :func:`fingerpad.discover.collect`).
+    ValueError
+        Two models of the same name.
+    """
     from ..discover import collect
 
     found: dict[str, Model] = {}
@@ -30,11 +44,12 @@ def _collect() -> dict[str, Model]:
         if model.name in found:
             raise ValueError(f"two pad models are named {model.name!r}")
         found[model.name] = model
-    return found
+    GROSS_MODELS.clear()
+    GROSS_MODELS.update(found)
+    return GROSS_MODELS
 
 
-#: Pad (gross-area) models by name (study files, command line), found by discovery.
-GROSS_MODELS: dict[str, Model] = _collect()
+discover_models()
 
-__all__ = ["GROSS_MODELS", "HELPER_MODULES", "DzidekArea", "GrossAreaModel", "HertzArea", "PowerLawArea",
+__all__ = ["GROSS_MODELS", "HELPER_MODULES", "discover_models", "DzidekArea", "GrossAreaModel", "HertzArea", "PowerLawArea",
            "TwoRegimePowerLawArea", "disc_average", "pad_pressure"]

@@ -23,7 +23,21 @@ from .sinusoidal import SinusoidalRidges
 HELPER_MODULES = frozenset({"compare"})
 
 
-def _collect() -> dict[str, Model]:
+#: Ridge-area models by name (study files), filled by :func:`discover_models`.
+RIDGE_MODELS: dict[str, Model] = {}
+
+
+def discover_models() -> dict[str, Model]:
+    """Find the ridge models declared by the files of this package (``MODELS`` of each module of
+    ``__path__``, helpers excepted) and fill :data:`RIDGE_MODELS` with them; run on import.
+
+    Raises
+    ------
+    fingerpad.discover.DiscoveryError
+        A module that declares no ``MODELS`` (see :func:`fingerpad.discover.collect`).
+    ValueError
+        Two models of the same name.
+    """
     from ..discover import collect
 
     found: dict[str, Model] = {}
@@ -31,11 +45,12 @@ def _collect() -> dict[str, Model]:
         if model.name in found:
             raise ValueError(f"two ridge models are named {model.name!r}")
         found[model.name] = model
-    return found
+    RIDGE_MODELS.clear()
+    RIDGE_MODELS.update(found)
+    return RIDGE_MODELS
 
 
-#: Ridge-area models by name (study files), found by discovery.
-RIDGE_MODELS: dict[str, Model] = _collect()
+discover_models()
 
-__all__ = ["HELPER_MODULES", "RIDGE_MODELS", "CircularRidges", "ConstantFractionRidges", "FingerprintBEMRidges",
+__all__ = ["HELPER_MODULES", "RIDGE_MODELS", "discover_models", "CircularRidges", "ConstantFractionRidges", "FingerprintBEMRidges",
            "PowerLawRidges", "RidgeAreaModel", "SinusoidalRidges", "fingerprint_topography", "ridge_model_curves"]
