@@ -3,6 +3,7 @@ strict discovery, and sweep axes that refuse a length without a unit."""
 
 from __future__ import annotations
 
+import re
 import sys
 import textwrap
 from pathlib import Path
@@ -353,3 +354,20 @@ def test_sweep_axis_units_from_python_are_si():
         sweep_from_dict(data, require_units=True)
     with_units = sweep_from_dict({**data, "sweep": {"axes": {"spacing": ["150um", "200um"]}}}, require_units=True)
     assert with_units.axes[0].values == spec.axes[0].values
+
+
+@pytest.mark.parametrize("sweep, where", [
+    ('design = "lhs"\npoints = 4\n[sweep.axes]\nspacing = "100:200"', "[sweep.axes] spacing: '100'"),
+    ('design = "points"\n[[sweep.point]]\nspacing = "150um"\n[[sweep.point]]\nspacing = 2e-4',
+     "[[sweep.point]] 2 spacing: 0.0002"),
+])
+def test_lhs_and_point_designs_refuse_lengths_without_unit(tmp_path, sweep, where):
+    from fingerpad.design.spec import read_sweep_file
+
+    study = tmp_path / "s.toml"
+    study.write_text(SWEEP.split("[sweep.axes]")[0] + "[sweep]\n" + sweep + "\n")
+    with pytest.raises(FingerpadError, match=rf"^{re.escape(where)} has no unit; a length needs one"):
+        sweep_from_dict(read_sweep_file(str(study)))
+    fixed = study.read_text().replace('"100:200"', '"100um:200um"').replace("2e-4", '"200um"')
+    study.write_text(fixed)
+    assert sweep_from_dict(read_sweep_file(str(study))).size in (2, 4)
