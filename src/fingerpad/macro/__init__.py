@@ -51,5 +51,5 @@ def discover_models() -> dict[str, Model]:
 
 discover_models()
 
-__all__ = ["GROSS_MODELS", "HELPER_MODULES", "discover_models", "DzidekArea", "GrossAreaModel", "HertzArea", "PowerLawArea",
-           "TwoRegimePowerLawArea", "disc_average", "pad_pressure"]
+__all__ = ["GROSS_MODELS", "HELPER_MODULES", "DzidekArea", "GrossAreaModel", "HertzArea", "PowerLawArea",
+           "TwoRegimePowerLawArea", "disc_average", "discover_models", "pad_pressure"]

@@ -52,5 +52,6 @@ def discover_models() -> dict[str, Model]:
 
 discover_models()
 
-__all__ = ["HELPER_MODULES", "RIDGE_MODELS", "discover_models", "CircularRidges", "ConstantFractionRidges", "FingerprintBEMRidges",
-           "PowerLawRidges", "RidgeAreaModel", "SinusoidalRidges", "fingerprint_topography", "ridge_model_curves"]
+__all__ = ["HELPER_MODULES", "RIDGE_MODELS", "CircularRidges", "ConstantFractionRidges", "FingerprintBEMRidges",
+           "PowerLawRidges", "RidgeAreaModel", "SinusoidalRidges", "discover_models", "fingerprint_topography",
+           "ridge_model_curves"]
