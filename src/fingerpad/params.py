@@ -259,10 +259,8 @@ class Param:
                     f"\"{str(value).strip()}{self.unit}\" if SI was meant (units: {units})"
                 )
             number = parse_quantity(value, self.dimension, name=label)
-            if self.plausible and number != 0:
-                from .plausibility import check_plausible
-
-                check_plausible(number, self.plausible, label)
+            if number != 0:
+                self._warn_implausible(number, label)
             return self.check(number, label)
         if self.kind == "angle":
             return self.check(parse_angle(value, label), label)
@@ -277,16 +275,24 @@ class Param:
             return self.check(int(number), label)
         if self.kind == "ratio":
             number = parse_quantity(value, "none", name=label)
-            if self.plausible:
-                from .plausibility import check_plausible
-
-                check_plausible(number, self.plausible, label)
+            self._warn_implausible(number, label)
             return self.check(number, label)
         if self.kind == "choice":
             return self.check(str(value) if not isinstance(value, str) else value, label)
         from .textures.geometry import parse_size
 
         return parse_size(value, label)  # size
+
+
+    def _warn_implausible(self, number: float, label: str) -> None:
+        """A PlausibilityWarning for a value outside the range of :attr:`plausible` (a role of the
+        same dimension only: texture families declare every parameter with the length role)."""
+        if not self.plausible:
+            return
+        from .plausibility import RANGES, check_plausible
+
+        if self.plausible in RANGES and RANGES[self.plausible][2] == self.dimension:
+            check_plausible(number, self.plausible, label)
 
 
 def parse_angle(value: Any, name: str) -> float:
