@@ -10,9 +10,9 @@ from scipy.integrate import quad
 
 from fingerpad.errors import FingerpadError
 from fingerpad.finger import FINGER_PRESETS, Finger, get_finger
-from fingerpad.macro.gross import DzidekArea, HertzArea, PowerLawArea, TwoRegimePowerLawArea
+from fingerpad.macro import DzidekArea, HertzArea, PowerLawArea, TwoRegimePowerLawArea
 from fingerpad.macro.pressure import pad_pressure
-from fingerpad.meso.ridges import CircularRidges, ConstantFractionRidges, PowerLawRidges, SinusoidalRidges
+from fingerpad.meso import CircularRidges, ConstantFractionRidges, PowerLawRidges, SinusoidalRidges
 from fingerpad.plotting.ridges import ridge_models_figure
 
 R_FP, E_FP = 9e-3, 40e3

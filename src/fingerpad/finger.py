@@ -17,35 +17,55 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from .checks import ArrayLike, as_loads, nonnegative, positive, scalar_out
+from .checks import ArrayLike, as_loads, scalar_out
 from .errors import FingerpadError
-from .macro.gross import GROSS_MODELS, DzidekArea, GrossAreaModel, HertzArea, PowerLawArea, TwoRegimePowerLawArea
+from .macro import GROSS_MODELS, DzidekArea, GrossAreaModel, HertzArea, PowerLawArea, TwoRegimePowerLawArea
+from .macro._base import PAD_MODULUS, PAD_RADIUS
 from .macro.pressure import disc_average, pad_pressure
-from .materials import DEFAULT_SKIN_MODULUS, DEFAULT_SKIN_POISSON, check_poisson, reduced_modulus
-from .meso.ridges import (
+from .materials import DEFAULT_SKIN_MODULUS, DEFAULT_SKIN_POISSON, reduced_modulus
+from .meso import (
     RIDGE_MODELS,
     CircularRidges,
     ConstantFractionRidges,
+    FingerprintBEMRidges,
     PowerLawRidges,
     RidgeAreaModel,
     SinusoidalRidges,
 )
+from .params import Param, check_fields
 
-# Quantity kinds of Finger's numeric fields, so with_overrides accepts "9mm", "40kPa", ...
-FINGER_FIELDS = {
-    "radius": "length",
-    "modulus": "pressure",
-    "beta": "none",
-    "tau0": "pressure",
-    "alpha": "none",
-    "skin_modulus": "pressure",
-    "skin_poisson": "none",
-}
+#: The finger's own numeric fields, declared once (kind and unit, bounds, default, meaning): the
+#: study file's ``[finger]`` keys, ``--finger-param NAME=VALUE``, the sweep axes of the finger,
+#: the explorer's finger fields and ``fingerpad fingers`` are derived from them.
+FINGER_PARAMS: tuple[Param, ...] = (
+    PAD_RADIUS,
+    PAD_MODULUS,
+    Param("beta", "ratio", "viscoelastic hysteresis loss fraction, Eq. 2.4", 0.1, low=0, high=1,
+          label="hysteresis loss fraction beta", symbol="beta"),
+    Param("tau0", "pressure", "interfacial shear strength at zero pressure, Eq. 2.3", 8.1e3, low=0,
+          label="shear strength tau0", symbol="tau0"),
+    Param("alpha", "ratio", "pressure coefficient of the shear strength, Eq. 2.3", 0.1, low=0,
+          label="pressure coefficient alpha", symbol="alpha"),
+    Param("skin_modulus", "pressure", "micro-scale skin modulus E_s, Eq. 3.4 (thesis: 0.2-0.5 MPa)",
+          DEFAULT_SKIN_MODULUS, low=0, low_open=True, label="skin modulus E_s", plausible="skin modulus",
+          symbol="E_s"),
+    Param("skin_poisson", "ratio", "skin Poisson ratio (docs/model.md: 0.48-0.5)", DEFAULT_SKIN_POISSON,
+          low=-1, low_open=True, high=0.5, label="skin Poisson ratio", symbol="nu_s"),
+)
+
+#: Dimension of each declared finger field (derived from :data:`FINGER_PARAMS`).
+FINGER_FIELDS: dict[str, str] = {p.name: p.dimension for p in FINGER_PARAMS}
+
+
+def finger_param(name: str) -> Param:
+    """The declaration of the finger field ``name``."""
+    return next(p for p in FINGER_PARAMS if p.name == name)
 
 
 @dataclass(frozen=True)
@@ -90,15 +110,7 @@ class Finger:
     description: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
-        positive(self.radius, "pad radius R_fp")
-        positive(self.modulus, "pad modulus E_fp*")
-        beta = nonnegative(self.beta, "hysteresis loss fraction beta")
-        if beta > 1.0:
-            raise FingerpadError(f"hysteresis loss fraction beta must lie in [0, 1], got {self.beta!r}")
-        nonnegative(self.tau0, "shear strength tau0")
-        nonnegative(self.alpha, "pressure coefficient alpha")
-        positive(self.skin_modulus, "skin modulus E_s")
-        check_poisson(self.skin_poisson, "skin Poisson ratio")
+        check_fields(self, FINGER_PARAMS)
         if not isinstance(self.ridges, RidgeAreaModel):
             raise FingerpadError(f"ridges must be a ridge-area model with area(load, gross_area), got {self.ridges!r}")
         if self.gross is not None:
@@ -145,16 +157,14 @@ class Finger:
         FingerpadError
             For an unknown field name or an invalid value.
         """
-        from .units import parse_quantity
-
         names = [f.name for f in dataclasses.fields(self)]
         unknown = sorted(set(kwargs) - set(names))
         if unknown:
             raise FingerpadError(f"unknown finger parameter(s) {', '.join(unknown)}; known: {', '.join(names)}")
         values = dict(kwargs)
-        for key, dim in FINGER_FIELDS.items():
-            if isinstance(values.get(key), str):
-                values[key] = parse_quantity(values[key], dim, name=key)
+        for par in FINGER_PARAMS:
+            if isinstance(values.get(par.name), str):
+                values[par.name] = par.parse(values[par.name], par.name)
         gross = values.get("gross", self.gross)
         sync = {k: values[k] for k in ("radius", "modulus") if k in values}
         if sync and "gross" not in values and gross is not None and dataclasses.is_dataclass(gross):
@@ -248,12 +258,14 @@ def get_finger(name: str) -> Finger:
 
 
 __all__ = [
-    "FINGER_PRESETS",
     "FINGER_FIELDS",
+    "FINGER_PARAMS",
+    "FINGER_PRESETS",
     "CircularRidges",
     "ConstantFractionRidges",
     "DzidekArea",
     "Finger",
+    "FingerprintBEMRidges",
     "GrossAreaModel",
     "HertzArea",
     "PowerLawArea",
@@ -262,55 +274,37 @@ __all__ = [
     "SinusoidalRidges",
     "TwoRegimePowerLawArea",
     "disc_average",
+    "finger_param",
     "get_finger",
+    "model_from_spec",
     "pad_pressure",
 ]
 
 
 def model_from_spec(
-    kind: str, spec: Any, finger: Finger, name: str
+    kind: str, spec: Any, finger: Finger, name: str, context: Mapping[str, Any] | None = None
 ) -> GrossAreaModel | RidgeAreaModel:
     """A gross-area (``kind="gross"``) or ridge-area (``kind="ridges"``) model from a study value.
 
     ``spec`` is a model name (``"dzidek"``) or a table ``{model = "dzidek", stiffening = 5}`` whose
-    other keys are the model's fields (SI numbers or quantities with units). A gross model that
-    takes the pad's ``radius``/``modulus`` gets the finger's unless given.
+    other keys are the model's declared parameters (SI numbers or quantities with units). A model
+    that inherits values (:attr:`fingerpad.params.Model.inherits`) gets the finger's
+    (``finger.radius``, ``finger.modulus``) and the study's (``context``, e.g. ``loads.max``)
+    unless given.
 
     Raises
     ------
     FingerpadError
         Unknown model or field, bad value (naming ``name``).
     """
-    from .units import parse_quantity
-
     registry = GROSS_MODELS if kind == "gross" else RIDGE_MODELS
     table = {"model": spec} if isinstance(spec, str) else dict(spec) if isinstance(spec, dict) else None
     if table is None or not isinstance(table.get("model"), str):
         raise FingerpadError(f"{name}: expected a model name or a table with model = NAME "
                              f"(models: {', '.join(registry)})")
-    model_name = table.pop("model").strip().lower()
-    cls = registry.get(model_name)
-    if cls is None:
+    model_name = table.pop("model").strip().lower().replace("-", "_")
+    model = registry.get(model_name)
+    if model is None:
         raise FingerpadError(f"{name}: unknown model {model_name!r} (models: {', '.join(registry)})")
-    fields = cls.QUANTITIES
-    unknown = sorted(set(table) - set(fields))
-    if unknown:
-        raise FingerpadError(f"{name}: model {model_name!r} has no parameter(s) {', '.join(unknown)} "
-                             f"(its parameters: {', '.join(fields)})")
-    kwargs: dict[str, Any] = {}
-    for key, value in table.items():
-        dim = fields[key]
-        if dim == "text":
-            kwargs[key] = str(value)
-        elif isinstance(value, bool) or not isinstance(value, (int, float, str)):
-            raise FingerpadError(f"{name} {key}: expected a number or a quantity, got {value!r}")
-        else:
-            kwargs[key] = parse_quantity(value, dim, name=f"{name} {key}")
-    if kind == "gross":
-        for key in ("radius", "modulus"):
-            if key in fields and key not in kwargs:
-                kwargs[key] = getattr(finger, key)
-    try:
-        return cls(**kwargs)
-    except TypeError as exc:  # a required field missing
-        raise FingerpadError(f"{name}: model {model_name!r}: {exc} (its parameters: {', '.join(fields)})") from None
+    values = {"finger.radius": finger.radius, "finger.modulus": finger.modulus, **(context or {})}
+    return model.build(table, where=name, context=values)

@@ -6,10 +6,19 @@ import math
 from dataclasses import dataclass
 
 from .errors import FingerpadError
+from .params import Param
 
 #: Effective micro-scale skin modulus found by the thesis: 0.2-0.5 MPa (docs/model.md, micro scale).
 DEFAULT_SKIN_MODULUS = 0.3e6
 DEFAULT_SKIN_POISSON = 0.49
+
+#: The counter-surface's declared values (``[material]`` of a study, its sweep axes); a missing
+#: modulus is a rigid counter-surface.
+MATERIAL_MODULUS = Param("modulus", "pressure", "Young's modulus E_m of the textured material (or rigid)", None,
+                         low=0, low_open=True, example="0.5GPa", label="material modulus",
+                         plausible="material modulus")
+MATERIAL_POISSON = Param("poisson", "ratio", "Poisson ratio nu_m of the textured material", 0.35, low=-1,
+                         low_open=True, high=0.5, example=0.4, label="material Poisson ratio")
 
 
 def check_modulus(value: float, name: str = "modulus") -> float:

@@ -13,36 +13,56 @@ from .common import say, stdout_console, user_errors
 
 
 def fingers_command() -> None:
-    """List the finger presets and their parameters (use them with --finger NAME)."""
+    """List the finger presets, the finger's parameters and the pad and ridge models (with their
+    parameters, units and defaults); use them with --finger NAME and --finger-param NAME=VALUE."""
+    from rich.markup import escape
     from rich.table import Table
 
-    from ..finger import FINGER_PRESETS
-    from ..units import format_quantity
+    from ..finger import FINGER_PARAMS, FINGER_PRESETS
+    from ..macro import GROSS_MODELS
+    from ..meso import RIDGE_MODELS
+
+    def head(p: object) -> str:
+        return f"{p.symbol or p.name}"  # type: ignore[attr-defined]
 
     table = Table(title="finger presets: fingerpad predict --finger NAME [--finger-param NAME=VALUE]",
                   show_lines=True)
-    for col in ("preset", "R_fp", "E_fp*", "gross area", "ridge area", "E_s", "nu_s", "tau0", "alpha", "beta"):
-        table.add_column(col, no_wrap=col not in ("gross area", "ridge area"))
+    table.add_column("preset")
+    for p in FINGER_PARAMS:
+        table.add_column(head(p), no_wrap=True)
+    table.add_column("gross area", overflow="fold")
+    table.add_column("ridge area", overflow="fold")
     for name, f in FINGER_PRESETS.items():
-        table.add_row(
-            f"{name}\n{f.description}", format_quantity(f.radius, "length"), format_quantity(f.modulus, "pressure"),
-            repr(f.gross_model), repr(f.ridges), format_quantity(f.skin_modulus, "pressure"), f"{f.skin_poisson:g}",
-            format_quantity(f.tau0, "pressure"), f"{f.alpha:g}", f"{f.beta:g}",
-        )
+        table.add_row(f"{name}\n{f.description}", *(p.format(getattr(f, p.name)) for p in FINGER_PARAMS),
+                      escape(repr(f.gross_model)), escape(repr(f.ridges)))
     console = stdout_console(160)
     if console.width >= 130:
         console.print(table)
     else:  # a narrow terminal: one block per preset
         for name, f in FINGER_PRESETS.items():
             say(console, f"{name}: {f.description}")
-            say(console, f"  R_fp {format_quantity(f.radius, 'length')}, E_fp* {format_quantity(f.modulus, 'pressure')}, "
-                         f"E_s {format_quantity(f.skin_modulus, 'pressure')}, nu_s {f.skin_poisson:g}, "
-                         f"tau0 {format_quantity(f.tau0, 'pressure')}, alpha {f.alpha:g}, beta {f.beta:g}")
+            say(console, "  " + ", ".join(f"{head(p)} {p.format(getattr(f, p.name))}" for p in FINGER_PARAMS))
             say(console, f"  gross area: {f.gross_model!r}")
             say(console, f"  ridge area: {f.ridges!r}")
-    say(console, "R_fp pad radius, E_fp* pad reduced modulus (Eqs. 2.4-2.5), E_s/nu_s micro-scale skin modulus and "
-                 "Poisson ratio (Eq. 3.4), tau0 + alpha p interfacial shear strength (Eq. 2.3), beta hysteresis loss "
-                 "fraction (Eq. 2.4).")
+    say(console, "")
+    say(console, "finger parameters (--finger-param NAME=VALUE, [finger] NAME = VALUE in a study file):")
+    for p in FINGER_PARAMS:
+        bounds = f", {p.bounds_text()}" if p.bounds_text() else ""
+        say(console, f"  {p.name} [{p.unit}]{bounds}: {head(p)}, {p.doc}")
+    for title, key, registry in (("pad (gross-area) models", "gross", GROSS_MODELS),
+                                 ("ridge-area models", "ridges", RIDGE_MODELS)):
+        say(console, "")
+        say(console, f"{title} ([finger] {key} = {{ model = NAME, PARAM = VALUE }} in a study file):")
+        for model in registry.values():
+            say(console, f"  {model.name}: {model.summary}")
+            for p in model.params:
+                unit = f" [{p.unit}]" if p.unit else ""
+                default = p.default_text()
+                if p.name in model.inherits:
+                    default = "the finger's" if model.inherits[p.name].startswith("finger.") else \
+                        "the study's largest load" if model.inherits[p.name] == "loads.max" else default
+                choices = f" ({' | '.join(p.choices)})" if p.choices else ""
+                say(console, f"    {p.name}{unit}, {default}: {p.doc}{choices}")
 
 
 def finger_models(
@@ -68,7 +88,7 @@ def finger_models(
         inputs: dict[str, object] = {}
         if finger is not None:
             from ..finger import get_finger
-            from ..meso.ridges import SinusoidalRidges
+            from ..meso.sinusoidal import SinusoidalRidges
 
             f = get_finger(finger)
             inputs = {"skin_modulus": f.modulus, "radius": f.radius, "source": f"finger preset {f.name!r}"}

@@ -12,7 +12,7 @@ def textures_command() -> None:
     from rich.markup import escape
     from rich.table import Table
 
-    from ..textures import REQUIRED, registry
+    from ..textures import registry
 
     with user_errors():
         families = registry()
@@ -26,15 +26,8 @@ def textures_command() -> None:
         opts, units, defaults, docs = [], [], [], []
         for p in fam.params:
             opts.append(f"{p.option} {p.metavar}")
-            units.append(p.unit if p.kind != "choice" else "")
-            if p.default is REQUIRED:
-                defaults.append("required")
-            elif p.default is None:
-                defaults.append("auto")
-            elif p.kind == "angle":
-                defaults.append(f"{p.default:g} deg")
-            else:
-                defaults.append(str(p.default))
+            units.append(p.unit)
+            defaults.append(p.default_text())
             doc = p.doc + (f" ({' | '.join(p.choices)})" if p.choices else "")
             docs.append(doc)
         table.add_row(f"{name}\n{fam.summary}", escape("\n".join(opts)), "\n".join(units), "\n".join(defaults),
@@ -46,9 +39,8 @@ def textures_command() -> None:
         for name, fam in families.items():
             console.print(f"[bold]{escape(name)}[/bold]: {escape(fam.summary)}")
             for p in fam.params:
-                default = ("required" if p.default is REQUIRED else "auto" if p.default is None
-                           else f"{p.default:g} deg" if p.kind == "angle" else str(p.default))
-                unit = f" [{p.unit}]" if p.unit and p.kind != "choice" else ""
+                default = p.default_text()
+                unit = f" [{p.unit}]" if p.unit else ""
                 choices = f" ({' | '.join(p.choices)})" if p.choices else ""
                 console.print(escape(f"  {p.option} {p.metavar}{unit}, {default}: {p.doc}{choices}"), soft_wrap=False)
     say(console, "Lengths take unit suffixes (50um, 0.2mm) or metres; angles are in degrees unless suffixed "

@@ -15,6 +15,11 @@ Study file (the sections of ``fingerpad predict``, see :mod:`fingerpad.study.spe
     # points: [[sweep.point]] tables, each giving every axis, e.g. { spacing = "150um", height = "10um" }
 
 The grid of the unit cell and its accuracy come from ``[model]`` as for ``predict``.
+
+Units: in a study file every length, pressure or force of an axis carries its unit
+(``spacing = 7``, ``[100, 200]`` or ``"100:200:3"`` is refused, naming the axis: a bare number
+would be metres). Sections built in Python (:func:`sweep_from_dict` on a dict without a study
+file behind it) may give SI numbers; ``require_units`` decides it explicitly.
 """
 
 from __future__ import annotations
@@ -124,9 +129,13 @@ def read_sweep_file(path: str) -> dict[str, Any]:
     return data
 
 
-def _axis_values(axis: Axis, spec: Any, design: str, where: str) -> tuple[tuple[Any, ...], bool]:
+def _axis_values(axis: Axis, spec: Any, design: str, where: str,
+                 require_unit: bool = False) -> tuple[tuple[Any, ...], bool]:
     """Values (grid) or bounds (lhs) of an axis, and whether it is log-spaced."""
     from ..units import parse_range
+
+    def parse(value: Any) -> Any:
+        return axis.parse(value, where, require_unit=require_unit)
 
     log = True
     if isinstance(spec, dict):
@@ -143,7 +152,7 @@ def _axis_values(axis: Axis, spec: Any, design: str, where: str) -> tuple[tuple[
     if isinstance(spec, list):
         if not spec:
             raise FingerpadError(f"{where}: empty list of values")
-        values = tuple(axis.parse(v, where) for v in spec)
+        values = tuple(parse(v) for v in spec)
         if axis.numeric and len(values) > 1:
             arr = np.asarray(values, float)
             log = bool(np.all(arr > 0)) and bool(np.allclose(np.diff(np.log(arr)), np.log(arr[1] / arr[0]))) \
@@ -155,7 +164,7 @@ def _axis_values(axis: Axis, spec: Any, design: str, where: str) -> tuple[tuple[
         return values, log
     if not isinstance(spec, str):
         if design == "grid":
-            return (axis.parse(spec, where),), False
+            return (parse(spec),), False
         raise FingerpadError(f"{where}: expected LOW:HIGH bounds, got {spec!r}")
     if not axis.numeric:
         raise FingerpadError(f"{where}: {axis.name} takes a list of names, e.g. [\"{axis.choices[0]}\"]")
@@ -164,21 +173,26 @@ def _axis_values(axis: Axis, spec: Any, design: str, where: str) -> tuple[tuple[
     if design == "lhs":
         if len(parts) != 2:
             raise FingerpadError(f"{where}: a Latin-hypercube axis takes bounds LOW:HIGH, got {spec!r}")
-        lo, hi = (axis.parse(p, where) for p in parts)
+        lo, hi = (parse(p) for p in parts)
         if not hi > lo:
             raise FingerpadError(f"{where}: the bounds must satisfy LOW < HIGH, got {spec!r}")
         if log and lo <= 0:
             raise FingerpadError(f"{where}: log-uniform bounds must be positive (or give log = false)")
         return (lo, hi), log
     if len(parts) == 1:
-        return (axis.parse(spec, where),), False
+        return (parse(spec),), False
     if len(parts) != 3:
         raise FingerpadError(f"{where}: expected START:STOP:COUNT, a list, or one value, got {spec!r}")
     if dim == "angle":
-        parts = [str(axis.parse(parts[0], where)) + "rad", str(axis.parse(parts[1], where)) + "rad", parts[2]]
-    if log and (axis.parse(parts[0], where) <= 0):
+        parts = [str(parse(parts[0])) + "rad", str(parse(parts[1])) + "rad", parts[2]]
+    start = parse(parts[0])
+    if dim != "angle":
+        parse(parts[1])  # a unit on both ends (and within the bounds)
+    if log and start <= 0:
         log = False  # a range from zero or below: evenly spaced
     values = tuple(parse_range(":".join(parts), dim, name=where, log=log, max_count=MAX_POINTS))
+    if axis.param is not None and axis.kind != "count":
+        values = tuple(axis.param.check(v, where) for v in values)  # the declared bounds, one message
     if axis.kind == "count":
         values = tuple(sorted({int(round(v)) for v in values}))
     if len(values) < 1:
@@ -186,8 +200,13 @@ def _axis_values(axis: Axis, spec: Any, design: str, where: str) -> tuple[tuple[
     return values, log
 
 
-def sweep_from_dict(data: Mapping[str, Any]) -> SweepSpec:
+def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = None) -> SweepSpec:
     """Build and check a :class:`SweepSpec` from the sections of a sweep study file.
+
+    ``require_units``: whether a length, pressure or force of an axis must carry a unit (a bare
+    number is refused, naming the axis). ``None`` (default): required for the sections of a study
+    file (:func:`read_sweep_file`, as ``fingerpad sweep`` reads them), not for a dict built in
+    Python, whose bare numbers are SI.
 
     The base study (every point's study, before the axis values) is checked once here by
     :func:`fingerpad.study.spec.study_from_dict`; each point is checked again when it runs, and
@@ -232,6 +251,7 @@ def sweep_from_dict(data: Mapping[str, Any]) -> SweepSpec:
         axes_spec = dict(sweep.get("axes") or {})
         if not axes_spec:
             raise FingerpadError("[sweep.axes] is empty: name at least one axis (e.g. spacing = \"100um:400um:7\")")
+    strict = ("_source" in data) if require_units is None else bool(require_units)
     swept_family = "texture" in axes_spec
     axes: list[Axis] = []
     point_values: dict[str, list[Any]] = {}
@@ -239,11 +259,12 @@ def sweep_from_dict(data: Mapping[str, Any]) -> SweepSpec:
         axis = resolve_axis(name, None if swept_family else family)
         where = f"[sweep.axes] {name}"
         if design == "points":
-            values = [axis.parse(row[name], f"[[sweep.point]] {i + 1} {name}") for i, row in enumerate(sweep["point"])]
+            values = [axis.parse(row[name], f"[[sweep.point]] {i + 1} {name}", require_unit=strict)
+                      for i, row in enumerate(sweep["point"])]
             point_values[name] = values
             axes.append(Axis(**{**axis.__dict__, "values": tuple(dict.fromkeys(values)), "log": False}))
             continue
-        values, log = _axis_values(axis, axes_spec[name], design, where)
+        values, log = _axis_values(axis, axes_spec[name], design, where, strict)
         axes.append(Axis(**{**axis.__dict__, "values": values, "log": log}))
     size = int(np.prod([len(a.values) for a in axes])) if design == "grid" else 0
     if design == "lhs":

@@ -23,30 +23,24 @@ from .._version import __version__
 from ..errors import FingerpadError, one_line
 
 __all__ = [
-    "FAMILY_EXAMPLES",
     "FINGER_LABELS",
     "FieldError",
     "StudyCheck",
     "data_key",
+    "family_examples",
     "field_label",
     "study_data",
     "to_toml",
     "validate",
 ]
 
-#: Starting values of the required parameters of each family (typical dimensions of
-#: docs/model.md, "Texture dimensions"); the default study's caps for caps.
-FAMILY_EXAMPLES: dict[str, dict[str, str]] = {
-    "caps": {"radius": "100um", "height": "20um", "spacing": "175um", "lattice": "hexagonal"},
-    "dimples": {"radius": "100um", "depth": "20um", "spacing": "175um"},
-    "ellipsoids": {"semi_axis_x": "60um", "semi_axis_y": "30um", "height": "20um", "spacing_x": "175um",
-                   "spacing_y": "120um"},
-    "flat": {"size": "100um"},
-    "pillars": {"diameter": "60um", "height": "20um", "spacing": "150um"},
-    "ridges": {"width": "40um", "height": "10um", "spacing": "120um"},
-    "sinusoid": {"amplitude": "10um", "wavelength": "150um"},
-    "bisinusoid": {"amplitude": "10um", "wavelength": "150um"},
-}
+def family_examples(name: str) -> dict[str, str]:
+    """Starting values of a texture family's fields: the ``example`` of each declared parameter
+    (typical dimensions of docs/model.md, "Texture dimensions"; the default study's caps for caps)."""
+    from ..textures import get_family
+
+    return {p.name: str(p.example) for p in get_family(name).params if p.example is not None}
+
 
 #: Labels (with symbol) of the finger fields; error messages name them.
 FINGER_LABELS = {

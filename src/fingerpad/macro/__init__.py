@@ -1,13 +1,55 @@
 """The macro scale: the finger pad's gross contact and its nominal pressure distribution.
 
-* :mod:`.gross` - gross-area models against load (Hertz Eq. 2.5, Dzidek Eqs. 2.6-2.7, power laws),
-  selectable by name (:data:`GROSS_MODELS`);
+* pad (gross-area) models against load, one file each: :mod:`.hertz` (Eq. 2.5), :mod:`.dzidek`
+  (Eqs. 2.6-2.7), :mod:`.power_law`, :mod:`.two_regime`. Each file declares its models in a
+  module attribute ``MODELS = (Model(...),)`` (:class:`fingerpad.params.Model`: the class, its
+  declared parameters, what it takes from the finger); this package finds them, so a new pad
+  model is one file, selectable by name from a study file (``[finger] gross = "dzidek"``,
+  :data:`GROSS_MODELS`);
 * :mod:`.pressure` - the Hertzian pad pressure over the ridge contact (Eq. 3.7) and averages over
-  the contact disc.
+  the contact disc (a helper module, like :mod:`._base`, the protocol and shared declarations).
 """
 
-from .gross import GROSS_MODELS, DzidekArea, GrossAreaModel, HertzArea, PowerLawArea, TwoRegimePowerLawArea
+from ..params import Model
+from ._base import GrossAreaModel
+from .dzidek import DzidekArea
+from .hertz import HertzArea
+from .power_law import PowerLawArea
 from .pressure import disc_average, pad_pressure
+from .two_regime import TwoRegimePowerLawArea
 
-__all__ = ["GROSS_MODELS", "DzidekArea", "GrossAreaModel", "HertzArea", "PowerLawArea", "TwoRegimePowerLawArea",
-           "disc_average", "pad_pressure"]
+#: Modules of this package that declare no model.
+HELPER_MODULES = frozenset({"pressure"})
+
+
+#: Pad (gross-area) models by name (study files), filled by :func:`discover_models`.
+GROSS_MODELS: dict[str, Model] = {}
+
+
+def discover_models() -> dict[str, Model]:
+    """Find the pad models declared by the files of this package (``MODELS`` of each module of
+    ``__path__``, helpers excepted) and fill :data:`GROSS_MODELS` with them; run on import.
+
+    Raises
+    ------
+    fingerpad.discover.DiscoveryError
+        A module that declares no ``MODELS`` (see :func:`fingerpad.discover.collect`).
+    ValueError
+        Two models of the same name.
+    """
+    from ..discover import collect
+
+    found: dict[str, Model] = {}
+    for model in collect(__name__, __path__, "MODELS", Model, skip=HELPER_MODULES):
+        if model.name in found:
+            raise ValueError(f"two pad models are named {model.name!r}")
+        found[model.name] = model
+    GROSS_MODELS.clear()
+    GROSS_MODELS.update(found)
+    return GROSS_MODELS
+
+
+discover_models()
+
+__all__ = ["GROSS_MODELS", "HELPER_MODULES", "DzidekArea", "GrossAreaModel", "HertzArea", "PowerLawArea",
+           "TwoRegimePowerLawArea", "disc_average", "discover_models", "pad_pressure"]

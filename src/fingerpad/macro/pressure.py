@@ -3,7 +3,7 @@
 The pad is a sphere pressed on a flat, so the nominal pressure over the ridge contact disc of
 radius ``a_fr = sqrt(A_fr/pi)`` is Hertzian (Eq. 3.7). :func:`disc_average` integrates any
 function of that pressure over the disc with a graded Gauss-Legendre rule; the coupling of the
-scales (:mod:`fingerpad.coupling`) and the profile ridge models (:mod:`fingerpad.meso.ridges`)
+scales (:mod:`fingerpad.coupling`) and the profile ridge models (:mod:`fingerpad.meso`)
 use it.
 """
 

@@ -38,7 +38,7 @@ def _scaled(name: str, factor: float) -> Perturbation:
 
 def _ridge_fraction(fraction: float) -> Perturbation:
     def apply(f: Any) -> Any:
-        from ..meso.ridges import ConstantFractionRidges
+        from ..meso.constant_fraction import ConstantFractionRidges
 
         if not isinstance(f.ridges, ConstantFractionRidges):
             raise FingerpadError("the finger's ridge model is not a constant fraction")

@@ -20,12 +20,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from ..contact import ContactResult, HalfSpaceSolver
 from ..errors import FingerpadError
+from ..params import Model, Param, check_fields
 from ..textures import Texture
 
 __all__ = ["FingerprintBEMRidges", "fingerprint_topography"]
@@ -108,7 +109,31 @@ class FingerprintBEMRidges:
         Resolution of the ridges.
     topography
         A measured replica instead of the synthetic pattern (see :meth:`from_surface`).
+
+    From a study file: ``[finger] ridges = { model = "fingerprint_bem", height = "30um" }``; the
+    pad radius is the finger's and ``max_load`` the study's largest load unless given.
     """
+
+    #: The declared fields (units, bounds) a study file may give.
+    PARAMS: ClassVar[tuple[Param, ...]] = (
+        Param("pad_radius", "length", "pad radius R_fp (default: the finger's)", 9e-3, low=0, low_open=True,
+              label="pad radius", plausible="pad radius"),
+        Param("modulus", "pressure", "reduced modulus of the skin at the ridge scale (thesis Fig. 2.4: 100 kPa)",
+              100e3, low=0, low_open=True, label="ridge modulus"),
+        Param("wavelength", "length", "ridge wavelength lambda_r (docs/model.md: 0.4-0.5 mm)", 0.45e-3, low=0,
+              low_open=True, label="ridge wavelength"),
+        Param("width", "length", "ridge base width (<= wavelength)", 0.3e-3, low=0, low_open=True,
+              label="ridge width"),
+        Param("height", "length", "ridge height", 30e-6, low=0, label="ridge height"),
+        Param("pattern", "choice", "whorl: concentric rings; parallel: straight ridges along y", "whorl",
+              ("whorl", "parallel"), label="fingerprint pattern"),
+        Param("max_load", "force", "largest load asked for, sets the patch (default: the study's largest load)",
+              2.0, low=0, low_open=True, label="max_load"),
+        Param("points_per_wavelength", "count", "grid points per ridge wavelength", 10, low=6,
+              label="points per wavelength"),
+        Param("tol", "ratio", "relative tolerance of the half-space solver", 1e-6, low=0, high=1, low_open=True,
+              high_open=True, label="solver tolerance"),
+    )
 
     pad_radius: float = 9e-3
     modulus: float = 100e3
@@ -119,12 +144,11 @@ class FingerprintBEMRidges:
     max_load: float = 2.0
     points_per_wavelength: int = 10
     tol: float = 1e-6
-    topography: Texture | None = None
+    topography: Texture | None = field(default=None, repr=False)
     _cache: dict[float, ContactResult] = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.max_load) and self.max_load > 0):
-            raise FingerpadError(f"max_load must be positive, got {self.max_load!r}")
+        check_fields(self, self.PARAMS)
         if self.topography is None:
             object.__setattr__(self, "topography", self._synthetic())
         elif self.topography.periodic:
@@ -184,3 +208,10 @@ class FingerprintBEMRidges:
         f = np.asarray(load, dtype=float)
         vals = np.array([self.solve(v).real_contact_area for v in f.ravel()]).reshape(f.shape)
         return float(vals) if vals.ndim == 0 else vals
+
+
+MODELS = (
+    Model("fingerprint_bem", FingerprintBEMRidges, FingerprintBEMRidges.PARAMS,
+          "BEM on a synthetic fingerprint (whorl or parallel raised-cosine ridges on the pad sphere); slow",
+          inherits={"pad_radius": "finger.radius", "max_load": "loads.max"}),
+)

@@ -10,8 +10,8 @@ import numpy as np
 
 from ..checks import ArrayLike
 from ..io import atomic_write
-from ..macro.gross import HertzArea
-from ..meso.ridges import ridge_model_curves
+from ..macro.hertz import HertzArea
+from ..meso.compare import ridge_model_curves
 
 __all__ = ["figure_ridge_models", "ridge_models_figure"]
 

@@ -32,9 +32,10 @@ Study files (TOML, read with :func:`load_study_file`)::
     [finger]
     preset = "default"        # see `fingerpad fingers`
     skin_modulus = "0.3MPa"   # overrides: radius, modulus, beta, tau0, alpha, skin_modulus, skin_poisson
-    gross = "dzidek"          # gross-area model by name, or a table (macro.gross.GROSS_MODELS):
+    gross = "dzidek"          # pad (gross-area) model by name, or a table (fingerpad.macro.GROSS_MODELS):
     # gross = { model = "dzidek", stiffening = 5 }
     ridges = { model = "sinusoidal", wavelength = "0.45mm", amplitude = "30um", modulus = "100kPa" }
+    # ridges = { model = "fingerprint_bem", height = "30um" }   # BEM on a fingerprint (slow)
 
     [loads]
     range = "0.1N:4N:40"      # START:STOP:COUNT (or a list of them), or values = ["0.5N", 1, "2N"]
@@ -69,7 +70,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError
-from ..finger import FINGER_FIELDS, FINGER_PRESETS, Finger, get_finger, model_from_spec
+from ..finger import FINGER_FIELDS, FINGER_PRESETS, Finger, finger_param, get_finger, model_from_spec
 from ..materials import check_modulus, check_poisson
 from ..plausibility import check_plausible
 from ..textures import Texture
@@ -358,7 +359,7 @@ def _texture_spec(section: Mapping[str, Any], name: _Names) -> tuple[TextureSpec
     return spec, (None if grid is None else integer(grid, name("texture", "grid"), 4))
 
 
-def _finger(section: Mapping[str, Any], name: _Names) -> Finger:
+def _finger(section: Mapping[str, Any], name: _Names, context: Mapping[str, Any]) -> Finger:
     fin = dict(section)
     preset = fin.pop("preset", "default")
     if not isinstance(preset, str):
@@ -369,14 +370,15 @@ def _finger(section: Mapping[str, Any], name: _Names) -> Finger:
     for key, value in fin.items():
         if isinstance(value, bool) or not isinstance(value, (int, float, str)):
             raise FingerpadError(f"{name('finger', key)}: expected a number or a quantity, got {value!r}")
-        values[key] = quantity(value, FINGER_FIELDS[key], name("finger", key))
+        # the declaration reads the value (unit, bounds, a forgotten unit warned about)
+        values[key] = finger_param(key).parse(value, name("finger", key))
     if values:
         finger = finger.with_overrides(**values)
     models: dict[str, Any] = {}
     if gross is not None:
-        models["gross"] = model_from_spec("gross", gross, finger, name("finger", "gross"))
+        models["gross"] = model_from_spec("gross", gross, finger, name("finger", "gross"), context)
     if ridges is not None:
-        models["ridges"] = model_from_spec("ridges", ridges, finger, name("finger", "ridges"))
+        models["ridges"] = model_from_spec("ridges", ridges, finger, name("finger", "ridges"), context)
     return finger.with_overrides(**models) if models else finger
 
 
@@ -419,12 +421,6 @@ def study_from_dict(
     if em is not None:
         check_plausible(em, "material modulus", name("material", "modulus"))
 
-    finger = _finger(data.get("finger", {}), name)
-    fin_sec = data.get("finger", {})
-    for key, role in (("skin_modulus", "skin modulus"), ("modulus", "pad modulus"), ("radius", "pad radius")):
-        if key in fin_sec:
-            check_plausible(float(getattr(finger, key)), role, name("finger", key))
-
     lsec = data.get("loads", {})
     # One rule: ranges are log-spaced unless the study (file or --linear) says otherwise.
     log = boolean(lsec.get("log", True), name("loads", "log"))
@@ -440,6 +436,9 @@ def study_from_dict(
         loads = parse_loads(DEFAULT_LOADS, True, "loads")
     for value in (float(loads.min()), float(loads.max())):
         check_plausible(value, "load", name("loads", "range" if "range" in lsec else "values"))
+    # after the loads: a ridge model may take the largest load (the BEM fingerprint's patch)
+    finger = _finger(data.get("finger", {}), name, {"loads.max": float(loads.max())})
+
     zones_at = lsec.get("zones_at")
     zones_v = None if zones_at is None else quantity(zones_at, "force", name("loads", "zones_at"))
     if zones_v is not None and zones_v <= 0:

@@ -12,7 +12,6 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError
-from ..materials import check_modulus, check_poisson
 from ..units import parse_quantity, parse_range
 
 __all__ = ["boolean", "integer", "material", "parse_loads", "quantity", "text"]
@@ -119,6 +118,9 @@ def material(modulus: Any, poisson: Any, modulus_name: str, poisson_name: str) -
         if poisson is not None:
             raise FingerpadError(f"{poisson_name}: a Poisson ratio needs a material modulus (the default material is rigid)")
         return None, None
-    em = check_modulus(quantity(modulus, "pressure", modulus_name), modulus_name)
-    num = 0.35 if poisson is None else check_poisson(quantity(poisson, "none", poisson_name), poisson_name)
+    from ..materials import MATERIAL_MODULUS, MATERIAL_POISSON
+
+    em = MATERIAL_MODULUS.check(quantity(modulus, "pressure", modulus_name), modulus_name)
+    num = MATERIAL_POISSON.default if poisson is None else \
+        MATERIAL_POISSON.check(quantity(poisson, "none", poisson_name), poisson_name)
     return em, num

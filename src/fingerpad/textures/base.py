@@ -2,7 +2,8 @@
 
 A texture *family* (spherical caps, ridges, ...) lives in one file of this package that defines
 ``FAMILIES = (TextureFamily(...),)``: the generator function, its parameters declared with their
-kind and unit (:class:`Param`), and, where it applies, the asperity seen by the per-asperity
+kind and unit (:class:`Param`, the package's one parameter declaration,
+:class:`fingerpad.params.Param`), and, where it applies, the asperity seen by the per-asperity
 Hertz model. :mod:`fingerpad.textures` collects every such file, so a new texture is added by
 adding one file. The command line and study files read parameter values through the declared
 kinds (``--orientation 30`` is 30 degrees, ``--radius 50um`` a length), never by guessing from
@@ -22,8 +23,9 @@ import lazy_loader
 np = lazy_loader.load("numpy")
 
 from ..errors import FingerpadError
-from ..units import UNITS, parse_quantity
-from .geometry import fmt_length, parse_size
+from ..params import KINDS, REQUIRED, parse_angle  # noqa: F401 -- re-exported by fingerpad.textures
+from ..params import Param as _Param
+from .geometry import fmt_length
 
 
 @dataclass(frozen=True, eq=False)
@@ -111,131 +113,13 @@ class Texture:
 # Declared parameters
 # ------------------------------------------------------------------------------------------------
 
-#: Parameter kinds: unit shown to users and the placeholder of the command line.
-KINDS: dict[str, tuple[str, str]] = {
-    "length": ("m", "LENGTH"),
-    "angle": ("deg", "ANGLE"),
-    "count": ("1", "INT"),
-    "ratio": ("1", "NUMBER"),
-    "choice": ("", "TEXT"),
-    "size": ("m", "LX[,LY]"),
-    "grid": ("points", "N"),
-}
-
-
-class _Required:
-    def __repr__(self) -> str:
-        return "required"
-
-
-#: Default of a parameter that must be given.
-REQUIRED: Any = _Required()
-
-
 @dataclass(frozen=True)
-class Param:
-    """One declared parameter of a texture generator.
+class Param(_Param):
+    """A declared parameter of a texture generator: a :class:`fingerpad.params.Param` whose
+    lengths read from user input are warned about outside the range of texture lengths
+    (10 nm - 10 mm, a forgotten unit). Same fields, same positional order."""
 
-    Attributes
-    ----------
-    name
-        Keyword of the generator (``--name-with-dashes`` on the command line).
-    kind
-        ``"length"`` (m), ``"angle"`` (degrees by default from user input), ``"count"`` (integer),
-        ``"ratio"`` (dimensionless number), ``"choice"`` (one of ``choices``), ``"size"``
-        (``LX[,LY]``, m) or ``"grid"`` (grid points, given as ``--grid``).
-    doc
-        One-line meaning, shown by ``fingerpad textures``.
-    default
-        :data:`REQUIRED`, ``None`` (chosen automatically) or a value.
-    choices
-        Allowed values of a ``"choice"``.
-    """
-
-    name: str
-    kind: str
-    doc: str
-    default: Any = REQUIRED
-    choices: tuple[str, ...] = ()
-
-    def __post_init__(self) -> None:
-        if self.kind not in KINDS:
-            raise ValueError(f"unknown parameter kind {self.kind!r}")
-
-    @property
-    def option(self) -> str:
-        """The command-line option, e.g. ``--semi-axis-x``."""
-        return "--grid" if self.kind == "grid" else "--" + self.name.replace("_", "-")
-
-    @property
-    def unit(self) -> str:
-        return KINDS[self.kind][0]
-
-    @property
-    def metavar(self) -> str:
-        return KINDS[self.kind][1]
-
-    @property
-    def required(self) -> bool:
-        return self.default is REQUIRED
-
-    def parse(self, value: Any, where: str | None = None) -> Any:
-        """The generator's value for user input ``value`` (text from the command line or a
-        study-file value).
-
-        Lengths: SI numbers or quantities with a unit (``50um``). Angles: a bare number is in
-        degrees; ``30deg`` and ``0.5rad`` are explicit. Counts: integers. Ratios: numbers.
-        Choices: case-insensitive names. Sizes: ``LX`` or ``LX,LY``.
-
-        Raises
-        ------
-        FingerpadError
-            Naming ``where`` (default: the option) and the expected form.
-        """
-        label = where or self.option
-        if isinstance(value, bool):
-            raise FingerpadError(f"{label}: expected a {self.kind}, got {value!r}")
-        if self.kind == "length":
-            from ..plausibility import check_plausible
-
-            length = parse_quantity(value, "length", name=label)
-            if length != 0:
-                check_plausible(length, "texture length", label)
-            return length
-        if self.kind == "angle":
-            return parse_angle(value, label)
-        if self.kind in ("count", "grid"):
-            text = str(value).strip()
-            try:
-                number = float(text)
-            except ValueError:
-                raise FingerpadError(f"{label}: expected an integer, got {value!r}") from None
-            if not number.is_integer():
-                raise FingerpadError(f"{label}: expected an integer, got {value!r}")
-            return int(number)
-        if self.kind == "ratio":
-            return parse_quantity(value, "none", name=label)
-        if self.kind == "choice":
-            text = str(value).strip().lower()
-            if text not in self.choices:
-                raise FingerpadError(f"{label}: must be one of {', '.join(self.choices)}, got {value!r}")
-            return text
-        return parse_size(value, label)  # size
-
-
-def parse_angle(value: Any, name: str) -> float:
-    """Radians from user input: a bare number is in degrees, ``deg``/``rad`` suffixes explicit."""
-    if isinstance(value, (int, float, np.number)) and not isinstance(value, bool):
-        return math.radians(float(value))
-    text = str(value).strip()
-    try:
-        return math.radians(float(text))
-    except ValueError:
-        pass
-    unit = text.lstrip("+-.0123456789eE ")
-    if unit and unit in UNITS and UNITS[unit][0] != "angle":
-        raise FingerpadError(f"{name}: {value!r} is a {UNITS[unit][0]}, expected an angle (e.g. 30deg)")
-    return parse_quantity(text, "angle", name=name)
+    plausible: str | None = "texture length"
 
 
 # ------------------------------------------------------------------------------------------------

@@ -52,9 +52,9 @@ FAMILIES = (
         features=lambda t: (2 * math.sqrt(t.params["depth"] * (2 * t.params["radius"] - t.params["depth"])), t.params["depth"]),
         generator=dimples,
         params=(
-            Param("radius", "length", "sphere radius R of a dimple"),
-            Param("depth", "length", "dimple depth d below the flat top (d <= R)"),
-            Param("spacing", "length", "centre-to-centre distance of neighbouring dimples"),
+            Param("radius", "length", "sphere radius R of a dimple", example="100um"),
+            Param("depth", "length", "dimple depth d below the flat top (d <= R)", example="20um"),
+            Param("spacing", "length", "centre-to-centre distance of neighbouring dimples", example="175um"),
             Param("lattice", "choice", "square: one asperity per spacing x spacing cell; hexagonal: six neighbours at spacing", "square", ("square", "hexagonal")),
             Param("grid", "grid", "grid points along x of the cell (even; default: the smallest feature over 16 pixels)", None),
         ),

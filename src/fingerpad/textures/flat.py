@@ -46,7 +46,7 @@ FAMILIES = (
         name="flat",
         generator=flat,
         params=(
-            Param("size", "size", "cell size LX[,LY]"),
+            Param("size", "size", "cell size LX[,LY]", example="100um"),
             Param("grid", "grid", "grid points along x (default 64)", 64),
         ),
         summary="A flat surface (reference sample).",

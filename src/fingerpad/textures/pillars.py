@@ -69,9 +69,9 @@ FAMILIES = (
         features=lambda t: (t.params["diameter"], t.params["height"]),
         generator=pillars,
         params=(
-            Param("diameter", "length", "pillar diameter d (d <= spacing)"),
-            Param("height", "length", "pillar height h"),
-            Param("spacing", "length", "centre-to-centre distance of neighbouring pillars"),
+            Param("diameter", "length", "pillar diameter d (d <= spacing)", example="60um"),
+            Param("height", "length", "pillar height h", example="20um"),
+            Param("spacing", "length", "centre-to-centre distance of neighbouring pillars", example="150um"),
             Param("lattice", "choice", "square: one asperity per spacing x spacing cell; hexagonal: six neighbours at spacing", "square", ("square", "hexagonal")),
             Param("grid", "grid", "grid points along x of the cell (even; default: the smallest feature over 16 pixels)", None),
         ),

@@ -125,9 +125,9 @@ FAMILIES = (
         features=lambda t: (t.params["width"], t.params["height"]),
         generator=ridges,
         params=(
-            Param("width", "length", "base width w of a ridge (w <= spacing)"),
-            Param("height", "length", "ridge height h"),
-            Param("spacing", "length", "ridge period (centre-to-centre distance)"),
+            Param("width", "length", "base width w of a ridge (w <= spacing)", example="40um"),
+            Param("height", "length", "ridge height h", example="10um"),
+            Param("spacing", "length", "ridge period (centre-to-centre distance)", example="120um"),
             Param("profile", "choice", "ridge cross-section", "circular", _RIDGE_PROFILES),
             Param("top_width", "length", "flat top width of a trapezoidal ridge (default width/2)", None),
             Param("grid", "grid", "grid points along x of the cell (even; default: the smallest feature over 16 pixels)", None),

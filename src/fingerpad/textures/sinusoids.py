@@ -99,8 +99,8 @@ FAMILIES = (
         features=lambda t: (t.params["wavelength"] / 2, 2 * t.params["amplitude"]),
         generator=sinusoid,
         params=(
-            Param("amplitude", "length", "amplitude h (peak-to-valley 2h)"),
-            Param("wavelength", "length", "wavelength lambda (the cell length)"),
+            Param("amplitude", "length", "amplitude h (peak-to-valley 2h)", example="10um"),
+            Param("wavelength", "length", "wavelength lambda (the cell length)", example="150um"),
             Param("grid", "grid", "grid points along x (even; default 64)", None),
             Param("ny", "count", "grid points along y (the map is constant along y)", DEFAULT_NY_1D),
         ),
@@ -111,8 +111,8 @@ FAMILIES = (
         features=lambda t: (t.params["wavelength"] / 2, 4 * t.params["amplitude"]),
         generator=bisinusoid,
         params=(
-            Param("amplitude", "length", "amplitude h"),
-            Param("wavelength", "length", "wavelength lambda in x and y"),
+            Param("amplitude", "length", "amplitude h", example="10um"),
+            Param("wavelength", "length", "wavelength lambda in x and y", example="150um"),
             Param("form", "choice", "sum: the Johnson-Greenwood-Higginson surface; product: egg box", "sum",
                   ("sum", "product")),
             Param("grid", "grid", "grid points along x and y (even; default 64)", None),

@@ -17,7 +17,7 @@ import lazy_loader
 pn = lazy_loader.load("panel")
 
 from ...finger import FINGER_FIELDS, FINGER_PRESETS
-from ..inputs import FAMILY_EXAMPLES, FINGER_LABELS, field_label
+from ..inputs import FINGER_LABELS, family_examples, field_label
 
 __all__ = ["Field", "Form", "css_name"]
 
@@ -156,7 +156,7 @@ class Form:
             self.texture_fields = {"surface": self.surface, **self.measured}
         else:
             family = self.families[name]
-            examples = FAMILY_EXAMPLES.get(name, {}) if values is None else dict(values)
+            examples = family_examples(name) if values is None else dict(values)
             for p in family.user_params():
                 unit = p.unit if p.kind != "choice" else ""
                 title = f"{field_label('texture', p.name)}" + (f" ({unit})" if unit else "")

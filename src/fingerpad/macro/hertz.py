@@ -1,0 +1,53 @@
+"""Hertz sphere-on-flat gross area of the finger pad, Eq. 2.5 (a pad model of one file)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from ..checks import ArrayLike, as_loads, scalar_out
+from ..params import Model, Param, check_fields
+from ._base import PAD_MODULUS, PAD_RADIUS, hertz_area
+
+__all__ = ["HertzArea"]
+
+
+@dataclass(frozen=True)
+class HertzArea:
+    """Hertz sphere-on-flat gross area, Eq. 2.5: ``A = pi (3 F R / (4 E*))^(2/3)``.
+
+    Attributes
+    ----------
+    radius
+        Equivalent pad radius R_fp, m (docs/model.md: 7-11 mm).
+    modulus
+        Reduced modulus E_fp*, Pa (docs/model.md: 10-100 kPa, 40 kPa typical).
+    """
+
+    #: The declared fields (units, bounds), so study files can give "9mm", "40kPa", ...
+    PARAMS: ClassVar[tuple[Param, ...]] = (PAD_RADIUS, PAD_MODULUS)
+
+    radius: float
+    modulus: float
+
+    def __post_init__(self) -> None:
+        check_fields(self, self.PARAMS)
+
+    def contact_radius(self, load: ArrayLike) -> float | np.ndarray:
+        """Hertz contact radius ``a = (3 F R / (4 E*))^(1/3)``, m."""
+        f = as_loads(load)
+        return scalar_out(np.cbrt(3.0 * f * self.radius / (4.0 * self.modulus)))
+
+    def area(self, load: ArrayLike) -> float | np.ndarray:
+        """Gross contact area A_g (m^2), Eq. 2.5."""
+        return scalar_out(hertz_area(as_loads(load), self.radius, self.modulus))
+
+    __call__ = area
+
+
+MODELS = (
+    Model("hertz", HertzArea, HertzArea.PARAMS, "Hertz sphere on a flat, Eq. 2.5",
+          inherits={"radius": "finger.radius", "modulus": "finger.modulus"}),
+)

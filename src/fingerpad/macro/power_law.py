@@ -1,0 +1,49 @@
+"""Empirical power-law gross area of the finger pad, ``A_g = c F^m`` (a pad model of one file)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from ..checks import ArrayLike, as_loads, scalar_out
+from ..params import Model, Param, check_fields
+
+__all__ = ["PowerLawArea"]
+
+
+@dataclass(frozen=True)
+class PowerLawArea:
+    """Empirical gross area ``A_g = c F^m`` (per-person fit; docs/model.md: m = 0.1-0.5 measured).
+
+    Attributes
+    ----------
+    coefficient
+        c, m^2 / N^m.
+    exponent
+        m.
+    """
+
+    #: The declared fields (units, bounds).
+    PARAMS: ClassVar[tuple[Param, ...]] = (
+        Param("coefficient", "ratio", "c of A_g = c F^m, m^2/N^m", low=0, low_open=True, example=1e-4,
+              label="power-law coefficient c"),
+        Param("exponent", "ratio", "m of A_g = c F^m (docs/model.md: 0.1-0.5)", low=0, low_open=True, example=0.3,
+              label="power-law exponent m"),
+    )
+
+    coefficient: float
+    exponent: float
+
+    def __post_init__(self) -> None:
+        check_fields(self, self.PARAMS)
+
+    def area(self, load: ArrayLike) -> float | np.ndarray:
+        """``c F^m`` (m^2)."""
+        return scalar_out(self.coefficient * as_loads(load) ** self.exponent)
+
+    __call__ = area
+
+
+MODELS = (Model("power_law", PowerLawArea, PowerLawArea.PARAMS, "empirical power law A_g = c F^m"),)
