@@ -279,9 +279,14 @@ class Param:
             return self.check(number, label)
         if self.kind == "choice":
             return self.check(str(value) if not isinstance(value, str) else value, label)
-        from .textures.geometry import parse_size
+        return self.parse_size(value, label)
 
-        return parse_size(value, label)  # size
+    def parse_size(self, value: Any, label: str) -> tuple[float, float]:
+        """``(Lx, Ly)`` in m from ``LX`` or ``LX,LY`` (lengths with units); a declaration that
+        takes sizes in other forms (textures: a pair of numbers too) overrides this."""
+        from .units import parse_size
+
+        return parse_size(value, label)
 
 
     def _warn_implausible(self, number: float, label: str) -> None:

@@ -25,7 +25,7 @@ np = lazy_loader.load("numpy")
 from ..errors import FingerpadError
 from ..params import KINDS, REQUIRED, parse_angle  # noqa: F401 -- re-exported by fingerpad.textures
 from ..params import Param as _Param
-from .geometry import fmt_length
+from .geometry import fmt_length, parse_size
 
 
 @dataclass(frozen=True, eq=False)
@@ -120,6 +120,10 @@ class Param(_Param):
     (10 nm - 10 mm, a forgotten unit). Same fields, same positional order."""
 
     plausible: str | None = "texture length"
+
+    def parse_size(self, value: Any, label: str) -> tuple[float, float]:
+        """A texture's size: a number (square), a pair, or ``"Lx,Ly"`` text, m."""
+        return parse_size(value, label)
 
 
 # ------------------------------------------------------------------------------------------------
