@@ -117,10 +117,15 @@ def couple(
     -------
     CouplingResult
     """
+    f, ar = np.broadcast_arrays(as_loads(load, strict=True), as_areas(ridge_area))
+    return _couple(f, ar, cell, n_rings)
+
+
+def _couple(f: np.ndarray, ar: np.ndarray, cell: UnitCellResponse, n_rings: int) -> CouplingResult:
+    """:func:`couple` on loads and ridge areas already checked and broadcast."""
     pt, pf, breaks = check_cell(cell)
     if int(n_rings) < 2:
         raise FingerpadError(f"n_rings must be at least 2, got {n_rings!r}")
-    f, ar = np.broadcast_arrays(as_loads(load, strict=True), as_areas(ridge_area))
     shape = f.shape
     f, ar = f.ravel().astype(float), ar.ravel().astype(float)
     p_mean = f / ar
@@ -295,9 +300,10 @@ def predict_curve(
     f = as_loads(loads, "loads", strict=True).ravel()
     if f.size == 0:
         raise FingerpadError("no loads given")
-    gross = np.asarray(finger.gross_area(f), dtype=float)
-    ridge = np.asarray(finger.ridge_area(f), dtype=float)
-    res = couple(f, ridge, cell, n_rings=n_rings)
+    gross, ridge = finger.areas_checked(f)  # the loads are checked once, here
+    if np.any(ridge <= 0):
+        raise FingerpadError("the finger's ridge contact area must be positive at every load")
+    res = _couple(f, ridge, cell, n_rings)
     mu = np.asarray(friction_coefficient(f, res.real_area, finger), dtype=float)
     mu_ref = mu_norm = None
     if reference:

@@ -135,8 +135,16 @@ class Finger:
 
     def ridge_area(self, load: ArrayLike) -> float | np.ndarray:
         """Ridge contact area A_fr (m^2); a callable of the load, as Eq. 3.6 needs."""
-        f = as_loads(load)
-        return self.ridges.area(f, np.asarray(self.gross_model.area(f)))
+        return scalar_out(self.areas_checked(as_loads(load))[1])
+
+    def areas_checked(self, load: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(A_g, A_fr)`` (m^2) at loads already checked (a float array >= 0, e.g. from
+        :func:`fingerpad.checks.as_loads`): the path of the prediction job, which checks its
+        loads once at its entry. The models' ``area_checked`` is used where they define it
+        (every model of the package does); a model of one's own needs only ``area``."""
+        gross = _model_area(self.gross_model, load)
+        f, ag = np.broadcast_arrays(load, gross)
+        return gross, _model_area(self.ridges, f, ag)
 
     def ridge_radius(self, load: ArrayLike) -> float | np.ndarray:
         """Radius of the ridge contact disc ``a_fr = sqrt(A_fr/pi)``, Eq. 3.7, m."""
@@ -240,6 +248,13 @@ FINGER_PRESETS: dict[str, Finger] = {
         description="default pad with sinusoidal (Westergaard) fingerprint ridges, 0.45 mm, 30 um",
     ),
 }
+
+
+def _model_area(model: Any, *arrays: np.ndarray) -> np.ndarray:
+    """A model's area on checked arrays: its ``area_checked`` core where it has one (no second
+    check of the same loads), else its public ``area``."""
+    core = getattr(model, "area_checked", None)
+    return np.asarray(core(*arrays) if core is not None else model.area(*arrays), dtype=float)
 
 
 def get_finger(name: str) -> Finger:

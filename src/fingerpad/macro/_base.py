@@ -21,6 +21,9 @@ class GrossAreaModel(Protocol):
 
     def area(self, load: ArrayLike) -> float | np.ndarray: ...
 
+    # A model may also define ``area_checked(f)``, the same on loads already checked (a float
+    # array >= 0): the finger calls it when present, so that a load is checked once.
+
 
 def hertz_area(load: np.ndarray, radius: float, modulus: np.ndarray | float) -> np.ndarray:
     """``pi (3 F R / (4 E*))^(2/3)`` (m^2), Eq. 2.5."""

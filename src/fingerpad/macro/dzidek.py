@@ -60,15 +60,20 @@ class DzidekArea:
 
     def secant_modulus(self, load: ArrayLike) -> float | np.ndarray:
         """Stiffened modulus ``E_sfp* = E_fp* (1 + (C eps)^eta)``, Eq. 2.6, Pa."""
-        f = as_loads(load)
-        a_hertz = np.cbrt(3.0 * f * self.radius / (4.0 * self.modulus))
-        strain = 0.2 * a_hertz / self.radius
-        return scalar_out(self.modulus * (1.0 + (self.stiffening * strain) ** self.exponent))
+        return scalar_out(self._secant(as_loads(load)))
+
+    def _secant(self, load: np.ndarray) -> np.ndarray:
+        a_hertz = np.cbrt(3.0 * load * self.radius / (4.0 * self.modulus))
+        strain = 0.2 * a_hertz / self.radius  # the contact strain estimate of Eq. 2.6
+        return self.modulus * (1.0 + (self.stiffening * strain) ** self.exponent)
 
     def area(self, load: ArrayLike) -> float | np.ndarray:
         """Gross contact area A_g (m^2), Eq. 2.7."""
-        f = as_loads(load)
-        return scalar_out(hertz_area(f, self.radius, np.asarray(self.secant_modulus(f))))
+        return scalar_out(self.area_checked(as_loads(load)))
+
+    def area_checked(self, load: np.ndarray) -> np.ndarray:
+        """The same on loads already checked (a float array >= 0): the finger's path, so that a load is checked once."""
+        return hertz_area(load, self.radius, self._secant(load))
 
     __call__ = area
 

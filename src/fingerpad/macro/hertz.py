@@ -42,7 +42,11 @@ class HertzArea:
 
     def area(self, load: ArrayLike) -> float | np.ndarray:
         """Gross contact area A_g (m^2), Eq. 2.5."""
-        return scalar_out(hertz_area(as_loads(load), self.radius, self.modulus))
+        return scalar_out(self.area_checked(as_loads(load)))
+
+    def area_checked(self, load: np.ndarray) -> np.ndarray:
+        """The same on loads already checked (a float array >= 0): the finger's path, so that a load is checked once."""
+        return hertz_area(load, self.radius, self.modulus)
 
     __call__ = area
 

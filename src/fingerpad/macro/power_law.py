@@ -41,7 +41,11 @@ class PowerLawArea:
 
     def area(self, load: ArrayLike) -> float | np.ndarray:
         """``c F^m`` (m^2)."""
-        return scalar_out(self.coefficient * as_loads(load) ** self.exponent)
+        return scalar_out(self.area_checked(as_loads(load)))
+
+    def area_checked(self, load: np.ndarray) -> np.ndarray:
+        """The same on loads already checked (a float array >= 0): the finger's path, so that a load is checked once."""
+        return self.coefficient * load**self.exponent
 
     __call__ = area
 

@@ -52,11 +52,15 @@ class TwoRegimePowerLawArea:
 
     def area(self, load: ArrayLike) -> float | np.ndarray:
         """Gross area (m^2) from the regime the load falls in."""
-        f = as_loads(load)
+        return scalar_out(self.area_checked(as_loads(load)))
+
+    def area_checked(self, load: np.ndarray) -> np.ndarray:
+        """The same on loads already checked (a float array >= 0): the finger's path, so that a load is checked once."""
+        f = load
         fb = self.break_load
         low = self.coefficient * f**self.exponent_low
         high = self.coefficient * fb**self.exponent_low * (f / fb) ** self.exponent_high
-        return scalar_out(np.where(f <= fb, low, high))
+        return np.where(f <= fb, low, high)
 
     __call__ = area
 

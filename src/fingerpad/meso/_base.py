@@ -25,6 +25,9 @@ class RidgeAreaModel(Protocol):
 
     def area(self, load: ArrayLike, gross_area: ArrayLike) -> float | np.ndarray: ...
 
+    # A model may also define ``area_checked(f, ag)``, the same on loads and gross areas already
+    # checked and broadcast: the finger calls it when present, so that a load is checked once.
+
 
 def load_and_gross(load: ArrayLike, gross_area: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Loads (N) and gross areas (m^2) checked and broadcast together."""
@@ -76,7 +79,10 @@ class ProfileRidges:
 
     def area(self, load: ArrayLike, gross_area: ArrayLike) -> float | np.ndarray:
         """Ridge contact area A_fr (m^2) under the chosen gross pressure distribution."""
-        f, ag = load_and_gross(load, gross_area)
+        return scalar_out(self.area_checked(*load_and_gross(load, gross_area)))
+
+    def area_checked(self, f: np.ndarray, ag: np.ndarray) -> np.ndarray:
+        """The same on loads and gross areas already checked and broadcast (float arrays >= 0): the finger's path, so that a load is checked once."""
         shape = f.shape
         f, ag = f.ravel(), ag.ravel()
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -85,4 +91,4 @@ class ProfileRidges:
             frac = np.asarray(self.local_fraction(p_mean), dtype=float)
         else:
             frac = disc_average(self.local_fraction, 1.5 * p_mean, (self.full_contact_pressure,))
-        return scalar_out((frac * ag).reshape(shape))
+        return (frac * ag).reshape(shape)

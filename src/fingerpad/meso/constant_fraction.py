@@ -37,8 +37,11 @@ class ConstantFractionRidges:
 
     def area(self, load: ArrayLike, gross_area: ArrayLike) -> float | np.ndarray:
         """``fraction * A_g`` (m^2)."""
-        _, ag = load_and_gross(load, gross_area)
-        return scalar_out(self.fraction * ag)
+        return scalar_out(self.area_checked(*load_and_gross(load, gross_area)))
+
+    def area_checked(self, f: np.ndarray, ag: np.ndarray) -> np.ndarray:
+        """The same on loads and gross areas already checked and broadcast (float arrays >= 0): the finger's path, so that a load is checked once."""
+        return self.fraction * ag
 
 
 MODELS = (

@@ -25,6 +25,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..contact import ContactResult, HalfSpaceSolver
+from ..checks import as_loads, scalar_out
 from ..errors import FingerpadError
 from ..params import Model, Param, check_fields
 from ..textures import Texture
@@ -205,9 +206,11 @@ class FingerprintBEMRidges:
 
     def area(self, load: "np.ndarray | float", gross_area: "np.ndarray | float | None" = None) -> "np.ndarray | float":
         """Ridge contact area A_fr (m^2) at each load (N)."""
-        f = np.asarray(load, dtype=float)
-        vals = np.array([self.solve(v).real_contact_area for v in f.ravel()]).reshape(f.shape)
-        return float(vals) if vals.ndim == 0 else vals
+        return scalar_out(self.area_checked(as_loads(load)))
+
+    def area_checked(self, f: np.ndarray, gross_area: np.ndarray | None = None) -> np.ndarray:
+        """The same on loads already checked (a float array >= 0); the gross area is not used."""
+        return np.array([self.solve(v).real_contact_area for v in f.ravel()]).reshape(f.shape)
 
 
 MODELS = (

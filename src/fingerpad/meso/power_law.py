@@ -44,8 +44,11 @@ class PowerLawRidges:
 
     def area(self, load: ArrayLike, gross_area: ArrayLike) -> float | np.ndarray:
         """``min(k F^n, A_g)`` (m^2)."""
-        f, ag = load_and_gross(load, gross_area)
-        return scalar_out(np.minimum(self.coefficient * f**self.exponent, ag))
+        return scalar_out(self.area_checked(*load_and_gross(load, gross_area)))
+
+    def area_checked(self, f: np.ndarray, ag: np.ndarray) -> np.ndarray:
+        """The same on loads and gross areas already checked and broadcast (float arrays >= 0): the finger's path, so that a load is checked once."""
+        return np.minimum(self.coefficient * f**self.exponent, ag)
 
 
 MODELS = (Model("power_law", PowerLawRidges, PowerLawRidges.PARAMS, "empirical power law A_fr = k F^n, capped at A_g"),)
