@@ -266,7 +266,7 @@ def ridge_model_curves(
 ) -> dict[str, np.ndarray]:
     """Gross and ridge areas (m^2) of every model on the same inputs, for a plot or a table.
 
-    With ``bem_loads`` the BEM fingerprint model (:class:`fingerpad.fingerprint.FingerprintBEMRidges`,
+    With ``bem_loads`` the BEM fingerprint model (:class:`fingerpad.meso.fingerprint.FingerprintBEMRidges`,
     whorl ridges of the same wavelength and height, width 2/3 of the wavelength) is solved at
     those loads (a few seconds each) and returned as ``BEM load`` / ``BEM``.
 
