@@ -1,0 +1,163 @@
+"""Sphinx configuration of the fingerpad documentation site (``make docs`` -> build/docs).
+
+The Markdown pages are read by myst-parser (myst-nb for the tutorial notebook), the API reference
+is generated from the numpydoc docstrings by autosummary + numpydoc. The build needs no network:
+no intersphinx, MathJax is only referenced by the pages (the browser loads it when a page shows
+an equation), and the tutorial is executed by the test suite, not by the build unless asked
+(``make docs`` executes it; tests/test_docs.py builds with execution off and runs it separately).
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import pkgutil
+
+import fingerpad
+
+project = "fingerpad"
+author = "the fingerpad developers"
+copyright = "the fingerpad developers, MIT licence"  # noqa: A001 (Sphinx's name)
+release = fingerpad.__version__
+version = release
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.mathjax",
+    "numpydoc",
+    "myst_nb",  # also registers myst-parser for the .md pages
+]
+
+root_doc = "index"
+source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
+exclude_patterns = ["_build", "**.ipynb_checkpoints"]
+templates_path = ["_templates"]
+
+# --- Markdown (myst) -------------------------------------------------------------------------
+# Heading anchors as GitHub makes them, so that the pages' links `model.md#2-symbols` work both on
+# the forge and in the site.
+myst_heading_anchors = 4
+myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]
+
+# --- The tutorial notebook -------------------------------------------------------------------
+# FINGERPAD_DOCS_EXECUTE=off builds the site from the notebook's stored outputs (none are kept in
+# git) and is what the strict build of the test suite uses: the notebook itself is executed by
+# tests/test_docs.py. `make docs` executes it ("force") so that the site shows its outputs.
+nb_execution_mode = os.environ.get("FINGERPAD_DOCS_EXECUTE", "force")
+nb_execution_timeout = 300
+nb_execution_raise_on_error = True  # a tutorial that fails is a broken build, not a page with a traceback
+nb_merge_streams = True
+
+# --- API reference ---------------------------------------------------------------------------
+autosummary_generate = True
+autosummary_ignore_module_all = False  # a module page lists its __all__: the public names only
+autodoc_typehints = "none"  # the numpydoc sections give the types, with units
+autodoc_member_order = "bysource"
+autodoc_default_options = {"show-inheritance": False}
+numpydoc_show_class_members = False  # the class pages list attributes from the docstrings
+numpydoc_class_members_toctree = False
+numpydoc_xref_param_type = False
+numpydoc_validation_checks: set[str] = set()
+# The template (docs/_templates/api-module.rst) indexes the top-level names on fingerpad's page only.
+autosummary_context = {"top_level": [name for name in fingerpad.__all__ if not name.startswith("_")]}
+
+# Warnings are errors in the test suite (-W --keep-going): every unresolved reference is one.
+nitpicky = True
+nitpick_ignore_regex = [
+    # Third-party types named in signatures and docstrings; the build has no intersphinx (no
+    # network), so these are left as text.
+    (r"py:.*", r"(numpy|np|scipy|xarray|xr|pandas|pd|dask|zarr|matplotlib|typing|collections|pathlib)(\..*)?"),
+]
+
+
+def _resolve(dotted: str) -> object | None:
+    """The fingerpad object named ``dotted`` (module, then attributes), or None if there is none."""
+    parts = dotted.split(".")
+    for split in range(len(parts), 0, -1):
+        try:
+            obj: object = importlib.import_module(".".join(parts[:split]))
+        except ImportError:
+            continue
+        for attr in parts[split:]:
+            try:
+                obj = getattr(obj, attr)
+            except AttributeError:
+                # A dataclass field without a default, or an annotated attribute, is no class
+                # attribute, but the class's Attributes section documents it.
+                fields = {name for klass in getattr(obj, "__mro__", ())
+                          for name in vars(klass).get("__annotations__", {})}
+                if attr != parts[-1] or attr not in fields:
+                    return None
+        return obj
+    return None
+
+
+def _in_submodules(package: str, name: str) -> bool:
+    """Whether the direct submodules of ``package`` have exactly one object called ``name``.
+
+    A package's docstring lists its modules and their main names (``:mod:`.run` -
+    :func:`run_study```): the name is then one of its submodules'.
+    """
+    pkg = _resolve(package)
+    if not hasattr(pkg, "__path__"):
+        return False
+    found = {id(obj) for info in pkgutil.iter_modules(pkg.__path__)
+             if (obj := _resolve(f"{package}.{info.name}.{name}")) is not None}
+    return len(found) == 1  # one object, whichever modules import it
+
+
+def _parents(dotted: str) -> list[str]:
+    """``a.b.c`` -> ``["a.b.c", "a.b", "a"]``."""
+    parts = dotted.split(".") if dotted else []
+    return [".".join(parts[:i]) for i in range(len(parts), 0, -1)]
+
+
+def _existing_object_as_text(app, env, node, contnode):  # noqa: ANN001, ANN202 (Sphinx's event signature)
+    """A docstring reference to a fingerpad object the reference does not show: code text, no link.
+
+    The reference documents the public API only, while docstrings also name internals
+    (``:mod:`.strokes```, ``:data:`STATE_SEARCH_CAP```). Such a reference is kept as text when the
+    object exists, looked up the way Python's domain would (as written, in the current class,
+    in the current module and its parents); a name that exists nowhere, e.g. one left behind
+    by a move, stays a warning, i.e. an error of the strict build.
+    """
+    if node.get("refdomain") != "py":
+        return None
+    target = node["reftarget"].lstrip("~")
+    relative = target.startswith(".")
+    target = target.lstrip(".")
+    module = node.get("py:module") or ""
+    cls = node.get("py:class") or ""
+    scopes = [f"{module}.{cls}"] if module and cls else []
+    scopes += _parents(module)
+    # The docstring's own module: a class shown on fingerpad's page is defined in a submodule,
+    # whose names its docstrings use (the node's source is "...: docstring of NAME").
+    documented = str(node.source or "").rpartition("docstring of ")[2].strip()
+    for name in _parents(documented) if documented.startswith("fingerpad") else []:
+        owner = getattr(_resolve(name), "__module__", None)
+        if isinstance(owner, str):
+            scopes += [name, *_parents(owner)]
+            break
+    candidates = [f"{scope}.{target}" for scope in scopes]
+    if not relative:
+        candidates.append(target)
+    for candidate in candidates:
+        if candidate.split(".")[0] == "fingerpad" and _resolve(candidate) is not None:
+            return contnode
+    in_package_docstring = documented == module and node.get("reftype") != "mod"
+    if "." not in target and in_package_docstring and _in_submodules(module, target):
+        return contnode
+    return None
+
+
+def setup(app):  # noqa: ANN001, ANN201
+    app.connect("missing-reference", _existing_object_as_text)
+
+
+# --- HTML ------------------------------------------------------------------------------------
+html_theme = "furo"
+html_title = f"fingerpad {release}"
+html_static_path: list[str] = []
+html_show_sourcelink = False
+html_copy_source = False
