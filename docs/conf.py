@@ -10,8 +10,12 @@ an equation), and the tutorial is executed by the test suite, not by the build u
 from __future__ import annotations
 
 import importlib
+import inspect
 import os
 import pkgutil
+import sys
+
+from sphinx.pycode import ModuleAnalyzer, PycodeError
 
 import fingerpad
 
@@ -151,8 +155,42 @@ def _existing_object_as_text(app, env, node, contnode):  # noqa: ANN001, ANN202 
     return None
 
 
+def _data_docstring(app, what, name, obj, options, lines):  # noqa: ANN001, ANN202, ARG001
+    """A constant's documentation: its ``#:`` comment wherever it is defined, and its value.
+
+    autodoc looks for the comment only in the module the page documents, so a constant that a
+    package re-exports (``fingerpad.GENERATORS``, ``fingerpad.textures.MAX_GRID``) would show
+    its type's docstring (``int([x]) -> integer ...``) instead. The comment is looked up in every
+    fingerpad module that holds the same object under the same name.
+    """
+    if what != "data":
+        return
+    attr = name.rpartition(".")[2]
+    comment: list[str] = []
+    for modname in sorted(m for m in sys.modules if m == "fingerpad" or m.startswith("fingerpad.")):
+        if getattr(sys.modules[modname], attr, _MISSING) is not obj:
+            continue
+        try:
+            comment = ModuleAnalyzer.for_module(modname).find_attr_docs().get(("", attr), [])
+        except PycodeError:
+            continue
+        if comment:
+            break
+    type_doc = inspect.getdoc(type(obj)) or ""
+    if comment or "\n".join(lines).strip() == type_doc.strip():
+        lines[:] = [line.rstrip("\n") for line in comment]
+    text = repr(obj)
+    if isinstance(obj, (int, float, str, tuple, dict)) and len(text) <= 100 and "<" not in text:
+        lines += ["", f"Value: ``{text}``"]
+
+
+_MISSING = object()
+
+
 def setup(app):  # noqa: ANN001, ANN201
     app.connect("missing-reference", _existing_object_as_text)
+    # Before numpydoc (priority 500) reformats the docstring.
+    app.connect("autodoc-process-docstring", _data_docstring, priority=100)
 
 
 # --- HTML ------------------------------------------------------------------------------------

@@ -104,6 +104,11 @@ def test_api_reference_covers_the_public_api(site: Path):
     page = (site / "api" / "generated" / "fingerpad.html").read_text(encoding="utf-8")
     entry = page[page.index('id="fingerpad.predict_curve"'):]
     assert "Parameters" in entry[:4000] and "Normal loads, N" in entry[:4000]
+    # A re-exported constant shows its own #: comment, not its type's docstring.
+    entry = page[page.index('id="fingerpad.GENERATORS"'):]
+    assert "CLI names of the texture generators" in entry[:2000]
+    pages = "".join(p.read_text(encoding="utf-8") for p in (site / "api" / "generated").glob("*.html"))
+    assert "int([x])" not in pages and "dict() -&gt; new empty dictionary" not in pages
 
 
 def test_site_refers_to_nothing_outside_it(site: Path):
