@@ -15,6 +15,7 @@ import os
 import pkgutil
 import sys
 
+import sphinx.ext.autosummary
 from sphinx.pycode import ModuleAnalyzer, PycodeError
 
 import fingerpad
@@ -63,6 +64,12 @@ numpydoc_show_class_members = False  # the class pages list attributes from the 
 numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
 numpydoc_validation_checks: set[str] = set()
+# The tables' one-line summaries end at the first full stop, but the docstrings cite equations:
+# "Critical load of the first transition by Hertz, Eq. 3.6." would stop at "Eq.". autosummary has
+# no setting for it, only this list of abbreviations that do not end a sentence.
+sphinx.ext.autosummary.WELL_KNOWN_ABBREVIATIONS = (
+    *sphinx.ext.autosummary.WELL_KNOWN_ABBREVIATIONS, "Eq.", "Eqs.", "ch.", "Fig.", "Sec.",
+)
 # The template (docs/_templates/api-module.rst) indexes the top-level names on fingerpad's page only.
 autosummary_context = {"top_level": [name for name in fingerpad.__all__ if not name.startswith("_")]}
 

@@ -104,6 +104,10 @@ def test_api_reference_covers_the_public_api(site: Path):
     page = (site / "api" / "generated" / "fingerpad.html").read_text(encoding="utf-8")
     entry = page[page.index('id="fingerpad.predict_curve"'):]
     assert "Parameters" in entry[:4000] and "Normal loads, N" in entry[:4000]
+    # The contents table's summaries do not stop at the "Eq." of an equation number.
+    table = page[page.index('<table class="autosummary'):]
+    table = re.sub(r"<[^>]+>", "", table[:table.index("</table>")])
+    assert "by Hertz, Eq. 3.6." in table and "(Eqs. 3.1-3.3)" in table
     # A re-exported constant shows its own #: comment, not its type's docstring.
     entry = page[page.index('id="fingerpad.GENERATORS"'):]
     assert "CLI names of the texture generators" in entry[:2000]
