@@ -17,6 +17,7 @@ import sys
 
 import sphinx.ext.autosummary
 from sphinx.pycode import ModuleAnalyzer, PycodeError
+from sphinx.util.nodes import make_refnode
 
 import fingerpad
 
@@ -59,7 +60,6 @@ autosummary_generate = True
 autosummary_ignore_module_all = False  # a module page lists its __all__: the public names only
 autodoc_typehints = "none"  # the numpydoc sections give the types, with units
 autodoc_member_order = "bysource"
-autodoc_default_options = {"show-inheritance": False}
 numpydoc_show_class_members = False  # the class pages list attributes from the docstrings
 numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
@@ -124,14 +124,37 @@ def _parents(dotted: str) -> list[str]:
     return [".".join(parts[:i]) for i in range(len(parts), 0, -1)]
 
 
-def _existing_object_as_text(app, env, node, contnode):  # noqa: ANN001, ANN202 (Sphinx's event signature)
-    """A docstring reference to a fingerpad object the reference does not show: code text, no link.
+def _linkable(obj: object) -> bool:
+    """Classes, functions and modules: objects whose identity names them (not ints or strings)."""
+    return inspect.isclass(obj) or inspect.isfunction(obj) or inspect.ismodule(obj)
 
-    The reference documents the public API only, while docstrings also name internals
-    (``:mod:`.strokes```, ``:data:`STATE_SEARCH_CAP```). Such a reference is kept as text when the
-    object exists, looked up the way Python's domain would (as written, in the current class,
-    in the current module and its parents); a name that exists nowhere, e.g. one left behind
-    by a move, stays a warning, i.e. an error of the strict build.
+
+_DOCUMENTED: dict[int, tuple[str, str]] = {}
+
+
+def _documented_objects(env) -> dict[int, tuple[str, str]]:  # noqa: ANN001
+    """id(object) -> (page, anchor) of every class, function and module the reference documents.
+
+    Built once, when the first reference is resolved: by then every page has been read."""
+    if not _DOCUMENTED:
+        for fullname, entry in env.get_domain("py").objects.items():
+            obj = _resolve(fullname) if not entry.aliased else None
+            if obj is not None and _linkable(obj):
+                _DOCUMENTED.setdefault(id(obj), (entry.docname, entry.node_id))
+        _DOCUMENTED.setdefault(0, ("", ""))  # built, even if empty
+    return _DOCUMENTED
+
+
+def _existing_object_as_text(app, env, node, contnode):  # noqa: ANN001, ANN202 (Sphinx's event signature)
+    """A docstring reference to a fingerpad object under a name the reference does not show.
+
+    The reference documents the public API, each name once, while docstrings also name
+    internals (``:mod:`.strokes```, ``:data:`STATE_SEARCH_CAP```) and full paths
+    (``fingerpad.micro.bem.BEMUnitCell``). Such a reference is looked up the way Python's domain
+    would (as written, in the current class, in the current module and its parents, and in the
+    docstring's own module); when the object exists it becomes a link to where the same class or
+    function is documented under another name, else code text. A name that exists nowhere, e.g.
+    one left behind by a move, stays a warning, i.e. an error of the strict build.
     """
     if node.get("refdomain") != "py":
         return None
@@ -154,7 +177,14 @@ def _existing_object_as_text(app, env, node, contnode):  # noqa: ANN001, ANN202 
     if not relative:
         candidates.append(target)
     for candidate in candidates:
-        if candidate.split(".")[0] == "fingerpad" and _resolve(candidate) is not None:
+        obj = _resolve(candidate) if candidate.split(".")[0] == "fingerpad" else None
+        if obj is not None:
+            # The same class or function documented under another name (the top-level
+            # fingerpad.BEMUnitCell for fingerpad.micro.bem.BEMUnitCell): a link to it.
+            documented_as = _documented_objects(env).get(id(obj)) if _linkable(obj) else None
+            if documented_as is not None:
+                docname, node_id = documented_as
+                return make_refnode(app.builder, node["refdoc"], docname, node_id, contnode)
             return contnode
     in_package_docstring = documented == module and node.get("reftype") != "mod"
     if "." not in target and in_package_docstring and _in_submodules(module, target):

@@ -108,6 +108,9 @@ def test_api_reference_covers_the_public_api(site: Path):
     table = page[page.index('<table class="autosummary'):]
     table = re.sub(r"<[^>]+>", "", table[:table.index("</table>")])
     assert "by Hertz, Eq. 3.6." in table and "(Eqs. 3.1-3.3)" in table
+    # A top-level name shown again on its subpackage's page links to its one indexed entry.
+    contact = (site / "api" / "generated" / "fingerpad.contact.html").read_text(encoding="utf-8")
+    assert 'href="fingerpad.html#fingerpad.HalfSpaceSolver"' in contact
     # A re-exported constant shows its own #: comment, not its type's docstring.
     entry = page[page.index('id="fingerpad.GENERATORS"'):]
     assert "CLI names of the texture generators" in entry[:2000]
