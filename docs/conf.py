@@ -49,9 +49,11 @@ myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist"]
 # --- The tutorial notebook -------------------------------------------------------------------
 # FINGERPAD_DOCS_EXECUTE=off builds the site from the notebook's stored outputs (none are kept in
 # git) and is what the strict build of the test suite uses: the notebook itself is executed by
-# tests/test_docs.py. `make docs` executes it ("force") so that the site shows its outputs.
+# tests/test_docs.py. `make docs` executes it ("force", never from a cache keyed on the notebook
+# alone: outputs of an older fingerpad would survive) so that the site shows its outputs.
 nb_execution_mode = os.environ.get("FINGERPAD_DOCS_EXECUTE", "force")
 nb_execution_timeout = 300
+nb_execution_in_temp = True  # the kernel's working folder: a temporary one, not docs/
 nb_execution_raise_on_error = True  # a tutorial that fails is a broken build, not a page with a traceback
 nb_merge_streams = True
 
