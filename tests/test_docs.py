@@ -84,7 +84,7 @@ def _documented_ids(site: Path) -> set[str]:
 
 def test_api_reference_covers_the_public_api(site: Path):
     """Every name of fingerpad.__all__, fingerpad.textures, fingerpad.measure and fingerpad.contact
-    has its entry, and the sweep and design functions users call are there."""
+    has its entry, and the study, sweep and design functions users call are there."""
     import fingerpad.contact
     import fingerpad.measure
     import fingerpad.textures
@@ -97,6 +97,7 @@ def test_api_reference_covers_the_public_api(site: Path):
         "fingerpad.design.engine.run_sweep", "fingerpad.design.spec.sweep_from_dict",
         "fingerpad.design.store.open_sweep", "fingerpad.design.designmap.map_data",
         "fingerpad.design.inverse.search", "fingerpad.design.inverse.rank_sweep",
+        "fingerpad.study.spec.study_from_dict", "fingerpad.study.run.run_study",
     ]
     missing = [name for name in wanted if name not in ids]
     assert not missing, missing
