@@ -61,6 +61,28 @@ def test_network_guard_refuses_a_connection():
     assert proc.returncode != 0 and "tried to reach the network" in proc.stderr
 
 
+def test_references_must_exist(tmp_path: Path):
+    """The strict build's reference check, on a one-page site with the site's configuration: a
+    reference to an internal object that exists is accepted (text, or a link to the same object's
+    entry), one to a name that exists nowhere fails the build and is the one warning."""
+    source = tmp_path / "source"
+    source.mkdir()
+    shutil.copy(DOCS / "conf.py", source / "conf.py")
+    (source / "index.rst").write_text(
+        "Test\n====\n\n.. autofunction:: fingerpad.predict_curve\n\n"
+        "Exist: :data:`fingerpad.micro.bem.STATE_SEARCH_CAP`, :mod:`fingerpad.measure.strokes`, "
+        ":func:`fingerpad.coupling.predict_curve`.\n\nGone: :class:`fingerpad.unitcell.BEMUnitCell`.\n",
+        encoding="utf-8")
+    proc = subprocess.run(
+        [sys.executable, "-c", SPHINX, "-b", "html", "-W", "--keep-going", "-q", str(source), str(tmp_path / "html")],
+        capture_output=True, text=True, timeout=300, env={**os.environ, "FINGERPAD_DOCS_EXECUTE": "off"},
+    )
+    warnings = [line for line in proc.stderr.splitlines() if "WARNING" in line or "ERROR" in line]
+    assert proc.returncode != 0 and len(warnings) == 1 and "fingerpad.unitcell.BEMUnitCell" in warnings[0], proc.stderr
+    html = (tmp_path / "html" / "index.html").read_text(encoding="utf-8")
+    assert 'href="#fingerpad.predict_curve"' in html  # coupling.predict_curve is fingerpad.predict_curve
+
+
 def test_every_page_is_built(site: Path):
     """Every Markdown page of docs/ becomes a page of the site (unreachable pages are warnings,
     i.e. errors of the strict build, so every page is also in the landing page's tree)."""
