@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed-stamp
 
-.PHONY: run test test-slow bench clean
+.PHONY: run test test-slow docs bench clean
 
 $(STAMP): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -20,6 +20,12 @@ test: $(STAMP)
 test-slow: $(STAMP)
 	$(PY) -m pytest -q -m slow
 
+# The documentation site (docs/ -> build/docs/index.html): Markdown pages, the API reference from
+# the docstrings, the tutorial notebook executed. Warnings are errors, as in tests/test_docs.py.
+docs: $(STAMP)
+	$(PY) -m sphinx -b html -W --keep-going -q docs build/docs
+	@echo "the site: build/docs/index.html"
+
 bench: $(STAMP)
 	$(PY) -m pip install --quiet --disable-pip-version-check -e ".[bench]"
 	$(PY) benchmarks/bench_solver.py --grids 1024,2048 --memory 4096
@@ -30,4 +36,4 @@ bench: $(STAMP)
 	$(PY) benchmarks/bench_deflection.py
 
 clean:
-	rm -rf $(VENV) out .pytest_cache
+	rm -rf $(VENV) out .pytest_cache build/docs build/jupyter_execute docs/api/generated

@@ -261,10 +261,10 @@ def bem_texture_model(
 ) -> Model:
     """Normalised-friction model with the numerical unit cell (the model of ``fingerpad predict``).
 
-    One :class:`fingerpad.unitcell.BEMUnitCell` of the cap texture is computed (or read from the
+    One :class:`fingerpad.micro.bem.BEMUnitCell` of the cap texture is computed (or read from the
     cache) at the finger's own E1*, over the local pressures that loads in ``load_range`` produce
     for any skin modulus in ``modulus_range``; every trial E_s then reuses it by the p/E* scaling
-    of the contact problem (:meth:`~fingerpad.unitcell.BEMUnitCell.at_modulus`), so a fit costs
+    of the contact problem (:meth:`~fingerpad.micro.bem.BEMUnitCell.at_modulus`), so a fit costs
     no further solves. Unlike the Hertz cell it covers the transition and full contact, which is
     where the change of trend in friction comes from.
 
@@ -281,7 +281,7 @@ def bem_texture_model(
     modulus_range, load_range
         Skin moduli (Pa) and loads (N) the model must answer for.
     cache
-        Passed to :class:`~fingerpad.unitcell.BEMUnitCell` (``None``: default cache folder).
+        Passed to :class:`~fingerpad.micro.bem.BEMUnitCell` (``None``: default cache folder).
 
     Returns
     -------

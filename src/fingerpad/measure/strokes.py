@@ -27,7 +27,7 @@ class StrokeOptions:
         Fraction of each stroke dropped at its start and at its end (static-friction peak,
         acceleration, deceleration), in [0, 0.45].
     deadband
-        Standstill threshold as a fraction of the 90th percentile of |direction signal|;
+        Standstill threshold as a fraction of the 90th percentile of ``|direction signal|``;
         a sense change needs the signal to cross the opposite threshold (hysteresis).
     smooth
         Samples in the moving average applied before differentiating position (or to the
@@ -259,7 +259,7 @@ def measure_strokes(rec: Recording, options: StrokeOptions = StrokeOptions(), *,
 
     Columns: file, metadata, ``stroke`` (1-based), ``sense`` (``"+"``/``"-"``), ``row_start``,
     ``row_end`` (file rows of the stroke), ``time_start``/``time_end`` (s, NaN without time),
-    ``load`` (mean F_n, N), ``mu`` (mean |F_t|/F_n over the steady part), their standard
+    ``load`` (mean F_n, N), ``mu`` (mean ``|F_t|/F_n`` over the steady part), their standard
     deviations, ``n_samples``, ``speed`` (m/s, NaN unknown) and ``travel`` (m, NaN unknown).
 
     Raises

@@ -23,7 +23,7 @@ def ridge_models_figure(
     dpi: int = 120,
     **inputs: Any,
 ) -> Path:
-    """Write :func:`figure_ridge_models` to a PNG (atomically); returns the path."""
+    """Write :func:`~fingerpad.plotting.ridges.figure_ridge_models` to a PNG (atomically); returns the path."""
     fig = figure_ridge_models(loads, **inputs)
     return atomic_write(path, lambda tmp: fig.savefig(tmp, format="png", dpi=dpi))
 
