@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import fingerpad as fp
+from fingerpad import macro
 
 
 def test_ridge_models_png(tmp_path, png_is_drawn):
@@ -22,7 +23,7 @@ def test_ridge_models_figure_numbers():
     gross = [line for line in ax_area.get_lines() if "gross" in line.get_label().lower()]
     assert len(gross) == 1
     # the gross curve is Hertz (Eq. 2.5) with the figure's radius and modulus, in mm^2
-    expected = fp.macro.HertzArea(radius=9e-3, modulus=100e3).area(loads) * 1e6
+    expected = macro.HertzArea(radius=9e-3, modulus=100e3).area(loads) * 1e6
     np.testing.assert_allclose(gross[0].get_ydata(), expected, rtol=1e-12)
     # fractions A_fr / A_g in per cent lie in (0, 100]; each is its model's area over the gross
     assert ax_frac.get_ylabel() == "ridge area / gross area (%)"
