@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import sys
 
 import pytest
@@ -39,6 +40,7 @@ def test_a_new_file_is_found_without_editing_anything(plugin_package):
 
     before = collect("fp_plugins_test", fp_plugins_test.__path__, "THING", str)
     (plugin_package / "z_new.py").write_text("THING = 'z'\n")
+    importlib.invalidate_caches()  # as a new process would see the folder
     after = collect("fp_plugins_test", fp_plugins_test.__path__, "THING", str)
     assert after == [*before, "z"]
 
