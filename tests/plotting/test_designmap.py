@@ -53,3 +53,33 @@ def test_design_map_png(tmp_path, png_is_drawn, design):
     assert ax.get_xlabel() == "spacing (µm)" and ax.get_ylabel() == "height (µm)"
     assert fig._suptitle.get_text().startswith("Design map: critical load (white contours), μ/μ_ref at 1 N (colour)")
     assert fig.axes[-1].get_ylabel().startswith("μ/μ_ref at 1 N"), "the colour bar names the quantity and load"
+
+
+def sweep3():
+    """A grid over spacing x height x material_modulus (two moduli: two panels)."""
+    import xarray as xr
+
+    base = sweep("grid")
+    moduli = np.array([1e6, 1e9])
+    data = {name: xr.concat([base[name], base[name] * (1.0 if name != "mu_rel" else 0.9)], dim="material_modulus")
+            for name in ("valid", "done", "critical_load_bem", "critical_load_hertz", "mu_rel")}
+    ds = xr.Dataset(data, coords={**{k: v for k, v in base.coords.items()},
+                                  "material_modulus": ("material_modulus", moduli,
+                                                       {"kind": "pressure", "log": "true"})},
+                    attrs={"design": "grid", "axes": json.dumps(["spacing", "height", "material_modulus"])})
+    ds["valid"] = ds["valid"].astype(bool)
+    ds["done"] = ds["done"].astype(bool)
+    return ds
+
+
+def test_a_further_axis_gives_one_panel_per_value(tmp_path, png_is_drawn):
+    fig = figure_design_map(map_data(sweep3(), "spacing", "height", at=1.0))
+    visible = [ax for ax in fig.axes if ax.get_visible() and ax.get_title()]
+    # panel titles in the axis' display unit (kPa for pressures)
+    assert [ax.get_title() for ax in visible] == ["material_modulus = 1000 kPa", "material_modulus = 1e+06 kPa"]
+    path = tmp_path / "panels.png"
+    fig.savefig(path, format="png", dpi=40)
+    png_is_drawn(path)
+    # a selection leaves one panel
+    one = figure_design_map(map_data(sweep3(), "spacing", "height", at=1.0, select={"material_modulus": "1GPa"}))
+    assert not [ax for ax in one.axes if ax.get_visible() and ax.get_title().startswith("material_modulus")]

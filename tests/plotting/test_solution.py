@@ -53,3 +53,22 @@ def test_load_curves_png(tmp_path, sinusoid_curve, png_is_drawn):
     with pytest.raises(ValueError):
         plot_load_curves([sinusoid_curve], ["a", "b"], tmp_path / "bad.png")
     assert not (tmp_path / "bad.png").exists()
+
+
+def test_narrow_pressure_range_keeps_a_linear_axis(sinusoid_curve):
+    # two pressures a factor 10 apart at most: a linear axis in a readable unit
+    fig = figure_solution(sinusoid_curve.results[:2])
+    ax_psi = fig.axes[2]
+    assert ax_psi.get_xscale() == "linear" and ax_psi.get_xlabel() == "mean pressure p (kPa)"
+
+
+def test_unconverged_results_are_marked(sinusoid_curve):
+    import dataclasses
+
+    results = list(sinusoid_curve.results)
+    results[1] = dataclasses.replace(results[1], converged=False)
+    fig = figure_solution(results)
+    labels = fig.axes[2].get_legend_handles_labels()[1]
+    assert "not converged" in labels and "shown left" in labels
+    clean = figure_solution(sinusoid_curve.results)
+    assert "not converged" not in clean.axes[2].get_legend_handles_labels()[1]
