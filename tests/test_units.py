@@ -63,3 +63,42 @@ def test_format_reads_back():
     for value, dimension in [(5e-5, "length"), (8100.0, "pressure"), (0.002, "force")]:
         text = format_quantity(value, dimension, digits=12).replace(" ", "")
         assert parse_quantity(text, dimension) == pytest.approx(value, rel=1e-12)
+
+
+# ---------------------------------------------------------------------------------------------
+# more: sizes, integers, positive values, linear ranges, formatting
+# ---------------------------------------------------------------------------------------------
+
+
+def test_linear_range_is_evenly_spaced():
+    from fingerpad.units import parse_range as pr
+
+    values = pr("1mm:2mm:5", "length")
+    assert values == pytest.approx([1e-3, 1.25e-3, 1.5e-3, 1.75e-3, 2e-3], rel=1e-12)
+    assert pr("1N:1N:1", "force") == [1.0]
+
+
+def test_sizes_and_integers():
+    from fingerpad.units import parse_int, parse_positive, parse_size
+
+    assert parse_size("200um,100um") == (2e-4, 1e-4)
+    assert parse_size("1mm") == (1e-3, 1e-3)
+    for text in ("1mm,2mm,3mm", "0um", "-1mm"):
+        with pytest.raises(FingerpadError, match="--size"):
+            parse_size(text)
+    assert parse_int("12", "--grid") == 12 and parse_int(7, "--grid") == 7
+    for text in ("1.5", "x", "0"):
+        with pytest.raises(FingerpadError, match="--grid"):
+            parse_int(text, "--grid")
+    assert parse_positive("3kPa", "pressure", name="--p") == 3e3
+    with pytest.raises(FingerpadError, match="--p"):
+        parse_positive("0kPa", "pressure", name="--p")
+
+
+@pytest.mark.parametrize(("value", "dimension", "text"), [
+    (5e-5, "length", "50 um"), (1.75e-4, "length", "175 um"), (2e-3, "length", "2 mm"),
+    (8100.0, "pressure", "8.1 kPa"), (3e5, "pressure", "300 kPa"), (2.5e9, "pressure", "2.5 GPa"),
+    (0.5, "force", "500 mN"), (2.0, "force", "2 N"),
+])
+def test_format_picks_a_readable_unit(value, dimension, text):
+    assert format_quantity(value, dimension) == text

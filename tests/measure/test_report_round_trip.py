@@ -1,0 +1,95 @@
+"""The measurement report read back: every CSV table equals the result's, the NetCDF curves carry
+units, the figures are images with something on them, and the folder is replaced as a whole."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from fingerpad.errors import FingerpadError
+from fingerpad.measure.report import write_report
+
+TABLES = {"summary.csv": "conditions", "participants.csv": "participants", "strokes.csv": "strokes",
+          "fits.csv": "fits", "bins.csv": "bins", "spread.csv": "spread"}
+
+
+@pytest.fixture(scope="module")
+def report(study_small, tmp_path_factory):
+    out = tmp_path_factory.mktemp("report") / "results"
+    files = write_report(study_small, out, dpi=40, qc=True)
+    return out, files
+
+
+@pytest.mark.parametrize("name", sorted(TABLES))
+def test_tables_round_trip(report, study_small, name):
+    out, _ = report
+    expected = getattr(study_small, TABLES[name])
+    got = pd.read_csv(out / name, keep_default_na=True)
+    assert list(got.columns) == [str(c) for c in expected.columns]
+    assert len(got) == len(expected)
+    for col in expected.columns:
+        if pd.api.types.is_bool_dtype(expected[col]):
+            assert got[col].astype(bool).tolist() == expected[col].tolist(), col
+        elif pd.api.types.is_numeric_dtype(expected[col]):
+            np.testing.assert_allclose(got[col].to_numpy(float), expected[col].to_numpy(float), rtol=1e-14,
+                                       equal_nan=True, err_msg=col)
+
+
+def test_summary_json(report, study_small):
+    out, _ = report
+    text = (out / "summary.json").read_text()
+    summary = json.loads(text)
+    assert "NaN" not in text and "Infinity" not in text
+    assert summary["study"]["reference_sample"] == "flat"
+    assert len(summary["participants"]) == len(study_small.participants)
+    assert len(summary["conditions"]) == len(study_small.conditions)
+
+
+def test_curves_netcdf_has_units(report):
+    from fingerpad import netcdf
+
+    out, _ = report
+    ds = netcdf.load_dataset(out / "curves.nc")
+    assert {"P01", "P02", "P03"} <= set(ds["participant"].values.astype(str))
+    for name, var in ds.data_vars.items():
+        assert "units" in var.attrs, name
+
+
+def test_figures_are_drawn(report, study_small):
+    from matplotlib.image import imread
+
+    out, files = report
+    pngs = sorted((out / "figures").rglob("*.png"))
+    n_participants = study_small.strokes["participant"].nunique()
+    n_samples = study_small.strokes["sample"].nunique()
+    assert len(pngs) == n_participants + n_samples + len(study_small.stroke_reports)
+    for path in pngs[:: max(1, len(pngs) // 4)]:
+        img = imread(path)[..., :3]
+        assert img.var() > 1e-3 and len(np.unique(img.reshape(-1, 3), axis=0)) > 2, path.name
+    html = (out / "report.html").read_text()
+    for path in pngs:
+        if "qc" in path.parts:
+            assert path.relative_to(out).as_posix() in html, "QC figures are linked"
+    assert sorted(files) == sorted(p for p in out.rglob("*") if p.is_file())
+
+
+def test_report_replaces_an_earlier_report_whole(study_small, tmp_path):
+    out = tmp_path / "res"
+    write_report(study_small, out, figures=False)
+    (out / "old_extra.csv").write_text("from an earlier version")
+    write_report(study_small, out, figures=False)
+    assert not (out / "old_extra.csv").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["res"], "no temporary folder left"
+
+
+def test_report_refuses_a_foreign_folder(study_small, tmp_path):
+    out = tmp_path / "thesis"
+    out.mkdir()
+    (out / "chapter1.tex").write_text("mine")
+    with pytest.raises(FingerpadError, match=r"holds files of something else \(chapter1\.tex\)"):
+        write_report(study_small, out, figures=False)
+    assert sorted(p.name for p in out.iterdir()) == ["chapter1.tex"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["thesis"]
