@@ -16,6 +16,7 @@ the conjugate gradient combines to save transforms.
 
 from __future__ import annotations
 
+import math
 import os
 from typing import Any
 
@@ -23,9 +24,10 @@ import numpy as np
 
 from ..errors import SetupError
 from ..textures import Texture
+from .layered import Layer, spectral_factor
 
 __all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "fft_settings", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
-           "love_rectangle"]
+           "love_rectangle", "smoothed_rectangle"]
 
 FFT_ENGINES = ("auto", "ducc0", "scipy")
 
@@ -265,13 +267,54 @@ class FFTOperator:
         return out[: self.shape[0], : self.shape[1]] if self.padded else out
 
 
-def compliance_operator(backend: Backend, texture: Texture, modulus: float) -> FFTOperator:
-    """Pressure -> displacement operator (Boussinesq), periodic or free-space."""
+def smoothed_rectangle(x: np.ndarray, y: np.ndarray, a: float, b: float, c: float) -> np.ndarray:
+    """Integral of 1/sqrt(r^2 + c^2) over the rectangle |x'|<=a, |y'|<=b seen from (x, y).
+
+    The potential of a uniformly charged rectangle at height c: with R = sqrt(X^2 + Y^2 + c^2),
+    ``F(X, Y) = X ln(Y + R) + Y ln(X + R) - c atan(X Y / (c R))`` has the mixed derivative
+    ``d^2F/dXdY = 1/R``; c = 0 is Love's rectangle (:func:`love_rectangle`).
+    """
+
+    def f(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
+        # odd in X and in Y: evaluate on |X|, |Y| (the logarithms' arguments stay >= c > 0)
+        ax, ay = np.abs(X), np.abs(Y)
+        R = np.sqrt(ax * ax + ay * ay + c * c)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t1 = np.where(ax > 0, ax * np.log((ay + R) / np.where(ax > 0, np.sqrt(ax * ax + c * c), 1.0)), 0.0)
+            t2 = np.where(ay > 0, ay * np.log((ax + R) / np.where(ay > 0, np.sqrt(ay * ay + c * c), 1.0)), 0.0)
+        # the ln terms are shifted by functions of one variable (X ln sqrt(X^2+c^2), ...),
+        # which the double difference below removes
+        t3 = c * np.arctan2(ax * ay, c * R)
+        return np.sign(X) * np.sign(Y) * (t1 + t2 - t3)
+
+    return f(x + a, y + b) - f(x - a, y + b) - f(x + a, y - b) + f(x - a, y - b)
+
+
+def _layered_multiplier(texture: Texture, modulus: float, layer: Layer | None, shape: tuple[int, int],
+                        spacing: tuple[float, float]) -> tuple[np.ndarray, np.ndarray | None]:
+    """|q| on a periodic grid and the layer's factor there (None for the homogeneous skin)."""
+    q = wavenumbers(shape, spacing)
+    return q, spectral_factor(layer, q, modulus)
+
+
+def compliance_operator(backend: Backend, texture: Texture, modulus: float, layer: Layer | None = None) -> FFTOperator:
+    """Pressure -> displacement operator (Boussinesq, or the layered skin's), periodic or free-space.
+
+    With a ``layer`` the periodic compliance ``2 / (E* |q|)`` is multiplied by the layer's factor
+    (:func:`fingerpad.contact.layered.spectral_factor`). For finite bodies the layered kernel is
+    split in three (docs/model.md, "Layered skin"): Love's rectangle of E* (exact, as for the
+    homogeneous skin), the long-range excess ``(F0 - 1)/(pi E* sqrt(r^2 + t^2))`` integrated
+    exactly over the pixel (F0 the factor at q -> 0), both convolved linearly (zero padding), and
+    the remainder ``2/(E*|q|) [F(q) - 1 - (F0 - 1) exp(-|q| t)]``, bounded and smooth, applied in
+    Fourier space on the padded grid: that part alone sees periodic images at twice the patch size.
+    """
     shape = texture.shape
     if texture.periodic:
-        q = wavenumbers(shape, texture.spacing)
+        q, factor = _layered_multiplier(texture, modulus, layer, shape, texture.spacing)
         with np.errstate(divide="ignore"):
             mult = np.where(q > 0, 2.0 / (modulus * np.where(q > 0, q, 1.0)), 0.0)
+        if factor is not None:
+            mult = mult * factor
         return FFTOperator(backend, shape, mult, padded=False)
     nx, ny = shape
     dx, dy = texture.spacing
@@ -282,31 +325,70 @@ def compliance_operator(backend: Backend, texture: Texture, modulus: float) -> F
     iy = np.abs(np.fft.fftfreq(2 * ny, d=1.0 / (2 * ny))).astype(np.intp)
     X, Y = np.meshgrid(np.arange(nx + 1) * dx, np.arange(ny + 1) * dy, indexing="ij")
     quadrant = love_rectangle(X, Y, dx / 2, dy / 2) / (np.pi * modulus)
+    if layer is not None:
+        t = layer.thickness
+        f0 = float(spectral_factor(layer, np.zeros(1), modulus)[0])
+        quadrant = quadrant + (f0 - 1.0) * smoothed_rectangle(X, Y, dx / 2, dy / 2, t) / (np.pi * modulus)
     kernel = quadrant[ix[:, None], iy[None, :]]
     mult = np.fft.rfft2(kernel).real
+    if layer is not None:
+        q, factor = _layered_multiplier(texture, modulus, layer, (2 * nx, 2 * ny), (dx, dy))
+        qs = np.where(q > 0, q, 1.0)
+        rest = np.where(q > 0, _remainder(layer, modulus, qs, f0), _remainder_at_zero(layer, modulus, f0))
+        # a sampled kernel on the padded grid (pixel values, no pixel integration): pressure x
+        # pixel area, as the spectral periodic operator does
+        mult = mult + rest
     return FFTOperator(backend, shape, mult, padded=True)
 
 
-def preconditioner(backend: Backend, texture: Texture, modulus: float, form: str) -> FFTOperator:
+def _remainder(layer: Layer, modulus: float, q: np.ndarray, f0: float) -> np.ndarray:
+    """The bounded part ``2/(E*|q|) [F(q) - 1 - (F0 - 1) exp(-|q| t)]`` of the layered compliance."""
+    factor = spectral_factor(layer, q, modulus)
+    return 2.0 / (modulus * q) * (factor - 1.0 - (f0 - 1.0) * np.exp(-q * layer.thickness))
+
+
+def _remainder_at_zero(layer: Layer, modulus: float, f0: float) -> float:
+    """Its limit at q -> 0, ``2/E* (F'(0) + (F0 - 1) t)``: Richardson from |q| t = 1e-4 and 2e-4
+    (truncation ~1e-8, rounding ~1e-12 of the value)."""
+    d = np.array([1e-4, 2e-4]) / layer.thickness
+    r = _remainder(layer, modulus, d, f0)
+    return float(2.0 * r[0] - r[1])
+
+
+def _stiffness(modulus: float, q: np.ndarray, factor: np.ndarray | None) -> np.ndarray:
+    return modulus * q / 2.0 if factor is None else modulus * q / (2.0 * factor)
+
+
+def _compliance(modulus: float, q: np.ndarray, factor: np.ndarray | None) -> np.ndarray:
+    return 2.0 / (modulus * q) if factor is None else 2.0 * factor / (modulus * q)
+
+
+def preconditioner(backend: Backend, texture: Texture, modulus: float, form: str,
+                   layer: Layer | None = None) -> FFTOperator:
     """Approximate inverse of the solver's operator, for the preconditioned conjugate gradient.
 
     ``form="primal"``: the periodic stiffness ``E* |q| / 2`` on the texture's own grid (also for
     finite bodies, whose compliance it inverts up to the longest wavelengths); ``"dual"``: the
     periodic compliance ``2 / (E* |q|)``. The q = 0 mode, which the operators leave undefined,
     takes the value of the lowest non-zero wavenumber so that the preconditioner is positive
-    definite (under a mean constraint the solver removes that mode anyway).
+    definite (under a mean constraint the solver removes that mode anyway). With a ``layer``
+    both carry its factor: the exact inverse of the layered periodic compliance.
     """
-    q = wavenumbers(texture.shape, texture.spacing)
+    q, factor = _layered_multiplier(texture, modulus, layer, texture.shape, texture.spacing)
     q0 = float(np.min(q[q > 0]))
+    if factor is not None:
+        factor = np.where(q > 0, factor, float(spectral_factor(layer, np.array([q0]), modulus)[0]))
     q = np.where(q > 0, q, q0)
-    mult = modulus * q / 2.0 if form == "primal" else 2.0 / (modulus * q)
+    mult = _stiffness(modulus, q, factor) if form == "primal" else _compliance(modulus, q, factor)
     return FFTOperator(backend, texture.shape, mult, padded=False)
 
 
-def stiffness_operator(backend: Backend, texture: Texture, modulus: float) -> FFTOperator:
+def stiffness_operator(backend: Backend, texture: Texture, modulus: float, layer: Layer | None = None) -> FFTOperator:
     """Displacement -> pressure operator of a periodic cell (inverse of the compliance)."""
-    q = wavenumbers(texture.shape, texture.spacing)
-    return FFTOperator(backend, texture.shape, modulus * q / 2.0, padded=False)
+    q, factor = _layered_multiplier(texture, modulus, layer, texture.shape, texture.spacing)
+    if factor is not None:
+        factor = np.where(q > 0, factor, 1.0)  # q = 0: E* q / 2 = 0 whatever the factor
+    return FFTOperator(backend, texture.shape, _stiffness(modulus, q, factor), padded=False)
 
 
 # --------------------------------------------------------------------------------------------
