@@ -360,3 +360,49 @@ def test_layered_preconditioner_is_the_exact_inverse_and_keeps_iterations_low() 
     assert abs(layered.mean_pressure / plain.mean_pressure - 1) < 1e-12
     assert abs(layered.contact_fraction - plain.contact_fraction) < 0.01  # the same solution, to a pixel
     assert layered.iterations < plain.iterations / 2
+
+
+# ----------------------------------------------------- the derivation of docs/model.md, solved
+
+
+def _mode_rows(z: float, k: float, mu: float, nu: float) -> np.ndarray:
+    """Rows (u_x, u_z, sigma_xz, sigma_zz) of one Fourier mode against the Papkovich-Neuber
+    constants (A, B, C, D) of docs/model.md ("Layered skin"), z into the body."""
+    kap = 3 - 4 * nu
+    em, ep = math.exp(-k * z), math.exp(k * z)
+    kz = k * z
+    return np.array([
+        [kz * em / (2 * mu), em / (2 * mu), kz * ep / (2 * mu), ep / (2 * mu)],                     # u_x / sin
+        [(kap + kz) * em / (2 * mu), em / (2 * mu), (kap - kz) * ep / (2 * mu), -ep / (2 * mu)],   # u_z / cos
+        [k * (-(1 - 2 * nu) - kz) * em, -k * em, k * (-(1 - 2 * nu) + kz) * ep, k * ep],          # s_xz / sin
+        [-k * (2 * (1 - nu) + kz) * em, -k * em, k * (2 * (1 - nu) - kz) * ep, -k * ep],           # s_zz / cos
+    ])
+
+
+def derivation_compliance(k: float, layer: Layer) -> float:
+    """Surface deflection per unit pressure amplitude from the boundary-value problem of the
+    docs, solved as a linear system (no closed form)."""
+    t = layer.thickness
+    mu1 = layer.modulus / (2 * (1 + layer.poisson))
+    top, bottom = _mode_rows(0.0, k, mu1, layer.poisson), _mode_rows(t, k, mu1, layer.poisson)
+    if layer.rigid_base:
+        rows = [top[2], top[3], bottom[1]] + ([bottom[2]] if layer.base == "frictionless" else [bottom[0]])
+        a = np.array(rows)
+        c = np.linalg.solve(a, [0.0, -1.0, 0.0, 0.0])
+        return float(top[1] @ c)
+    mu2 = layer.substrate_modulus / (2 * (1 + layer.substrate_poisson))
+    sub = _mode_rows(t, k, mu2, layer.substrate_poisson)[:, :2]  # decaying solutions only
+    a = np.zeros((6, 6))
+    a[0, :4], a[1, :4] = top[2], top[3]
+    a[2:, :4] = bottom
+    a[2:, 4:] = -sub
+    c = np.linalg.solve(a, [0.0, -1.0, 0, 0, 0, 0])
+    return float(top[1] @ c[:4])
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_closed_form_solves_the_derivations_boundary_value_problem(case: str) -> None:
+    layer = CASES[case]
+    for kt in (0.05, 0.5, 2.0, 6.0):
+        k = kt / layer.thickness
+        assert abs(derivation_compliance(k, layer) / float(layer.compliance(k)) - 1) < 1e-9
