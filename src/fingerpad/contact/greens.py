@@ -292,7 +292,7 @@ def smoothed_rectangle(x: np.ndarray, y: np.ndarray, a: float, b: float, c: floa
 
 def _layered_multiplier(texture: Texture, modulus: float, layer: Layer | None, shape: tuple[int, int],
                         spacing: tuple[float, float]) -> tuple[np.ndarray, np.ndarray | None]:
-    """|q| on a periodic grid and the layer's factor there (None for the homogeneous skin)."""
+    """``|q|`` on a periodic grid and the layer's factor there (None for the homogeneous skin)."""
     q = wavenumbers(shape, spacing)
     return q, spectral_factor(layer, q, modulus)
 
@@ -395,7 +395,7 @@ def _remainder(layer: Layer, modulus: float, q: np.ndarray, f0: float) -> np.nda
 
 
 def _remainder_at_zero(layer: Layer, modulus: float, f0: float) -> float:
-    """Its limit at q -> 0, ``2/E* (F'(0) + (F0 - 1) t)``: Richardson from |q| t = 1e-4 and 2e-4
+    """Its limit at q -> 0, ``2/E* (F'(0) + (F0 - 1) t)``: Richardson from ``|q| t`` = 1e-4 and 2e-4
     (truncation ~1e-8, rounding ~1e-12 of the value)."""
     d = np.array([1e-4, 2e-4]) / layer.thickness
     r = _remainder(layer, modulus, d, f0)

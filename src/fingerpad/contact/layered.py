@@ -2,16 +2,16 @@
 
 The surface compliance of a layered body under a normal pressure ``p_q exp(i q.x)`` with no
 surface shear is that of the homogeneous half-space of the layer times a factor of ``|q| t`` and
-the moduli alone (docs/model.md, "Layered skin", for the derivation):
+the moduli alone (docs/model.md, section 6.4 "Layered skin", for the derivation)::
 
-    u_q = 2 K(|q| t) / (E1* |q|) p_q,      E1* = E1 / (1 - nu1^2).
+    u_q = 2 K(|q| t) / (E1* |q|) p_q,      E1* = E1 / (1 - nu1^2)
 
-With ``x = |q| t``, the shear-modulus ratio ``alpha = mu1/mu2`` and ``kappa_i = 3 - 4 nu_i``,
+With ``x = |q| t``, the shear-modulus ratio ``alpha = mu1/mu2`` and ``kappa_i = 3 - 4 nu_i``::
 
-    m      = (alpha - 1) / (alpha + kappa1),
-    lambda = 1 - 4 (1 - nu1) / (1 + alpha kappa2),
+    m      = (alpha - 1) / (alpha + kappa1)
+    lambda = 1 - 4 (1 - nu1) / (1 + alpha kappa2)
     K(x)   = (1 + 4 m x e^-2x - lambda m e^-4x)
-             / (1 - (lambda + m + 4 m x^2) e^-2x + lambda m e^-4x).
+             / (1 - (lambda + m + 4 m x^2) e^-2x + lambda m e^-4x)
 
 A rigid bonded base is ``alpha = 0``; a rigid frictionless base has
 ``K = (1 - e^-2x)^2 / (1 - e^-4x + 4 x e^-2x)``. :func:`layer_factor` evaluates both in a form
@@ -19,8 +19,8 @@ where every term is non-negative (no cancellation at small ``x`` or large contra
 at large ``x``).
 
 :class:`Layer` describes the skin; :func:`spectral_factor` is what the elastic operators of
-:mod:`.greens` multiply today's half-space kernel ``2 / (E* |q|)`` by. Physics only: nothing
-here draws or writes.
+:mod:`fingerpad.contact.greens` multiply today's half-space kernel ``2 / (E* |q|)`` by. Physics
+only: nothing here draws or writes.
 """
 
 from __future__ import annotations
@@ -96,7 +96,7 @@ class Layer:
         return math.inf if self.rigid_base else self.substrate_modulus / (1.0 - self.substrate_poisson**2)
 
     def factor(self, x: np.ndarray | float) -> np.ndarray:
-        """K(|q| t): the layered compliance over the layer's half-space compliance."""
+        """``K(|q| t)`` at ``x = |q| t``: the layered compliance over the layer's half-space one."""
         return layer_factor(x, self)
 
     def compliance(self, q: np.ndarray | float) -> np.ndarray:
@@ -123,7 +123,7 @@ def _emx_sinh_minus(x: np.ndarray) -> np.ndarray:
 
 
 def layer_factor(x: np.ndarray | float, layer: Layer) -> np.ndarray:
-    """Compliance factor K(x), x = |q| t >= 0, of ``layer`` (docs/model.md, "Layered skin").
+    """Compliance factor ``K(x)``, ``x = |q| t >= 0``, of ``layer`` (docs/model.md, section 6.4).
 
     K -> 1 as x -> inf (the layer's half-space), K(0) = E1*/E2* on an elastic half-space (the
     substrate's), K -> 0 like the uniaxial strain of the layer on a rigid base.
