@@ -406,3 +406,22 @@ def test_closed_form_solves_the_derivations_boundary_value_problem(case: str) ->
     for kt in (0.05, 0.5, 2.0, 6.0):
         k = kt / layer.thickness
         assert abs(derivation_compliance(k, layer) / float(layer.compliance(k)) - 1) < 1e-9
+
+
+# ------------------------------------------------------------------- any array namespace
+
+
+@pytest.mark.parametrize("periodic", [True, False])
+def test_layered_solver_runs_on_the_strict_array_namespace(periodic: bool) -> None:
+    """The layered kernel is one more host-built multiplier: a GPU namespace runs it unchanged."""
+    xps = pytest.importorskip("array_api_strict")
+    n, lam = 32, 1e-4
+    x = (np.arange(n) + 0.5) * lam / n - lam / 2
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    tex = Texture(-(X**2 + Y**2) / (2 * lam), (lam, lam), periodic=periodic)
+    layer = CASES["stiff on soft"]
+    e = layer.reduced_modulus
+    ref = HalfSpaceSolver(tex, e, layer=layer, kernels="array").solve_pressure(1e-3 * e)
+    strict = HalfSpaceSolver(tex, e, layer=layer, xp=xps).solve_pressure(1e-3 * e)
+    assert ref.converged and strict.converged and ref.iterations == strict.iterations
+    np.testing.assert_allclose(strict.pressure, ref.pressure, rtol=0, atol=1e-6 * ref.max_pressure)
