@@ -425,3 +425,20 @@ def test_layered_solver_runs_on_the_strict_array_namespace(periodic: bool) -> No
     strict = HalfSpaceSolver(tex, e, layer=layer, xp=xps).solve_pressure(1e-3 * e)
     assert ref.converged and strict.converged and ref.iterations == strict.iterations
     np.testing.assert_allclose(strict.pressure, ref.pressure, rtol=0, atol=1e-6 * ref.max_pressure)
+
+
+@pytest.mark.parametrize("case", ["stiff on soft", "rigid base, bonded"])
+def test_layered_primal_dual_and_approach_control_agree(case: str) -> None:
+    """The dual (gap) form uses the layered stiffness, the exact inverse: same solution; and
+    an approach-controlled solve inverts the pressure-controlled one."""
+    layer = CASES[case]
+    e = layer.reduced_modulus
+    tex = caps(64, 1e-4, 0.4e-4, 0.05e-4)
+    load = 2e-3 * e
+    a = HalfSpaceSolver(tex, e, layer=layer, formulation="primal").solve_pressure(load)
+    b = HalfSpaceSolver(tex, e, layer=layer, formulation="dual").solve_pressure(load)
+    assert a.converged and b.converged
+    np.testing.assert_allclose(b.pressure, a.pressure, rtol=0, atol=1e-5 * a.max_pressure)
+    assert abs(b.approach / a.approach - 1) < 1e-6
+    back = HalfSpaceSolver(tex, e, layer=layer).solve_approach(a.approach)
+    assert back.converged and abs(back.mean_pressure / load - 1) < 1e-6
