@@ -16,7 +16,7 @@ the conjugate gradient combines to save transforms.
 
 from __future__ import annotations
 
-import math
+import functools
 import os
 from typing import Any
 
@@ -362,8 +362,19 @@ def remainder_kernel(layer: Layer, modulus: float, r: np.ndarray, f0: float) -> 
     (bounded, f(0) = 0, decaying like e^-x): Gauss-Legendre panels on x in [0, 40] (24 nodes per
     0.1, converged to 1e-10 at r/t = 200), tabulated on r/t in [0, 200] (steps of 0.02 to 20,
     then of 0.5 %) and interpolated; beyond, the asymptotic tail ``-f2 / (pi E* t (r/t)^3)``
-    (f2 the x^2 coefficient of f: ``int x^2 J0(rho x) dx = -1/rho^3``).
+    (f2 the x^2 coefficient of f: ``int x^2 J0(rho x) dx = -1/rho^3``). The table is computed
+    once per layer and modulus (~0.3 s) and shared by the levels of a nested solve.
     """
+    rho_table, table, f2 = _remainder_table(layer, float(modulus), float(f0))
+    rho = np.asarray(r, dtype=np.float64) / layer.thickness
+    with np.errstate(divide="ignore"):
+        tail = -f2 / np.where(rho > 0, rho, 1.0) ** 3
+    return np.where(rho <= rho_table[-1], np.interp(rho, rho_table, table), tail) / (np.pi * modulus * layer.thickness)
+
+
+@functools.lru_cache(maxsize=8)
+def _remainder_table(layer: Layer, modulus: float, f0: float) -> tuple[np.ndarray, np.ndarray, float]:
+    """The radial table of :func:`remainder_kernel` (without its 1/(pi E* t)) and f2."""
     from scipy.special import j0  # noqa: PLC0415
 
     t = layer.thickness
@@ -378,14 +389,12 @@ def remainder_kernel(layer: Layer, modulus: float, r: np.ndarray, f0: float) -> 
     ws = (half * weights[None, :]).ravel()
     fw = f(xs) * ws
     rho_table = np.concatenate([np.linspace(0.0, 20.0, 1001), np.geomspace(20.0, _RHO_TABLE, 462)[1:]])
-    rho = np.asarray(r, dtype=np.float64) / t
-    rho_table = rho_table[: int(np.searchsorted(rho_table, float(np.max(rho)))) + 2]  # only as far as needed
     table = np.array([np.dot(fw, j0(xs * rh)) for rh in rho_table])
     h = 1e-3
     f2 = float((f(np.array([2 * h]))[0] - 2 * f(np.array([h]))[0]) / (2 * h * h))
-    with np.errstate(divide="ignore"):
-        tail = -f2 / np.where(rho > 0, rho, 1.0) ** 3
-    return np.where(rho <= rho_table[-1], np.interp(rho, rho_table, table), tail) / (np.pi * modulus * t)
+    rho_table.flags.writeable = False
+    table.flags.writeable = False
+    return rho_table, table, f2
 
 
 def _remainder(layer: Layer, modulus: float, q: np.ndarray, f0: float) -> np.ndarray:
