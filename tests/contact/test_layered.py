@@ -95,13 +95,14 @@ CASES = {
 
 @pytest.mark.parametrize("case", list(CASES))
 def test_compliance_matches_finite_elements(case: str) -> None:
-    """The closed-form compliance agrees with the FE strip to < 0.1 % from |k|t = 0.05 to 5."""
+    """The closed-form compliance agrees with the FE strip to < 0.01 % from |k|t = 0.05 to 5
+    (measured: 2e-5 at most, the FE's own discretisation error)."""
     layer = CASES[case]
     for kt in (0.05, 0.3, 1.0, 5.0):
         k = kt / layer.thickness
         closed = float(layer.compliance(k))
         fe = fe_compliance(k, layer)
-        assert abs(fe / closed - 1) < 1e-3, (kt, fe / closed)
+        assert abs(fe / closed - 1) < 1e-4, (kt, fe / closed)
 
 
 def test_finite_elements_check_can_fail() -> None:
@@ -237,7 +238,7 @@ def test_westergaard_generalised(case: str) -> None:
         full = solver.solve_pressure(1.3 * p_star)
         assert full.converged and full.contact_state == "full"
         wave = full.pressure[:, 0] - full.mean_pressure
-        assert abs(wave.max() / p_star - 1) < 1e-6
+        assert abs(wave.max() / p_star - 1) < 1e-8  # measured <= 3e-10
         assert solver.solve_pressure(0.9 * p_star).contact_state != "full"
 
 
