@@ -19,6 +19,7 @@ import json
 import math
 import shutil
 import warnings
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -29,7 +30,7 @@ from ..errors import FingerpadError
 from .evaluate import STATE_CODES
 from .spec import SweepSpec
 
-__all__ = ["SweepStore", "chunk_slices", "open_sweep", "pressure_grid"]
+__all__ = ["StoreDamage", "SweepStore", "check_store", "chunk_slices", "open_sweep", "pressure_grid"]
 
 _FLOAT_VARS = {
     "critical_load_bem": ("N", "load at which the pad centre reaches the transition (BEM cell)"),
@@ -122,7 +123,7 @@ class SweepStore:
             "axes": json.dumps([a.name for a in spec.axes]),
             "study": json.dumps({k: v for k, v in spec.base.items() if k != "_source"}, default=repr),
             "sweep": json.dumps(spec.raw, default=repr),
-            "study_file": str(spec.source or ""),
+            "study_file": str(Path(spec.source).resolve()) if spec.source else "",
             "chunk": spec.chunk,
             "units_system": "SI",
             "fingerpad_version": __version__,
@@ -161,6 +162,39 @@ class SweepStore:
             warnings.simplefilter("ignore")
             self.template().to_zarr(tmp, mode="w", encoding=self.encoding(), zarr_format=2, consolidated=True)
         tmp.rename(self.path)  # a store appears complete or not at all
+
+    def holds_this_sweep(self) -> bool:
+        """Whether the store exists and holds this sweep (its signature), damaged or not."""
+        attrs = _read_attrs(self.path) if self.path.is_dir() else None
+        return attrs is not None and attrs.get("signature") == self.spec.signature()
+
+    def repair(self, damage: StoreDamage) -> int:
+        """Make a damaged store of this sweep whole again; returns the points to compute again.
+
+        Damaged chunks of results are rewritten as not computed (NaN, ``done`` False) so that the
+        sweep computes their points again; damaged inputs (axis values, loads, pressures) are
+        rewritten from the study; the consolidated metadata is written anew. Damage that cannot
+        be mended in place (``damage.fatal``) is refused.
+        """
+        import zarr
+
+        if damage.fatal:
+            raise FingerpadError(damage.message())
+        template = self.template()
+        group = zarr.open_group(str(self.path), mode="r+", use_consolidated=False)
+        redo = np.zeros(self.spec.shape, bool)
+        for name, regions in damage.chunks.items():
+            var = template[name]
+            for region in regions:
+                if name in _RESULT_VARS:
+                    group[name][region] = var.values[region]  # not computed: NaN, -1, "", False
+                    lead = region[: len(self.spec.shape)]
+                    group["done"][lead] = False
+                    redo[lead] = True
+                else:
+                    group[name][region] = var.values[region]
+        zarr.consolidate_metadata(str(self.path), zarr_format=2)
+        return int(redo.sum())
 
     # ---------------------------------------------------------------- filling
 
@@ -204,23 +238,140 @@ class SweepStore:
         return str(self.path)
 
 
+#: The variables a sweep computes (the others are its inputs: axis values, loads, pressures).
+_RESULT_VARS = {*_FLOAT_VARS, *_LOAD_VARS, "contact_state", "psi", "valid", "converged", "reason", "done"}
+
+
+@dataclass
+class StoreDamage:
+    """What is damaged in a sweep store (:func:`check_store`); false when nothing is.
+
+    Attributes
+    ----------
+    path
+        The store.
+    metadata
+        Damaged metadata that a repair rewrites (the consolidated ``.zmetadata``).
+    chunks
+        ``{variable: [region, ...]}``: chunks that cannot be read, as index regions of the variable.
+    fatal
+        Damage that cannot be mended in place (an array's own metadata, a missing array).
+    study_file
+        The study file the store records (for the message that says how to repair it).
+    """
+
+    path: Path
+    metadata: list[str] = field(default_factory=list)
+    chunks: dict[str, list[tuple[slice, ...]]] = field(default_factory=dict)
+    fatal: list[str] = field(default_factory=list)
+    study_file: str = ""
+
+    def __bool__(self) -> bool:
+        return bool(self.metadata or self.chunks or self.fatal)
+
+    def describe(self) -> str:
+        """The damage in a few words (the first chunks of each variable named)."""
+        parts = list(self.fatal) + list(self.metadata)
+        for name, regions in self.chunks.items():
+            shown = ", ".join(_region_text(r) for r in regions[:3])
+            more = f" and {len(regions) - 3} more" if len(regions) > 3 else ""
+            parts.append(f"{len(regions)} unreadable chunk{'s' if len(regions) > 1 else ''} of {name!r} "
+                         f"({shown}{more})")
+        return "; ".join(parts)
+
+    def message(self) -> str:
+        """One line: the store, what is damaged, and how to mend it."""
+        study = self.study_file or "STUDY.toml"
+        if self.fatal:
+            how = (f"it cannot be repaired in place: run the sweep into a new store "
+                   f"(fingerpad sweep {study} --out NEW.zarr)")
+        else:
+            how = (f"fingerpad sweep {study} --out {self.path} --repair recomputes the damaged points "
+                   "and rewrites the metadata")
+        return f"{self.path}: damaged sweep store: {self.describe()}; {how}"
+
+
+def _region_text(region: tuple[slice, ...]) -> str:
+    return "[" + ", ".join(f"{s.start}:{s.stop}" for s in region) + "]"
+
+
+def check_store(path: str | Path) -> StoreDamage:
+    """Read every chunk and the metadata of a sweep store; what cannot be read is damage.
+
+    A chunk of garbage (a disk error, a copy cut short) otherwise shows as a decoding traceback
+    when the store is read, or is silently resumed over; a lost ``.zmetadata`` makes the store
+    unreadable by :func:`open_sweep` although its arrays are whole.
+    """
+    import zarr
+
+    p = Path(path)
+    damage = StoreDamage(p)
+    attrs = _read_attrs(p) or {}
+    damage.study_file = str(attrs.get("study_file", ""))
+    listed: list[str] | None = None
+    try:
+        meta = json.loads((p / ".zmetadata").read_text(encoding="utf-8"))
+        listed = sorted({k.split("/")[0] for k in meta["metadata"] if "/" in k})
+    except FileNotFoundError:
+        damage.metadata.append(".zmetadata (the consolidated metadata) is missing")
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        damage.metadata.append(".zmetadata (the consolidated metadata) is unreadable")
+    on_disk = sorted(d.name for d in p.iterdir() if d.is_dir() and not d.name.startswith("."))
+    for name in sorted(set(on_disk) | set(listed or [])):
+        if name not in on_disk:
+            damage.fatal.append(f"the array {name!r} is missing")
+            continue
+        try:
+            arr = zarr.open_array(str(p / name), mode="r", zarr_format=2)
+        except Exception:  # noqa: BLE001 - any unreadable metadata is damage
+            damage.fatal.append(f"the metadata of {name!r} ({name}/.zarray) is unreadable")
+            continue
+        bad = _unreadable_chunks(arr)
+        if bad:
+            damage.chunks[name] = bad
+    return damage
+
+
+def _unreadable_chunks(arr: Any) -> list[tuple[slice, ...]]:
+    """Regions of the chunks of ``arr`` that cannot be read (whole array first: usually all is well)."""
+    try:
+        arr[...]
+        return []
+    except Exception:  # noqa: BLE001 - a codec error, a short file: any failure is a damaged chunk
+        pass
+    bad = []
+    grid = [range(math.ceil(n / c)) for n, c in zip(arr.shape, arr.chunks, strict=True)]
+    for idx in itertools.product(*grid):
+        region = tuple(slice(i * c, min((i + 1) * c, n)) for i, c, n in zip(idx, arr.chunks, arr.shape, strict=True))
+        try:
+            arr[region]
+        except Exception:  # noqa: BLE001 - see above
+            bad.append(region)
+    return bad
+
+
 def _read_attrs(path: Path) -> dict[str, Any] | None:
     try:
         import zarr
 
-        attrs = dict(zarr.open_group(str(path), mode="r").attrs)
+        # the group's own attributes, not the consolidated copy: a store whose .zmetadata is
+        # lost is still this sweep's store (damaged, and repairable)
+        attrs = dict(zarr.open_group(str(path), mode="r", use_consolidated=False).attrs)
     except Exception:  # noqa: BLE001 - anything unreadable is "not a sweep store"
         return None
     return attrs if attrs.get("fingerpad_sweep") == 1 else None
 
 
-def open_sweep(path: str | Path) -> Any:
+def open_sweep(path: str | Path, check: bool = True) -> Any:
     """The results of a sweep as an :class:`xarray.Dataset` (lazy; read with ``.load()``).
+
+    With ``check`` (default), every chunk is read first (:func:`check_store`), so that a damaged
+    store is said in one line instead of failing somewhere in the reading.
 
     Raises
     ------
     FingerpadError
-        When ``path`` is missing or not a fingerpad sweep store.
+        When ``path`` is missing, not a fingerpad sweep store, or damaged.
     """
     import xarray as xr
 
@@ -229,6 +380,10 @@ def open_sweep(path: str | Path) -> Any:
         raise FingerpadError(f"{str(p)!r}: no such sweep store (a folder written by `fingerpad sweep`)")
     if _read_attrs(p) is None:
         raise FingerpadError(f"{str(p)!r} is not a fingerpad sweep store (made by `fingerpad sweep`)")
+    if check:
+        damage = check_store(p)
+        if damage:
+            raise FingerpadError(damage.message())
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return xr.open_zarr(p, consolidated=True)
