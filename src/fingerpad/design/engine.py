@@ -221,7 +221,7 @@ def run_sweep(
     pressures = sweep_pressures(spec)
     store = SweepStore(store_path, spec, pressures)
     report = SweepReport(points=spec.size)
-    if store.holds_this_sweep():
+    if store.check_existing(overwrite) == "resume":
         # Checked before any cluster starts: a damaged store is said at once, and a finished
         # sweep costs no cluster (9-16 s to start one on two cores, to do nothing).
         damage = check_store(store.path)
@@ -239,6 +239,7 @@ def run_sweep(
     try:
         if cluster is None:
             _wait_for_a_worker(client, scheduler or "", notice)
+            t_start = time.perf_counter()  # the rate of the summary counts computing, not waiting
         store.create(overwrite=overwrite)
         done = store.done()
         report.done_before = int(done.sum())

@@ -141,20 +141,37 @@ class SweepStore:
         enc["psi"] = {"chunks": (*lead, self.pressures.size)}
         return enc
 
+    def check_existing(self, overwrite: bool = False) -> str:
+        """What is at the store's path: ``"new"`` (nothing), ``"resume"`` (this sweep) or
+        ``"replace"`` (another sweep, or something else, with ``overwrite``).
+
+        Raises
+        ------
+        FingerpadError
+            Another sweep, or something that is not a sweep store, without ``overwrite``.
+        """
+        if not self.path.exists():
+            return "new"
+        existing = _read_attrs(self.path)
+        if existing is None:
+            if any(self.path.iterdir()) if self.path.is_dir() else True:
+                if not overwrite:
+                    raise FingerpadError(f"{self.path}: exists and is not a fingerpad sweep store "
+                                         "(give --overwrite to replace it, or another --out)")
+            return "replace"
+        if existing.get("signature") == self.spec.signature():
+            return "resume"
+        if not overwrite:
+            raise FingerpadError(f"{self.path}: holds another sweep (other study or [sweep] table); "
+                                 "give --overwrite to replace it, or another --out")
+        return "replace"
+
     def create(self, overwrite: bool = False) -> None:
         """Lay the store out (or find it): a store of another sweep is refused unless ``overwrite``."""
-        if self.path.exists():
-            existing = _read_attrs(self.path)
-            if existing is None:
-                if any(self.path.iterdir()) if self.path.is_dir() else True:
-                    if not overwrite:
-                        raise FingerpadError(f"{self.path}: exists and is not a fingerpad sweep store "
-                                             "(give --overwrite to replace it, or another --out)")
-            elif existing.get("signature") == self.spec.signature():
-                return  # the same sweep: resume
-            elif not overwrite:
-                raise FingerpadError(f"{self.path}: holds another sweep (other study or [sweep] table); "
-                                     "give --overwrite to replace it, or another --out")
+        state = self.check_existing(overwrite)
+        if state == "resume":
+            return  # the same sweep: resume
+        if state == "replace":
             shutil.rmtree(self.path) if self.path.is_dir() else self.path.unlink()
         tmp = self.path.with_name(f".{self.path.name}.creating")
         shutil.rmtree(tmp, ignore_errors=True)
@@ -162,11 +179,6 @@ class SweepStore:
             warnings.simplefilter("ignore")
             self.template().to_zarr(tmp, mode="w", encoding=self.encoding(), zarr_format=2, consolidated=True)
         tmp.rename(self.path)  # a store appears complete or not at all
-
-    def holds_this_sweep(self) -> bool:
-        """Whether the store exists and holds this sweep (its signature), damaged or not."""
-        attrs = _read_attrs(self.path) if self.path.is_dir() else None
-        return attrs is not None and attrs.get("signature") == self.spec.signature()
 
     def repair(self, damage: StoreDamage) -> int:
         """Make a damaged store of this sweep whole again; returns the points to compute again.
