@@ -384,7 +384,8 @@ def test_scheduler_that_accepts_and_never_answers(tmp_path):
         server.close()
 
 
-@pytest.mark.parametrize("address, expect", [("notaurl", "missing port"), ("foo://127.0.0.1:1", "unknown address scheme"),
+@pytest.mark.parametrize("address, expect", [("notaurl", "missing port"),
+                                             ("foo://127.0.0.1:1", "unknown address scheme"),
                                              ("tcp://127.0.0.1:99999", "out of range")])
 def test_bad_scheduler_address_is_one_line_and_no_late_traceback(tmp_path, address, expect):
     """The Dask Client used to print a Client.__del__ traceback 10 s after the error line: the
