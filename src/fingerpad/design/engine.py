@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FingerpadError
+from ..errors import FingerpadError, one_line
 from .evaluate import cell_key, evaluate_chunk, prepare_cell
 from .spec import SweepSpec
 from .store import SweepStore, chunk_slices, pressure_grid
@@ -97,8 +97,12 @@ def check_address(scheduler: str) -> str:
 async def _identity(address: str) -> Any:
     """Connect to ``address`` and ask its identity (the scheduler must answer, not just accept)."""
     from distributed.comm import connect as comm_connect
+    from distributed.security import Security
 
-    comm = await comm_connect(address, timeout=CONNECT_TIMEOUT)
+    # the client's connection settings from the Dask configuration (TLS certificates, if any),
+    # as the Client itself would use them
+    args = Security().get_connection_args("client")
+    comm = await comm_connect(address, timeout=CONNECT_TIMEOUT, **args)
     try:
         await comm.write({"op": "identity"})
         return await comm.read()
@@ -127,8 +131,9 @@ def probe_scheduler(address: str, timeout: float = CONNECT_TIMEOUT) -> dict[str,
             type(exc).__name__
         raise FingerpadError(f"--scheduler {address}: no Dask scheduler answers there within {timeout:g} s "
                              f"({why})") from None
-    except Exception as exc:  # noqa: BLE001 - a peer speaking another protocol
-        raise FingerpadError(f"--scheduler {address}: not a Dask scheduler ({type(exc).__name__})") from None
+    except Exception as exc:  # noqa: BLE001 - a peer speaking another protocol, TLS not configured
+        raise FingerpadError(f"--scheduler {address}: cannot talk to a Dask scheduler there "
+                             f"({type(exc).__name__}: {one_line(str(exc))})") from None
     if not isinstance(answer, dict) or answer.get("type") != "Scheduler":
         raise FingerpadError(f"--scheduler {address}: answers, but not as a Dask scheduler")
     return answer
