@@ -131,6 +131,9 @@ def test_the_maps_trends(swept):
     data = map_data(ds, "spacing", "height", at=1.0)
     assert set(np.unique(data["region"].values[np.isfinite(data["region"].values)])) <= {0, 1, 2}
     assert float(data.mu_rel.max()) <= 1.05
+    # what the figure draws travels with the data (plotting imports nothing of design/)
+    assert [m[1] for m in json.loads(data.attrs["markers"])["lines"]] == [160e-6, 33.5e-6, 105e-6]
+    assert data["region"].attrs["flag_meanings"].split("; ")[1] == "transition inside the range"
 
 
 def test_design_map_files(swept, tmp_path):
@@ -496,3 +499,11 @@ def test_repair_recomputes_the_damaged_points(swept, tmp_path):
     assert bool(after["done"].all())
     for name in ("critical_load_bem", "mu", "mu_rel", "area_ratio", "psi"):
         np.testing.assert_allclose(after[name].values, ds[name].values, rtol=1e-12, equal_nan=True)
+
+
+def test_a_study_without_sweep_points_to_docs_that_exist(tmp_path):
+    study = tmp_path / "plain.toml"
+    study.write_text(STUDY.split("[sweep]")[0])
+    line = error_line(runner.invoke(app, ["sweep", str(study), "--out", str(tmp_path / "r.zarr")]))
+    doc = line.split("see ")[1].rstrip(")")
+    assert doc == "docs/sweeps.md" and (Path(__file__).resolve().parents[2] / doc).is_file()
