@@ -464,11 +464,21 @@ def _damage(store: Path, kind: str) -> str:
     if kind == "data chunk":
         (store / "mu" / "1.0.0").write_bytes(os.urandom(64))
         return "'mu'"
+    if kind == "attributes":
+        (store / ".zattrs").write_text("{")
+        return ".zattrs"
+    if kind == "array metadata":
+        (store / "spacing" / ".zarray").write_text("junk")
+        return "'spacing'"
+    if kind == "lost array":
+        shutil.rmtree(store / "mu_rel")
+        return "'mu_rel'"
     (store / ".zmetadata").unlink()
     return ".zmetadata"
 
 
-@pytest.mark.parametrize("kind", ["done chunk", "data chunk", "zmetadata"])
+@pytest.mark.parametrize("kind", ["done chunk", "data chunk", "zmetadata", "attributes", "array metadata",
+                                  "lost array"])
 def test_damaged_store_is_one_error_line(swept, tmp_path, kind):
     """design-map and the sweep name the store and the damage in one line, and say how to repair."""
     folder, study, _, _ = swept
@@ -507,3 +517,28 @@ def test_a_study_without_sweep_points_to_docs_that_exist(tmp_path):
     line = error_line(runner.invoke(app, ["sweep", str(study), "--out", str(tmp_path / "r.zarr")]))
     doc = line.split("see ")[1].rstrip(")")
     assert doc == "docs/sweeps.md" and (Path(__file__).resolve().parents[2] / doc).is_file()
+
+
+def test_repair_of_metadata_alone_recomputes_nothing(swept, tmp_path, monkeypatch):
+    """The store's attributes (recognised by their consolidated copy) and an axis's array
+    metadata damaged: --repair rewrites them from the study, computes no point and starts no
+    cluster."""
+    import fingerpad.design.engine as engine
+
+    folder, study, _, ds = swept
+    store = tmp_path / "r.zarr"
+    shutil.copytree(folder / "r.zarr", store)
+    for kind in ("attributes", "array metadata"):
+        _damage(store, kind)
+
+    def no_cluster(*args, **kwargs):
+        raise AssertionError("a cluster was started to repair metadata")
+
+    monkeypatch.setattr(engine, "connect", no_cluster)
+    res = runner.invoke(app, ["sweep", str(study), "--out", str(store), "--repair"])
+    assert res.exit_code == 0, res.output
+    assert "repaired: " in res.stderr and "nothing to compute" in res.stderr
+    after = load(store)
+    assert after.attrs["signature"] == ds.attrs["signature"]
+    for name in ("spacing", "critical_load_bem", "mu_rel", "done"):
+        np.testing.assert_array_equal(after[name].values, ds[name].values)

@@ -214,7 +214,6 @@ def run_sweep(
     from distributed import as_completed
 
     from ..contact.greens import Backend
-    from .store import check_store
 
     # A bad FFT setting would make every point's solve fail (each chunk then fails with a
     # SetupError, see evaluate_point): check it here, once, before any work (LocalCluster workers
@@ -229,9 +228,9 @@ def run_sweep(
     if store.check_existing(overwrite) == "resume":
         # Checked before any cluster starts: a damaged store is said at once, and a finished
         # sweep costs no cluster (9-16 s to start one on two cores, to do nothing).
-        damage = check_store(store.path)
+        damage = store.check()
         if damage:
-            if not repair or damage.fatal:
+            if not repair:
                 raise FingerpadError(damage.message())
             report.repaired = store.repair(damage)
             report.damage = damage.describe()

@@ -180,31 +180,53 @@ class SweepStore:
             self.template().to_zarr(tmp, mode="w", encoding=self.encoding(), zarr_format=2, consolidated=True)
         tmp.rename(self.path)  # a store appears complete or not at all
 
+    def check(self) -> StoreDamage:
+        """:func:`check_store` of this store, knowing which arrays this sweep's store has."""
+        return check_store(self.path, expected=list(self.template().variables))
+
     def repair(self, damage: StoreDamage) -> int:
         """Make a damaged store of this sweep whole again; returns the points to compute again.
 
         Damaged chunks of results are rewritten as not computed (NaN, ``done`` False) so that the
-        sweep computes their points again; damaged inputs (axis values, loads, pressures) are
-        rewritten from the study; the consolidated metadata is written anew. Damage that cannot
-        be mended in place (``damage.fatal``) is refused.
+        sweep computes their points again; a result array that is lost (or whose own metadata is
+        unreadable) is laid out anew, all its points to compute again; damaged inputs (axis values,
+        loads, pressures) and the store's attributes are rewritten from the study; the
+        consolidated metadata is written anew.
         """
         import zarr
 
-        if damage.fatal:
-            raise FingerpadError(damage.message())
         template = self.template()
-        group = zarr.open_group(str(self.path), mode="r+", use_consolidated=False)
+        if damage.root:
+            # the group's own metadata, as xarray writes it (the attributes hold the signature)
+            (self.path / ".zgroup").write_text(json.dumps({"zarr_format": 2}), encoding="utf-8")
+            (self.path / ".zattrs").write_text(json.dumps(template.attrs), encoding="utf-8")
         redo = np.zeros(self.spec.shape, bool)
+        encoding = self.encoding()
+        for name in damage.arrays:
+            tmp = self.path.with_name(f".{self.path.name}.{name}.repair")
+            shutil.rmtree(tmp, ignore_errors=True)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                template[[name]].to_zarr(tmp, mode="w", zarr_format=2, consolidated=False,
+                                         encoding={name: encoding[name]} if name in encoding else {})
+            shutil.rmtree(self.path / name, ignore_errors=True)
+            (tmp / name).rename(self.path / name)
+            shutil.rmtree(tmp, ignore_errors=True)
+            if name in _RESULT_VARS:
+                redo[...] = True
+        group = zarr.open_group(str(self.path), mode="r+", use_consolidated=False)
+        if redo.all():
+            group["done"][...] = False
         for name, regions in damage.chunks.items():
+            if name in damage.arrays:
+                continue
             var = template[name]
             for region in regions:
+                group[name][region] = var.values[region]  # results: not computed (NaN, -1, "", False)
                 if name in _RESULT_VARS:
-                    group[name][region] = var.values[region]  # not computed: NaN, -1, "", False
                     lead = region[: len(self.spec.shape)]
                     group["done"][lead] = False
                     redo[lead] = True
-                else:
-                    group[name][region] = var.values[region]
         zarr.consolidate_metadata(str(self.path), zarr_format=2)
         return int(redo.sum())
 
@@ -263,27 +285,32 @@ class StoreDamage:
     path
         The store.
     metadata
-        Damaged metadata that a repair rewrites (the consolidated ``.zmetadata``).
+        Damaged metadata, in words (the consolidated ``.zmetadata``, the group's own).
+    root
+        Whether the group's own metadata (``.zgroup``, ``.zattrs``) is damaged.
+    arrays
+        Arrays lost, or whose own metadata (``.zarray``) is unreadable.
     chunks
         ``{variable: [region, ...]}``: chunks that cannot be read, as index regions of the variable.
-    fatal
-        Damage that cannot be mended in place (an array's own metadata, a missing array).
     study_file
         The study file the store records (for the message that says how to repair it).
+
+    Every kind is mended by :meth:`SweepStore.repair` (``fingerpad sweep ... --repair``).
     """
 
     path: Path
     metadata: list[str] = field(default_factory=list)
+    root: bool = False
+    arrays: dict[str, str] = field(default_factory=dict)
     chunks: dict[str, list[tuple[slice, ...]]] = field(default_factory=dict)
-    fatal: list[str] = field(default_factory=list)
     study_file: str = ""
 
     def __bool__(self) -> bool:
-        return bool(self.metadata or self.chunks or self.fatal)
+        return bool(self.metadata or self.root or self.arrays or self.chunks)
 
     def describe(self) -> str:
         """The damage in a few words (the first chunks of each variable named)."""
-        parts = list(self.fatal) + list(self.metadata)
+        parts = list(self.metadata) + list(self.arrays.values())
         for name, regions in self.chunks.items():
             shown = ", ".join(_region_text(r) for r in regions[:3])
             more = f" and {len(regions) - 3} more" if len(regions) > 3 else ""
@@ -294,25 +321,21 @@ class StoreDamage:
     def message(self) -> str:
         """One line: the store, what is damaged, and how to mend it."""
         study = self.study_file or "STUDY.toml"
-        if self.fatal:
-            how = (f"it cannot be repaired in place: run the sweep into a new store "
-                   f"(fingerpad sweep {study} --out NEW.zarr)")
-        else:
-            how = (f"fingerpad sweep {study} --out {self.path} --repair recomputes the damaged points "
-                   "and rewrites the metadata")
-        return f"{self.path}: damaged sweep store: {self.describe()}; {how}"
+        return (f"{self.path}: damaged sweep store: {self.describe()}; fingerpad sweep {study} --out {self.path} "
+                "--repair recomputes the damaged points and rewrites the metadata")
 
 
 def _region_text(region: tuple[slice, ...]) -> str:
     return "[" + ", ".join(f"{s.start}:{s.stop}" for s in region) + "]"
 
 
-def check_store(path: str | Path) -> StoreDamage:
+def check_store(path: str | Path, expected: list[str] | None = None) -> StoreDamage:
     """Read every chunk and the metadata of a sweep store; what cannot be read is damage.
 
     A chunk of garbage (a disk error, a copy cut short) otherwise shows as a decoding traceback
     when the store is read, or is silently resumed over; a lost ``.zmetadata`` makes the store
-    unreadable by :func:`open_sweep` although its arrays are whole.
+    unreadable by :func:`open_sweep` although its arrays are whole. ``expected`` names the
+    arrays the store must have (the sweep knows them; otherwise those of ``.zmetadata``).
     """
     import zarr
 
@@ -320,7 +343,14 @@ def check_store(path: str | Path) -> StoreDamage:
     damage = StoreDamage(p)
     attrs = _read_attrs(p) or {}
     damage.study_file = str(attrs.get("study_file", ""))
-    listed: list[str] | None = None
+    for name in (".zgroup", ".zattrs"):
+        try:
+            if not isinstance(json.loads((p / name).read_text(encoding="utf-8")), dict):
+                raise ValueError(name)
+        except (OSError, ValueError):
+            damage.root = True
+            damage.metadata.append(f"the store's own metadata ({name}) is unreadable")
+    listed: list[str] = []
     try:
         meta = json.loads((p / ".zmetadata").read_text(encoding="utf-8"))
         listed = sorted({k.split("/")[0] for k in meta["metadata"] if "/" in k})
@@ -329,14 +359,14 @@ def check_store(path: str | Path) -> StoreDamage:
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         damage.metadata.append(".zmetadata (the consolidated metadata) is unreadable")
     on_disk = sorted(d.name for d in p.iterdir() if d.is_dir() and not d.name.startswith("."))
-    for name in sorted(set(on_disk) | set(listed or [])):
+    for name in sorted(set(on_disk) | set(listed) | set(expected or [])):
         if name not in on_disk:
-            damage.fatal.append(f"the array {name!r} is missing")
+            damage.arrays[name] = f"the array {name!r} is missing"
             continue
         try:
             arr = zarr.open_array(str(p / name), mode="r", zarr_format=2)
         except Exception:  # noqa: BLE001 - any unreadable metadata is damage
-            damage.fatal.append(f"the metadata of {name!r} ({name}/.zarray) is unreadable")
+            damage.arrays[name] = f"the metadata of {name!r} ({name}/.zarray) is unreadable"
             continue
         bad = _unreadable_chunks(arr)
         if bad:
@@ -367,10 +397,14 @@ def _read_attrs(path: Path) -> dict[str, Any] | None:
         import zarr
 
         # the group's own attributes, not the consolidated copy: a store whose .zmetadata is
-        # lost is still this sweep's store (damaged, and repairable)
+        # lost is still this sweep's store (damaged, and repairable) ...
         attrs = dict(zarr.open_group(str(path), mode="r", use_consolidated=False).attrs)
-    except Exception:  # noqa: BLE001 - anything unreadable is "not a sweep store"
-        return None
+    except Exception:  # noqa: BLE001 - anything unreadable is "not a sweep store" ...
+        try:  # ... unless the consolidated copy of the attributes says it is one (damaged)
+            meta = json.loads((Path(path) / ".zmetadata").read_text(encoding="utf-8"))
+            attrs = dict(meta["metadata"][".zattrs"])
+        except Exception:  # noqa: BLE001 - see above
+            return None
     return attrs if attrs.get("fingerpad_sweep") == 1 else None
 
 
