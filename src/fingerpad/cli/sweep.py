@@ -102,7 +102,7 @@ class _Progress:
 
     def notice(self, message: str) -> None:
         """A line while the sweep waits (no worker yet on the scheduler)."""
-        if not self.started:
+        if not self.started and not self.started_headline:
             self.bar.console.print(self.headline, markup=False)
             self.started_headline = True
         self.bar.console.print(message, markup=False)
