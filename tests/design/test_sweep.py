@@ -542,3 +542,43 @@ def test_repair_of_metadata_alone_recomputes_nothing(swept, tmp_path, monkeypatc
     assert after.attrs["signature"] == ds.attrs["signature"]
     for name in ("spacing", "critical_load_bem", "mu_rel", "done"):
         np.testing.assert_array_equal(after[name].values, ds[name].values)
+
+
+def test_waiting_for_a_worker_is_said_then_repeated():
+    """Unit test of the wait (a fake client): a notice after the first wait, then one per
+    reminder period, each with the time waited; none once a worker is there."""
+    from dask.distributed import TimeoutError as DaskTimeout
+
+    from fingerpad.cli.sweep import _Progress
+    from fingerpad.design import engine
+
+    class Client:
+        def __init__(self, misses: int) -> None:
+            self.misses = misses
+
+        def scheduler_info(self) -> dict:
+            return {"workers": {} if self.misses else {"w": {}}}
+
+        def wait_for_workers(self, n: int, timeout: float) -> None:
+            if self.misses:
+                self.misses -= 1
+                raise DaskTimeout(timeout)
+
+    said: list[str] = []
+    engine._wait_for_a_worker(Client(misses=3), "tcp://127.0.0.1:1", said.append)
+    assert len(said) == 3 and all("no Dask worker has joined the scheduler at tcp://127.0.0.1:1" in x for x in said)
+    waited = [engine.NO_WORKER_NOTICE + k * engine.NO_WORKER_REPEAT for k in range(3)]
+    assert [f"after {w:.0f} s" in x for x, w in zip(said, waited, strict=True)] == [True] * 3
+    said.clear()
+    engine._wait_for_a_worker(Client(misses=0), "tcp://127.0.0.1:1", said.append)
+    assert said == []
+    # the command shows its headline once, then the notices
+    import io
+
+    from rich.console import Console
+
+    out = io.StringIO()
+    bar = _Progress(Console(file=out, width=200), 4, "sweep: 4 points")
+    bar.notice("first")
+    bar.notice("second")
+    assert out.getvalue().splitlines() == ["sweep: 4 points", "first", "second"]
