@@ -161,12 +161,11 @@ def connect(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
                                  f"({type(exc).__name__})") from None
         return client, None
     n = workers or os.cpu_count() or 1
-    try:
-        import bokeh  # noqa: F401 - the dashboard needs it
+    import importlib.util
 
-        dashboard: str | None = "127.0.0.1:0"
-    except ImportError:
-        dashboard = None
+    # Dask's dashboard is drawn with Bokeh: ask for it only where Bokeh is installed (looked up,
+    # not imported: Bokeh belongs to the explorer's layer).
+    dashboard: str | None = "127.0.0.1:0" if importlib.util.find_spec("bokeh") is not None else None
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
                            dashboard_address=dashboard, silence_logs=50)
     try:
