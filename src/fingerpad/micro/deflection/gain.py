@@ -27,7 +27,8 @@ from .section import EllipsoidGeometry, Geometry, RidgeGeometry, Section, sectio
 from .solve import FrictionLaw, SectionSolver
 
 #: Bump when a change of the section model alters cached numbers.
-MODEL_VERSION = 5  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact
+MODEL_VERSION = 6  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact;
+# 6: no wall-clock limit in the key or the results (entries of 5 could hold ramps a slow machine cut short)
 
 __all__ = ["DeflectionSettings", "EllipsoidGeometry", "GainCurve", "MODEL_VERSION", "PressureRamp", "RidgeGeometry",
            "Section", "SectionMaterials", "as_dataset", "directional_gain", "section_for", "solve_section",
@@ -59,8 +60,13 @@ class DeflectionSettings:
         Penalty stiffness of the fold-over contact, in units of the texture modulus.
     check_stability
         Compute the stability eigenvalue at every converged state (buckling flag).
+    max_steps
+        Largest number of shear steps of one ramp (a deterministic limit: the same ramp ends at
+        the same state on every machine).
     time_limit
-        Wall-clock budget of one shear ramp, s (the ramp then stops and says so).
+        Optional wall-clock safety stop of one shear ramp, s (default ``None``: off). It is not
+        part of the result: a ramp it cuts is marked ``incomplete`` in every output and never
+        cached, and the cache key does not contain it.
     """
 
     friction: str = "package"
@@ -70,19 +76,42 @@ class DeflectionSettings:
     base_thickness: float = 1.0
     fold_penalty: float = 20.0
     check_stability: bool = True
-    time_limit: float = 120.0
+    max_steps: int = 300
+    time_limit: float | None = None
 
     def __post_init__(self) -> None:
+        # One place decides each range; the messages name the command's options too.
         if self.friction not in ("package", "coulomb"):
             raise FingerpadError(f"friction must be 'package' or 'coulomb', got {self.friction!r}")
-        if not (0 < self.mu_max <= 5):
-            raise FingerpadError(f"mu_max must lie in (0, 5], got {self.mu_max!r}")
-        if not (1 <= int(self.n_pressures) <= 20):
-            raise FingerpadError("n_pressures must lie in 1..20")
-        if not (2 <= int(self.resolution) <= 32):
-            raise FingerpadError("resolution must lie in 2..32 elements per half-width")
-        if not self.base_thickness > 0:
-            raise FingerpadError("base_thickness must be positive")
+        if not (_number(self.mu_max) and 0 < self.mu_max <= 5):
+            raise FingerpadError(f"mu-max must lie in (0, 5], got {self.mu_max!r}")
+        if not (_integer(self.n_pressures) and 1 <= self.n_pressures <= 20):
+            raise FingerpadError(f"levels (pressure levels) must be a whole number in 1..20, got {self.n_pressures!r}")
+        if not (_integer(self.resolution) and 2 <= self.resolution <= 32):
+            raise FingerpadError("resolution must be a whole number in 2..32 elements per half-width, "
+                                 f"got {self.resolution!r}")
+        if not (_number(self.base_thickness) and 0 < self.base_thickness <= 100):
+            raise FingerpadError(f"base_thickness must lie in (0, 100] periods, got {self.base_thickness!r}")
+        if not (_number(self.fold_penalty) and self.fold_penalty > 0):
+            raise FingerpadError(f"fold_penalty must be positive, got {self.fold_penalty!r}")
+        if not (_integer(self.max_steps) and 1 <= self.max_steps <= 100_000):
+            raise FingerpadError(f"max-steps must be a whole number in 1..100000, got {self.max_steps!r}")
+        if self.time_limit is not None and not (_number(self.time_limit) and self.time_limit > 0):
+            raise FingerpadError(f"time-limit must be a positive number of seconds (or omitted), got {self.time_limit!r}")
+
+    def key(self) -> dict[str, Any]:
+        """The settings that decide the numbers (the cache key): all but the safety stop."""
+        out = asdict(self)
+        out.pop("time_limit")
+        return out
+
+
+def _number(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def _integer(v: Any) -> bool:
+    return isinstance(v, (int, np.integer)) and not isinstance(v, bool)
 
 
 @dataclass(frozen=True)
@@ -99,6 +128,17 @@ class SectionMaterials:
         """From a :class:`fingerpad.materials.Materials` (``material_modulus=None``: rigid)."""
         return cls(materials.material_modulus, materials.material_poisson, materials.skin_modulus,
                    materials.skin_poisson)
+
+    def __post_init__(self) -> None:
+        em = self.texture_modulus
+        if em is not None and not (_number(em) and em > 0):
+            raise FingerpadError(f"material modulus must be a positive stress (or None: rigid), got {em!r}")
+        if not (_number(self.skin_modulus) and self.skin_modulus > 0):
+            raise FingerpadError(f"skin modulus must be a positive stress, got {self.skin_modulus!r}")
+        for name in ("texture_poisson", "skin_poisson"):
+            v = getattr(self, name)
+            if not (_number(v) and -1.0 < v <= 0.5):
+                raise FingerpadError(f"{name.replace('_', ' ')} ratio must lie in (-1, 0.5], got {v!r}")
 
     @property
     def skin_plane_modulus(self) -> float:
@@ -136,6 +176,9 @@ class PressureRamp:
         The state at zero shear is already unstable (buckling under the normal load alone).
     stopped
         Why the ramp ended before ``mu_max`` (None: it reached it).
+    incomplete
+        The ramp was cut by the wall-clock safety stop (``DeflectionSettings.time_limit``): where
+        it ended depends on the machine's speed, so it is not a result (never cached).
     surfaces
         Deformed top surface (x, z) in m at every state, for figures.
     """
@@ -159,6 +202,7 @@ class PressureRamp:
     contact: list[np.ndarray] = field(default_factory=list)
     bend_dx: np.ndarray = field(default_factory=lambda: np.zeros(0))
     bend_dz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    incomplete: bool = False
 
     def _along(self) -> np.ndarray:
         """Shear level along the sliding direction of the ramp (+x unless every state has
@@ -194,6 +238,7 @@ class PressureRamp:
                   "min_eigenvalue", "skin_slope", "bend_dx", "bend_dz")
         kw = {k: (np.asarray(v, dtype=float) if k in arrays else v) for k, v in data.items()
               if k not in ("surfaces", "contact")}
+        kw["incomplete"] = bool(kw.get("incomplete", False))
         kw["surfaces"] = [np.asarray(s) for s in data.get("surfaces", [])]
         kw["contact"] = [np.asarray(c, dtype=bool) for c in data.get("contact", [])]
         return cls(**kw)
@@ -235,8 +280,9 @@ def solve_section(
         if progress:
             progress(f"shear ramp {k + 1}/{len(ramp0.states)} at p = {p[k]:.4g} Pa")
         ramp = follow_shear(solver, start, settings.mu_max, check_stability=settings.check_stability,
-                            time_limit=settings.time_limit)
+                            max_steps=int(settings.max_steps), time_limit=settings.time_limit)
         out.append(_to_ramp(solver, ramp, p[k], start.load * em * r, r, em))
+        out[-1].incomplete = bool(ramp.timed_out)
     if ramp0.stopped:
         for pk in p[len(ramp0.states):]:
             out.append(PressureRamp(float(pk), float(pk * section.load_per_pressure), *([np.zeros(0)] * 9),
@@ -307,11 +353,18 @@ class GainCurve:
     direction_deg: float = 0.0
     section: Section | None = None
     cache_key: str | None = None
+    #: Why the gain is exactly 1 without a solve (identity curves only), in words.
+    reason: str | None = None
 
     @classmethod
-    def identity(cls, direction_deg: float = 0.0) -> GainCurve:
-        """G = 1 everywhere (rigid texture)."""
-        return cls(np.zeros(0), None, 1.0, direction_deg)
+    def identity(cls, direction_deg: float = 0.0, reason: str = "rigid texture") -> GainCurve:
+        """G = 1 everywhere, for the reason given (a rigid texture, no shear across the section)."""
+        return cls(np.zeros(0), None, 1.0, direction_deg, reason=reason)
+
+    @property
+    def incomplete(self) -> bool:
+        """Some ramp was cut by the wall-clock safety stop (see :class:`PressureRamp`)."""
+        return any(r.incomplete for r in self.ramps or [])
 
     @property
     def is_identity(self) -> bool:
@@ -364,6 +417,8 @@ class GainCurve:
             "pressures": self.pressures.tolist(),
             "ramps": [r.as_dict(surfaces) for r in self.ramps] if self.ramps else [],
             "cache_key": self.cache_key,
+            "identity_reason": self.reason,
+            "incomplete": self.incomplete,
         }
 
 
@@ -417,7 +472,9 @@ def directional_gain(
     mats = materials if isinstance(materials, SectionMaterials) else SectionMaterials.from_materials(materials)
     section = section_for(geometry, direction_deg)
     if mats.texture_modulus is None or section.shear_factor == 0.0:
-        curve = GainCurve.identity(direction_deg)
+        why = ("rigid texture (no material modulus): it does not deflect" if mats.texture_modulus is None else
+               "no shear across the section (sliding along the ridges): it does not deflect")
+        curve = GainCurve.identity(direction_deg, why)
         curve.section = section
         return curve
     lo, hi = (float(v) for v in pressure_range)
@@ -435,13 +492,15 @@ def directional_gain(
         numbers = np.array([section.half_width, section.height, section.period, section.load_per_pressure,
                             *pressures], dtype=float)
         key = content_key(numbers, kind="deflection", model=MODEL_VERSION, profile=section.profile,
-                          materials=asdict(mats), tau0=float(tau0), alpha=float(alpha), settings=asdict(settings))
+                          materials=asdict(mats), tau0=float(tau0), alpha=float(alpha), settings=settings.key())
         hit = store.load(key).get("ramps")
         if hit:
             ramps = [PressureRamp.from_dict(d) for d in hit]
             return GainCurve(pressures, ramps, section.shear_factor, float(direction_deg), section, key)
     ramps = solve_section(section, mats, pressures, tau0, alpha, settings, progress)
-    if store is not None and key is not None:
+    # A ramp cut by the wall-clock safety stop ended where the machine's speed let it: no result,
+    # never stored (a later run, on any machine, solves it again).
+    if store is not None and key is not None and not any(r.incomplete for r in ramps):
         store.update(key, {"ramps": [r.as_dict(surfaces=True) for r in ramps]})
     return GainCurve(pressures, ramps, section.shear_factor, float(direction_deg), section, key)
 
@@ -458,7 +517,7 @@ def as_dataset(curves: list[GainCurve]) -> Any:
     names = {"mu": "1", "gain": "1", "contact_length": "m", "tip_dx": "m", "tip_dz": "m", "bend_dx": "m", "bend_dz": "m",
              "tangential_stiffness": "Pa", "fold_nodes": "1", "min_eigenvalue": "1"}
     data = {k: np.full(shape, np.nan) for k in names}
-    flags = {k: np.full(shape[:2], np.nan) for k in ("fold_onset_mu", "limit_mu", "mu_reached", "buckled")}
+    flags = {k: np.full(shape[:2], np.nan) for k in ("fold_onset_mu", "limit_mu", "mu_reached", "buckled", "incomplete")}
     stopped = np.full(shape[:2], "", dtype=object)
     for i, c in enumerate(curves):
         for r in c.ramps or []:
@@ -471,11 +530,14 @@ def as_dataset(curves: list[GainCurve]) -> Any:
             flags["limit_mu"][i, j] = r.limit_mu
             flags["mu_reached"][i, j] = r.mu_reached
             flags["buckled"][i, j] = float(r.buckled)
+            flags["incomplete"][i, j] = float(r.incomplete)
             stopped[i, j] = r.stopped or ""
     coords = {"direction": ("direction", np.asarray(dirs, dtype=float), {"units": "degree"}),
               "pressure": ("pressure", np.asarray(pressures or [np.nan], dtype=float), {"units": "Pa"})}
     variables = {k: (("direction", "pressure", "step"), v, {"units": names[k]}) for k, v in data.items()}
     variables.update({k: (("direction", "pressure"), v) for k, v in flags.items()})
+    variables["incomplete"] = (("direction", "pressure"), variables["incomplete"][1],
+                               {"long_name": "1: cut by the wall-clock safety stop (not a result)"})
     variables["stopped"] = (("direction", "pressure"), stopped.astype(str))
     return xr.Dataset(variables, coords=coords, attrs={"model": "fingerpad deflection section model",
                                                        "model_version": MODEL_VERSION})
