@@ -205,10 +205,10 @@ class PressureRamp:
     incomplete: bool = False
 
     def _along(self) -> np.ndarray:
-        """Shear level along the sliding direction of the ramp (+x unless every state has
-        mu <= 0). Signed, not |mu|: past a buckled start the path's shear level first falls
-        below zero (the folding column pushes the tip on) before it carries shear again."""
-        return -self.mu if self.mu.size and np.all(self.mu <= 0) else self.mu
+        """Shear level along the sliding direction of the ramp. Signed, not |mu|: past a buckled
+        start the path's shear level first falls below zero (the folding column pushes the tip
+        on) before it carries shear again."""
+        return _sliding_sign(self.mu, self.tip_dx) * self.mu
 
     @property
     def mu_reached(self) -> float:
@@ -243,6 +243,16 @@ class PressureRamp:
         kw["contact"] = [np.asarray(c, dtype=bool) for c in data.get("contact", [])]
         return cls(**kw)
 
+
+
+def _sliding_sign(mu: np.ndarray, tip_dx: np.ndarray) -> float:
+    """+1 for a ramp sliding toward +x, -1 toward -x: the side the tip was moved to (the path
+    prescribes the tip toward the sliding direction), else the sign of the shear levels. By the
+    shear alone, a ramp from a buckled start that stopped before its shear came back above
+    zero read as a ramp toward -x that had reached |mu| (0.25 at 20 kPa for h/a = 3)."""
+    if tip_dx.size and np.all(np.isfinite(tip_dx)) and tip_dx[-1] != 0.0:
+        return 1.0 if tip_dx[-1] > 0 else -1.0
+    return -1.0 if mu.size and np.all(mu <= 0) else 1.0
 
 
 def solve_section(
@@ -302,7 +312,7 @@ def _to_ramp(solver: SectionSolver, ramp: Any, pressure: float, load: float, r: 
         kt = np.gradient(q, tip) if len(st) > 2 else np.full(len(st), math.nan)
     fold = info("fold_nodes")
     onset = float(np.abs(mu)[np.argmax(fold > 0)]) if np.any(fold > 0) else math.nan
-    amu = -mu if np.all(mu <= 0) else mu  # along the sliding direction, signed (see PressureRamp)
+    amu = _sliding_sign(mu, tip) * mu  # along the sliding direction, signed (see PressureRamp)
     drops = np.nonzero(np.diff(amu) < -1e-9)[0]
     limit = float(amu[drops[0]]) if drops.size else math.nan
     eig = info("min_eigenvalue")
