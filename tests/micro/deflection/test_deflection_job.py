@@ -151,3 +151,20 @@ def test_a_new_family_with_a_deflection_hook_runs_through_the_job(monkeypatch):
     assert res.curves[0].section.half_width == pytest.approx(res.curves[1].section.half_width)
     with pytest.raises(FingerpadError, match="domes overlap"):  # the family's own check
         _run(texture="domes", params={**params, "radius": "200um"})
+
+
+def test_a_buckled_ramp_that_never_carried_shear_has_no_computed_gain():
+    """A ramp toward +x from a buckled start first goes to negative shear; stopped there, it was
+    read as a ramp toward -x that had reached |mu| (h/a = 3 at 20 kPa printed unmarked gains of
+    1.30). The tip was moved toward +x: it reached mu 0, and every gain past it is held."""
+    from fingerpad.micro.deflection.gain import GainCurve, PressureRamp
+
+    mu = np.array([0.0, -0.1, -0.25])
+    z = np.zeros(3)
+    ramp = PressureRamp(2e4, 1.0, mu, np.array([1.0, 1.2, 1.3]), np.array([1.0, 1.2, 1.3]),
+                        np.array([0.0, 1e-6, 2e-6]), z, z, z, z, z, math.nan, math.nan, True, "lost convergence")
+    assert ramp.mu_reached == 0.0
+    curve = GainCurve(np.array([2e4]), [ramp])
+    assert float(curve(2e4, 0.3)) == 1.0 and bool(curve.saturated(2e4, 0.3))
+    mirrored = dataclasses.replace(ramp, mu=-mu, tip_dx=-ramp.tip_dx)  # the same ramp toward -x
+    assert mirrored.mu_reached == 0.0
