@@ -263,17 +263,17 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
                       if getattr(ramp, "buckled", False) or getattr(ramp, "stopped", False)})
     if flagged:
         notes.append(f"deflection model: shear ramps buckled or stopped at {flagged[0] / 1e3:.3g}-"
-                     f"{flagged[-1] / 1e3:.3g} kPa; the gain is held from there on (docs/deflection.md)")
+                     f"{flagged[-1] / 1e3:.3g} kPa (docs/deflection.md, 'Limits and doubts')")
     main, gain, factor = curves["direction"]
     mu_perp, mu_par = curves["perpendicular"][0].mu, curves["parallel"][0].mu
 
     def held(name: str) -> list[bool]:
         """Per load: the gain at the pad-centre pressure and the local shear is held (past the
         shear level the ramps reached), not computed there."""
-        cur, g, _ = curves[name]
-        cell_dir = DirectionalCell(cell, g, finger.tau0, finger.alpha)
+        g = curves[name][1]
         if g.is_identity:
             return [False] * len(centre)
+        cell_dir = DirectionalCell(cell, g, finger.tau0, finger.alpha)
         return [bool(v) for v in np.asarray(cell_dir.local_shear(np.asarray(centre, float)).saturated)]
 
     saturated = held("direction")
