@@ -123,6 +123,10 @@ def figure_friction(pred: "Prediction"):
         ax_mu.plot(f, d["mu_parallel"], _line(f, "-."), color="tab:purple",
                    label=f"along the long axis ({d['parallel_direction']:.0f}°)")
         ax_d.plot(f, d["mu_perpendicular_over_parallel"], _line(f, "-"), color="tab:purple", lw=2)
+        held = np.asarray(d.get("gain_held_parallel", ()), bool) | np.asarray(d.get("gain_held_perpendicular", ()), bool)
+        if held.size == np.size(f) and held.any():  # the gain is held there, not computed
+            ax_d.plot(np.asarray(f)[held], np.asarray(d["mu_perpendicular_over_parallel"])[held], "o", mfc="none",
+                      color="tab:red", label="gain held (past the shear its ramps reached)")
         ax_d.axhline(1.0, color="k", lw=0.8)
         ax_d.set_ylabel("μ_perpendicular / μ_parallel (-)")
         ax_d.set_title("directional friction (compliant asperities)", fontsize="medium")

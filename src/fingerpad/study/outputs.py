@@ -95,6 +95,7 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
             row["mu_parallel"] = d["mu_parallel"][i]
             row["mu_perpendicular"] = d["mu_perpendicular"][i]
             row["mu_perpendicular_over_parallel"] = d["mu_perpendicular_over_parallel"][i]
+            row["gain_held"] = bool(d["gain_held_parallel"][i] or d["gain_held_perpendicular"][i])
         if pred.bem is not None and pred.hertz is not None:
             h = pred.hertz
             row["hertz"] = {
@@ -225,6 +226,9 @@ def prediction_dataset(pred: Prediction):
                                 ("mu_perpendicular", "friction coefficient sliding across the long axis"),
                                 ("mu_perpendicular_over_parallel", "mu_perpendicular / mu_parallel")):
             data[name] = xr.Variable(("load",), np.asarray(d[name], float), {"units": "1", "long_name": long_name})
+        data["gain_held"] = xr.Variable(("load",), np.asarray(d["gain_held_parallel"], np.int8)
+                                        | np.asarray(d["gain_held_perpendicular"], np.int8),
+                                        {"units": "1", "long_name": "1: deflection gain held past the shear its ramps reached"})
     coords = {"load": xr.Variable("load", np.asarray(cur.load, float), {"units": "N", "long_name": "normal load"})}
     if pred.cell is not None and not pred.cell.flat:
         nodes = pred.cell.curve()

@@ -168,6 +168,10 @@ class TextureFamily:
         ``features(texture) -> (lateral size, height)`` in m: the smallest lateral size of a
         feature (a cap's base diameter, a ridge's width) and its height, for manufacturing
         limits (minimum feature, aspect ratio) in inverse design; ``None`` if not declared.
+    deflection
+        ``deflection(params) -> geometry`` from the texture's ``params`` (SI) to the asperity
+        geometry of the compliant-asperity model (:class:`fingerpad.micro.deflection.section.Geometry`:
+        its section per sliding direction), for families that model supports; ``None`` otherwise.
     """
 
     name: str
@@ -176,6 +180,7 @@ class TextureFamily:
     summary: str
     hertz: Callable[[Texture], HertzAsperity] | None = None
     features: Callable[[Texture], tuple[float, float]] | None = None
+    deflection: Callable[[Mapping[str, Any]], Any] | None = None
 
     def param(self, name: str) -> Param | None:
         return next((p for p in self.params if p.name == name), None)

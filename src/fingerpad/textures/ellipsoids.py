@@ -95,6 +95,16 @@ def ellipsoids(
     return Texture(heights, (sx, sy), periodic=True, name="ellipsoids", params=params, family="ellipsoids")
 
 
+def _deflection(params: Any) -> Any:
+    """The compliant-asperity model's geometry of these ellipsoids (a semi-ellipse per direction)."""
+    # imported here: the deflection model (micro/) is only needed when a family is sheared
+    from ..micro.deflection.section import EllipsoidGeometry
+
+    return EllipsoidGeometry(float(params["semi_axis_x"]), float(params["semi_axis_y"]), float(params["height"]),
+                             float(params["spacing_x"]), float(params["spacing_y"]),
+                             float(params.get("orientation", 0.0)))
+
+
 FAMILIES = (
     TextureFamily(
         name="ellipsoids",
@@ -110,5 +120,6 @@ FAMILIES = (
             Param("grid", "grid", "grid points along x of the cell (even; default: the smallest feature over 16 pixels)", None),
         ),
         summary="Half-ellipsoid asperities on a rectangular lattice.",
+        deflection=_deflection,
     ),
 )

@@ -119,6 +119,15 @@ def ridges(
     return Texture(heights, (s, nyy * dx), periodic=True, name="ridges", params=params, family="ridges")
 
 
+def _deflection(params: Any) -> Any:
+    """The compliant-asperity model's geometry of these ridges (their cross-section; circular only)."""
+    # imported here: the deflection model (micro/) is only needed when a family is sheared
+    from ..micro.deflection.section import RidgeGeometry
+
+    return RidgeGeometry(float(params["width"]), float(params["height"]), float(params["spacing"]),
+                         str(params.get("profile", "circular")))
+
+
 FAMILIES = (
     TextureFamily(
         name="ridges",
@@ -134,5 +143,6 @@ FAMILIES = (
             Param("ny", "count", "grid points along the ridges (the map is constant along y)", DEFAULT_NY_1D),
         ),
         summary="Parallel ridges running along y.",
+        deflection=_deflection,
     ),
 )

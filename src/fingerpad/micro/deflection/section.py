@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol, runtime_checkable
 
 from ...errors import FingerpadError
 
@@ -46,6 +46,28 @@ class EllipsoidGeometry:
         if not math.isfinite(self.orientation):
             raise FingerpadError("ellipsoid orientation must be finite")
 
+    def section(self, direction_deg: float) -> Section:
+        """The semi-elliptical section sheared when sliding at ``direction_deg`` (module docstring)."""
+        t = _radians(direction_deg)
+        phi = t - self.orientation
+        r = 1.0 / math.sqrt(math.cos(phi) ** 2 / self.semi_axis_x**2 + math.sin(phi) ** 2 / self.semi_axis_y**2)
+        lam = 1.0 / math.sqrt(math.cos(t) ** 2 / self.spacing_x**2 + math.sin(t) ** 2 / self.spacing_y**2)
+        lam = max(lam, 2.0 * r)
+        per_p = self.spacing_x * self.spacing_y * 2.0 * r / (math.pi * self.semi_axis_x * self.semi_axis_y)
+        return Section("ellipse", r, self.height, lam, per_p, 1.0)
+
+    def principal_directions(self) -> tuple[float, float]:
+        """(parallel, perpendicular): along the long axis of the footprint and across it, degrees."""
+        long = math.degrees(self.orientation) + (0.0 if self.semi_axis_x >= self.semi_axis_y else 90.0)
+        return long % 180.0, (long + 90.0) % 180.0
+
+    def hysteresis_factor(self, direction_deg: float) -> float:
+        """The elliptical Greenwood-Tabor factor of the asperity tip (Eq. 2.4e over Eq. 2.4)."""
+        from .hysteresis import hysteresis_direction_factor
+
+        return hysteresis_direction_factor(self.semi_axis_x, self.semi_axis_y, self.height,
+                                           math.radians(direction_deg) - self.orientation)
+
 
 @dataclass(frozen=True)
 class RidgeGeometry:
@@ -68,31 +90,80 @@ class RidgeGeometry:
         if self.height > self.width / 2 * (1 + 1e-9):
             raise FingerpadError("a circular ridge cannot be higher than half its width")
 
+    def section(self, direction_deg: float) -> Section:
+        """The ridge's cross-section; only the shear component across the ridges acts in it."""
+        t = _radians(direction_deg)
+        # |cos| of an angle that is an odd multiple of 90 deg is exactly 0 (not 6e-17)
+        across = 0.0 if math.isclose(math.fmod(abs(direction_deg), 180.0), 90.0, abs_tol=1e-9) else abs(math.cos(t))
+        return Section("circular", self.width / 2, self.height, self.spacing, self.spacing, across)
 
-Geometry = EllipsoidGeometry | RidgeGeometry
+    def principal_directions(self) -> tuple[float, float]:
+        """(parallel, perpendicular): along the ridges (y) and across them, degrees."""
+        return 90.0, 0.0
+
+    def hysteresis_factor(self, direction_deg: float) -> float:
+        """Circular ridges have no elliptical contact: 1."""
+        return 1.0
 
 
-def texture_geometry(texture: Any) -> Geometry:
-    """The asperity geometry of a generated ``ellipsoids`` or ``ridges`` texture.
+@runtime_checkable
+class Geometry(Protocol):
+    """What the deflection model needs of a texture's asperities (returned by the texture
+    family's ``deflection`` hook, :attr:`fingerpad.textures.TextureFamily.deflection`).
+
+    ``section(direction_deg)``: the :class:`Section` sheared when sliding at that direction;
+    ``principal_directions()``: (parallel, perpendicular) directions in degrees;
+    ``hysteresis_factor(direction_deg)``: the asperity-scale factor of the hysteresis term
+    (1 where the family has none). Fields are SI and read by ``dataclasses.fields`` for outputs.
+    """
+
+    def section(self, direction_deg: float) -> Section: ...
+
+    def principal_directions(self) -> tuple[float, float]: ...
+
+    def hysteresis_factor(self, direction_deg: float) -> float: ...
+
+
+def _radians(direction_deg: float) -> float:
+    if not math.isfinite(direction_deg):
+        raise FingerpadError("direction must be a finite angle in degrees")
+    return math.radians(direction_deg)
+
+
+def deflection_hook(family_name: str) -> Any:
+    """The ``deflection`` hook of the registered texture family ``family_name``.
 
     Raises
     ------
     FingerpadError
-        For any other texture (directional friction needs a known asperity shape).
+        Unknown family, or a family without a deflection model (the message lists those with one).
+    """
+    from ... import textures  # noqa: F401 -- importing the package fills the family registry
+    from ...textures.base import get_family, registry
+
+    family = get_family(family_name)
+    if family.deflection is None:
+        known = ", ".join(sorted(n for n, f in registry().items() if f.deflection is not None))
+        raise FingerpadError(f"texture {family.name!r} has no deflection model (directional friction and "
+                             f"`fingerpad deflection` need one of: {known})")
+    return family.deflection
+
+
+def texture_geometry(texture: Any) -> Geometry:
+    """The asperity geometry of a generated texture, from its family's ``deflection`` hook.
+
+    Raises
+    ------
+    FingerpadError
+        For a texture whose family has no deflection hook (directional friction needs a known
+        asperity shape).
     """
     name = getattr(texture, "family", None) or getattr(texture, "name", None)
-    params = dict(getattr(texture, "params", {}) or {})
+    hook = deflection_hook(str(name))
     try:
-        if name == "ellipsoids":
-            return EllipsoidGeometry(float(params["semi_axis_x"]), float(params["semi_axis_y"]),
-                                     float(params["height"]), float(params["spacing_x"]),
-                                     float(params["spacing_y"]), float(params.get("orientation", 0.0)))
-        if name == "ridges":
-            return RidgeGeometry(float(params["width"]), float(params["height"]), float(params["spacing"]),
-                                 str(params.get("profile", "circular")))
+        return hook(dict(getattr(texture, "params", {}) or {}))
     except KeyError as exc:
         raise FingerpadError(f"texture {name!r} lacks the parameter {exc.args[0]!r}") from None
-    raise FingerpadError(f"--direction needs an ellipsoids or ridges texture, not {name!r}")
 
 
 @dataclass(frozen=True)
@@ -113,30 +184,14 @@ class Section:
 
 def section_for(geometry: Geometry, direction_deg: float) -> Section:
     """The section sheared when sliding at ``direction_deg`` (degrees from the texture's x axis)."""
-    if not math.isfinite(direction_deg):
-        raise FingerpadError("direction must be a finite angle in degrees")
-    t = math.radians(direction_deg)
-    if isinstance(geometry, RidgeGeometry):
-        # |cos| of an angle that is an odd multiple of 90 deg is exactly 0 (not 6e-17)
-        across = 0.0 if math.isclose(math.fmod(abs(direction_deg), 180.0), 90.0, abs_tol=1e-9) else abs(math.cos(t))
-        return Section("circular", geometry.width / 2, geometry.height, geometry.spacing, geometry.spacing, across)
-    g = geometry
-    phi = t - g.orientation
-    r = 1.0 / math.sqrt(math.cos(phi) ** 2 / g.semi_axis_x**2 + math.sin(phi) ** 2 / g.semi_axis_y**2)
-    lam = 1.0 / math.sqrt(math.cos(t) ** 2 / g.spacing_x**2 + math.sin(t) ** 2 / g.spacing_y**2)
-    lam = max(lam, 2.0 * r)
-    per_p = g.spacing_x * g.spacing_y * 2.0 * r / (math.pi * g.semi_axis_x * g.semi_axis_y)
-    return Section("ellipse", r, g.height, lam, per_p, 1.0)
+    return geometry.section(float(direction_deg))
 
 
 def principal_directions(geometry: Geometry) -> tuple[float, float]:
     """(parallel, perpendicular) sliding directions, degrees from the texture's x axis: along the
     asperities' long axis (for ridges: along the ridges, y) and across it."""
-    if isinstance(geometry, RidgeGeometry):
-        return 90.0, 0.0
-    long = math.degrees(geometry.orientation) + (0.0 if geometry.semi_axis_x >= geometry.semi_axis_y else 90.0)
-    return long % 180.0, (long + 90.0) % 180.0
+    return geometry.principal_directions()
 
 
-__all__ = ["EllipsoidGeometry", "Geometry", "RidgeGeometry", "Section", "principal_directions", "section_for",
+__all__ = ["EllipsoidGeometry", "Geometry", "deflection_hook", "RidgeGeometry", "Section", "principal_directions", "section_for",
            "texture_geometry"]
