@@ -230,6 +230,7 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
     from ..coupling import predict_curve
     from ..materials import Materials
     from ..micro.deflection import DirectionalCell, directional_gain, texture_geometry
+    from ..micro.deflection.hysteresis import geometry_hysteresis_factor
 
     finger = study.finger
     geometry = texture_geometry(tex)  # the family's deflection hook (checked before the cell was solved)
@@ -248,7 +249,7 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
                                 cache=cache_arg)
         # The elliptical Greenwood-Tabor factor belongs to the compliant-asperity model: a rigid
         # texture keeps the isotropic friction exactly.
-        factor = 1.0 if gain.is_identity else float(geometry.hysteresis_factor(direction))
+        factor = 1.0 if gain.is_identity else geometry_hysteresis_factor(geometry, direction)
         textured = finger.with_overrides(beta=min(1.0, finger.beta * factor))
         curve = predict_curve(loads, textured, DirectionalCell(cell, gain, finger.tau0, finger.alpha))
         reference = predict_curve(loads, finger, cell)  # the flat reference is isotropic
