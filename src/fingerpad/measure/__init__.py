@@ -4,7 +4,9 @@ The pipeline (``fingerpad analyse``), one module a step:
 
 1. :mod:`.columns`, :mod:`.importers`, :mod:`.recordings` - files (one importer per format) with a
    column spec and units, file-name templates and manifests -> recordings in SI units;
-2. :mod:`.strokes` - reciprocating strokes split at direction changes, steady windows, outliers;
+2. :mod:`.strokes` - reciprocating strokes of a recording split at direction changes, steady
+   windows; :mod:`.clipping` - saturated force channels (their strokes are left out);
+   :mod:`.tables` - the study's stroke table, outliers, load bins;
 3. :mod:`.curves` - power law mu = k F^(n-1) per participant and sample, normalisation by the
    flat reference (mu_tex / mu_ref cancels the person's ridge area), spread between people;
    :mod:`.stats` - the random-intercept (per recording) models behind every interval;
@@ -23,6 +25,7 @@ SI units throughout (N, m, Pa, s).
 
 from .analysis import AnalysisOptions, MeasurementWarning, StudyResult, analyse_study
 from .breakpoint import Breakpoint, find_breakpoint
+from .clipping import Clip, find_clipping
 from .columns import ColumnSpec, load_spec, parse_filename, template_regex, unit_factor
 from .curves import PowerLaw, fit_curves, fit_power_law_clustered, normalise, sense_ratio, spread_summary, spread_table
 from .importers import RawTable, read_table, supported_suffixes
@@ -49,31 +52,20 @@ from .recordings import Recording, load_study, read_manifest, read_recording
 from .sensitivity import PERTURBATIONS, other_micro_model, perturbed_models
 from .simulate import SimulationConfig, simulate_study
 from .stats import ClusterFit, cluster_mean, random_intercept_fit
-from .strokes import (
-    PLAUSIBLE_MU,
-    Stroke,
-    StrokeOptions,
-    StrokeReport,
-    bin_strokes,
-    detect_strokes,
-    direction_signal,
-    find_strokes,
-    flag_outliers,
-    load_bin_edges,
-    measure_strokes,
-    plausibility_warnings,
-    stroke_table,
-)
+from .strokes import Stroke, StrokeOptions, StrokeReport, detect_strokes, direction_signal, find_strokes, measure_strokes
+from .tables import PLAUSIBLE_MU, bin_strokes, flag_outliers, load_bin_edges, plausibility_warnings, stroke_table
 
 __all__ = [
     "PERTURBATIONS",
     "PLAUSIBLE_MU",
+    "Clip",
     "ClusterFit",
     "MeasurementWarning",
     "PowerLaw",
     "RawTable",
     "StrokeReport",
     "cluster_mean",
+    "find_clipping",
     "find_strokes",
     "fit_power_law_clustered",
     "model_variant",
