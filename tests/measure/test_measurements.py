@@ -470,7 +470,7 @@ def test_cli_errors_leave_nothing(app, tmp_path):
     assert r.stderr.strip() == "error: reference sample 'glass' is not in the data (samples: bumps, flat)"
     assert not res.exists()
     r = runner.invoke(app, ["analyse", str(sim), "--reference", "flat", "--out", str(res), "--trim", "0.9"])
-    assert r.exit_code == 2 and r.stderr.startswith("error: --trim") and not res.exists()
+    assert r.exit_code == 2 and r.stderr.startswith("error: trim must lie in [0, 0.45]") and not res.exists()
     r = runner.invoke(app, ["simulate-measurement", "--out", str(tmp_path / "x"), "--loads", "5N:1N"])
     assert r.exit_code == 2 and "--loads" in r.stderr and not (tmp_path / "x").exists()
 

@@ -121,11 +121,14 @@ def clipping_warnings(strokes: pd.DataFrame, clips: Mapping[str, list[Clip]]) ->
     """
     out = []
     for file, found in clips.items():
-        if not found:
-            continue
         g = strokes[strokes["file"] == file]
-        for clip in found:
-            hit = int(g["clipped"].str.contains(clip.channel, regex=False).sum()) if len(g) else 0
-            out.append(f"{Path(str(file)).name}: {clip.describe()}: the sensor saturated (clipped); {hit} of "
-                       f"{len(g)} strokes touch the clipped level and are left out of the fits")
+        for channel in CHANNELS:
+            mine = [c for c in found if c.channel == channel]
+            if not mine:
+                continue
+            hit = int(g["clipped"].str.contains(channel, regex=False).sum()) if len(g) else 0
+            what = " and ".join(c.describe() if i == 0 else c.describe().removeprefix(CHANNELS[channel] + " held ")
+                                for i, c in enumerate(mine))
+            out.append(f"{Path(str(file)).name}: {what}: the sensor saturated (clipped); {hit} of {len(g)} strokes "
+                       f"touch the clipped level and are left out of the fits")
     return out
