@@ -417,6 +417,12 @@ def test_write_report_contents(study, tmp_path):
     summary = json.loads((tmp_path / "res" / "summary.json").read_text())
     assert summary["study"]["reference_sample"] == "flat"
     assert len(summary["participants"]) == len(truth["participants"])
+    # the population numbers say where they come from, in the JSON, the table and the page
+    (pop,) = [r for r in summary["population_fits"] if r["sample"] == "flat"]
+    assert pop["source"] in ("mixed model", "two-stage") and pop["two_stage_n"] is not None
+    assert "population" in summary["study"] and summary["study"]["n_clipped_strokes"] == 0
+    html = (tmp_path / "res" / "report.html").read_text()
+    assert "numbers from" in html and f">{pop['source']}</td>" in html
     with xr.open_dataset(tmp_path / "res" / "curves.nc", engine="h5netcdf") as ds:
         assert set(ds["participant"].values) == set(truth["participants"])
         assert ds["skin_modulus"].sel(condition="bumps").notnull().all()

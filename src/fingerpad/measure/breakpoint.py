@@ -112,10 +112,11 @@ class Breakpoint:
         """One line for tables and reports."""
         rng = f"{self.search_low:.3g}-{self.search_high:.3g} {unit}"
         if self.outside:
+            where = (f"outside {self.edge_low:.3g}-{self.edge_high:.3g} {unit} where both segments have support"
+                     if math.isfinite(self.edge_low) else "where no location has support on both sides")
             return (f"no transition reported: the best change of trend, at {self.load:.3g} {unit} "
-                    f"(p = {format_p(self.p_value, self.n_null)}), lies at the edge of the load range, outside "
-                    f"{self.edge_low:.3g}-{self.edge_high:.3g} {unit} where both segments have support (too few "
-                    f"strokes on one side to tell a transition from curvature)")
+                    f"(p = {format_p(self.p_value, self.n_null)}), lies at the edge of the load range, {where} "
+                    f"(too few strokes on one side to tell a transition from curvature)")
         if not self.detected:
             return f"no transition detected in {rng} (p = {format_p(self.p_value, self.n_null)})"
         return (f"transition at {self.load:.3g} {unit} [{self.ci_low:.3g}, {self.ci_high:.3g}] "

@@ -139,8 +139,7 @@ def conditions_table(result: StudyResult) -> str:
             transition = _with_ci(row.get("breakpoint_load"), row.get("breakpoint_ci_low"), row.get("breakpoint_ci_high"))
             p = format_p(float(row["breakpoint_p"]), result.options.n_null)
         elif _get(row, "breakpoint_outside"):
-            transition = (f"none reported: best change at the edge of the load range (outside "
-                          f"{row['breakpoint_edge_low']:.2g}-{row['breakpoint_edge_high']:.2g} N, see note)")
+            transition = "none reported: the best change lies at the edge of the load range (see note)"
             p = format_p(float(row["breakpoint_p"]), result.options.n_null)
             notes_extra = [str(row.get("transition") or "")]
         elif _get(row, "breakpoint_p") is not None:
@@ -284,7 +283,8 @@ def html_report(
         "simulations of a straight line with the recordings' scatter) gives p &lt; "
         f"{1 - info['confidence_level']:.2g} and its location leaves at least "
         f"{100 * result.options.breakpoint_edge:.0f} % of the load range (log scale) and of the strokes on each side "
-        "(nearer the edge one segment rests on a few strokes, and any curvature passes for a break); the closed-form E<sub>s</sub> (Eq. 3.6) is given beside the model "
+        "(nearer the edge one segment rests on a few strokes, and any curvature passes for a break); "
+        "the closed-form E<sub>s</sub> (Eq. 3.6) is given beside the model "
         "fit only then. Sense ratio: mu sliding + over mu sliding -, at equal load.</p>",
         conditions_table(result),
         "<h2>Population per sample</h2>",
