@@ -114,3 +114,18 @@ def test_cli_warns_and_writes_clipped_strokes(clipped_study, tmp_path):
     strokes = pd.read_csv(tmp_path / "r" / "strokes.csv", keep_default_na=False)
     assert (strokes["clipped"] == "normal").sum() > 0
     assert not math.isnan(float(strokes["mu"].iloc[0]))
+
+
+def test_qc_figure_marks_clipped_strokes(clipped_study):
+    """The QC figure of a clipped recording names the clipped strokes and draws the level."""
+    from fingerpad.plotting.measure import figure_qc
+
+    folder, _ = clipped_study["normal"]
+    recs = m.load_study([folder])[:2]  # P01's flat recordings
+    result = m.analyse_study(recs, m.AnalysisOptions(reference="flat", sensitivity=False, population=False))
+    source = recs[0].source
+    n_clipped = int((result.clipped_strokes["file"] == source).sum())
+    fig = figure_qc(result, source)
+    assert f"{n_clipped} clipped (sensor saturated, left out)" in fig._suptitle.get_text()
+    levels = [line.get_ydata()[0] for line in fig.axes[0].get_lines() if line.get_linestyle() == "--"]
+    assert levels == [2.0]
