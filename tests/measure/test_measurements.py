@@ -232,6 +232,10 @@ def test_closed_form_modulus_on_hertz_data(hertz_study):
         assert lo <= row["skin_modulus_closed_form"] <= hi
         assert row["breakpoint_edge_low"] <= row["breakpoint_load"] <= row["breakpoint_edge_high"]
     assert reported >= 3
+    if reported < len(truth["participants"]):  # the report says why, too
+        from fingerpad.measure.htmlreport import conditions_table
+
+        assert "the best change lies at the edge of the load range" in conditions_table(result)
 
 
 def test_normalisation_reduces_spread(study):

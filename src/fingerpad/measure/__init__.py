@@ -16,7 +16,8 @@ The pipeline (``fingerpad analyse``), one module a step:
    micro-modulus E_s: model fits (BEM or Hertz unit cell) with the set of E_s the data allow,
    the closed form from the transition load (Eq. 3.6), and the sensitivity to the micro-model
    and the friction parameters;
-6. :mod:`.population` - mean curves and mixed-effects fits across participants;
+6. :mod:`.population` - mean curves and power laws across participants (mixed model with a
+   random exponent per person, or a two-stage estimate; the table says which);
 7. :mod:`.analysis` - the whole study; :mod:`.report` - tables, NetCDF and the HTML report;
    :mod:`.simulate` - synthetic recordings with known parameters.
 
@@ -50,7 +51,7 @@ from .modulus import (
 from .population import population_curves, population_fits
 from .recordings import Recording, load_study, read_manifest, read_recording
 from .sensitivity import PERTURBATIONS, other_micro_model, perturbed_models
-from .simulate import SimulationConfig, simulate_study
+from .simulate import SimulationConfig, simulate_recording, simulate_stroke_table, simulate_study
 from .stats import ClusterFit, cluster_mean, random_intercept_fit
 from .strokes import Stroke, StrokeOptions, StrokeReport, detect_strokes, direction_signal, find_strokes, measure_strokes
 from .tables import PLAUSIBLE_MU, bin_strokes, flag_outliers, load_bin_edges, plausibility_warnings, stroke_table
@@ -112,6 +113,8 @@ __all__ = [
     "read_manifest",
     "read_recording",
     "read_textures",
+    "simulate_recording",
+    "simulate_stroke_table",
     "simulate_study",
     "spread_summary",
     "spread_table",

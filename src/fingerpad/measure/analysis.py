@@ -15,13 +15,13 @@ import pandas as pd
 from .._version import __version__
 from ..errors import FingerpadError
 from .breakpoint import EDGE_FRACTION, Breakpoint, find_breakpoint
+from .clipping import Clip, clipping_warnings
 from .curves import fit_curves, fit_row, normalise, sense_ratio, spread_summary, spread_table
 from .models import Model, TextureGeometry, resolve_finger, texture_model
 from .modulus import ModelTable, ModulusFit, estimate_skin_modulus, estimate_skin_modulus_joint
 from .population import population_curves, population_fits
 from .recordings import Recording
 from .sensitivity import other_micro_model, perturbed_models
-from .clipping import Clip, clipping_warnings
 from .strokes import StrokeOptions, StrokeReport
 from .tables import (
     GROUP,
@@ -75,7 +75,8 @@ class AnalysisOptions:
         Refit E_s with the other micro-model and with the friction parameters varied
         (:mod:`.sensitivity`).
     population
-        Per-texture population summary and mixed-effects fits across participants.
+        Per-texture population summary and power-law fits across participants (mixed model or
+        two-stage, :mod:`.population`).
     """
 
     reference: str = "flat"
@@ -146,7 +147,8 @@ class StudyResult:
         One row per participant: reference power law and E_s fitted jointly to all textures.
     population_curves, population_fits
         Per texture: the mean curve over participants with a between-person interval, and
-        the mixed-effects power law across participants (:mod:`.population`).
+        the power law across participants, from the mixed model or the two-stage estimate
+        (column ``source``; :mod:`.population`).
     sensitivity
         E_s refitted with the other micro-model and varied friction parameters.
     warnings
