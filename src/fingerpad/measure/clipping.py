@@ -71,8 +71,8 @@ def _runs(mask: np.ndarray) -> np.ndarray:
 def find_clipping(rec: Any, *, min_run: int = 5, contrast: float = 3.0) -> list[Clip]:
     """The force channels of ``rec`` (a :class:`~fingerpad.measure.Recording`) that saturate.
 
-    A channel is clipped at its maximum (or minimum) when it stays at that value (within a
-    millionth of its range: the file's own resolution) for at least ``min_run`` consecutive
+    A channel is clipped at its maximum (or minimum) when it stays at that value (to round-off)
+    for at least ``min_run`` consecutive
     samples, and for more than ``contrast`` times the longest run of equal values anywhere else
     in the channel (a coarsely quantised channel repeats values everywhere; that is not
     clipping). The normal force's minimum at or below zero is lift-off, not saturation.
@@ -92,7 +92,9 @@ def find_clipping(rec: Any, *, min_run: int = 5, contrast: float = 3.0) -> list[
         span = hi - lo
         if not span > 0:
             continue  # a constant channel: stroke detection says so
-        tol = 1e-6 * max(span, abs(lo), abs(hi))
+        # equal values: identical cells of a file, or a capped value, differ by round-off only
+        # (a looser tolerance would make noise look repeated: 5e-6 N pairs occur in 0.002 N noise)
+        tol = 1e-9 * max(span, abs(lo), abs(hi))
         extreme = {"high": np.abs(x - hi) <= tol, "low": np.abs(x - lo) <= tol}
         # the longest run of equal values away from both extremes: the channel's own repetition
         same = np.abs(np.diff(x)) <= tol
