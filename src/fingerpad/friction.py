@@ -53,9 +53,11 @@ def adhesion_force(load: ArrayLike, real_area: ArrayLike, tau0: float, alpha: fl
     tau0, alpha
         Shear strength at zero pressure (Pa) and its pressure coefficient.
     """
-    f = as_loads(load, strict=True)
-    a = _areas(real_area, "real contact area")
-    return scalar_out(tau0 * a + alpha * f)
+    return scalar_out(_adhesion(as_loads(load, strict=True), _areas(real_area, "real contact area"), tau0, alpha))
+
+
+def _adhesion(f: np.ndarray, a: np.ndarray, tau0: float, alpha: float) -> np.ndarray:
+    return tau0 * a + alpha * f
 
 
 def hysteresis_force(load: ArrayLike, radius: float, modulus: float, beta: float) -> float | np.ndarray:
@@ -75,23 +77,29 @@ def hysteresis_force(load: ArrayLike, radius: float, modulus: float, beta: float
     beta
         Viscoelastic loss fraction.
     """
-    f = as_loads(load)
     if not (radius > 0 and modulus > 0 and beta >= 0):
         raise FingerpadError("hysteresis needs a positive radius and modulus and a non-negative beta")
-    return scalar_out(beta * (9.0 / (128.0 * radius)) ** (2.0 / 3.0) * np.cbrt(f**4 / modulus))
+    return scalar_out(_hysteresis(as_loads(load), radius, modulus, beta))
+
+
+def _hysteresis(f: np.ndarray, radius: float, modulus: float, beta: float) -> np.ndarray:
+    return beta * (9.0 / (128.0 * radius)) ** (2.0 / 3.0) * np.cbrt(f**4 / modulus)
 
 
 def friction_force(load: ArrayLike, real_area: ArrayLike, finger: Finger) -> float | np.ndarray:
     """Total friction force ``F_f = F_adh + F_def``, Eq. 2.1 (N), with ``finger``'s parameters."""
-    adh = np.asarray(adhesion_force(load, real_area, finger.tau0, finger.alpha))
-    dfm = np.asarray(hysteresis_force(load, finger.radius, finger.modulus, finger.beta))
-    return scalar_out(adh + dfm)
+    return scalar_out(_friction(as_loads(load, strict=True), _areas(real_area, "real contact area"), finger))
+
+
+def _friction(f: np.ndarray, a: np.ndarray, finger: Finger) -> np.ndarray:
+    """Eq. 2.1 on loads and real areas already checked (the prediction job's path)."""
+    return _adhesion(f, a, finger.tau0, finger.alpha) + _hysteresis(f, finger.radius, finger.modulus, finger.beta)
 
 
 def friction_coefficient(load: ArrayLike, real_area: ArrayLike, finger: Finger) -> float | np.ndarray:
     """Friction coefficient ``mu = F_f / F`` (Eq. 2.1 over the load)."""
     f = as_loads(load, strict=True)
-    return scalar_out(np.asarray(friction_force(f, real_area, finger)) / f)
+    return scalar_out(_friction(f, _areas(real_area, "real contact area"), finger) / f)
 
 
 def reference_real_area(load: ArrayLike, finger: Finger) -> float | np.ndarray:
@@ -103,7 +111,13 @@ def reference_real_area(load: ArrayLike, finger: Finger) -> float | np.ndarray:
 def reference_friction_coefficient(load: ArrayLike, finger: Finger) -> float | np.ndarray:
     """``mu_ref(F)`` on the flat reference sample of the same material."""
     f = as_loads(load, strict=True)
-    return friction_coefficient(f, reference_real_area(f, finger), finger)
+    return scalar_out(mu_checked(f, finger.areas_checked(f)[1], finger))  # A_re,ref = A_fr
+
+
+def mu_checked(f: np.ndarray, real_area: np.ndarray, finger: Finger) -> np.ndarray:
+    """``mu = F_f / F`` on loads (> 0) and real areas already checked: the path of
+    :func:`fingerpad.coupling.predict_curve`, which checks its loads once at its entry."""
+    return _friction(f, real_area, finger) / f
 
 
 def normalised_friction(mu_texture: ArrayLike, mu_reference: ArrayLike) -> float | np.ndarray:
