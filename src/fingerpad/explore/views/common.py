@@ -65,11 +65,14 @@ def download(label: str, filename: str, make: Callable[[], bytes | str], css: st
     """A download button whose file is made when clicked (in memory, nothing written on disk)."""
 
     def callback() -> io.BytesIO:
+        # the name is the server's: a client may have set the widget's filename to anything
+        widget.filename = filename
         data = make()
         return io.BytesIO(data.encode("utf-8") if isinstance(data, str) else data)
 
-    return pn.widgets.FileDownload(callback=callback, filename=filename, label=label, color="light",
-                                   css_classes=[css], embed=False, width=70, height=30, margin=(0, 4))
+    widget = pn.widgets.FileDownload(callback=callback, filename=filename, label=label, color="light",
+                                     css_classes=[css], embed=False, width=70, height=30, margin=(0, 4))
+    return widget
 
 
 class PlotCard:

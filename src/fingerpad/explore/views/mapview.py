@@ -242,10 +242,13 @@ class MapView:
         return p
 
     def _tapped(self, attr: str, old: Any, new: Any) -> None:
-        if not new:
+        # the indices come from the client: only a row of the map shown opens
+        try:
+            index = int(new[0]) if new else -1
+        except (TypeError, ValueError):
             return
-        row = self.rows[int(new[0])]
-        self.open_row(row)
+        if 0 <= index < len(self.rows):
+            self.open_row(self.rows[index])
 
     def _index(self, row: dict[str, Any]) -> Any:
         if "point" in self.ds.dims:
