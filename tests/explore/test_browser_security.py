@@ -117,7 +117,8 @@ def test_an_upload_is_read_named_as_the_user_named_it(measured, explorer, tmp_pa
         };
         const text = (node) => {
             let t = '';
-            const walk = (n) => { if (n.nodeType === 3) t += n.textContent;
+            const walk = (n) => { if (n.nodeName === 'STYLE') return;
+                                  if (n.nodeType === 3) t += n.textContent;
                                   if (n.shadowRoot) walk(n.shadowRoot);
                                   for (const c of n.childNodes) walk(c); };
             walk(node);

@@ -122,6 +122,8 @@ def page_message(text: str, upload: StoredUpload | None = None, root: Path | Non
 
 #: Command-line options named by the library's messages about measured maps -> the page's fields.
 _OPTION_FIELDS = (
+    ("with --periodize (periodize = true, fingerpad.textures.periodize)", 'with "periodize" ticked'),
+    ("give --periodic (periodic = true)", 'tick "the map is one period"'),
     ("give --fill-missing", 'tick "fill missing points"'),
     ("--size LX[,LY]", 'the "map size" field'),
     ("--size 200um,200um --height-unit um", '"map size" 200um,200um, "height unit" um'),

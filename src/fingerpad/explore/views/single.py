@@ -455,9 +455,9 @@ class SingleView:
             self.app.pin(self.shown_data, self.pred)
 
     def export_toml(self) -> str:
-        if self.shown_data is None:
+        data = self.shown_data if self.shown_data is not None else self.data  # the inputs, if not computed yet
+        if data is None:
             return "# nothing to export: the inputs are not valid\n"
-        data = self.shown_data
         header = None
         tex = data.get("texture", {})
         if "surface" in tex:
