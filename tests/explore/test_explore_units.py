@@ -312,3 +312,35 @@ def test_log_ticks_label_a_narrow_load_range():
     narrow, _ = log_ticks(np.array([0.33, 0.9]))
     assert np.allclose([t for t in narrow if 0.33 <= t <= 0.9], [0.5])
     assert log_ticks(np.array([0.0, -1.0, np.nan])) is None
+
+
+def test_design_values_read_in_the_units_of_the_map():
+    """A log-spaced axis value (not round in um) opens as um text that reads back exactly."""
+    from fingerpad.explore.sweepdata import _as_text
+    from fingerpad.units import parse_quantity
+
+    for v in [*np.geomspace(50e-6, 400e-6, 37), 0.0002519842099789746, 2e-4, 3e-10]:
+        text = _as_text(float(v), "m")
+        assert text.endswith(("mm", "um", "nm")) and parse_quantity(text, "length") == float(v), text
+    for v in np.geomspace(1e3, 3e9, 41):
+        text = _as_text(float(v), "Pa")
+        assert text.endswith("Pa") and parse_quantity(text, "pressure") == float(v), text
+    assert _as_text(0.0002519842099789746, "m").startswith("251.98")
+    assert _as_text(2e-4, "m") == "200um"
+
+
+def test_map_view_labels_the_colour_bar_and_reads_the_base_study(store):
+    pytest.importorskip("panel")
+    from bokeh.models import ColorBar
+
+    from fingerpad.explore import sweepdata as sd
+    from fingerpad.explore.views.mapview import MapView
+
+    ds = sd.open_sweep(store)
+    view = MapView(None, ds, str(store))
+    bar = view.plot.object.select_one(ColorBar)
+    assert bar.title == "critical load (N)"
+    view.quantity.value = "mu_rel"
+    assert view.plot.object.select_one(ColorBar).title.endswith("N (-)")
+    about = view.panel.select(lambda o: "fp-map-about" in getattr(o, "css_classes", []))[0].object
+    assert "[texture]" in about and 'name = &quot;caps&quot;' in about and "{&quot;" not in about
