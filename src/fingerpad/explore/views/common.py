@@ -14,7 +14,7 @@ import lazy_loader
 
 pn = lazy_loader.load("panel")
 
-from ..specs import PlotSpec, spec_csv, spec_json
+from ...plotting.specs import PlotSpec, spec_csv, spec_json
 
 __all__ = ["PlotCard", "download", "fmt", "html_table", "num_span"]
 
@@ -104,7 +104,7 @@ class PlotCard:
             return spec_csv(spec)
         if fmt_ == "json":
             return spec_json(spec)
-        from ..render_mpl import spec_image
+        from ...plotting.render import spec_image
 
         return spec_image(spec, fmt_)
 
@@ -127,3 +127,4 @@ class PlotCard:
             self.downloads.visible = True
         self.note.object = html.escape(note) if note else ""
         self.note.visible = bool(note)
+        self.panel.visible = self.spec is not None or bool(note)  # nothing to say: no empty card

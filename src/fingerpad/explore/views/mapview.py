@@ -362,28 +362,19 @@ class MapView:
                           _val(v)) + "\n"
 
     def image(self, fmt_: str) -> bytes:
-        from matplotlib.figure import Figure
+        from ...plotting.render import map_image
 
         md, x, y, q = self.md, self.x.value, self.y.value, self.quantity.value
-        fig = Figure(figsize=(7, 5.2))
-        ax = fig.subplots()
         xi, yi = sd.axis_info(self.ds, x), sd.axis_info(self.ds, y)
         (fx, ux), (fy, uy) = _shown(xi), _shown(yi)
-        if "point" not in md.dims and xi["numeric"] and yi["numeric"]:
-            art = ax.pcolormesh(np.asarray(md[x].values, float) * fx, np.asarray(md[y].values, float) * fy,
-                                np.asarray(md[q].values, float), shading="nearest")
+        grid = "point" not in md.dims and xi["numeric"] and yi["numeric"]
+        if grid:
+            xs, ys = np.asarray(md[x].values, float) * fx, np.asarray(md[y].values, float) * fy
+            values = np.asarray(md[q].values, float)
         else:
-            art = ax.scatter([float(r[x]) * fx if not isinstance(r[x], str) else r["i"] for r in self.rows],
-                             [float(r[y]) * fy if not isinstance(r[y], str) else r["j"] for r in self.rows],
-                             c=[math.nan if r[q] is None else r[q] for r in self.rows], s=80)
-        fig.colorbar(art, ax=ax, label=colour_label(q, md.attrs["at"]))
-        if xi["log"]:
-            ax.set_xscale("log")
-        if yi["log"]:
-            ax.set_yscale("log")
-        ax.set_xlabel(f"{x} ({ux})")
-        ax.set_ylabel(f"{y} ({uy})")
-        ax.set_title(f"design map: {q} (mu/mu_ref at {md.attrs['at']:.4g} N)", fontsize="small")
-        buf = io.BytesIO()
-        fig.savefig(buf, format=fmt_, dpi=130)
-        return buf.getvalue()
+            xs = [float(r[x]) * fx if not isinstance(r[x], str) else r["i"] for r in self.rows]
+            ys = [float(r[y]) * fy if not isinstance(r[y], str) else r["j"] for r in self.rows]
+            values = [math.nan if r[q] is None else r[q] for r in self.rows]
+        return map_image(xs, ys, values, grid=grid, x_label=f"{x} ({ux})", y_label=f"{y} ({uy})",
+                         colour_label=colour_label(q, md.attrs["at"]), x_log=xi["log"], y_log=yi["log"],
+                         title=f"design map: {_NAMES[q]} (mu/mu_ref at {md.attrs['at']:.4g} N)", fmt=fmt_)

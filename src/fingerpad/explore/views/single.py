@@ -86,7 +86,8 @@ class SingleView:
         self.pin_button.on_click(lambda e: self.pin())
 
         self.cards = {k: PlotCard(k, height=h) for k, h in (
-            ("areas", 330), ("friction", 330), ("friction-normalised", 330), ("psi", 330), ("height-map", 360),
+            ("areas", 330), ("friction", 330), ("friction-normalised", 330), ("friction-directional", 330),
+            ("psi", 330), ("height-map", 360),
             ("pressure-map", 360), ("contact-map", 360), ("zones", 330), ("zone-profile", 330))}
         self.exports = pn.Row(
             pn.pane.HTML("<b style='font-size:12px'>export:</b>", margin=(6, 4)),
@@ -124,6 +125,7 @@ class SingleView:
             self.status, bem, self.summary, pn.Row(self.pin_button, self.exports), self.notes,
             pn.GridBox(c["areas"].panel, c["friction"].panel, c["friction-normalised"].panel, c["psi"].panel,
                        ncols=2, sizing_mode="stretch_width"),
+            c["friction-directional"].panel,
             pn.pane.HTML("<h4 style='margin:6px 0'>Unit cell</h4>"),
             pn.Row(self.pressure.panel, width=340),
             pn.GridBox(c["height-map"].panel, c["pressure-map"].panel, c["contact-map"].panel, ncols=3,
@@ -350,18 +352,15 @@ class SingleView:
         if pred is None:
             for key in ("areas", "friction", "friction-normalised", "psi", "zones", "zone-profile"):
                 self.cards[key].set(None, "run the BEM to see this plot")
+            self.cards["friction-directional"].set(None)
             self.summary.object = ""
             self.table.object = ""
             self.notes.object = ""
         else:
-            self.cards["areas"].set(builders.areas_spec(pred))
-            mu, norm = builders.friction_specs(pred)
-            self.cards["friction"].set(mu)
-            self.cards["friction-normalised"].set(norm)
+            panels = builders.prediction_panels(pred)  # predict's figures, panel by panel
+            for key in ("areas", "friction", "friction-normalised", "friction-directional", "zones", "zone-profile"):
+                self.cards[key].set(panels.get(key))
             self.cards["psi"].set(builders.psi_spec(pred, self._contact_pressure()))
-            zones, profile = builders.zone_specs(pred)
-            self.cards["zones"].set(zones)
-            self.cards["zone-profile"].set(profile)
             self._show_numbers(pred)
         pn.state.execute(self._update_contact)
 
