@@ -62,6 +62,7 @@ def measured(page):
     from playwright.sync_api import expect
 
     page.locator(".bk-tab", has_text="Texture").click()
+    page.locator(f"{css('model.kind')} select").select_option("both")  # Hertz has no measured maps
     page.locator(f"{css('texture.name')} select").select_option(MEASURED)
     expect(page.locator(f"{css('texture.surface')}-msg")).to_contain_text("upload a file")
     set_field(page, "texture.size", "200um")

@@ -90,6 +90,10 @@ def test_messages_name_the_users_file_and_the_pages_fields(area):
     assert validate({"texture": {"surface": str(gap.path), "size": "200um", "height_unit": "um",
                                  "fill_missing": True, "periodize": True}}, uploads=area, upload=gap).ok
     assert page_message(f"x {area.root}/upload-0/a.txt y", None, area.root) == "x the uploaded map y"
+    (err,) = validate({"texture": {"surface": str(gap.path), "size": "200um", "height_unit": "um",
+                                   "fill_missing": True, "periodize": True}, "model": {"kind": "hertz"}},
+                      uploads=area, upload=gap).errors
+    assert 'needs the unit-cell model "bem" or "both"' in err.message and "--" not in err.message
 
 
 def test_display_name_is_a_name_not_a_path():

@@ -120,8 +120,10 @@ def page_message(text: str, upload: StoredUpload | None = None, root: Path | Non
     return text
 
 
-#: Command-line options named by the library's messages about measured maps -> the page's fields.
+#: Command-line options named by the library's messages (about measured maps, the model) -> the
+#: page's fields.
 _OPTION_FIELDS = (
+    ("needs --model bem", 'needs the unit-cell model "bem" or "both"'),
     ("with --periodize (periodize = true, fingerpad.textures.periodize)", 'with "periodize" ticked'),
     ("give --periodic (periodic = true)", 'tick "the map is one period"'),
     ("give --fill-missing", 'tick "fill missing points"'),
