@@ -173,9 +173,8 @@ def bokeh_figure(spec: PlotSpec, *, height: int = 330, width: int | None = None)
         im = spec.images[0]
         kwargs["x_range"] = Range1d(im.x0 * spec.x.factor, im.x1 * spec.x.factor)
         kwargs["y_range"] = Range1d(im.y0 * spec.y.factor, im.y1 * spec.y.factor)
-    elif spec.discs and spec.x.limits is not None:
-        kwargs["x_range"] = Range1d(*_range(spec.x, np.empty(0)))
-        kwargs["y_range"] = Range1d(*_range(spec.y, np.empty(0)))
+    elif spec.discs:
+        pass  # ranges from the data, matched to the frame's aspect (match_aspect): circles stay round
     else:
         if spec.x.limits is not None:
             kwargs["x_range"] = Range1d(*_range(spec.x, np.concatenate(
