@@ -114,6 +114,18 @@ def test_page_limits_use_the_librarys_bounds():
     many = validate({**base, "loads": {"range": f"0.1N:4N:{MAX_PAGE_LOADS + 1}"}})
     assert [e.field for e in many.errors] == ["loads.range"]
     assert validate({**base, "loads": {"range": f"0.1N:4N:{MAX_PAGE_LOADS}"}}).ok
+    listed = validate({**base, "loads": {"values": ["1N"] * (MAX_PAGE_LOADS + 1)}})
+    assert [e.field for e in listed.errors] == ["loads.values"] and "at most" in listed.errors[0].message
+
+
+def test_download_names_are_the_servers():
+    pytest.importorskip("panel")
+    from fingerpad.explore.views.common import download
+
+    widget = download("CSV", "fingerpad-areas.csv", lambda: "a,b\n", "fp-x")
+    widget.filename = "../../etc/cron.d/evil"  # as a client may set it
+    assert widget.callback().read() == b"a,b\n"
+    assert widget.filename == "fingerpad-areas.csv"
 
 
 def test_an_npy_of_python_objects_is_refused_without_pickle_advice(area, tmp_path):

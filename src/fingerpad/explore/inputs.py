@@ -188,8 +188,9 @@ def _texture_param_errors(data: Mapping[str, Mapping[str, Any]]) -> list[FieldEr
 
 def _page_limits(data: Mapping[str, Mapping[str, Any]]) -> list[FieldError]:
     """What the page refuses before the library runs anything: a measured map that is not the
-    session's upload is checked by :func:`validate`; here, a grid beyond the library's
-    :data:`~fingerpad.textures.MAX_GRID` and more loads than :data:`MAX_PAGE_LOADS`."""
+    session's upload is checked by :func:`validate`, and more loads than :data:`MAX_PAGE_LOADS`
+    once the library has read them; here, a grid beyond the library's
+    :data:`~fingerpad.textures.MAX_GRID`."""
     from ..study.values import integer
     from ..textures import MAX_GRID, MIN_GRID
 
@@ -202,15 +203,17 @@ def _page_limits(data: Mapping[str, Mapping[str, Any]]) -> list[FieldError]:
                 raise FingerpadError(f"{field_label('model', 'grid')}: at most {MAX_GRID} points, got {n}")
         except FingerpadError as exc:
             out.append(FieldError("model.grid", one_line(str(exc))))
-    loads = data.get("loads", {})
-    for key in ("range", "values"):
-        text = loads.get(key)
-        if isinstance(text, str) and text.count(":") == 2:
-            count = text.rsplit(":", 1)[1].strip()
-            if count.isdigit() and int(count) > MAX_PAGE_LOADS:
-                out.append(FieldError(f"loads.{key}", f"loads: at most {MAX_PAGE_LOADS} loads in the explorer, "
-                                                      f"got {int(count)} (fingerpad predict takes more)"))
     return out
+
+
+def _too_many_loads(study: Any, data: Mapping[str, Mapping[str, Any]]) -> FieldError | None:
+    """More loads than the page shows (counted as the library read them: ranges, lists, both)."""
+    n = int(getattr(study.loads, "size", len(study.loads)))
+    if n <= MAX_PAGE_LOADS:
+        return None
+    key = "range" if "range" in data.get("loads", {}) else "values"
+    return FieldError(f"loads.{key}", f"loads: at most {MAX_PAGE_LOADS} loads in the explorer, got {n} "
+                                      "(fingerpad predict takes more)")
 
 
 #: Most loads of one curve in the page (each is a row of the table and a point of every plot).
@@ -251,6 +254,9 @@ def validate(data: Mapping[str, Mapping[str, Any]], *, check: bool = True, uploa
             # the texture's parameters are read when it is built (check), so a bad one already
             # reported above does not hide the messages of the other sections
             study = study_from_dict(data, labels_for(data))
+            many = _too_many_loads(study, data)
+            if many is not None:
+                errors.append(many)
             if check and not errors:
                 study.check()
         except FingerpadError as exc:
