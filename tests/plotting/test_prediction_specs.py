@@ -116,3 +116,21 @@ def test_a_few_loads_get_markers_and_a_single_load_a_window(pred):
     ax = figure(areas_figure(one)).axes[0]
     assert ax.get_xlim() == pytest.approx((0.5, 1.5))
     assert not any(line.markers for line in areas_figure(pred).panels[0].lines)
+
+
+def test_explorer_updates_a_figure_in_place_for_new_limits(pred):
+    """A new load moves the zone profile's radius limits: the Bokeh figure takes the new data
+    and ranges in place (rebuilding costs the page far more)."""
+    pytest.importorskip("bokeh")
+    from fingerpad.explore.builders import prediction_panels
+    from fingerpad.explore.render_bokeh import bokeh_figure, update_figure
+
+    data = copy.deepcopy(DEFAULT_STUDY)
+    data["model"] = {"kind": "hertz"}
+    data["loads"] = {"range": "0.1N:4N:12", "log": True, "zones_at": "1N"}
+    other = run_study(study_from_dict(data))
+    first, second = prediction_panels(pred)["zone-profile"], prediction_panels(other)["zone-profile"]
+    assert first.x.limits != second.x.limits
+    drawn = bokeh_figure(first)
+    assert update_figure(drawn, second)
+    assert drawn.figure.x_range.end == pytest.approx(second.x.limits[1] * 1e3)

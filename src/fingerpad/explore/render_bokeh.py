@@ -87,9 +87,14 @@ def _slots(spec: PlotSpec) -> list[tuple[tuple[Any, ...], dict[str, Any], str | 
     return out
 
 
+def _axis_kind(axis: Any) -> tuple[Any, ...]:
+    """What of an axis the figure is built with (its limits are data: they update in place)."""
+    return None if axis is None else (axis.name, axis.unit, axis.shown, axis.factor, axis.log, axis.limits is None)
+
+
 def _structure(spec: PlotSpec) -> tuple[Any, ...]:
-    return (spec.key, spec.x, spec.y.name, spec.y.log, spec.y2, spec.equal_aspect, _aspect(spec),
-            spec.y.limits is not None, spec.legend, tuple(s for s, _, _ in _slots(spec)))
+    return (spec.key, _axis_kind(spec.x), _axis_kind(spec.y), _axis_kind(spec.y2), spec.equal_aspect,
+            _aspect(spec), spec.legend, tuple(s for s, _, _ in _slots(spec)))
 
 
 def _range(axis: Any, values: np.ndarray) -> tuple[float, float] | None:
@@ -291,8 +296,14 @@ def update_figure(drawn: Drawn, spec: PlotSpec) -> bool:
         p.y_range.start, p.y_range.end = im.y0 * spec.y.factor, im.y1 * spec.y.factor
         for mapper, img in zip(drawn.mappers, spec.images, strict=False):
             mapper.low, mapper.high = _limits(img.value.show(img.z))
-    elif spec.y.limits is not None:
-        p.y_range.start, p.y_range.end = _range(spec.y, _values(spec, False))
+    elif not spec.discs:
+        if spec.x.limits is not None:
+            p.x_range.start, p.x_range.end = _range(spec.x, np.concatenate(
+                [np.asarray(ln.x, float).ravel() * spec.x.factor for ln in spec.lines] or [np.empty(0)]))
+        if spec.y.limits is not None:
+            p.y_range.start, p.y_range.end = _range(spec.y, _values(spec, False))
+        if spec.y2 is not None and spec.y2.limits is not None:
+            p.extra_y_ranges["right"].start, p.extra_y_ranges["right"].end = _range(spec.y2, _values(spec, True))
     return True
 
 
