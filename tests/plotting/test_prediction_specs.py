@@ -134,3 +134,17 @@ def test_explorer_updates_a_figure_in_place_for_new_limits(pred):
     drawn = bokeh_figure(first)
     assert update_figure(drawn, second)
     assert drawn.figure.x_range.end == pytest.approx(second.x.limits[1] * 1e3)
+
+
+def test_log_axis_labels_stay_short():
+    """1-2-5 ticks on a log axis, the range's ends to 3 digits (not 49.6397)."""
+    from fingerpad.plotting.render import figure
+    from fingerpad.plotting.specs import Axis, Line, PlotSpec
+
+    x = np.geomspace(200.0, 49639.7, 50)
+    spec = PlotSpec("t", "t", x=Axis("p", "Pa", "kPa", 1e-3, log=True), y=Axis("y"), lines=[Line("a", x, x)])
+    fig = figure(spec)
+    fig.canvas.draw()
+    labels = [t.get_text() for t in fig.axes[0].get_xticklabels()]
+    assert labels[-1] == "49.6" and "0.2" in labels and "10" in labels
+    assert all(len(t) <= 4 for t in labels), labels

@@ -38,7 +38,8 @@ def _nice_log_ticks(ax: Any, lo: float, hi: float) -> None:
         ticks.insert(0, lo)
     if len(ticks) >= 2:
         ax.xaxis.set_major_locator(FixedLocator(ticks))
-        ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        # 1-2-5 values as they are, an end of the range (49.6397 kPa) to 3 digits
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}" if v in nice else f"{v:.3g}"))
         ax.xaxis.set_minor_formatter(NullFormatter())
 
 
