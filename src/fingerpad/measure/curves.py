@@ -1,4 +1,4 @@
-"""Friction curves: power law mu = k F^(n-1) per participant and sample, normalisation by the flat reference (MODEL.md "Normalisation"), spread between people.
+"""Friction curves: power law mu = k F^(n-1) per participant and sample, normalisation by the flat reference (docs/model.md "Normalisation"), spread between people.
 
 Every fit respects the grouping of strokes into recordings (sessions): ``ln mu = ln k + (n-1) ln F
 + u_recording + e`` with a random intercept per recording (:func:`.stats.random_intercept_fit`),
@@ -147,7 +147,7 @@ def normalise(strokes: pd.DataFrame, reference: str, min_strokes: int = 4, *, le
 
     ``mu_norm = mu / mu_ref(F)`` with ``mu_ref`` the power law fitted to the participant's
     strokes on the flat ``reference`` sample (all its directions pooled; the same sense where
-    that fit exists, else both senses). By MODEL.md "Normalisation", ``mu_norm`` estimates
+    that fit exists, else both senses). By docs/model.md "Normalisation", ``mu_norm`` estimates
     ``A_re,tex / A_re,ref`` and no longer depends on the person's ridge area.
 
     Returns

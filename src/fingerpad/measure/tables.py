@@ -33,7 +33,7 @@ def stroke_table(recordings: Iterable[Recording], options: StrokeOptions = Strok
     return pd.concat(frames, ignore_index=True)
 
 
-#: Friction coefficients outside this range are implausible for a finger (MODEL.md: ~0.5 dry, > 1 wet).
+#: Friction coefficients outside this range are implausible for a finger (docs/model.md: ~0.5 dry, > 1 wet).
 PLAUSIBLE_MU = (0.02, 5.0)
 _UNIT_MIXUPS = ((1000.0, "mN", "N"), (101.97, "gf", "N"), (9.80665, "kgf", "N"), (4.448, "lbf", "N"),
                 (45.36, "lbf", "kgf"))
