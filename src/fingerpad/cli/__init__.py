@@ -18,6 +18,9 @@ Exit codes
 2
     A user error (bad option value, unknown unit, unreadable file, ...): one line
     ``error: <message>`` on stderr, nothing written.
+130
+    Interrupted (Ctrl-C, SIGTERM): one line ``interrupted: nothing written`` on stderr (a sweep
+    says how many points its store kept).
 
 Start-up is kept short: command modules import only Typer and light modules at import time;
 the numerics load inside the commands.
@@ -34,7 +37,7 @@ from typer.core import TyperGroup
 from .._version import __version__
 from ..errors import one_line
 from . import deflection, design, explore, fingers, measure, predict, solve, sweep, textures
-from .common import EXIT_USER_ERROR
+from .common import EXIT_INTERRUPTED, EXIT_USER_ERROR, report_interrupt
 
 
 class _OneLineErrors(TyperGroup):
@@ -46,9 +49,11 @@ class _OneLineErrors(TyperGroup):
             rv = super().main(args=args, prog_name=prog_name, complete_var=complete_var, standalone_mode=False,
                               **extra)
             code = rv if isinstance(rv, int) else 0
+            if code == EXIT_INTERRUPTED:  # Typer turns Ctrl-C (and SIGTERM, see main) into exit code 130
+                report_interrupt()
         except typer.Abort:
-            sys.stderr.write("error: interrupted\n")
-            code = 130
+            report_interrupt()
+            code = EXIT_INTERRUPTED
         except typer.TyperException as exc:
             if type(exc).__name__ == "NoArgsIsHelpError":  # `fingerpad` alone: the help, as usual
                 exc.show()  # type: ignore[attr-defined]

@@ -154,8 +154,10 @@ def _run(**o: Any) -> None:
     settings = DeflectionSettings(friction=o["friction"], mu_max=o["mu_max"], n_pressures=o["levels"],
                                   resolution=o["resolution"], time_limit=o["time_limit"])
     out = o["out"]
-    if out is not None and out.exists() and not out.is_dir():
-        raise FingerpadError(f"--out {str(out)!r} exists and is not a directory")
+    if out is not None:
+        from ..io import OutputFolder
+
+        OutputFolder.check(out, _FILES)  # before the work: a bad --out costs nothing
 
     def progress(msg: str) -> None:
         print(f"  {msg}", file=sys.stderr, flush=True)
@@ -168,27 +170,25 @@ def _run(**o: Any) -> None:
     typer.echo(_table(curves))
     if out is None:
         return
-    from ..io import Staging, write_text
+    from ..io import OutputFolder, write_text
     from ..plotting.deflection import deflection_figure
 
-    out.mkdir(parents=True, exist_ok=True)
     doc = {"texture": kind, "geometry": {k: getattr(geometry, k) for k in geometry.__dataclass_fields__},
            "materials": mats.as_dict(), "tau0": tau0, "alpha": o["alpha"],
            "settings": {k: getattr(settings, k) for k in settings.__dataclass_fields__},
            "units": "SI (m, Pa, N/m per unit depth); directions in degrees",
            "directions": [c.as_dict() for c in curves]}
     text = json.dumps(doc, indent=1, default=lambda v: None if isinstance(v, float) and not math.isfinite(v) else str(v))
-    staging = Staging()
-    try:
-        staging.stage(str(out / "deflection.json"), lambda tmp: write_text(tmp, text))
-        staging.stage(str(out / "deflection.nc"), lambda tmp: as_dataset(curves).to_netcdf(tmp, engine="h5netcdf"))
-        staging.stage(str(out / "deflection.png"), lambda tmp: deflection_figure(curves, tmp))
-        staging.commit()
-    except OSError as exc:
-        raise FingerpadError(f"cannot write to {str(out)!r}: {exc.strerror or exc}") from None
-    finally:
-        staging.discard()
+    with OutputFolder(out, _FILES) as folder:  # replaced as a whole; errors name the user's path
+        folder.write("deflection.json", lambda tmp: write_text(tmp, text))
+        folder.write("deflection.nc", lambda tmp: as_dataset(curves).to_netcdf(tmp, engine="h5netcdf"))
+        folder.write("deflection.png", lambda tmp: deflection_figure(curves, tmp))
+        folder.commit()
     typer.echo(f"wrote {out / 'deflection.json'}, {out / 'deflection.nc'}, {out / 'deflection.png'}")
+
+
+#: The files of ``--out`` (a folder holding only these, or written by fingerpad, is replaced).
+_FILES = ("deflection.json", "deflection.nc", "deflection.png")
 
 
 def register(app: typer.Typer) -> None:

@@ -29,7 +29,7 @@ from ..errors import FingerpadError
 from .evaluate import STATE_CODES
 from .spec import SweepSpec
 
-__all__ = ["SweepStore", "chunk_slices", "open_sweep", "pressure_grid"]
+__all__ = ["SweepStore", "chunk_slices", "open_sweep", "points_done", "pressure_grid"]
 
 _FLOAT_VARS = {
     "critical_load_bem": ("N", "load at which the pad centre reaches the transition (BEM cell)"),
@@ -145,10 +145,11 @@ class SweepStore:
         if self.path.exists():
             existing = _read_attrs(self.path)
             if existing is None:
-                if any(self.path.iterdir()) if self.path.is_dir() else True:
-                    if not overwrite:
-                        raise FingerpadError(f"{self.path}: exists and is not a fingerpad sweep store "
-                                             "(give --overwrite to replace it, or another --out)")
+                # Only a sweep store is ever replaced: anything else (a folder of notes, the study
+                # file itself) is a user's own and stays, --overwrite or not.
+                if not self.path.is_dir() or any(self.path.iterdir()):
+                    raise FingerpadError(f"{self.path}: exists and is not a fingerpad sweep store; it is left alone "
+                                         "(name another --out)")
             elif existing.get("signature") == self.spec.signature():
                 return  # the same sweep: resume
             elif not overwrite:
@@ -212,6 +213,18 @@ def _read_attrs(path: Path) -> dict[str, Any] | None:
     except Exception:  # noqa: BLE001 - anything unreadable is "not a sweep store"
         return None
     return attrs if attrs.get("fingerpad_sweep") == 1 else None
+
+
+def points_done(path: str | Path) -> int | None:
+    """How many points of the sweep store at ``path`` are done (``None``: no readable store)."""
+    if _read_attrs(Path(path)) is None:
+        return None
+    try:
+        import zarr
+
+        return int(np.count_nonzero(zarr.open_group(str(path), mode="r")["done"][...]))
+    except Exception:  # noqa: BLE001 - a damaged store: nothing to count
+        return None
 
 
 def open_sweep(path: str | Path) -> Any:
