@@ -28,8 +28,9 @@ the numerics load inside the commands.
 
 from __future__ import annotations
 
+import re
 import sys
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from typer.core import TyperGroup
@@ -40,9 +41,38 @@ from . import deflection, design, explore, fingers, measure, predict, solve, swe
 from .common import EXIT_INTERRUPTED, EXIT_USER_ERROR, report_interrupt
 
 
+#: What Rich reads as a markup tag (its own pattern): ``[columns]`` in a help text would vanish.
+_RICH_TAG = re.compile(r"(\\*)(\[[a-z#/@][^[]*?])")
+
+
+def escape_markup(text: str) -> str:
+    """``text`` with every bracketed word kept when Rich renders the help (``[sweep]``, ``[units]``)."""
+    return _RICH_TAG.sub(lambda m: m.group(1) * 2 + "\\" + m.group(2), text)
+
+
+def _escape_help(command: Any) -> None:
+    """Help texts are plain text: escape them once for Typer's Rich formatting."""
+    for attr in ("help", "short_help", "epilog"):
+        text = getattr(command, attr, None)
+        if isinstance(text, str) and "[" in text:
+            setattr(command, attr, escape_markup(text))
+    for param in getattr(command, "params", []):
+        text = getattr(param, "help", None)
+        if isinstance(text, str) and "[" in text:
+            param.help = escape_markup(text)
+    for sub in getattr(command, "commands", {}).values():
+        _escape_help(sub)
+
+
 class _OneLineErrors(TyperGroup):
     """Typer's own usage errors (a missing value, an unknown option) as one ``error:`` line on
-    stderr and exit code 2, like every other user mistake, instead of a framed panel."""
+    stderr and exit code 2, like every other user mistake, instead of a framed panel.
+
+    Help texts are shown as written: a bracketed word is not taken for Rich markup."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        _escape_help(self)
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):  # noqa: ANN001
         try:
