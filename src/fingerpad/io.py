@@ -119,13 +119,16 @@ def check_writable(path: str | os.PathLike[str], what: str = "output", suffixes:
     return Path(text)
 
 
-def check_output_location(path: str | os.PathLike[str], option: str = "--out") -> Path:
+def check_output_location(path: str | os.PathLike[str], option: str = "--out",
+                          inputs: Sequence[str | os.PathLike[str]] = ()) -> Path:
     """The checks every output folder or store gets before the work; returns where it will be
     written (absolute, a symbolic link followed).
 
     Refused: an empty name (it would be the current folder), the current folder or one that
     contains it, a path through a file, and a location where nothing can be created (tried).
-    What the folder holds is the caller's check (:meth:`OutputFolder.check`, a sweep store's).
+    So is a folder that is, or holds, one of the command's ``inputs`` (``analyse sim --out sim``
+    would replace the recordings it reads). What the folder holds is the caller's check
+    (:meth:`OutputFolder.check`, a sweep store's).
     """
     text = os.fspath(path)
     if not text.strip():
@@ -134,9 +137,15 @@ def check_output_location(path: str | os.PathLike[str], option: str = "--out") -
     here = Path(os.path.realpath(os.getcwd()))
     real = Path(os.path.realpath(final))
     if real == here or real in here.parents:
-        raise FingerpadError(f"{option} {text!r} is the current folder or contains it: name a new folder for the outputs")
+        raise FingerpadError(f"{option} {text!r} is the current folder or contains it: name a new folder "
+                             f"for the outputs")
     # Where the outputs are created: beside an existing folder (it is swapped by renames there),
     # else in the nearest existing ancestor (missing folders are created).
+    for item in inputs:
+        source = Path(os.path.realpath(item))
+        if source == real or real in source.parents:
+            raise FingerpadError(f"{option} {text!r} holds the input {os.fspath(item)!r}: name another folder "
+                                 f"(an output folder is replaced as a whole)")
     existing = final.parent if final.exists() else existing_parent(final)
     if not existing.is_dir():
         raise FingerpadError(f"cannot write {option} {text!r}: {str(existing)!r} is a file, not a folder")
@@ -337,14 +346,16 @@ class OutputFolder:
             raise WriteError(self.given, _reason(exc), f"{option} folder") from None
 
     @staticmethod
-    def check(folder: str | os.PathLike[str], names: Sequence[str] = (), option: str = "--out") -> Path:
+    def check(folder: str | os.PathLike[str], names: Sequence[str] = (), option: str = "--out",
+              inputs: Sequence[str | os.PathLike[str]] = ()) -> Path:
         """The checks of the constructor, without writing anything (to run before long work).
 
         Refused: what :func:`check_output_location` refuses; a file; a folder holding anything
-        this package did not write there (:func:`foreign_entries`). Returns the folder that
+        this package did not write there (:func:`foreign_entries`); a folder holding one of
+        ``inputs``. Returns the folder that
         will be written (absolute, a symbolic link followed).
         """
-        final = check_output_location(folder, option)
+        final = check_output_location(folder, option, inputs)
         text = os.fspath(folder)
         if final.exists() and not final.is_dir():
             raise FingerpadError(f"{option} {text!r} is a file, not an output folder; it is left alone "

@@ -38,6 +38,7 @@ from typer.core import TyperGroup
 from .._version import __version__
 from ..errors import one_line
 from . import deflection, design, explore, fingers, measure, predict, solve, sweep, textures
+from . import common
 from .common import EXIT_INTERRUPTED, EXIT_USER_ERROR, report_interrupt
 
 
@@ -75,6 +76,7 @@ class _OneLineErrors(TyperGroup):
         _escape_help(self)
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):  # noqa: ANN001
+        common.reset_interrupt()
         try:
             rv = super().main(args=args, prog_name=prog_name, complete_var=complete_var, standalone_mode=False,
                               **extra)

@@ -23,6 +23,12 @@ EXIT_INTERRUPTED = 130
 _interrupt_reported = False
 
 
+def reset_interrupt() -> None:
+    """Forget an earlier interrupt report (a new command starts)."""
+    global _interrupt_reported
+    _interrupt_reported = False
+
+
 def report_interrupt(kept: str | None = None) -> None:
     """Say once, on one stderr line, that the command was interrupted and what it left:
     ``kept`` (e.g. the points a sweep stored), else nothing (outputs are staged and moved into

@@ -164,7 +164,8 @@ def analyse_command(
         from ..io import OutputFolder
         from ..measure.report import write_report
 
-        OutputFolder.check(out)  # before anything is read or fitted: a bad --out costs nothing
+        # Before anything is read or fitted; never a folder holding the recordings it reads.
+        OutputFolder.check(out, inputs=[*data, *([spec] if spec else []), *([samples] if samples else [])])
         if decimal is not None and decimal not in (".", ","):
             raise FingerpadError(f"--decimal: expected '.' or ',', got {decimal!r}")
         if delimiter is not None and delimiter.lower() in ("tab", "\\t"):

@@ -37,7 +37,7 @@ def sweep_command(
     from pathlib import Path
 
     from ..design.engine import eta, run_sweep
-    from ..design.store import points_done
+    from ..design.store import check_store_path, points_done
     from ..io import check_output_location
     from ..design.spec import read_sweep_file, sweep_from_dict
     from ..units import parse_int
@@ -51,6 +51,7 @@ def sweep_command(
             spec = sweep_from_dict(read_sweep_file(study))
         store = out if out is not None else str(Path(study).with_suffix(".zarr"))
         where = str(check_output_location(store, "--out"))  # before any work; a link is written through
+        check_store_path(store, spec, overwrite)  # only a sweep store is ever replaced
         bar = _Progress(err, spec.size,
                         f"sweep: {spec.size} points ({spec.design}: {', '.join(a.name for a in spec.axes)}) into {store}")
         try:

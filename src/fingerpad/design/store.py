@@ -29,7 +29,7 @@ from ..errors import FingerpadError
 from .evaluate import STATE_CODES
 from .spec import SweepSpec
 
-__all__ = ["SweepStore", "chunk_slices", "open_sweep", "points_done", "pressure_grid"]
+__all__ = ["SweepStore", "chunk_slices", "check_store_path", "open_sweep", "points_done", "pressure_grid"]
 
 _FLOAT_VARS = {
     "critical_load_bem": ("N", "load at which the pad centre reaches the transition (BEM cell)"),
@@ -143,19 +143,9 @@ class SweepStore:
     def create(self, overwrite: bool = False) -> None:
         """Lay the store out (or find it): a store of another sweep is refused unless ``overwrite``."""
         if self.path.exists():
-            existing = _read_attrs(self.path)
-            if existing is None:
-                # Only a sweep store is ever replaced: anything else (a folder of notes, the study
-                # file itself) is a user's own and stays, --overwrite or not.
-                if not self.path.is_dir() or any(self.path.iterdir()):
-                    raise FingerpadError(f"{self.path}: exists and is not a fingerpad sweep store; it is left alone "
-                                         "(name another --out)")
-            elif existing.get("signature") == self.spec.signature():
+            if check_store_path(self.path, self.spec, overwrite) == "resume":
                 return  # the same sweep: resume
-            elif not overwrite:
-                raise FingerpadError(f"{self.path}: holds another sweep (other study or [sweep] table); "
-                                     "give --overwrite to replace it, or another --out")
-            shutil.rmtree(self.path) if self.path.is_dir() else self.path.unlink()
+            shutil.rmtree(self.path)
         tmp = self.path.with_name(f".{self.path.name}.creating")
         shutil.rmtree(tmp, ignore_errors=True)
         with warnings.catch_warnings():
@@ -213,6 +203,33 @@ def _read_attrs(path: Path) -> dict[str, Any] | None:
     except Exception:  # noqa: BLE001 - anything unreadable is "not a sweep store"
         return None
     return attrs if attrs.get("fingerpad_sweep") == 1 else None
+
+
+def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite: bool = False) -> str:
+    """What a sweep into ``path`` does there: ``"create"``, ``"resume"`` (the same sweep) or
+    ``"replace"`` (another sweep, with ``overwrite``); cheap, to run before any work.
+
+    Raises
+    ------
+    FingerpadError
+        ``path`` holds something other than a sweep store (a folder of notes, the study file
+        itself): it is a user's own and is never replaced, ``overwrite`` or not; or it holds
+        another sweep and ``overwrite`` is not given.
+    """
+    p = Path(path)
+    if not p.exists():
+        return "create"
+    existing = _read_attrs(p)
+    if existing is None:
+        if p.is_dir() and not any(p.iterdir()):
+            return "replace"
+        raise FingerpadError(f"{p}: exists and is not a fingerpad sweep store; it is left alone (name another --out)")
+    if spec is not None and existing.get("signature") == spec.signature():
+        return "resume"
+    if spec is not None and not overwrite:
+        raise FingerpadError(f"{p}: holds another sweep (other study or [sweep] table); "
+                             "give --overwrite to replace it, or another --out")
+    return "replace"
 
 
 def points_done(path: str | Path) -> int | None:
