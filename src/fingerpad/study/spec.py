@@ -268,8 +268,6 @@ def _undecodable(path: Path, raw: bytes, exc: UnicodeDecodeError) -> str:
     """What is wrong with a study file that is not UTF-8 text, in the user's words."""
     if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
         what = "is saved as UTF-16 (a byte-order mark says so)"
-    elif b"\x00" in raw[:4096]:
-        what = "is a binary file, not a text file"
     else:
         line = raw[: exc.start].count(b"\n") + 1
         what = f"is not UTF-8 text (byte {exc.start + 1}, line {line}: {raw[exc.start:exc.start + 1]!r})"
@@ -296,6 +294,8 @@ def read_study_file(path: str | os.PathLike[str], extra_sections: tuple[str, ...
         raw = p.read_bytes()
     except OSError as exc:
         raise FingerpadError(f"cannot read study file {str(p)!r}: {exc.strerror or exc}") from None
+    if b"\x00" in raw[:4096] and not raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise FingerpadError(f"study file {str(p)!r} is a binary file, not a text file; save it as UTF-8 TOML text")
     try:
         # utf-8-sig: a byte-order mark (Windows editors write one) is skipped, not read as text.
         data = tomllib.loads(raw.decode("utf-8-sig"))
