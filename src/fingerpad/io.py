@@ -120,7 +120,7 @@ def check_writable(path: str | os.PathLike[str], what: str = "output", suffixes:
 
 
 def check_output_location(path: str | os.PathLike[str], option: str = "--out",
-                          inputs: Sequence[str | os.PathLike[str]] = ()) -> Path:
+                          inputs: Sequence[str | os.PathLike[str]] = (), replaces: bool = True) -> Path:
     """The checks every output folder or store gets before the work; returns where it will be
     written (absolute, a symbolic link followed).
 
@@ -128,7 +128,8 @@ def check_output_location(path: str | os.PathLike[str], option: str = "--out",
     contains it, a path through a file, and a location where nothing can be created (tried).
     So is a folder that is, or holds, one of the command's ``inputs`` (``analyse sim --out sim``
     would replace the recordings it reads). What the folder holds is the caller's check
-    (:meth:`OutputFolder.check`, a sweep store's).
+    (:meth:`OutputFolder.check`, a sweep store's). ``replaces=False``: the command only adds
+    files to the folder (``finger-models``), so the current folder is allowed.
     """
     text = os.fspath(path)
     if not text.strip():
@@ -136,7 +137,9 @@ def check_output_location(path: str | os.PathLike[str], option: str = "--out",
     final = Path(os.path.abspath(real_path(text)))
     here = Path(os.path.realpath(os.getcwd()))
     real = Path(os.path.realpath(final))
-    if real == here or real in here.parents:
+    if real.is_symlink():
+        raise FingerpadError(f"{option} {text!r} is a symbolic link that leads nowhere (a loop): name a folder")
+    if replaces and (real == here or real in here.parents):
         raise FingerpadError(f"{option} {text!r} is the current folder or contains it: name a new folder "
                              f"for the outputs")
     # Where the outputs are created: beside an existing folder (it is swapped by renames there),

@@ -317,3 +317,24 @@ def test_ctrl_c_in_a_sweep_says_how_many_points_the_store_kept(tmp_path, store, 
     assert res.exit_code == 130
     assert res.stderr.strip().splitlines()[-1] == (
         f"interrupted: 1 of 2 points kept in {store} (rerun the same command to finish)")
+
+
+@pytest.mark.parametrize("where", ["/", "..", "loop"])
+def test_a_folder_above_here_or_a_link_loop_is_refused(where, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    no_work(monkeypatch, "fingerpad.study.run.run_study")
+    (tmp_path / "loop").symlink_to("loop")
+    line = error_line(invoke("predict", *HERTZ, "--out", where))
+    assert "contains it" in line or "leads nowhere" in line
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["loop"]
+
+
+def test_finger_models_adds_its_figure_but_checks_the_folder_first(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert "empty" in error_line(invoke("finger-models", "--out", ""))
+    where = _unwritable(tmp_path)
+    assert repr(where) in error_line(invoke("finger-models", "--out", where))
+    (tmp_path / "notes.txt").write_text("mine")
+    res = invoke("finger-models", "--out", ".", "--loads", "0.5N:2N:3")
+    assert res.exit_code == 0, res.output
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name != "file") == ["notes.txt", "ridge_models.png"]
