@@ -195,7 +195,7 @@ def test_every_command_of_the_page_runs(doc: Path, tmp_path: Path) -> None:
     work, env = _workspace(tmp_path, doc)
     for code, after in shell_blocks(doc, every=True):
         before = len(_calls(tmp_path))
-        subprocess.run(["bash", "-c", code], cwd=work, env=env, timeout=900, stdin=subprocess.DEVNULL,
+        subprocess.run(["bash", "-c", code], cwd=work, env=env, timeout=1800, stdin=subprocess.DEVNULL,
                        capture_output=True)
         if not _has_command(code):
             continue
