@@ -9,7 +9,11 @@ Every writer goes through :func:`atomic_write`: the file is written to a tempora
 target directory and moved into place with :func:`os.replace` only once complete, so an error
 never leaves a partial file behind.
 :class:`Staging` does the same for a set of files that belong together (a command's outputs):
-either all of them are moved into place or none.
+either all of them are moved into place or none. :class:`OutputFolder` writes a command's output
+folder as a whole and replaces an existing one only while it holds nothing but what fingerpad
+wrote there (its :data:`MANIFEST`). Every output location is checked before the work
+(:func:`check_writable`, :func:`check_output_location`, :meth:`OutputFolder.check`), and a write
+that fails anyway raises :class:`WriteError` naming the user's path, never a temporary one.
 """
 
 from __future__ import annotations
