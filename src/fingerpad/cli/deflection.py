@@ -99,7 +99,7 @@ def deflection(
     material_poisson: Annotated[float, typer.Option(help="Texture Poisson ratio (0.5 is taken as 0.499).")] = 0.49,
     resolution: Annotated[int, typer.Option(help="Elements per asperity half-width.")] = 6,
     time_limit: Annotated[float, typer.Option(help="Wall-clock budget of one shear ramp, s.")] = 120.0,
-    out: Annotated[Path | None, typer.Option(help="Folder for deflection.json, deflection.nc, deflection.png.")] = None,
+    out: Annotated[Path | None, typer.Option(help="Folder for deflection.json, deflection.nc, deflection.png (replaced as a whole; a folder of other files is refused).")] = None,
     no_cache: Annotated[bool, typer.Option("--no-cache", help="Do not read or write the result cache.")] = False,
 ) -> None:
     """Contact length against shear of a compliant asperity section, per sliding direction.
