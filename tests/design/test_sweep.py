@@ -142,7 +142,7 @@ def test_design_map_files(swept, tmp_path):
                               "--out", str(tmp_path / "map")])
     assert res.exit_code == 0, res.output
     names = sorted(p.name for p in (tmp_path / "map").iterdir())
-    assert names == ["design_map.csv", "design_map.nc", "design_map.png", "design_map.svg"]
+    assert names == [".fingerpad-output.json", "design_map.csv", "design_map.nc", "design_map.png", "design_map.svg"]
 
 
 def test_resume_after_kill(tmp_path):

@@ -15,6 +15,7 @@ from typer.testing import CliRunner
 from fingerpad import measure as m
 from fingerpad.cli.measure import register
 from fingerpad.errors import FingerpadError
+from fingerpad.io import MANIFEST
 from fingerpad.finger import get_finger
 
 # =============================================================================================
@@ -389,6 +390,7 @@ def test_report_atomic(study, tmp_path, monkeypatch):
     out = tmp_path / "res"
     out.mkdir()
     (out / "report.html").write_text("an earlier report")  # an earlier analysis: replaced as a whole
+    (out / MANIFEST).write_text('{"files": ["report.html"]}')  # written by fingerpad (the manifest says so)
 
     def boom(*args, **kwargs):
         raise FingerpadError("figure failed")
@@ -396,17 +398,17 @@ def test_report_atomic(study, tmp_path, monkeypatch):
     monkeypatch.setattr(report, "figure_participant", boom)  # after the tables are written
     with pytest.raises(FingerpadError, match="figure failed"):
         report.write_report(result, out)
-    assert sorted(p.name for p in out.iterdir()) == ["report.html"]  # left as it was
+    assert sorted(p.name for p in out.iterdir()) == [MANIFEST, "report.html"]  # left as it was
     other = tmp_path / "other"
     other.mkdir()
     (other / "keep.txt").write_text("mine")
-    with pytest.raises(FingerpadError, match="holds files of something else"):
+    with pytest.raises(FingerpadError, match="did not write"):
         report.write_report(result, other)  # never mixed with another study's files
     assert sorted(p.name for p in other.iterdir()) == ["keep.txt"]
     with pytest.raises(FingerpadError):
         report.write_report(result, tmp_path / "new")
     assert not (tmp_path / "new").exists()
-    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".fingerpad-report")]
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
 
 
 def test_write_report_contents(study, tmp_path):

@@ -63,7 +63,7 @@ def deflection(
     resolution: Annotated[int, typer.Option(help="Elements per asperity half-width, 2-32.")] = 6,
     max_steps: Annotated[int, typer.Option(help="Largest number of shear steps per ramp (deterministic).")] = 300,
     time_limit: Annotated[float | None, typer.Option(help="Optional wall-clock safety stop per shear ramp, s (default: none); a ramp it cuts is marked INCOMPLETE and never cached.")] = None,
-    out: Annotated[Path | None, typer.Option(help="Folder for deflection.json, deflection.nc, deflection.png.")] = None,
+    out: Annotated[Path | None, typer.Option(help="Folder for deflection.json, deflection.nc, deflection.png (replaced as a whole; a folder of other files is refused).")] = None,
     no_cache: Annotated[bool, typer.Option("--no-cache", help="Do not read or write the result cache.")] = False,
 ) -> None:
     """Contact length against shear of a compliant asperity section, per sliding direction.
@@ -100,8 +100,10 @@ def _run(**o: Any) -> None:
     settings = DeflectionSettings(friction=o["friction"], mu_max=o["mu_max"], n_pressures=o["levels"],
                                   resolution=o["resolution"], max_steps=o["max_steps"], time_limit=o["time_limit"])
     out = o["out"]
-    if out is not None and out.exists() and not out.is_dir():
-        raise FingerpadError(f"--out {str(out)!r} exists and is not a directory")
+    if out is not None:
+        from ..io import OutputFolder
+
+        OutputFolder.check(out, _FILES)  # before the work: a bad --out costs nothing
 
     def progress(msg: str) -> None:
         print(f"  {msg}", file=sys.stderr, flush=True)
@@ -114,22 +116,20 @@ def _run(**o: Any) -> None:
                    err=True)
     if out is None:
         return
-    from ..io import Staging, write_text
+    from ..io import OutputFolder, write_text
     from ..plotting.deflection import deflection_figure
 
-    out.mkdir(parents=True, exist_ok=True)
     text = json.dumps(_finite(result.document()), indent=1, default=str, allow_nan=False)
-    staging = Staging()
-    try:
-        staging.stage(str(out / "deflection.json"), lambda tmp: write_text(tmp, text))
-        staging.stage(str(out / "deflection.nc"), lambda tmp: result.dataset().to_netcdf(tmp, engine="h5netcdf"))
-        staging.stage(str(out / "deflection.png"), lambda tmp: deflection_figure(result.curves, tmp))
-        staging.commit()
-    except OSError as exc:
-        raise FingerpadError(f"cannot write to {str(out)!r}: {exc.strerror or exc}") from None
-    finally:
-        staging.discard()
+    with OutputFolder(out, _FILES) as folder:  # replaced as a whole; errors name the user's path
+        folder.write("deflection.json", lambda tmp: write_text(tmp, text))
+        folder.write("deflection.nc", lambda tmp: result.dataset().to_netcdf(tmp, engine="h5netcdf"))
+        folder.write("deflection.png", lambda tmp: deflection_figure(result.curves, tmp))
+        folder.commit()
     typer.echo(f"wrote {out / 'deflection.json'}, {out / 'deflection.nc'}, {out / 'deflection.png'}")
+
+
+#: The files of ``--out`` (a folder holding only these, or written by fingerpad, is replaced).
+_FILES = ("deflection.json", "deflection.nc", "deflection.png")
 
 
 def _finite(value: Any) -> Any:

@@ -57,15 +57,12 @@ def design_map_command(
             ds = open_sweep(store).load()
             data = map_data(ds, x, y, at=at_v, select=sel, quantity=quantity)
             fig = figure_design_map(data)
-        folder = fio.OutputFolder(out, MAP_FILES)
-        try:
+        with fio.OutputFolder(out, MAP_FILES) as folder:  # errors name the user's path
             fig.savefig(folder.path("design_map.png"), format="png", dpi=120)
             fig.savefig(folder.path("design_map.svg"), format="svg")
             netcdf.to_netcdf(data.assign_attrs(fio.flatten_attrs(data.attrs)), folder.path("design_map.nc"))
             data.to_dataframe().reset_index().to_csv(folder.path("design_map.csv"), index=False)
             folder.commit()
-        finally:
-            folder.discard()
         say(err, "wrote " + ", ".join(str(folder.final_path(n)) for n in MAP_FILES))
 
 

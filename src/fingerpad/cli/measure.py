@@ -164,8 +164,11 @@ def analyse_command(
     with _user_errors(), _measurement_warnings() as shown:
         from .. import measure as m
         from ..finger import get_finger
+        from ..io import OutputFolder
         from ..measure.report import write_report
 
+        # Before anything is read or fitted; never a folder holding the recordings it reads.
+        OutputFolder.check(out, inputs=[*data, *([spec] if spec else []), *([samples] if samples else [])])
         if decimal is not None and decimal not in (".", ","):
             raise FingerpadError(f"--decimal: expected '.' or ',', got {decimal!r}")
         if delimiter is not None and delimiter.lower() in ("tab", "\\t"):
@@ -340,7 +343,9 @@ def simulate_command(
     """
     with _user_errors():
         from .. import measure as m
+        from ..io import OutputFolder
 
+        OutputFolder.check(out)  # before anything is simulated
         parts = skin_modulus.split(":")
         if len(parts) != 2:
             raise FingerpadError(f"--skin-modulus: expected LOW:HIGH, got {skin_modulus!r}")

@@ -6,14 +6,14 @@ from typing import Annotated, Any
 
 import typer
 
-from .common import say, stderr_console, user_errors, warnings_to
+from .common import EXIT_INTERRUPTED, report_interrupt, say, stderr_console, user_errors, warnings_to
 
 _HELP = {
     "--out": "Zarr store of the results (default: the study file's name with .zarr). Rerunning the same sweep "
              "into it computes only the points not done.",
     "--workers": "Worker processes of the local Dask cluster (default: one per core), one thread each.",
     "--scheduler": "Address of an existing Dask scheduler (tcp://HOST:PORT) instead of a local cluster.",
-    "--overwrite": "Replace a store that holds another sweep.",
+    "--overwrite": "Replace a sweep store that holds another sweep (anything else at --out is never replaced).",
     "--repair": "Mend a damaged store of this sweep: its unreadable chunks are computed again and its "
                 "metadata rewritten (a damaged store is refused without it).",
 }
@@ -39,6 +39,8 @@ def sweep_command(
     from pathlib import Path
 
     from ..design.engine import eta, run_sweep
+    from ..design.store import check_store_path, points_done
+    from ..io import check_output_location
     from ..design.spec import read_sweep_file, sweep_from_dict
     from ..units import parse_int
 
@@ -50,11 +52,19 @@ def sweep_command(
         with warnings_to(err):
             spec = sweep_from_dict(read_sweep_file(study))
         store = out if out is not None else str(Path(study).with_suffix(".zarr"))
+        where = str(check_output_location(store, "--out"))  # before any work; a link is written through
+        check_store_path(store, spec, overwrite)  # only a sweep store is ever replaced
         bar = _Progress(err, spec.size,
                         f"sweep: {spec.size} points ({spec.design}: {', '.join(a.name for a in spec.axes)}) into {store}")
         try:
-            report = run_sweep(spec, store, workers=n, scheduler=scheduler, overwrite=overwrite, repair=repair,
+            report = run_sweep(spec, where, workers=n, scheduler=scheduler, overwrite=overwrite, repair=repair,
                                progress=bar, notice=bar.notice)
+        except KeyboardInterrupt:
+            bar.close()
+            done = points_done(where)
+            report_interrupt(None if done is None else
+                             f"{done} of {spec.size} points kept in {store} (rerun the same command to finish)")
+            raise typer.Exit(EXIT_INTERRUPTED) from None
         finally:
             bar.close()
         _summary(err, report, store, eta)

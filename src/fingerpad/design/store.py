@@ -30,7 +30,8 @@ from ..errors import FingerpadError
 from .evaluate import STATE_CODES
 from .spec import SweepSpec
 
-__all__ = ["StoreDamage", "SweepStore", "check_store", "chunk_slices", "open_sweep", "pressure_grid"]
+__all__ = ["StoreDamage", "SweepStore", "check_store", "check_store_path", "chunk_slices", "open_sweep",
+           "points_done", "pressure_grid"]
 
 _FLOAT_VARS = {
     "critical_load_bem": ("N", "load at which the pad centre reaches the transition (BEM cell)"),
@@ -143,36 +144,17 @@ class SweepStore:
 
     def check_existing(self, overwrite: bool = False) -> str:
         """What is at the store's path: ``"new"`` (nothing), ``"resume"`` (this sweep) or
-        ``"replace"`` (another sweep, or something else, with ``overwrite``).
-
-        Raises
-        ------
-        FingerpadError
-            Another sweep, or something that is not a sweep store, without ``overwrite``.
-        """
-        if not self.path.exists():
-            return "new"
-        existing = _read_attrs(self.path)
-        if existing is None:
-            if any(self.path.iterdir()) if self.path.is_dir() else True:
-                if not overwrite:
-                    raise FingerpadError(f"{self.path}: exists and is not a fingerpad sweep store "
-                                         "(give --overwrite to replace it, or another --out)")
-            return "replace"
-        if existing.get("signature") == self.spec.signature():
-            return "resume"
-        if not overwrite:
-            raise FingerpadError(f"{self.path}: holds another sweep (other study or [sweep] table); "
-                                 "give --overwrite to replace it, or another --out")
-        return "replace"
+        ``"replace"`` (an empty folder, or another sweep with ``overwrite``): see
+        :func:`check_store_path`, whose refusals it raises."""
+        state = check_store_path(self.path, self.spec, overwrite)
+        return "new" if state == "create" else state
 
     def create(self, overwrite: bool = False) -> None:
         """Lay the store out (or find it): a store of another sweep is refused unless ``overwrite``."""
-        state = self.check_existing(overwrite)
-        if state == "resume":
+        if self.check_existing(overwrite) == "resume":
             return  # the same sweep: resume
-        if state == "replace":
-            shutil.rmtree(self.path) if self.path.is_dir() else self.path.unlink()
+        if self.path.exists():
+            shutil.rmtree(self.path)  # an empty folder or another sweep's store (check_store_path)
         tmp = self.path.with_name(f".{self.path.name}.creating")
         shutil.rmtree(tmp, ignore_errors=True)
         with warnings.catch_warnings():
@@ -406,6 +388,45 @@ def _read_attrs(path: Path) -> dict[str, Any] | None:
         except Exception:  # noqa: BLE001 - see above
             return None
     return attrs if attrs.get("fingerpad_sweep") == 1 else None
+
+
+def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite: bool = False) -> str:
+    """What a sweep into ``path`` does there: ``"create"``, ``"resume"`` (the same sweep) or
+    ``"replace"`` (another sweep, with ``overwrite``); cheap, to run before any work.
+
+    Raises
+    ------
+    FingerpadError
+        ``path`` holds something other than a sweep store (a folder of notes, the study file
+        itself): it is a user's own and is never replaced, ``overwrite`` or not; or it holds
+        another sweep and ``overwrite`` is not given.
+    """
+    p = Path(path)
+    if not p.exists():
+        return "create"
+    existing = _read_attrs(p)
+    if existing is None:
+        if p.is_dir() and not any(p.iterdir()):
+            return "replace"
+        raise FingerpadError(f"{p}: exists and is not a fingerpad sweep store; it is left alone (name another --out)")
+    if spec is not None and existing.get("signature") == spec.signature():
+        return "resume"
+    if spec is not None and not overwrite:
+        raise FingerpadError(f"{p}: holds another sweep (other study or [sweep] table); "
+                             "give --overwrite to replace it, or another --out")
+    return "replace"
+
+
+def points_done(path: str | Path) -> int | None:
+    """How many points of the sweep store at ``path`` are done (``None``: no readable store)."""
+    if _read_attrs(Path(path)) is None:
+        return None
+    try:
+        import zarr
+
+        return int(np.count_nonzero(zarr.open_group(str(path), mode="r")["done"][...]))
+    except Exception:  # noqa: BLE001 - a damaged store: nothing to count
+        return None
 
 
 def open_sweep(path: str | Path, check: bool = True) -> Any:

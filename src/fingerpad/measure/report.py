@@ -28,8 +28,6 @@ import json
 import math
 import os
 import re
-import shutil
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -37,7 +35,7 @@ import numpy as np
 import pandas as pd
 
 from .._version import __version__
-from ..io import check_replaceable, existing_parent, replace_folder
+from ..io import OutputFolder
 from ..plotting.measure import condition_label, figure_participant, figure_qc, figure_sample, png_bytes
 from .analysis import StudyResult, study_info
 from .htmlreport import html_report
@@ -226,9 +224,8 @@ def write_report(
         If ``out`` exists and is not a folder.
     """
     out_path = Path(out)
-    check_replaceable(out_path, "report.html")
-    tmp = Path(tempfile.mkdtemp(prefix=".fingerpad-report-", dir=existing_parent(out_path)))
-    try:
+    with OutputFolder(out_path) as folder:  # refuses a folder of the user's files; errors name the user's path
+        tmp = folder.build
         written: list[str] = []
 
         def csv_file(name: str, df: pd.DataFrame) -> None:
@@ -300,7 +297,5 @@ def write_report(
                 tick(name)
         (tmp / "report.html").write_text(html_report(result, pngs, title, qc_links=qc_links), encoding="utf-8")
         written.append("report.html")
-        replace_folder(tmp, out_path)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+        folder.commit()
     return [out_path / name for name in written]

@@ -6,8 +6,6 @@ import csv
 import json
 import math
 import os
-import shutil
-import tempfile
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -17,7 +15,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import FingerpadError
-from ..io import check_replaceable, existing_parent, replace_folder
+from ..io import OutputFolder
 from .models import Model, TextureGeometry, resolve_finger, texture_model
 from .recordings import Recording
 
@@ -330,9 +328,8 @@ def simulate_study(
                              "outliers": []}
     manifest = []
     out_path = Path(out)
-    check_replaceable(out_path, "truth.json")
-    tmp = Path(tempfile.mkdtemp(prefix=".simulate-", dir=existing_parent(out_path)))
-    try:
+    with OutputFolder(out_path) as folder:  # refuses a folder of the user's files; errors name the user's path
+        tmp = folder.build
         for i in range(config.participants):
             pid = f"P{i + 1:0{width}d}"
             es = float(rng.uniform(*config.skin_modulus_range))
@@ -367,7 +364,5 @@ def simulate_study(
         truth["population"] = population_truth(config)
         truth["sensor_ranges"] = {"normal": config.normal_range, "friction": config.friction_range}
         (tmp / "truth.json").write_text(json.dumps(truth, indent=2), encoding="utf-8")
-        replace_folder(tmp, out_path)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+        folder.commit()
     return truth

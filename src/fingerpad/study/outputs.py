@@ -289,7 +289,7 @@ def check_outputs(out_dir: str | os.PathLike[str] | None, json_path: str | None 
             continue
         fio.check_writable(path, option, suffixes)
         key = os.path.abspath(path)
-        if out_dir is not None and Path(key).parent == Path(os.path.abspath(out_dir)):
+        if out_dir is not None and Path(os.path.realpath(key)).parent == Path(os.path.realpath(out_dir)):
             raise FingerpadError(f"{option} {path!r} lies inside --out {os.fspath(out_dir)!r}, which is replaced as a whole")
         if key in targets:
             raise FingerpadError(f"{option} and {targets[key]} name the same file {path!r}")
@@ -359,13 +359,13 @@ def write_outputs(
             staging.stage(csv_path, write_csv)
             written.append(Path(csv_path))
         if folder is not None:
-            fio.write_text(folder.path(OUTPUT_FILES[0]), text)
-            netcdf.to_netcdf(prediction_dataset(pred), folder.path(OUTPUT_FILES[1]))
+            folder.write(OUTPUT_FILES[0], lambda tmp: fio.write_text(tmp, text))
+            folder.write(OUTPUT_FILES[1], lambda tmp: netcdf.to_netcdf(prediction_dataset(pred), tmp))
             figures = dict(zip(OUTPUT_FILES[2:], (figure_areas(pred), figure_friction(pred), figure_zones(pred)),
                                strict=True))
             figures.update(extra or {})
             for name, fig in figures.items():
-                fig.savefig(folder.path(name), format="png", dpi=dpi)
+                folder.write(name, lambda tmp, fig=fig: fig.savefig(tmp, format="png", dpi=dpi))
             written += [folder.final_path(name) for name in names]
         staging.commit()
         if folder is not None:
