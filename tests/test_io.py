@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from fingerpad import io as fio
+from fingerpad.encode import flatten_attrs, to_jsonable
 from fingerpad.errors import FingerpadError
 
 
@@ -277,7 +278,7 @@ def test_existing_parent(tmp_path):
 
 
 def test_flatten_attrs_conversions():
-    attrs = fio.flatten_attrs({
+    attrs = flatten_attrs({
         "none": None,
         "yes": True,
         "no": np.bool_(False),
@@ -316,14 +317,14 @@ def test_flatten_attrs_conversions():
 
 
 def test_flatten_attrs_non_finite_lists_become_json():
-    attrs = fio.flatten_attrs({"loads": [1.0, float("inf")]})
+    attrs = flatten_attrs({"loads": [1.0, float("inf")]})
     assert json.loads(attrs["loads"]) == [1.0, None]
 
 
 def test_flatten_attrs_empty_and_prefix():
-    assert fio.flatten_attrs(None) == {}
-    assert fio.flatten_attrs({"a": 1}, "finger") == {"finger_a": 1}
-    assert fio.flatten_attrs({"!!": 1}) == {"attr": 1}
+    assert flatten_attrs(None) == {}
+    assert flatten_attrs({"a": 1}, "finger") == {"finger_a": 1}
+    assert flatten_attrs({"!!": 1}) == {"attr": 1}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -343,7 +344,7 @@ def test_to_jsonable_round_trip_through_json(tmp_path):
         "other": complex(1, 2),
         7: "key becomes text",
     }
-    text = json.dumps(fio.to_jsonable(value), allow_nan=False)
+    text = json.dumps(to_jsonable(value), allow_nan=False)
     fio.write_text(tmp_path / "x.json", text)
     back = json.loads((tmp_path / "x.json").read_text())
     assert back["loads"] == [0.1, 1.0, 4.0]
@@ -358,5 +359,5 @@ def test_to_jsonable_round_trip_through_json(tmp_path):
 
 def test_to_jsonable_keeps_plain_values():
     plain = {"a": [1, 2.5, "x", None, True]}
-    assert fio.to_jsonable(plain) == plain
-    assert math.isnan(float("nan")) and fio.to_jsonable(float("nan")) is None
+    assert to_jsonable(plain) == plain
+    assert math.isnan(float("nan")) and to_jsonable(float("nan")) is None

@@ -38,6 +38,7 @@ def design_map_command(
     """
     from .. import io as fio
     from .. import netcdf
+    from ..encode import flatten_attrs
     from ..design.designmap import map_data
     from ..design.store import open_sweep
     from ..plotting.designmap import figure_design_map
@@ -60,7 +61,7 @@ def design_map_command(
         with fio.OutputFolder(out, MAP_FILES) as folder:  # errors name the user's path
             fig.savefig(folder.path("design_map.png"), format="png", dpi=120)
             fig.savefig(folder.path("design_map.svg"), format="svg")
-            netcdf.to_netcdf(data.assign_attrs(fio.flatten_attrs(data.attrs)), folder.path("design_map.nc"))
+            netcdf.to_netcdf(data.assign_attrs(flatten_attrs(data.attrs)), folder.path("design_map.nc"))
             data.to_dataframe().reset_index().to_csv(folder.path("design_map.csv"), index=False)
             folder.commit()
         say(err, "wrote " + ", ".join(str(folder.final_path(n)) for n in MAP_FILES))

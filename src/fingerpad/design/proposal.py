@@ -55,7 +55,7 @@ class DesignResult:
 
     def document(self) -> dict[str, Any]:
         """The result as plain data (JSON-ready; SI units, stated under ``units``)."""
-        from ..io import to_jsonable
+        from ..encode import to_jsonable
 
         p = self.problem
         return to_jsonable({

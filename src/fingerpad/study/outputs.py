@@ -68,7 +68,7 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
       pad centre) and, for model ``both`` on caps, ``hertz``: ``real_area``, ``area_ratio``,
       ``transition_radius``, ``mu``, ``mu_normalised``, ``contact_state``.
     """
-    from ..io import to_jsonable
+    from ..encode import to_jsonable
     from ..textures import describe
 
     study, tex, cur = pred.study, pred.texture, pred.primary
@@ -189,7 +189,7 @@ def prediction_dataset(pred: Prediction):
     ``cell_pressure``; every variable has a ``units`` attribute, inputs are global attributes."""
     import xarray as xr
 
-    from ..io import flatten_attrs
+    from ..encode import flatten_attrs
 
     cur = pred.primary
     long = {

@@ -17,12 +17,10 @@
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-from typing import Any, Protocol, runtime_checkable
+from typing import Any
 
 from ...errors import FingerpadError
-from ...textures.base import Geometry, Section, section_radians as _radians
+from ...textures.base import Geometry, Section
 from ...textures.ellipsoids import EllipsoidGeometry
 from ...textures.ridges import RidgeGeometry
 
