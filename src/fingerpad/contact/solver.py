@@ -1,6 +1,6 @@
 """Frictionless, non-adhesive normal contact of an elastic half-space (the skin) with a texture.
 
-The skin is an ideal flat elastic half-space of reduced modulus E* (MODEL.md Eq. 3.4); the
+The skin is an ideal flat elastic half-space of reduced modulus E* (docs/model.md Eq. 3.4); the
 texture is a rigid height map ``h`` (its own compliance is folded into E*). With the skin's
 rest plane at ``h_max - d`` (``d`` the approach, measured from first touch), the gap is
 
@@ -146,14 +146,14 @@ class HalfSpaceSolver:
     texture
         The counter-surface height map (periodic unit cell or finite patch).
     modulus
-        Reduced modulus E* (Pa), MODEL.md Eq. 3.4. With a ``layer``: the pair's at short
+        Reduced modulus E* (Pa), docs/model.md Eq. 3.4. With a ``layer``: the pair's at short
         wavelengths, i.e. the layer's E1* combined with the counter-surface's (E1* itself for a
         rigid texture); it may not exceed E1*.
     layer
         A layered skin (:class:`fingerpad.contact.layered.Layer`: an elastic layer on an elastic
         half-space or a rigid base) instead of the homogeneous half-space (``None``, the
         default, bit-identical to the solver without this option). Its exact Fourier-space
-        compliance multiplies the half-space kernel (docs/model.md, "Layered skin"); the
+        compliance multiplies the half-space kernel (docs/model.md, section 6.4); the
         preconditioner inverts it exactly.
     tol
         Relative KKT residual at which a solve stops (see module docstring).
