@@ -44,6 +44,10 @@ _HELP = {
                  "options.",
     "--skin-modulus": f"Skin Young's modulus (default {DEFAULT_SKIN_MODULUS / 1e6:g}MPa).",
     "--skin-poisson": f"Skin Poisson ratio (default {DEFAULT_SKIN_POISSON:g}).",
+    "--skin-layer-thickness": "A layered skin: thickness of its stiff outer layer (stratum corneum), e.g. 300um; "
+                              "needs --skin-layer-modulus and --skin-substrate-modulus (docs/model.md 6.4).",
+    "--skin-layer-modulus": "Young's modulus of the skin's outer layer, e.g. 0.4MPa (replaces --skin-modulus).",
+    "--skin-substrate-modulus": "Young's modulus of the tissue under the layer, e.g. 40kPa, or 'rigid'.",
     "--material-modulus": "Counter-surface Young's modulus, or 'rigid' (default rigid).",
     "--material-poisson": "Counter-surface Poisson ratio (default 0.35).",
     "--pressure": "Mean nominal pressure over the cell; repeat it, or give a range START:STOP:COUNT.",
@@ -81,6 +85,10 @@ def solve(
     modulus: Annotated[str | None, _opt("--modulus", panel=_MATERIALS, metavar="E*")] = None,
     skin_modulus: Annotated[str | None, _opt("--skin-modulus", panel=_MATERIALS, metavar="E")] = None,
     skin_poisson: Annotated[str | None, _opt("--skin-poisson", panel=_MATERIALS, metavar="NU")] = None,
+    skin_layer_thickness: Annotated[str | None, _opt("--skin-layer-thickness", panel=_MATERIALS, metavar="T")] = None,
+    skin_layer_modulus: Annotated[str | None, _opt("--skin-layer-modulus", panel=_MATERIALS, metavar="E")] = None,
+    skin_substrate_modulus: Annotated[str | None, _opt("--skin-substrate-modulus", panel=_MATERIALS,
+                                                       metavar="E")] = None,
     material_modulus: Annotated[str | None, _opt("--material-modulus", panel=_MATERIALS, metavar="E")] = None,
     material_poisson: Annotated[str | None, _opt("--material-poisson", panel=_MATERIALS, metavar="NU")] = None,
     pressure: Annotated[list[str] | None, _opt("--pressure", "-p", panel=_LOADS, metavar="P|START:STOP:COUNT")] = None,
@@ -120,7 +128,8 @@ def solve(
                 material_poisson=material_poisson, pressure=pressure or [],
                 log=flag_pair(log, linear, "--log", "--linear") is not False, tol=tol, max_iter=max_iter,
                 formulation=formulation, json_path=json_path, save=save, plot=plot, plot_at=plot_at, csv_path=csv_path,
-                critical=critical,
+                critical=critical, skin_layer_thickness=skin_layer_thickness,
+                skin_layer_modulus=skin_layer_modulus, skin_substrate_modulus=skin_substrate_modulus,
             )
         code = run_job(job)
     if code:

@@ -80,6 +80,7 @@ from ..materials import check_modulus
 from ..textures import Texture
 from .ccg import CCGResult, constrained_cg
 from .greens import Backend, compliance_operator, preconditioner, stiffness_operator
+from .layered import Layer
 from .kernels import ArrayKernels, NumpyKernels
 from .result import FULL_CONTACT_TOL, ContactResult, contact_state
 
@@ -145,7 +146,15 @@ class HalfSpaceSolver:
     texture
         The counter-surface height map (periodic unit cell or finite patch).
     modulus
-        Reduced modulus E* (Pa), docs/model.md Eq. 3.4.
+        Reduced modulus E* (Pa), docs/model.md Eq. 3.4. With a ``layer``: the pair's at short
+        wavelengths, i.e. the layer's E1* combined with the counter-surface's (E1* itself for a
+        rigid texture); it may not exceed E1*.
+    layer
+        A layered skin (:class:`fingerpad.contact.layered.Layer`: an elastic layer on an elastic
+        half-space or a rigid base) instead of the homogeneous half-space (``None``, the
+        default, bit-identical to the solver without this option). Its exact Fourier-space
+        compliance multiplies the half-space kernel (docs/model.md, section 6.4); the
+        preconditioner inverts it exactly.
     tol
         Relative KKT residual at which a solve stops (see module docstring).
     max_iter
@@ -185,6 +194,7 @@ class HalfSpaceSolver:
         texture: Texture,
         modulus: float,
         *,
+        layer: Layer | None = None,
         tol: float = 1e-8,
         max_iter: int = 5000,
         formulation: str = "auto",
@@ -200,6 +210,9 @@ class HalfSpaceSolver:
             raise FingerpadError("texture must be a fingerpad.Texture")
         self.texture = texture
         self.modulus = check_modulus(modulus, "reduced modulus")
+        if layer is not None and not isinstance(layer, Layer):
+            raise FingerpadError("layer must be a fingerpad.contact.layered.Layer or None")
+        self.layer = layer
         if not (isinstance(tol, (int, float)) and 0 < tol < 1):
             raise FingerpadError(f"tolerance must lie in (0, 1), got {tol!r}")
         if not (isinstance(max_iter, int) and max_iter >= 1):
@@ -223,7 +236,7 @@ class HalfSpaceSolver:
         self.pv = max(texture.peak_to_valley, 1e-300)
         self.h = self.backend.asarray(h)
         self.base = texture.base_mask()
-        self._K = compliance_operator(self.backend, texture, self.modulus)
+        self._K = compliance_operator(self.backend, texture, self.modulus, self.layer)
         self._S_op: Any = None  # the dual's stiffness and S h, built on first use (memory)
         self._Sh_field: Any = None
         self._xp = xp_
@@ -315,7 +328,7 @@ class HalfSpaceSolver:
             # Coarse levels only place the contact set: one loose tolerance for the whole chain
             # (not compounded level by level).
             solver = HalfSpaceSolver(
-                replace(self.texture, heights=hc), self.modulus, tol=self._coarse_tol,
+                replace(self.texture, heights=hc), self.modulus, layer=self.layer, tol=self._coarse_tol,
                 max_iter=self.max_iter, formulation=self.formulation, coarse_to_fine=kind == "half",
                 xp=self.backend.xp, workers=self.backend.workers, fft=self.backend.fft, kernels=self._kernels_choice,
                 precondition=self.precondition, progress=self.progress,
@@ -403,7 +416,7 @@ class HalfSpaceSolver:
     @property
     def _S(self) -> Any:
         if self._S_op is None and self.texture.periodic:
-            self._S_op = stiffness_operator(self.backend, self.texture, self.modulus)
+            self._S_op = stiffness_operator(self.backend, self.texture, self.modulus, self.layer)
         return self._S_op
 
     @property
@@ -423,7 +436,7 @@ class HalfSpaceSolver:
         if not self.precondition:
             return None
         if form not in self._pre:
-            self._pre[form] = preconditioner(self.backend, self.texture, self.modulus, form)
+            self._pre[form] = preconditioner(self.backend, self.texture, self.modulus, form, self.layer)
         return self._pre[form]
 
     def _run(self, form: str, mode: str, value: float, seed: Any, stall: int | None = None) -> CCGResult:

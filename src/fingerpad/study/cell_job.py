@@ -65,8 +65,15 @@ class MaterialsSpec:
     skin_poisson: float | None = None
     material_modulus: float | None = None  # None: rigid
     material_poisson: float | None = None
+    layer: Any = None  # a layered skin (fingerpad.contact.Layer); None: the homogeneous half-space
 
     def as_dict(self) -> dict[str, Any]:
+        # the layer's keys only with a layer: the homogeneous skin's outputs stay as they were
+        layer = {} if self.layer is None else {
+            "skin_layer_thickness": self.layer.thickness,
+            "skin_layer_modulus": self.layer.modulus,
+            "skin_substrate_modulus": self.layer.substrate_modulus if not self.layer.rigid_base else "rigid",
+        }
         return {
             "reduced_modulus": self.modulus,
             "skin_modulus": self.skin_modulus,
@@ -74,6 +81,7 @@ class MaterialsSpec:
             "material_modulus": self.material_modulus,
             "material_poisson": self.material_poisson,
             "material_rigid": self.skin_modulus is not None and self.material_modulus is None,
+            **layer,
         }
 
 
@@ -83,8 +91,39 @@ def parse_materials(
     skin_poisson: str | None,
     material_modulus: str | None,
     material_poisson: str | None,
+    skin_layer_thickness: str | None = None,
+    skin_layer_modulus: str | None = None,
+    skin_substrate_modulus: str | None = None,
 ) -> MaterialsSpec:
-    """Either ``--modulus`` (reduced E*) or the skin/material constants (Eq. 3.4), never both."""
+    """Either ``--modulus`` (reduced E*) or the skin/material constants (Eq. 3.4), never both.
+
+    A layered skin (``--skin-layer-thickness``, ``--skin-layer-modulus``,
+    ``--skin-substrate-modulus``, all three; docs/model.md section 6.4) replaces
+    ``--skin-modulus``: the layer is the skin's surface, its modulus enters Eq. 3.4, and
+    ``--skin-poisson`` holds for layer and substrate.
+    """
+    layered = {"--skin-layer-thickness": skin_layer_thickness, "--skin-layer-modulus": skin_layer_modulus,
+               "--skin-substrate-modulus": skin_substrate_modulus}
+    if any(v is not None for v in layered.values()):
+        missing = [k for k, v in layered.items() if v is None]
+        if missing:
+            raise FingerpadError(f"a layered skin needs {', '.join(layered)}: {', '.join(missing)} missing")
+        for name, value in (("--modulus", modulus), ("--skin-modulus", skin_modulus)):
+            if value is not None:
+                raise FingerpadError(f"give either {name} or the layered skin (--skin-layer-modulus is the skin's "
+                                     "surface modulus), not both")
+        spec = parse_materials(None, skin_layer_modulus, skin_poisson, material_modulus, material_poisson)
+        from ..contact import Layer
+
+        t = parse_quantity(skin_layer_thickness, "length", name="--skin-layer-thickness")
+        if not (math.isfinite(t) and t > 0):
+            raise FingerpadError(f"--skin-layer-thickness must be a positive length, got {skin_layer_thickness!r}")
+        rigid = skin_substrate_modulus.strip().lower() in ("rigid", "inf", "infinity")
+        e2 = math.inf if rigid else parse_quantity(skin_substrate_modulus, "pressure", name="--skin-substrate-modulus")
+        if not rigid:
+            check_modulus(e2, "--skin-substrate-modulus")
+        spec.layer = Layer(t, spec.skin_modulus, spec.skin_poisson, e2, spec.skin_poisson)
+        return spec
     others = {
         "--skin-modulus": skin_modulus,
         "--skin-poisson": skin_poisson,
@@ -227,7 +266,8 @@ def run_solve(
     with warnings.catch_warnings():
         # Unconverged solves are reported by the caller, once per pressure, with the exit code.
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
-        solver = HalfSpaceSolver(job.texture, job.materials.modulus, tol=job.tol, max_iter=job.max_iter,
+        solver = HalfSpaceSolver(job.texture, job.materials.modulus, layer=job.materials.layer, tol=job.tol,
+                                 max_iter=job.max_iter,
                                  formulation=job.formulation, progress=iterations)
         curve = load_curve(solver, job.pressures, progress=progress)
         critical = critical_pressure(solver, rtol=job.critical_rtol) if job.critical_rtol is not None else None
@@ -302,12 +342,14 @@ def build_solve_job(
     modulus: str | None, skin_modulus: str | None, skin_poisson: str | None, material_modulus: str | None,
     material_poisson: str | None, pressure: Sequence[str], log: bool, tol: str, max_iter: str,
     formulation: str, json_path: str | None, save: str | None, plot: str | None, csv_path: str | None = None,
-    plot_at: str | None = None, critical: str | None = None,
+    plot_at: str | None = None, critical: str | None = None, skin_layer_thickness: str | None = None,
+    skin_layer_modulus: str | None = None, skin_substrate_modulus: str | None = None,
 ) -> SolveJob:
     """Validate every option of ``fingerpad solve`` (cheap checks first) and build the texture."""
     if (texture is None) == (surface is None):
         raise FingerpadError("give exactly one of --texture NAME or --surface FILE")
-    materials = parse_materials(modulus, skin_modulus, skin_poisson, material_modulus, material_poisson)
+    materials = parse_materials(modulus, skin_modulus, skin_poisson, material_modulus, material_poisson,
+                                skin_layer_thickness, skin_layer_modulus, skin_substrate_modulus)
     pressures = _parse_pressures(pressure, log)
     tol_v = _parse_float(tol, "--tol")
     if not (0 < tol_v < 1):
