@@ -443,3 +443,28 @@ def test_layered_primal_dual_and_approach_control_agree(case: str) -> None:
     assert abs(b.approach / a.approach - 1) < 1e-6
     back = HalfSpaceSolver(tex, e, layer=layer).solve_approach(a.approach)
     assert back.converged and abs(back.mean_pressure / load - 1) < 1e-6
+
+
+@pytest.mark.parametrize("name", ["cupy", "torch"])
+@pytest.mark.parametrize("periodic", [True, False])
+def test_layered_solver_on_a_gpu_namespace_if_present(name: str, periodic: bool) -> None:
+    """The layered solver on CuPy or PyTorch arrays (a GPU where there is one; skipped where the
+    library is missing, as in CI) gives the NumPy solution, in the same iterations."""
+    if name == "cupy":
+        xp = pytest.importorskip("cupy")
+        device = xp.cuda.Device(0) if xp.cuda.is_available() else pytest.skip("no CUDA device")
+    else:
+        torch = pytest.importorskip("torch")
+        xp = pytest.importorskip("array_api_compat.torch")
+        device = torch.device("cuda" if torch.cuda.is_available() else "cpu")
+    n, lam = 64, 1e-4
+    x = (np.arange(n) + 0.5) * lam / n - lam / 2
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    tex = Texture(-(X**2 + Y**2) / (2 * lam), (lam, lam), periodic=periodic)
+    layer = CASES["stiff on soft"]
+    e = layer.reduced_modulus
+    ref = HalfSpaceSolver(tex, e, layer=layer, kernels="array").solve_pressure(1e-3 * e)
+    with device:
+        gpu = HalfSpaceSolver(tex, e, layer=layer, xp=xp).solve_pressure(1e-3 * e)
+    assert ref.converged and gpu.converged and abs(ref.iterations - gpu.iterations) <= 1
+    np.testing.assert_allclose(gpu.pressure, ref.pressure, rtol=0, atol=1e-6 * ref.max_pressure)
