@@ -5,9 +5,10 @@ Eq. 3.11): the unit cell of the texture is solved at the local pressures the pad
 the computed curve psi(p) is interpolated for the coupling integral. Curves are cached on disk
 (:mod:`fingerpad.micro.cache`), keyed by content, so every prediction on the same cell reuses them.
 
-One curve serves every modulus and every size (docs/solver.md, "One curve for every modulus"):
-the rigid texture on a linear elastic half-space has a contact fraction that depends on p/E*
-only, and a texture scaled uniformly in all its lengths has the same psi(p). So the cell solved
+One curve serves every modulus and every size (docs/solver.md, "One curve for every modulus and
+every scale"): the rigid texture on a linear elastic half-space has a contact fraction that
+depends on p/E* only, and a texture scaled uniformly in all its lengths has the same psi(p).
+So the cell solved
 and stored is the *unit cell*: the heights divided by the cell's length Lx, at unit modulus, with
 pressures in units of E* and lengths in units of Lx. Its key holds neither E* nor Lx.
 """
