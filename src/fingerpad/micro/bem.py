@@ -246,8 +246,9 @@ class BEMUnitCell:
         return self
 
     def _refine(self, p_min: float, p_max: float) -> None:
-        """(Pressures in units of E*.) Add nodes where psi rises steeply (just past the transition the skin floods the base):
-        bisect (in log p) every interval inside the range whose psi step exceeds MAX_PSI_STEP."""
+        """Add nodes where psi rises steeply (just past the transition the skin floods the base):
+        bisect (in log p) every interval inside the range whose psi step exceeds MAX_PSI_STEP
+        (the range in units of E*, like the nodes)."""
         new: dict[float, dict[str, Any]] = {}
         for _ in range(MAX_REFINE_SOLVES):
             ps, psi = self._nodes()
