@@ -16,7 +16,7 @@ slender and the medium ellipsoids: the local shear level (the fixed point at the
 pressure 1.5 F / A_fr), the real-area ratio and mu_perp / mu_par per load (also without the
 asperity-scale hysteresis factor, to separate the area's share), and the hysteresis factors.
 
-    python benchmarks/deflection_tables.py [--resolution 6] [--mesh-check] [--no-coupling]
+    python benchmarks/deflection_tables.py [--resolution 6] [--slenderness] [--mesh-check] [--no-coupling]
         [--grid N] [--cache DIR]
 
 Solved sections are cached by content (a fresh temporary folder unless ``--cache``), so a
@@ -134,6 +134,32 @@ def table(resolution: int, cache: str) -> dict:
     return solved
 
 
+def slenderness(resolution: int, cache: str) -> None:
+    """The gain against slenderness h/a (a 45 um, b 135 um, lattice 300 um), pressure and mu:
+    per row the gains across (perpendicular) and along (parallel) and their ratio; ``*``: held
+    past the shear a ramp reached; ``B``: the section across is buckled under the normal load
+    alone at that level (its ramp follows the branch folded toward the sliding direction)."""
+    settings = DeflectionSettings(resolution=resolution)
+    print(f"## Gain against slenderness (a x b = 45 x 135 um, resolution {resolution})\n")
+    print("| h/a (h um) | p (kPa) | G across, mu = 0.3 / 0.6 / 1 / 1.5 | G along | ratio across/along | buckled |")
+    print("|---|---|---|---|---|---|")
+    notes = []
+    for h in (45, 90, 135):
+        t0 = time.perf_counter()
+        g = gains(ellipsoid(45, h), settings, cache)
+        notes.append(f"h = {h} um ({time.perf_counter() - t0:.0f} s):\n" + describe(g["perp"], "perp") + "\n"
+                     + describe(g["par"], "par "))
+        for p in g["perp"].pressures:
+            def cells(c):
+                return " / ".join(f"{float(c(p, mu)):.2f}{'*' if c.saturated(p, mu) else ''}" for mu in MUS)
+            rp, rl = ramp_at(g["perp"], p), ramp_at(g["par"], p)
+            buckled = ", ".join(n for n, r in (("across", rp), ("along", rl)) if r is not None and r.buckled) or "-"
+            print(f"| {h / 45:g} ({h}) | {p / 1e3:.3g} | {cells(g['perp'])} | {cells(g['par'])} | "
+                  + " / ".join(ratio_row(g, p)) + f" | {buckled} |")
+    print("\n(* past the largest shear a ramp reached: the gain is held.)\n")
+    print("Ramps:\n" + "\n".join(notes) + "\n")
+
+
 def mesh_check(cache: str) -> None:
     p = P_RANGE[0] * 10**0.5
     settings = DeflectionSettings(resolution=9, n_pressures=1)
@@ -205,6 +231,7 @@ def main() -> None:
     ap.add_argument("--resolution", type=int, default=6)
     ap.add_argument("--mesh-check", action="store_true", help="also the resolution-9 check (slow)")
     ap.add_argument("--no-table", action="store_true")
+    ap.add_argument("--slenderness", action="store_true", help="the gain against h/a = 1, 2, 3 table")
     ap.add_argument("--no-coupling", action="store_true")
     ap.add_argument("--grid", default=None, help="BEM grid of the coupling's predict (default: automatic)")
     ap.add_argument("--cache", default=None, help="cache folder (default: a fresh temporary one)")
@@ -215,6 +242,8 @@ def main() -> None:
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         cache = args.cache or tmp
+        if args.slenderness:
+            slenderness(args.resolution, cache)
         if not args.no_table:
             table(args.resolution, cache)
         if args.mesh_check:

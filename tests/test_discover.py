@@ -16,10 +16,10 @@ def plugin_package(tmp_path, monkeypatch):
     pkg.mkdir()
     (pkg / "__init__.py").write_text("")
     (pkg / "b_second.py").write_text("THING = 'b'\n")
-    (pkg / "a_first.py").write_text("THING = ('a1', 'a2', 3)\n")
+    (pkg / "a_first.py").write_text("THING = ('a1', 'a2')\n")
     (pkg / "_private.py").write_text("THING = 'hidden'\n")
     (pkg / "skipped.py").write_text("THING = 'skipped'\n")
-    (pkg / "none.py").write_text("OTHER = 'x'\n")
+    (pkg / "none.py").write_text("OTHER = 'x'\n")  # declares nothing: an error unless skipped
     monkeypatch.syspath_prepend(str(tmp_path))
     yield pkg
     for name in [m for m in sys.modules if m.startswith("fp_plugins_test")]:
@@ -29,19 +29,32 @@ def plugin_package(tmp_path, monkeypatch):
 def test_collect_in_module_order_and_of_the_kind(plugin_package):
     import fp_plugins_test
 
-    found = collect("fp_plugins_test", fp_plugins_test.__path__, "THING", str, skip=("skipped",))
-    assert found == ["a1", "a2", "b"]  # the int 3 is not a str; _private and skipped are left out
-    assert collect("fp_plugins_test", fp_plugins_test.__path__, "THING", (str, int), skip=("skipped",)) == \
-        ["a1", "a2", 3, "b"]
+    found = collect("fp_plugins_test", fp_plugins_test.__path__, "THING", str, skip=("skipped", "none"))
+    assert found == ["a1", "a2", "b"]  # _private and the skipped helper modules are left out
+
+
+def test_a_module_that_declares_nothing_or_the_wrong_kind_is_an_error(plugin_package):
+    """Strict discovery: a misspelt attribute or a wrong type is not silently skipped."""
+    import fp_plugins_test
+
+    from fingerpad.discover import DiscoveryError
+
+    with pytest.raises(DiscoveryError, match="none.py"):
+        collect("fp_plugins_test", fp_plugins_test.__path__, "THING", str, skip=("skipped",))
+    (plugin_package / "c_third.py").write_text("THING = ('c', 3)\n")
+    importlib.invalidate_caches()
+    with pytest.raises(DiscoveryError, match="c_third"):
+        collect("fp_plugins_test", fp_plugins_test.__path__, "THING", str, skip=("skipped", "none"))
 
 
 def test_a_new_file_is_found_without_editing_anything(plugin_package):
     import fp_plugins_test
 
-    before = collect("fp_plugins_test", fp_plugins_test.__path__, "THING", str)
+    helpers = ("skipped", "none")
+    before = collect("fp_plugins_test", fp_plugins_test.__path__, "THING", str, skip=helpers)
     (plugin_package / "z_new.py").write_text("THING = 'z'\n")
     importlib.invalidate_caches()  # as a new process would see the folder
-    after = collect("fp_plugins_test", fp_plugins_test.__path__, "THING", str)
+    after = collect("fp_plugins_test", fp_plugins_test.__path__, "THING", str, skip=helpers)
     assert after == [*before, "z"]
 
 

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from fingerpad import io as fio
+from fingerpad.encode import flatten_attrs, to_jsonable
 from fingerpad.errors import FingerpadError
 
 
@@ -25,7 +26,12 @@ class Boom(RuntimeError):
 
 
 def listing(folder: Path) -> list[str]:
-    return sorted(p.name for p in folder.iterdir())
+    """The files a user sees; an output folder's hidden listing of what fingerpad wrote
+    (``fio.MANIFEST``) is left out."""
+    names = sorted(p.name for p in folder.iterdir())
+    if folder.is_dir() and names and any(n != fio.MANIFEST for n in names) and fio.MANIFEST in names:
+        names.remove(fio.MANIFEST)
+    return names
 
 
 # ---------------------------------------------------------------------------------------------
@@ -222,7 +228,7 @@ def test_output_folder_refuses_foreign_files_before_writing(tmp_path):
     out.mkdir()
     (out / "thesis.tex").write_text("years of work")
     (out / "predict.json").write_text("{}")
-    with pytest.raises(FingerpadError, match=r"--out '.*home' already holds files this command does not write \(thesis\.tex\)"):
+    with pytest.raises(FingerpadError, match=r"--out '.*home' holds files fingerpad did not write there \(thesis\.tex\)"):
         fio.OutputFolder(out, NAMES)
     assert listing(out) == ["predict.json", "thesis.tex"]
     assert listing(tmp_path) == ["home"], "no hidden folder created"
@@ -240,15 +246,14 @@ def test_output_folder_lists_at_most_four_foreign_names(tmp_path):
 def test_output_folder_refuses_a_file(tmp_path):
     f = tmp_path / "file"
     f.write_text("x")
-    with pytest.raises(FingerpadError, match="exists and is not a folder"):
+    with pytest.raises(FingerpadError, match="is a file, not an output folder"):
         fio.OutputFolder(f, NAMES)
     assert f.read_text() == "x"
 
 
 def test_output_folder_check_writes_nothing(tmp_path):
     out = tmp_path / "a" / "b"
-    parent = fio.OutputFolder.check(out, NAMES)
-    assert parent == out.absolute().parent
+    fio.OutputFolder.check(out, NAMES)
     assert listing(tmp_path) == []
 
 
@@ -262,28 +267,6 @@ def test_empty_folder_is_accepted(tmp_path):
     assert listing(out) == ["areas.png"]
 
 
-def test_check_replaceable_and_replace_folder(tmp_path):
-    out = tmp_path / "sweep"
-    out.mkdir()
-    (out / "sweep.json").write_text("old")
-    fio.check_replaceable(out, "sweep.json")  # an earlier output of the same command
-    (tmp_path / "other").mkdir()
-    (tmp_path / "other" / "data.csv").write_text("")
-    with pytest.raises(FingerpadError, match="holds files of something else \\(data\\.csv\\)"):
-        fio.check_replaceable(tmp_path / "other", "sweep.json")
-    (tmp_path / "plain").write_text("")
-    with pytest.raises(FingerpadError, match="is not a folder"):
-        fio.check_replaceable(tmp_path / "plain", "sweep.json")
-
-    tmp = tmp_path / ".build"
-    tmp.mkdir()
-    (tmp / "sweep.json").write_text("new")
-    fio.replace_folder(tmp, out)
-    assert (out / "sweep.json").read_text() == "new"
-    assert tmp.is_dir() and not any(tmp.iterdir()), "the caller's temporary folder is left empty"
-    assert not [p for p in tmp_path.iterdir() if p.name.endswith(".old")]
-
-
 def test_existing_parent(tmp_path):
     assert fio.existing_parent(tmp_path / "a" / "b" / "c") == tmp_path.absolute()
     assert fio.existing_parent(tmp_path / "x") == tmp_path.absolute()
@@ -295,7 +278,7 @@ def test_existing_parent(tmp_path):
 
 
 def test_flatten_attrs_conversions():
-    attrs = fio.flatten_attrs({
+    attrs = flatten_attrs({
         "none": None,
         "yes": True,
         "no": np.bool_(False),
@@ -334,14 +317,14 @@ def test_flatten_attrs_conversions():
 
 
 def test_flatten_attrs_non_finite_lists_become_json():
-    attrs = fio.flatten_attrs({"loads": [1.0, float("inf")]})
+    attrs = flatten_attrs({"loads": [1.0, float("inf")]})
     assert json.loads(attrs["loads"]) == [1.0, None]
 
 
 def test_flatten_attrs_empty_and_prefix():
-    assert fio.flatten_attrs(None) == {}
-    assert fio.flatten_attrs({"a": 1}, "finger") == {"finger_a": 1}
-    assert fio.flatten_attrs({"!!": 1}) == {"attr": 1}
+    assert flatten_attrs(None) == {}
+    assert flatten_attrs({"a": 1}, "finger") == {"finger_a": 1}
+    assert flatten_attrs({"!!": 1}) == {"attr": 1}
 
 
 # ---------------------------------------------------------------------------------------------
@@ -361,7 +344,7 @@ def test_to_jsonable_round_trip_through_json(tmp_path):
         "other": complex(1, 2),
         7: "key becomes text",
     }
-    text = json.dumps(fio.to_jsonable(value), allow_nan=False)
+    text = json.dumps(to_jsonable(value), allow_nan=False)
     fio.write_text(tmp_path / "x.json", text)
     back = json.loads((tmp_path / "x.json").read_text())
     assert back["loads"] == [0.1, 1.0, 4.0]
@@ -376,5 +359,5 @@ def test_to_jsonable_round_trip_through_json(tmp_path):
 
 def test_to_jsonable_keeps_plain_values():
     plain = {"a": [1, 2.5, "x", None, True]}
-    assert fio.to_jsonable(plain) == plain
-    assert math.isnan(float("nan")) and fio.to_jsonable(float("nan")) is None
+    assert to_jsonable(plain) == plain
+    assert math.isnan(float("nan")) and to_jsonable(float("nan")) is None

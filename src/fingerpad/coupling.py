@@ -22,7 +22,7 @@ import numpy as np
 from .checks import ArrayLike, as_areas, as_loads, scalar_out
 from .errors import FingerpadError
 from .finger import Finger
-from .friction import friction_coefficient, reference_friction_coefficient
+from .friction import mu_checked
 from .macro.pressure import disc_average, pad_pressure
 from .micro.hertz import HertzUnitCell
 from .micro.response import (
@@ -304,10 +304,10 @@ def predict_curve(
     if np.any(ridge <= 0):
         raise FingerpadError("the finger's ridge contact area must be positive at every load")
     res = _couple(f, ridge, cell, n_rings)
-    mu = np.asarray(friction_coefficient(f, res.real_area, finger), dtype=float)
+    mu = mu_checked(f, res.real_area, finger)
     mu_ref = mu_norm = None
     if reference:
-        mu_ref = np.asarray(reference_friction_coefficient(f, finger), dtype=float)
+        mu_ref = mu_checked(f, ridge, finger)  # on the flat the real area is the ridge area
         mu_norm = mu / mu_ref
 
     if math.isinf(float(cell.transition_pressure)):

@@ -16,7 +16,7 @@ import pkgutil
 from collections.abc import Iterable
 from typing import Any
 
-__all__ = ["DiscoveryError", "collect"]
+__all__ = ["DiscoveryError", "collect", "fill_registry"]
 
 
 class DiscoveryError(ImportError):
@@ -68,3 +68,25 @@ def collect(package: str, path: Iterable[str], attribute: str, kind: type | tupl
             raise DiscoveryError(f"{where}: {package}.{info.name}.{attribute} {what}; expected {expected}")
         found.extend(items)
     return found
+
+
+def fill_registry(registry: dict[str, Any], package: str, path: Iterable[str], attribute: str, kind: type,
+                  skip: Iterable[str] = (), what: str = "model") -> dict[str, Any]:
+    """Replace the contents of ``registry`` with the declarations :func:`collect` finds, keyed by
+    their ``name`` (the pad and ridge model registries). Returns ``registry``.
+
+    Raises
+    ------
+    DiscoveryError
+        As :func:`collect`.
+    ValueError
+        Two declarations of the same name (``what`` names them in the message).
+    """
+    found: dict[str, Any] = {}
+    for item in collect(package, path, attribute, kind, skip=skip):
+        if item.name in found:
+            raise ValueError(f"two {what}s are named {item.name!r}")
+        found[item.name] = item
+    registry.clear()
+    registry.update(found)
+    return registry

@@ -53,9 +53,11 @@ def adhesion_force(load: ArrayLike, real_area: ArrayLike, tau0: float, alpha: fl
     tau0, alpha
         Shear strength at zero pressure (Pa) and its pressure coefficient.
     """
-    f = as_loads(load, strict=True)
-    a = _areas(real_area, "real contact area")
-    return scalar_out(tau0 * a + alpha * f)
+    return scalar_out(_adhesion(as_loads(load, strict=True), _areas(real_area, "real contact area"), tau0, alpha))
+
+
+def _adhesion(f: np.ndarray, a: np.ndarray, tau0: float, alpha: float) -> np.ndarray:
+    return tau0 * a + alpha * f
 
 
 def hysteresis_force(load: ArrayLike, radius: float, modulus: float, beta: float) -> float | np.ndarray:
@@ -75,23 +77,29 @@ def hysteresis_force(load: ArrayLike, radius: float, modulus: float, beta: float
     beta
         Viscoelastic loss fraction.
     """
-    f = as_loads(load)
     if not (radius > 0 and modulus > 0 and beta >= 0):
         raise FingerpadError("hysteresis needs a positive radius and modulus and a non-negative beta")
-    return scalar_out(beta * (9.0 / (128.0 * radius)) ** (2.0 / 3.0) * np.cbrt(f**4 / modulus))
+    return scalar_out(_hysteresis(as_loads(load), radius, modulus, beta))
+
+
+def _hysteresis(f: np.ndarray, radius: float, modulus: float, beta: float) -> np.ndarray:
+    return beta * (9.0 / (128.0 * radius)) ** (2.0 / 3.0) * np.cbrt(f**4 / modulus)
 
 
 def friction_force(load: ArrayLike, real_area: ArrayLike, finger: Finger) -> float | np.ndarray:
     """Total friction force ``F_f = F_adh + F_def``, Eq. 2.1 (N), with ``finger``'s parameters."""
-    adh = np.asarray(adhesion_force(load, real_area, finger.tau0, finger.alpha))
-    dfm = np.asarray(hysteresis_force(load, finger.radius, finger.modulus, finger.beta))
-    return scalar_out(adh + dfm)
+    return scalar_out(_friction(as_loads(load, strict=True), _areas(real_area, "real contact area"), finger))
+
+
+def _friction(f: np.ndarray, a: np.ndarray, finger: Finger) -> np.ndarray:
+    """Eq. 2.1 on loads and real areas already checked (the prediction job's path)."""
+    return _adhesion(f, a, finger.tau0, finger.alpha) + _hysteresis(f, finger.radius, finger.modulus, finger.beta)
 
 
 def friction_coefficient(load: ArrayLike, real_area: ArrayLike, finger: Finger) -> float | np.ndarray:
     """Friction coefficient ``mu = F_f / F`` (Eq. 2.1 over the load)."""
     f = as_loads(load, strict=True)
-    return scalar_out(np.asarray(friction_force(f, real_area, finger)) / f)
+    return scalar_out(_friction(f, _areas(real_area, "real contact area"), finger) / f)
 
 
 def reference_real_area(load: ArrayLike, finger: Finger) -> float | np.ndarray:
@@ -103,7 +111,13 @@ def reference_real_area(load: ArrayLike, finger: Finger) -> float | np.ndarray:
 def reference_friction_coefficient(load: ArrayLike, finger: Finger) -> float | np.ndarray:
     """``mu_ref(F)`` on the flat reference sample of the same material."""
     f = as_loads(load, strict=True)
-    return friction_coefficient(f, reference_real_area(f, finger), finger)
+    return scalar_out(mu_checked(f, finger.areas_checked(f)[1], finger))  # A_re,ref = A_fr
+
+
+def mu_checked(f: np.ndarray, real_area: np.ndarray, finger: Finger) -> np.ndarray:
+    """``mu = F_f / F`` on loads (> 0) and real areas already checked: the path of
+    :func:`fingerpad.coupling.predict_curve`, which checks its loads once at its entry."""
+    return _friction(f, real_area, finger) / f
 
 
 def normalised_friction(mu_texture: ArrayLike, mu_reference: ArrayLike) -> float | np.ndarray:
@@ -125,8 +139,12 @@ def normalised_friction(mu_texture: ArrayLike, mu_reference: ArrayLike) -> float
 
 
 @dataclass(frozen=True)
-class PowerLawFit:
-    """Result of :func:`fit_power_law`: ``mu = k F^(n-1)``.
+class PowerLaw:
+    """A fitted power law ``mu = k F^(n-1)``: the one result type of every power-law fit.
+
+    :func:`fit_power_law` (independent points, least squares) and
+    :func:`fingerpad.measure.fit_power_law_clustered` (a random intercept per recording) both
+    return it; the attributes that only a clustered fit knows have neutral defaults.
 
     Attributes
     ----------
@@ -135,17 +153,28 @@ class PowerLawFit:
     k_stderr, n_stderr
         Standard errors (``k_stderr`` by the delta method, ``k * se(ln k)``).
     k_ci, n_ci
-        95 % confidence intervals. ``k_ci`` is ``exp`` of the interval of ``ln k``, hence
+        Confidence intervals at ``level``. ``k_ci`` is ``exp`` of the interval of ``ln k``, hence
         asymmetric about ``k``.
     covariance
         2x2 covariance of ``(k, n)`` (delta method).
     log_covariance
         2x2 covariance of ``(ln k, n - 1)``, the fitted linear parameters.
     dof
-        Residual degrees of freedom (points - 2).
+        Degrees of freedom of the exponent's interval (points - 2 for least squares).
     absolute_sigma
-        True when ``sigma`` was given and taken as absolute; False when the scatter was
-        estimated from the residuals (Student t intervals).
+        True when ``sigma`` was given and taken as absolute (normal intervals); False when the
+        scatter was estimated from the residuals (Student t intervals).
+    level
+        Confidence level of ``k_ci`` and ``n_ci``.
+    df_level
+        Degrees of freedom of the level ``ln k`` (recordings minus one for a clustered fit;
+        ``dof`` for least squares).
+    n_clusters
+        Recordings (sessions) in a clustered fit; 0 when every point was taken as independent.
+    sigma_between, sigma_within
+        Standard deviations of ``ln mu`` between recordings and between strokes (NaN unknown).
+    note
+        Caveat (e.g. one recording only), else empty.
     """
 
     k: float
@@ -156,16 +185,42 @@ class PowerLawFit:
     n_ci: tuple[float, float]
     covariance: np.ndarray
     log_covariance: np.ndarray
-    dof: int
-    absolute_sigma: bool
+    dof: float
+    absolute_sigma: bool = False
+    level: float = 0.95
+    df_level: float = math.nan
+    n_clusters: int = 0
+    sigma_between: float = math.nan
+    sigma_within: float = math.nan
+    note: str = ""
+
+    def __post_init__(self) -> None:
+        if math.isnan(self.df_level):  # least squares: the level has the residual df too
+            object.__setattr__(self, "df_level", float(self.dof))
 
     def __call__(self, load: ArrayLike) -> float | np.ndarray:
-        """Fitted ``mu`` at ``load`` (N)."""
+        """Fitted ``mu`` at ``load`` (N, positive)."""
         f = as_loads(load, strict=True)
         return scalar_out(self.k * f ** (self.n - 1.0))
 
+    def log_level(self, loads: ArrayLike) -> tuple[float, float, float]:
+        """Mean fitted ``ln mu`` over ``loads`` (N), its standard error and degrees of freedom.
 
-def fit_power_law(loads: ArrayLike, mu: ArrayLike, sigma: ArrayLike | None = None) -> PowerLawFit:
+        A normalisation by this curve shifts every ``ln mu_norm`` by the error of this level.
+        """
+        f = as_loads(loads, strict=True)
+        v = np.array([1.0, float(np.mean(np.log(f)))])
+        value = math.log(self.k) + (self.n - 1.0) * v[1]
+        se = math.sqrt(max(float(v @ self.log_covariance @ v), 0.0))
+        return value, se, float(self.df_level)
+
+
+#: The earlier name of :class:`PowerLaw` (kept: user code may refer to it).
+PowerLawFit = PowerLaw
+
+
+def fit_power_law(loads: ArrayLike, mu: ArrayLike, sigma: ArrayLike | None = None, *,
+                  level: float = 0.95) -> PowerLaw:
     """Fit ``mu = k F^(n-1)`` by weighted least squares on ``ln mu = ln k + (n-1) ln F``.
 
     Why log-linear: the scatter of measured friction coefficients grows with their size
@@ -184,10 +239,12 @@ def fit_power_law(loads: ArrayLike, mu: ArrayLike, sigma: ArrayLike | None = Non
         Friction coefficients, positive.
     sigma
         Optional standard deviations of ``mu`` (same shape), positive.
+    level
+        Confidence level of the intervals, in (0, 1).
 
     Returns
     -------
-    PowerLawFit
+    PowerLaw
 
     Raises
     ------
@@ -196,6 +253,8 @@ def fit_power_law(loads: ArrayLike, mu: ArrayLike, sigma: ArrayLike | None = Non
     """
     from scipy import stats
 
+    if not (isinstance(level, (int, float)) and 0 < level < 1):
+        raise FingerpadError(f"level must lie in (0, 1), got {level!r}")
     f = np.asarray(loads, dtype=float).ravel()
     m = np.asarray(mu, dtype=float).ravel()
     if f.shape != m.shape:
@@ -228,14 +287,14 @@ def fit_power_law(loads: ArrayLike, mu: ArrayLike, sigma: ArrayLike | None = Non
     if sigma is None:
         resid = rhs - design @ coef
         cov = cov * float(resid @ resid) / dof  # dof >= 1: at least 3 points
-        q = float(stats.t.ppf(0.975, dof))
+        q = float(stats.t.ppf(0.5 + level / 2, dof))
     else:
-        q = float(stats.norm.ppf(0.975))
+        q = float(stats.norm.ppf(0.5 + level / 2))
     ln_k, slope = (float(c) for c in coef)
     se_lnk, se_n = (math.sqrt(max(v, 0.0)) for v in np.diag(cov))
     k = math.exp(ln_k)
     jac = np.diag([k, 1.0])  # d(k, n)/d(ln k, n - 1)
-    return PowerLawFit(
+    return PowerLaw(
         k=k,
         n=slope + 1.0,
         k_stderr=k * se_lnk,
@@ -246,10 +305,12 @@ def fit_power_law(loads: ArrayLike, mu: ArrayLike, sigma: ArrayLike | None = Non
         log_covariance=cov,
         dof=dof,
         absolute_sigma=sigma is not None,
+        level=level,
     )
 
 
 __all__ = [
+    "PowerLaw",
     "PowerLawFit",
     "adhesion_force",
     "fit_power_law",

@@ -1,57 +1,222 @@
-"""Writing files atomically, output folders as a whole, values as JSON and NetCDF attributes.
+"""Writing files atomically and output folders as a whole.
 
-NetCDF files of solved cells are in :mod:`fingerpad.netcdf`. Values become NetCDF attributes by
-:func:`flatten_attrs`: attributes hold only strings and numbers, so ``None`` becomes ``"none"``,
-booleans ``"true"``/``"false"``, nested dicts are flattened to ``outer_inner`` keys and lists of
-non-numbers are stored as JSON text.
+NetCDF files of solved cells are in :mod:`fingerpad.netcdf`; values become JSON or NetCDF
+attributes in :mod:`fingerpad.encode`.
 
 Every writer goes through :func:`atomic_write`: the file is written to a temporary name in the
 target directory and moved into place with :func:`os.replace` only once complete, so an error
 never leaves a partial file behind.
 :class:`Staging` does the same for a set of files that belong together (a command's outputs):
-either all of them are moved into place or none.
+either all of them are moved into place or none. :class:`OutputFolder` writes a command's output
+folder as a whole and replaces an existing one only while it holds nothing but what fingerpad
+wrote there (its :data:`MANIFEST`). Every output location is checked before the work
+(:func:`check_writable`, :func:`check_output_location`, :meth:`OutputFolder.check`), and a write
+that fails anyway raises :class:`WriteError` naming the user's path, never a temporary one.
 """
 
 from __future__ import annotations
 
 import contextlib
 import json
-import math
 import os
-import re
 import tempfile
 import uuid
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 
 from .errors import FingerpadError
 
 
 
 # ---------------------------------------------------------------------------------------------
-# atomic writes
+# output locations: checked before the work, written all or none, a user's files never replaced
 # ---------------------------------------------------------------------------------------------
+
+#: The hidden file every output folder gets: the files the command wrote there. A folder is
+#: replaced as a whole only while it holds nothing else (:meth:`OutputFolder.check`), so a
+#: folder of a user's own files, or one a user added a file to, is never replaced.
+MANIFEST = ".fingerpad-output.json"
+
+
+class WriteError(FingerpadError):
+    """An output could not be written. The message names the user's path (never the hidden
+    temporary file the output was being written to) and the reason."""
+
+    def __init__(self, path: str | os.PathLike[str], reason: str, what: str = "") -> None:
+        self.path = os.fspath(path)
+        self.reason = reason
+        super().__init__(f"cannot write {what + ' ' if what else ''}{self.path!r}: {reason}")
+
+
+def _reason(exc: BaseException) -> str:
+    """The reason of a failed write, without a file name (the caller names the user's path)."""
+    if isinstance(exc, WriteError):
+        return exc.reason
+    if isinstance(exc, OSError):
+        return exc.strerror or str(exc)
+    return str(exc)
+
+
+def real_path(path: str | os.PathLike[str]) -> Path:
+    """``path`` with a symbolic link followed: an output named through a link is written where
+    the link points (the link stays a link, its target gets the outputs)."""
+    p = Path(path)
+    return Path(os.path.realpath(p)) if p.is_symlink() else p
+
+
+def _probe(folder: Path) -> str | None:
+    """Why nothing can be created in ``folder``, or ``None`` if something can.
+
+    Tried, not guessed from permission bits, which say nothing for root, a read-only mount or
+    ``/proc``: a hidden empty file is created and removed at once.
+    """
+    name = folder / f".fingerpad-probe-{uuid.uuid4().hex[:8]}"
+    try:
+        fd = os.open(name, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    os.close(fd)
+    with contextlib.suppress(OSError):
+        os.unlink(name)
+    return None
+
+
+def existing_parent(path: Path) -> Path:
+    """The nearest existing ancestor of ``path`` (temporary folders go there, same disk)."""
+    parent = Path(os.path.abspath(path)).parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    return parent
 
 
 def check_writable(path: str | os.PathLike[str], what: str = "output", suffixes: Sequence[str] = ()) -> Path:
-    """Raise a :class:`FingerpadError` early if ``path`` cannot be written (missing directory,
-    path is a directory, directory not writable, or a name not ending in one of ``suffixes``:
-    the format follows the name, so ``--plot x.txt`` must not write a PNG). Returns the path."""
-    p = Path(path)
-    if suffixes and p.suffix.lower() not in suffixes:
+    """Raise a :class:`FingerpadError` early if the file ``path`` cannot be written: an empty
+    name, a name not ending in one of ``suffixes`` (the format follows the name, so ``--plot
+    x.txt`` must not write a PNG), a folder, something that is not a regular file (``/dev/null``
+    is never replaced), a missing folder, or a folder where nothing can be created (tried).
+    A symbolic link is written through. Returns the path."""
+    text = os.fspath(path)
+    if not text.strip():
+        raise FingerpadError(f"{what}: the file name is empty")
+    p = real_path(text)
+    if suffixes and Path(text).suffix.lower() not in suffixes:
         allowed = ", ".join(suffixes[:-1]) + (" or " if len(suffixes) > 1 else "") + suffixes[-1]
-        raise FingerpadError(f"{what} {str(p)!r}: the file name must end in {allowed} (the format follows it)")
-    parent = p.parent if str(p.parent) else Path(".")
+        raise FingerpadError(f"{what} {text!r}: the file name must end in {allowed} (the format follows it)")
     if p.is_dir():
-        raise FingerpadError(f"{what} {str(p)!r} is a directory, expected a file name")
+        raise FingerpadError(f"{what} {text!r} is a directory, expected a file name")
+    if p.exists() and not p.is_file():
+        raise FingerpadError(f"{what} {text!r} exists and is not a regular file; it is not replaced")
+    parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
-        raise FingerpadError(f"cannot write {what} {str(p)!r}: directory {str(parent)!r} does not exist")
-    if not os.access(parent, os.W_OK):
-        raise FingerpadError(f"cannot write {what} {str(p)!r}: directory {str(parent)!r} is not writable")
-    return p
+        reason = "is not a folder" if parent.exists() else "does not exist"
+        raise FingerpadError(f"cannot write {what} {text!r}: the folder {str(parent)!r} {reason}")
+    reason = _probe(parent)
+    if reason is not None:
+        raise FingerpadError(f"cannot write {what} {text!r}: {reason} (folder {str(parent)!r})")
+    return Path(text)
+
+
+def check_output_location(path: str | os.PathLike[str], option: str = "--out",
+                          inputs: Sequence[str | os.PathLike[str]] = (), replaces: bool = True) -> Path:
+    """The checks every output folder or store gets before the work; returns where it will be
+    written (absolute, a symbolic link followed).
+
+    Refused: an empty name (it would be the current folder), the current folder or one that
+    contains it, a path through a file, and a location where nothing can be created (tried).
+    So is a folder that is, or holds, one of the command's ``inputs`` (``analyse sim --out sim``
+    would replace the recordings it reads). What the folder holds is the caller's check
+    (:meth:`OutputFolder.check`, a sweep store's). ``replaces=False``: the command only adds
+    files to the folder (``finger-models``), so the current folder is allowed.
+    """
+    text = os.fspath(path)
+    if not text.strip():
+        raise FingerpadError(f"{option} is empty: name a folder (the current folder is never replaced)")
+    final = Path(os.path.abspath(real_path(text)))
+    here = Path(os.path.realpath(os.getcwd()))
+    real = Path(os.path.realpath(final))
+    if real.is_symlink():
+        raise FingerpadError(f"{option} {text!r} is a symbolic link that leads nowhere (a loop): name a folder")
+    if replaces and (real == here or real in here.parents):
+        raise FingerpadError(f"{option} {text!r} is the current folder or contains it: name a new folder "
+                             f"for the outputs")
+    # Where the outputs are created: beside an existing folder (it is swapped by renames there),
+    # else in the nearest existing ancestor (missing folders are created).
+    for item in inputs:
+        source = Path(os.path.realpath(item))
+        if source == real or real in source.parents:
+            raise FingerpadError(f"{option} {text!r} holds the input {os.fspath(item)!r}: name another folder "
+                                 f"(an output folder is replaced as a whole)")
+    existing = final.parent if final.exists() else existing_parent(final)
+    if not existing.is_dir():
+        raise FingerpadError(f"cannot write {option} {text!r}: {str(existing)!r} is a file, not a folder")
+    reason = _probe(existing)
+    if reason is not None:
+        raise FingerpadError(f"cannot write {option} {text!r}: {reason} (folder {str(existing)!r})")
+    return final
+
+
+def _files(folder: Path, limit: int = 100_000) -> list[str]:
+    """Relative paths of every file under ``folder`` (links not followed; at most ``limit``)."""
+    out: list[str] = []
+    for root, dirs, files in os.walk(folder):
+        rel = Path(root).relative_to(folder)
+        out += [(rel / f).as_posix() for f in files]
+        out += [(rel / d).as_posix() for d in dirs if (Path(root) / d).is_symlink()]
+        if len(out) > limit:
+            break
+    return sorted(out)
+
+
+def foreign_entries(folder: Path, names: Sequence[str] = ()) -> list[str]:
+    """What in the existing output folder ``folder`` this package did not write, [] if nothing.
+
+    A folder with a :data:`MANIFEST` may hold only the files listed there; one without (written
+    before the manifest existed) only plain files named in ``names``.
+    """
+    manifest = folder / MANIFEST
+    listed: set[str] | None = None
+    if manifest.is_file():
+        try:
+            data = json.loads(manifest.read_text(encoding="utf-8"))
+            listed = {str(f) for f in data["files"]}
+        except (OSError, ValueError, KeyError, TypeError):
+            listed = None
+    if listed is None:
+        entries = sorted(p.name for p in folder.iterdir())
+        return [e for e in entries if e not in set(names) or not (folder / e).is_file() or (folder / e).is_symlink()]
+    return [f for f in _files(folder) if f not in listed and f != MANIFEST]
+
+
+def _write_manifest(build: Path) -> None:
+    from ._version import __version__
+
+    files = [f for f in _files(build) if f != MANIFEST]
+    text = json.dumps({"written_by": f"fingerpad {__version__}", "files": files}, indent=1) + "\n"
+    (build / MANIFEST).write_text(text, encoding="utf-8")
+
+
+def _swap_in(build: Path, final: Path, given: str, option: str) -> None:
+    """Put the finished folder ``build`` in place of ``final`` (removed, if there) in two renames."""
+    import shutil
+
+    _write_manifest(build)
+    old = None
+    try:
+        if final.exists():
+            old = final.parent / f".{final.name}.{uuid.uuid4().hex[:8]}.old"
+            os.replace(final, old)
+        os.replace(build, final)
+    except OSError as exc:
+        if old is not None and not final.exists():
+            with contextlib.suppress(OSError):
+                os.replace(old, final)
+        raise WriteError(given, _reason(exc), f"{option} folder") from None
+    with contextlib.suppress(OSError):
+        final.chmod(0o777 & ~_umask())  # a hidden temporary folder may be private; a plain folder's permissions
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
 
 
 def _umask() -> int:
@@ -64,10 +229,11 @@ def _umask() -> int:
 def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
     """Yield a temporary path next to ``path``; on normal exit move it onto ``path``.
 
-    On an exception the temporary file is removed and ``path`` is left untouched.
+    On an exception the temporary file is removed and ``path`` is left untouched. A symbolic
+    link is written through (the link stays).
     """
-    target = Path(path)
-    check_writable(target)
+    target = real_path(path)
+    check_writable(path)
     fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent or ".")
     os.close(fd)
     tmp = Path(tmp_name)
@@ -83,12 +249,16 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
 
 
 def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], Any]) -> Path:
-    """Call ``writer(tmp_path)`` and move the file onto ``path`` only if it succeeds."""
-    with atomic_path(path) as tmp:
-        try:
+    """Call ``writer(tmp_path)`` and move the file onto ``path`` only if it succeeds.
+
+    A failed write raises :class:`WriteError` naming ``path``."""
+    try:
+        with atomic_path(path) as tmp:
             writer(tmp)
-        except OSError as exc:
-            raise FingerpadError(f"cannot write {str(path)!r}: {exc.strerror or exc}") from exc
+    except WriteError as exc:
+        raise WriteError(path, exc.reason) from None
+    except OSError as exc:
+        raise WriteError(path, _reason(exc)) from None
     return Path(path)
 
 
@@ -113,101 +283,121 @@ class Staging:
             staging.commit()
         finally:
             staging.discard()
+
+    A failed write (a full disk) raises :class:`WriteError` naming the user's file, not the
+    temporary one; a symbolic link is written through.
     """
 
     def __init__(self) -> None:
-        self.staged: list[tuple[Path, Path]] = []
+        self.staged: list[tuple[Path, Path, str]] = []
 
-    def stage(self, final: str, write: Callable[[Path], Any]) -> None:
+    def stage(self, final: str | os.PathLike[str], write: Callable[[Path], Any]) -> None:
         """Call ``write(tmp)`` to write the output meant for ``final`` to a temporary file."""
-        target = Path(final)
+        given = os.fspath(final)
+        target = real_path(given)
         tmp = target.parent / f".{target.name}.{uuid.uuid4().hex[:8]}.part"
-        self.staged.append((tmp, target))
-        write(tmp)
+        self.staged.append((tmp, target, given))
+        try:
+            write(tmp)
+        except (OSError, WriteError) as exc:
+            raise WriteError(given, _reason(exc)) from None
 
     def commit(self) -> None:
         """Move every staged file onto its final name."""
-        for tmp, target in self.staged:
-            os.replace(tmp, target)
+        for tmp, target, given in self.staged:
+            try:
+                os.replace(tmp, target)
+            except OSError as exc:
+                raise WriteError(given, _reason(exc)) from None
         self.staged.clear()
 
     def discard(self) -> None:
         """Remove the temporary files still staged (after an error; harmless after :meth:`commit`)."""
-        for tmp, _ in self.staged:
+        for tmp, _, _ in self.staged:
             with contextlib.suppress(OSError):
                 tmp.unlink()
         self.staged.clear()
 
 
 class OutputFolder:
-    """A command's output folder, written as a whole: never a mix of two runs' files.
+    """A command's output folder, written as a whole: never a mix of two runs' files, never a
+    folder of the user's own files replaced.
 
-    The files are written into a hidden sibling folder (:meth:`path` gives their names there);
-    :meth:`commit` swaps it in place of the old folder in two renames, :meth:`discard` removes
-    it. An existing folder is replaced only if it holds nothing but files this command writes
-    (``names``), or is empty; a folder with other files is refused, so that an output folder
-    pointed at the wrong place destroys nothing.
+    The files are written into a hidden sibling folder (:meth:`path` gives their names there,
+    :meth:`write` writes one); :meth:`commit` adds the :data:`MANIFEST` and swaps the folder in
+    place of the old one in two renames; :meth:`discard` removes it. :meth:`check` (also run by
+    the constructor, and to be run before long work) refuses what may not be replaced. Used as
+    a context manager it discards on every way out and reports a failed write (``OSError``
+    inside the hidden folder, e.g. a full disk) under the user's path::
+
+        with OutputFolder(out, names) as folder:
+            folder.write("a.json", lambda tmp: write_text(tmp, text))
+            folder.commit()
     """
 
-    def __init__(self, folder: str | os.PathLike[str], names: Sequence[str], option: str = "--out") -> None:
-        self.final = Path(folder)
-        parent = self.check(self.final, names, option)
+    def __init__(self, folder: str | os.PathLike[str], names: Sequence[str] = (), option: str = "--out") -> None:
+        self.given = os.fspath(folder)
+        self.option = option
+        self.names = tuple(names)
+        self.final = self.check(folder, names, option)
         try:
-            parent.mkdir(parents=True, exist_ok=True)
+            self.final.parent.mkdir(parents=True, exist_ok=True)
+            self.build = self.final.parent / f".{self.final.name}.{uuid.uuid4().hex[:8]}.part"
+            self.build.mkdir()
         except OSError as exc:
-            raise FingerpadError(f"cannot create {option} folder {str(self.final)!r}: {exc.strerror or exc}") from None
-        self.build = parent / f".{self.final.name}.{uuid.uuid4().hex[:8]}.part"
-        self.build.mkdir()
+            raise WriteError(self.given, _reason(exc), f"{option} folder") from None
 
     @staticmethod
-    def check(folder: str | os.PathLike[str], names: Sequence[str], option: str = "--out") -> Path:
+    def check(folder: str | os.PathLike[str], names: Sequence[str] = (), option: str = "--out",
+              inputs: Sequence[str | os.PathLike[str]] = ()) -> Path:
         """The checks of the constructor, without writing anything (to run before long work).
 
-        Returns the folder's parent (which may not exist yet).
+        Refused: what :func:`check_output_location` refuses; a file; a folder holding anything
+        this package did not write there (:func:`foreign_entries`); a folder holding one of
+        ``inputs``. Returns the folder that
+        will be written (absolute, a symbolic link followed).
         """
-        final = Path(folder)
+        final = check_output_location(folder, option, inputs)
+        text = os.fspath(folder)
         if final.exists() and not final.is_dir():
-            raise FingerpadError(f"{option} {str(final)!r} exists and is not a folder")
+            raise FingerpadError(f"{option} {text!r} is a file, not an output folder; it is left alone "
+                                 f"(name a new folder)")
         if final.is_dir():
             try:
-                entries = sorted(p.name for p in final.iterdir())
+                foreign = foreign_entries(final, names)
             except OSError as exc:
-                raise FingerpadError(f"cannot read {option} folder {str(final)!r}: {exc.strerror or exc}") from None
-            foreign = [e for e in entries if e not in set(names)]
+                raise FingerpadError(f"cannot read {option} folder {text!r}: {exc.strerror or exc}") from None
             if foreign:
                 shown = ", ".join(foreign[:4]) + (", ..." if len(foreign) > 4 else "")
                 raise FingerpadError(
-                    f"{option} {str(final)!r} already holds files this command does not write ({shown}); "
-                    f"choose a new or empty folder (outputs replace a folder as a whole)"
+                    f"{option} {text!r} holds files fingerpad did not write there ({shown}); it is left alone: "
+                    f"name a new or empty folder (an output folder is replaced as a whole)"
                 )
-        parent = final.absolute().parent
-        existing = existing_parent(final)
-        if not os.access(existing, os.W_OK):
-            raise FingerpadError(f"{option} {str(final)!r}: the folder {str(existing)!r} is not writable")
-        return parent
+        return final
 
     def path(self, name: str) -> Path:
         """Where to write the output ``name`` now (inside the hidden folder)."""
         return self.build / name
 
     def final_path(self, name: str) -> Path:
-        """Where the output ``name`` will be after :meth:`commit`."""
-        return self.final / name
+        """Where the output ``name`` will be after :meth:`commit` (as the user named the folder)."""
+        return Path(self.given) / name
+
+    def write(self, name: str, writer: Callable[[Path], Any]) -> Path:
+        """``writer(path)`` for the output ``name``; a failure names the user's path."""
+        try:
+            writer(self.path(name))
+        except (OSError, WriteError) as exc:
+            raise WriteError(self.final_path(name), _reason(exc)) from None
+        return self.final_path(name)
 
     def commit(self) -> None:
-        """Put the new folder in place of the old one (the old one is removed)."""
-        import shutil
+        """Put the new folder in place of the old one (the old one is removed).
 
-        old = None
-        if self.final.exists():
-            old = self.final.absolute().parent / f".{self.final.name}.{uuid.uuid4().hex[:8]}.old"
-            os.replace(self.final, old)
-        os.replace(self.build, self.final)
-        self.build.mkdir()  # discard() after commit finds an empty folder to remove
-        umask = _umask()
-        self.final.chmod(0o777 & ~umask)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
+        The old folder is checked again first: a file a user put there while the command ran
+        stops the swap (the new outputs are discarded, the folder left as it is)."""
+        self.check(self.given, self.names, self.option)
+        _swap_in(self.build, self.final, self.given, self.option)
 
     def discard(self) -> None:
         """Remove the hidden folder and whatever it holds."""
@@ -215,134 +405,15 @@ class OutputFolder:
 
         shutil.rmtree(self.build, ignore_errors=True)
 
+    def __enter__(self) -> OutputFolder:
+        return self
 
-# ---------------------------------------------------------------------------------------------
-# attributes
-# ---------------------------------------------------------------------------------------------
-
-_BAD_KEY = re.compile(r"[^A-Za-z0-9_]+")
-
-
-def _attr_key(key: Any) -> str:
-    text = _BAD_KEY.sub("_", str(key)).strip("_")
-    if not text:
-        text = "attr"
-    if text[0].isdigit():
-        text = "_" + text
-    return text
-
-
-def _attr_value(value: Any) -> str | int | float | np.ndarray:
-    """Convert one value to something NetCDF accepts as an attribute."""
-    if value is None:
-        return "none"
-    if isinstance(value, (bool, np.bool_)):
-        return "true" if value else "false"
-    if isinstance(value, (int, np.integer)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        v = float(value)
-        return v if math.isfinite(v) else str(v)
-    if isinstance(value, str):
-        return value
-    if isinstance(value, os.PathLike):
-        return os.fspath(value)
-    if isinstance(value, np.ndarray) and value.dtype.kind in "iuf" and value.ndim <= 1:
-        if value.size == 0:
-            return "[]"
-        return value.astype(float if value.dtype.kind == "f" else np.int64)
-    if isinstance(value, (list, tuple, np.ndarray)):
-        items = list(value)
-        if items and all(
-            isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_))
-            for v in items
-        ):
-            arr = np.asarray(items, dtype=float)
-            if np.all(np.isfinite(arr)):
-                return arr
-        return json.dumps(_jsonable(items))
-    return str(value)
-
-
-def _jsonable(value: Any) -> Any:
-    """Recursively convert numpy scalars/arrays, paths and non-finite floats for json.dumps."""
-    if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _jsonable(value.tolist())
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, np.integer)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        v = float(value)
-        return v if math.isfinite(v) else None
-    if isinstance(value, os.PathLike):
-        return os.fspath(value)
-    if value is None or isinstance(value, str):
-        return value
-    return str(value)
-
-
-def to_jsonable(value: Any) -> Any:
-    """Public alias of the JSON conversion used by the command line (NaN/inf -> None)."""
-    return _jsonable(value)
-
-
-def flatten_attrs(attrs: Mapping[str, Any] | None, prefix: str = "") -> dict[str, Any]:
-    """Flatten ``attrs`` (nested dicts joined with ``_``) into NetCDF-safe attributes."""
-    out: dict[str, Any] = {}
-    for key, value in (attrs or {}).items():
-        name = _attr_key(f"{prefix}_{key}" if prefix else key)
-        if isinstance(value, Mapping):
-            if value:
-                out.update(flatten_attrs(value, name))
-            else:
-                out[name] = "{}"
-        else:
-            out[name] = _attr_value(value)
-    return out
-
-
-# ---------------------------------------------------------------------------------------------
-# output folders written all at once
-# ---------------------------------------------------------------------------------------------
-
-
-def existing_parent(path: Path) -> Path:
-    """The nearest existing ancestor folder of ``path`` (temporary folders go there, same disk)."""
-    parent = path.absolute().parent
-    while not parent.exists():
-        parent = parent.parent
-    return parent
-
-
-def check_replaceable(out: Path, marker: str, option: str = "--out") -> None:
-    """An output folder may be replaced as a whole only if it is empty or holds an earlier output
-    of the same command (it contains ``marker``); anything else is refused, never mixed."""
-    if out.exists() and not out.is_dir():
-        raise FingerpadError(f"{option} {str(out)!r} exists and is not a folder")
-    if out.is_dir() and any(out.iterdir()) and not (out / marker).exists():
-        shown = ", ".join(sorted(p.name for p in out.iterdir())[:4])
-        raise FingerpadError(f"{option} {str(out)!r} holds files of something else ({shown}); choose a new or empty "
-                             f"folder (outputs replace a folder as a whole)")
-
-
-def replace_folder(tmp: Path, out: Path) -> None:
-    """Put the finished folder ``tmp`` in place of ``out`` (removed, if there) in two renames."""
-    import shutil
-
-    out = out.absolute()
-    old = None
-    if out.exists():
-        old = out.parent / f".{out.name}.{uuid.uuid4().hex[:8]}.old"
-        os.replace(out, old)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    os.replace(tmp, out)
-    out.chmod(0o777 & ~_umask())  # mkdtemp made it private; give it a plain folder's permissions
-    tmp.mkdir()  # the caller removes its temporary folder afterwards
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-
+    def __exit__(self, exc_type: Any, exc: BaseException | None, tb: Any) -> None:
+        self.discard()
+        if isinstance(exc, OSError):
+            name = os.fspath(exc.filename) if getattr(exc, "filename", None) else ""
+            build = os.fspath(self.build)
+            user = self.given
+            if name.startswith(build):
+                user = os.path.join(self.given, os.path.relpath(name, build))
+            raise WriteError(user, _reason(exc)) from None

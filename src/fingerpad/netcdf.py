@@ -13,7 +13,7 @@ Layout of a saved unit-cell solution (all SI, every variable carries a ``units``
 * ``formulation`` (string, per result): the solver formulation used (primal or dual);
 * global attributes: every input (``texture_name``, ``texture_<param>``, ``texture_size_x/_y``,
   ``texture_nx/_ny``, ``texture_periodic``, ``modulus``, ``tol``) and whatever the caller passes in
-  ``attrs`` (see :func:`fingerpad.io.flatten_attrs` for how values become attributes).
+  ``attrs`` (see :func:`fingerpad.encode.flatten_attrs` for how values become attributes).
 """
 
 from __future__ import annotations
@@ -27,7 +27,8 @@ import numpy as np
 
 from ._version import __version__
 from .errors import FingerpadError
-from .io import atomic_write, flatten_attrs
+from .encode import flatten_attrs
+from .io import atomic_write
 
 ENGINE = "h5netcdf"
 

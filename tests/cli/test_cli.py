@@ -374,7 +374,8 @@ def test_run_default_small(tmp_path):
     out = tmp_path / "out"
     res = invoke("run-default", "--out", out, "--grid", "32", "--loads", "0.5N:2N:3", "--cache", tmp_path / "cache")
     assert res.exit_code == 0, res.output
-    assert files_in(out) == ["areas.png", "friction.png", "predict.json", "predict.nc", "ridge_models.png",
+    assert files_in(out) == [".fingerpad-output.json", "areas.png", "friction.png", "predict.json", "predict.nc",
+                             "ridge_models.png",
                              "zones.png"]
     data = json.loads((out / "predict.json").read_text())
     assert len(data["results"]) == 3

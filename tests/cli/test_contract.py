@@ -227,10 +227,10 @@ def test_terminated_command_leaves_no_staging(tmp_path):
     proc = subprocess.Popen([*cmd, "simulate-measurement", "--out", str(tmp_path / "sim"), "--sampling-rate", "2e4",
                              "--participants", "3"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and not any(p.name.startswith(".simulate") for p in tmp_path.iterdir()):
+    while time.monotonic() < deadline and not any(p.name.startswith(".sim.") for p in tmp_path.iterdir()):
         time.sleep(0.1)
-    assert any(p.name.startswith(".simulate") for p in tmp_path.iterdir()), "no staging folder appeared"
+    assert any(p.name.startswith(".sim.") for p in tmp_path.iterdir()), "no staging folder appeared"
     os.kill(proc.pid, signal.SIGTERM)
-    proc.wait(timeout=60)
-    assert proc.returncode != 0
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130 and err.decode().strip().splitlines()[-1] == "interrupted: nothing written"
     assert listing(tmp_path) == []

@@ -67,7 +67,7 @@ def test_parse_values():
     assert spacing.parse(2e-4, "x") == 2e-4
     with pytest.raises(FingerpadError, match="x"):
         spacing.parse("2N", "x")
-    with pytest.raises(FingerpadError, match="x: expected a number, got True"):
+    with pytest.raises(FingerpadError, match="x: expected a length, got True"):
         spacing.parse(True, "x")
     lattice = resolve_axis("lattice", "caps")
     assert lattice.parse(" Hexagonal ", "x") == "hexagonal"

@@ -8,7 +8,9 @@ import os
 import signal
 import socket
 import subprocess
+import shutil
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -129,6 +131,9 @@ def test_the_maps_trends(swept):
     data = map_data(ds, "spacing", "height", at=1.0)
     assert set(np.unique(data["region"].values[np.isfinite(data["region"].values)])) <= {0, 1, 2}
     assert float(data.mu_rel.max()) <= 1.05
+    # what the figure draws travels with the data (plotting imports nothing of design/)
+    assert [m[1] for m in json.loads(data.attrs["markers"])["lines"]] == [160e-6, 33.5e-6, 105e-6]
+    assert data["region"].attrs["flag_meanings"].split("; ")[1] == "transition inside the range"
 
 
 def test_design_map_files(swept, tmp_path):
@@ -137,7 +142,7 @@ def test_design_map_files(swept, tmp_path):
                               "--out", str(tmp_path / "map")])
     assert res.exit_code == 0, res.output
     names = sorted(p.name for p in (tmp_path / "map").iterdir())
-    assert names == ["design_map.csv", "design_map.nc", "design_map.png", "design_map.svg"]
+    assert names == [".fingerpad-output.json", "design_map.csv", "design_map.nc", "design_map.png", "design_map.svg"]
 
 
 def test_resume_after_kill(tmp_path):
@@ -183,30 +188,66 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
-def test_sweep_on_an_external_scheduler(tmp_path):
+def _lines_of(stream, found: list[str]) -> threading.Thread:
+    """Collect the lines of ``stream`` in ``found`` (a thread, so that reading never blocks the test)."""
+    def read() -> None:
+        for line in stream:
+            found.append(line)
+
+    thread = threading.Thread(target=read, daemon=True)
+    thread.start()
+    return thread
+
+
+def _stop(*procs: subprocess.Popen) -> None:
+    for p in procs:
+        if p.poll() is None:
+            os.killpg(p.pid, signal.SIGTERM)
+    for p in procs:
+        try:
+            p.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.wait(timeout=10)
+
+
+def test_sweep_on_an_external_scheduler_waits_visibly_for_a_worker(tmp_path):
+    """A scheduler with no worker: the sweep says so within seconds and keeps waiting; a worker
+    started afterwards runs it to the end."""
     port = _free_port()
     bindir = Path(sys.executable).parent
     dask = str(bindir / "dask") if (bindir / "dask").exists() else "dask"
     env = {**os.environ, "FINGERPAD_CACHE": str(tmp_path / "cache")}
     sched = subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
                              env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-    worker = subprocess.Popen([dask, "worker", f"tcp://127.0.0.1:{port}", "--nthreads", "1", "--nworkers", "1",
-                               "--no-dashboard", "--host", "127.0.0.1"], env=env, stdout=subprocess.DEVNULL,
-                              stderr=subprocess.DEVNULL, start_new_session=True)
+    procs = [sched]
     try:
         study = write_study(tmp_path, spacing="150um:250um:2", height='["10um"]')
-        res = run_cli("sweep", study, "--out", tmp_path / "r.zarr", "--scheduler", f"tcp://127.0.0.1:{port}",
-                      env={"FINGERPAD_CACHE": str(tmp_path / "cache")}, timeout=120)
-        assert res.returncode == 0, res.stderr
+        for _ in range(100):  # the scheduler listens within seconds
+            with socket.socket() as s:
+                if s.connect_ex(("127.0.0.1", port)) == 0:
+                    break
+            time.sleep(0.2)
+        sweep = subprocess.Popen([*fingerpad_cmd(), "sweep", str(study), "--out", str(tmp_path / "r.zarr"),
+                                  "--scheduler", f"tcp://127.0.0.1:{port}"], env=env, stdout=subprocess.DEVNULL,
+                                 stderr=subprocess.PIPE, text=True, start_new_session=True)
+        procs.insert(0, sweep)
+        lines: list[str] = []
+        _lines_of(sweep.stderr, lines)
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and not any("no Dask worker has joined" in x for x in lines):
+            assert sweep.poll() is None, "".join(lines)
+            time.sleep(0.2)
+        assert any("no Dask worker has joined" in x and "dask worker" in x for x in lines), "".join(lines)
+        assert not (tmp_path / "r.zarr").exists() or not bool(load(tmp_path / "r.zarr")["done"].any())
+        worker = subprocess.Popen([dask, "worker", f"tcp://127.0.0.1:{port}", "--nthreads", "1", "--nworkers", "1",
+                                   "--no-dashboard", "--host", "127.0.0.1"], env=env, stdout=subprocess.DEVNULL,
+                                  stderr=subprocess.DEVNULL, start_new_session=True)
+        procs.insert(1, worker)
+        assert sweep.wait(timeout=120) == 0, "".join(lines)
         assert bool(load(tmp_path / "r.zarr")["done"].all())
     finally:
-        for p in (worker, sched):
-            os.killpg(p.pid, signal.SIGTERM)
-        for p in (worker, sched):
-            try:
-                p.wait(timeout=20)
-            except subprocess.TimeoutExpired:
-                os.killpg(p.pid, signal.SIGKILL)
+        _stop(*procs)
 
 
 def test_inverse_design_round_trip(swept):
@@ -229,6 +270,12 @@ def test_inverse_design_round_trip(swept):
                                "--loads", f"{load_1}N", "--cache", str(cache), "--json", "-"])
     got = json.loads(pred.stdout)["results"][0]["mu_normalised"]
     assert got == pytest.approx(goal, rel=0.05)
+    # the Python API gives the command's document (the command parses, calls it once, prints)
+    from fingerpad.design.proposal import design_textures
+
+    api = design_textures(study, {"spacing": ("130um", "300um"), "height": ("6um", "20um")},
+                          [f"mu_rel={goal}@{load_1}N"], from_sweep=str(folder / "r.zarr"), candidates=2)
+    assert json.loads(json.dumps(api.document())) == out
 
 
 def test_inverse_design_says_when_nothing_meets(tmp_path):
@@ -303,3 +350,235 @@ def test_bad_fft_setting_stops_the_sweep_before_any_work(tmp_path, monkeypatch):
     line = error_line(runner.invoke(app, ["sweep", str(study), "--out", str(tmp_path / "r.zarr")]))
     assert "unknown FFT engine 'fftw' (FINGERPAD_FFT)" in line
     assert not (tmp_path / "r.zarr").exists()
+
+
+def test_scheduler_that_accepts_and_never_answers(tmp_path):
+    """A peer that takes the connection and says nothing: one error line within the bound (the
+    Client alone waited until the peer closed, ~120 s)."""
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(8)
+    held: list[socket.socket] = []
+    stop = threading.Event()
+
+    def accept() -> None:
+        server.settimeout(0.2)
+        while not stop.is_set():
+            try:
+                held.append(server.accept()[0])
+            except OSError:
+                continue
+
+    thread = threading.Thread(target=accept, daemon=True)
+    thread.start()
+    try:
+        study = write_study(tmp_path)
+        t0 = time.monotonic()
+        line = error_line(runner.invoke(app, ["sweep", str(study), "--out", str(tmp_path / "r.zarr"), "--scheduler",
+                                              f"tcp://127.0.0.1:{server.getsockname()[1]}"]))
+        assert "no Dask scheduler answers" in line and time.monotonic() - t0 < 20
+        assert held, "the test's peer was never reached"
+        assert not (tmp_path / "r.zarr").exists()
+    finally:
+        stop.set()
+        thread.join(timeout=5)
+        for c in held:
+            c.close()
+        server.close()
+
+
+@pytest.mark.parametrize("address, expect", [("notaurl", "missing port"),
+                                             ("foo://127.0.0.1:1", "unknown address scheme"),
+                                             ("tcp://127.0.0.1:99999", "out of range")])
+def test_bad_scheduler_address_is_one_line_and_no_late_traceback(tmp_path, address, expect):
+    """The Dask Client used to print a Client.__del__ traceback 10 s after the error line: the
+    process now ends at once with only that line."""
+    study = write_study(tmp_path)
+    t0 = time.monotonic()
+    res = run_cli("sweep", study, "--out", tmp_path / "r.zarr", "--scheduler", address, timeout=60)
+    lines = [x for x in res.stderr.splitlines() if x.strip()]
+    assert res.returncode == 2 and len(lines) == 1 and lines[0].startswith("error: --scheduler"), res.stderr
+    assert expect in lines[0] and time.monotonic() - t0 < 8
+    assert not (tmp_path / "r.zarr").exists()
+
+
+def test_sub_pixel_texture_is_invalid_not_valid(tmp_path):
+    """Caps of 68 um on a 16-point cell of 100 mm: the feature is not in the height map, the cell
+    is flat (A_re/A_fr ~ 1, error estimate ~ 0): the point is 'grid too small', not valid."""
+    from fingerpad.design.evaluate import evaluate_point
+    from fingerpad.design.spec import read_sweep_file, sweep_from_dict
+
+    spec = sweep_from_dict(read_sweep_file(str(write_study(tmp_path, spacing="100mm", height='["6um"]'))))
+    res = evaluate_point(spec.study_data(spec.assignment((0, 0))), spec.loads, [1e3, 1e4])
+    assert not res["valid"] and res["reason"].startswith("grid too small") and "pixels" in res["reason"]
+    assert np.all(np.isnan(res["area_ratio"]))
+    # the same caps on a cell they fill are valid: the check is about resolution, not the family
+    spec = sweep_from_dict(read_sweep_file(str(write_study(tmp_path, spacing="200um", height='["6um"]'))))
+    assert evaluate_point(spec.study_data(spec.assignment((0, 0))), spec.loads, [1e3, 1e4])["valid"]
+
+
+def test_signature_depends_on_the_study_content_not_its_path(tmp_path, monkeypatch):
+    from fingerpad.design.spec import read_sweep_file, sweep_from_dict
+
+    study = write_study(tmp_path)
+    (tmp_path / "other").mkdir()
+    copy = tmp_path / "other" / "copy.toml"
+    copy.write_text(study.read_text())
+    monkeypatch.chdir(tmp_path)
+    sigs = {sweep_from_dict(read_sweep_file(p)).signature() for p in ("study.toml", str(study), "./other/../study.toml",
+                                                                      str(copy))}
+    assert len(sigs) == 1
+    changed = tmp_path / "changed.toml"
+    changed.write_text(study.read_text().replace('radius = "100um"', 'radius = "90um"'))
+    assert sweep_from_dict(read_sweep_file(str(changed))).signature() not in sigs
+
+
+def test_finished_sweep_named_by_another_path_resumes_without_a_cluster(swept, tmp_path, monkeypatch):
+    """The same study by its absolute path, from another folder, or an identical copy: the store
+    is recognised, and with every point done no cluster is started (9-16 s for nothing)."""
+    import fingerpad.design.engine as engine
+
+    folder, study, _, ds = swept
+    store = tmp_path / "r.zarr"
+    shutil.copytree(folder / "r.zarr", store)
+
+    def no_cluster(*args, **kwargs):
+        raise AssertionError("a cluster was started for a finished sweep")
+
+    monkeypatch.setattr(engine, "connect", no_cluster)
+    (tmp_path / "elsewhere").mkdir()
+    copy = tmp_path / "elsewhere" / "same.toml"
+    copy.write_text(study.read_text())
+    monkeypatch.chdir(tmp_path / "elsewhere")
+    for name in (str(study.resolve()), str(copy), "same.toml", os.path.relpath(study)):
+        res = runner.invoke(app, ["sweep", name, "--out", str(store)])
+        assert res.exit_code == 0, res.output
+        assert f"all {ds.done.size} points" in res.stderr and "nothing to compute" in res.stderr
+        assert "nan" not in res.stderr
+
+
+def _damage(store: Path, kind: str) -> str:
+    if kind == "done chunk":
+        (store / "done" / "0.0").write_bytes(b"not a chunk")
+        return "'done'"
+    if kind == "data chunk":
+        (store / "mu" / "1.0.0").write_bytes(os.urandom(64))
+        return "'mu'"
+    if kind == "attributes":
+        (store / ".zattrs").write_text("{")
+        return ".zattrs"
+    if kind == "array metadata":
+        (store / "spacing" / ".zarray").write_text("junk")
+        return "'spacing'"
+    if kind == "lost array":
+        shutil.rmtree(store / "mu_rel")
+        return "'mu_rel'"
+    (store / ".zmetadata").unlink()
+    return ".zmetadata"
+
+
+@pytest.mark.parametrize("kind", ["done chunk", "data chunk", "zmetadata", "attributes", "array metadata",
+                                  "lost array"])
+def test_damaged_store_is_one_error_line(swept, tmp_path, kind):
+    """design-map and the sweep name the store and the damage in one line, and say how to repair."""
+    folder, study, _, _ = swept
+    store = tmp_path / "r.zarr"
+    shutil.copytree(folder / "r.zarr", store)
+    what = _damage(store, kind)
+    line = error_line(runner.invoke(app, ["design-map", str(store), "--x", "spacing", "--y", "height",
+                                          "--out", str(tmp_path / "map")]))
+    assert str(store) in line and what in line and "--repair" in line
+    assert not (tmp_path / "map").exists()
+    line = error_line(runner.invoke(app, ["sweep", str(study), "--out", str(store)]))
+    assert str(store) in line and what in line and "--repair" in line
+
+
+def test_repair_recomputes_the_damaged_points(swept, tmp_path):
+    """Garbage in a done chunk and a data chunk, and the consolidated metadata lost: --repair
+    recomputes the points of those chunks (from the cell cache: the same numbers) and rewrites
+    the metadata; the store then reads as the original."""
+    folder, study, cache, ds = swept
+    store = tmp_path / "r.zarr"
+    shutil.copytree(folder / "r.zarr", store)
+    for kind in ("done chunk", "data chunk", "zmetadata"):
+        _damage(store, kind)
+    res = run_cli("sweep", study, "--out", store, "--workers", "1", "--repair", env={"FINGERPAD_CACHE": str(cache)})
+    assert res.returncode == 0, res.stderr
+    assert "repairing" in res.stderr and "4 points computed again" in res.stderr  # two chunks of 2 points
+    after = load(store)
+    assert bool(after["done"].all())
+    for name in ("critical_load_bem", "mu", "mu_rel", "area_ratio", "psi"):
+        np.testing.assert_allclose(after[name].values, ds[name].values, rtol=1e-12, equal_nan=True)
+
+
+def test_a_study_without_sweep_points_to_docs_that_exist(tmp_path):
+    study = tmp_path / "plain.toml"
+    study.write_text(STUDY.split("[sweep]")[0])
+    line = error_line(runner.invoke(app, ["sweep", str(study), "--out", str(tmp_path / "r.zarr")]))
+    doc = line.split("see ")[1].rstrip(")")
+    assert doc == "docs/sweeps.md" and (Path(__file__).resolve().parents[2] / doc).is_file()
+
+
+def test_repair_of_metadata_alone_recomputes_nothing(swept, tmp_path, monkeypatch):
+    """The store's attributes (recognised by their consolidated copy) and an axis's array
+    metadata damaged: --repair rewrites them from the study, computes no point and starts no
+    cluster."""
+    import fingerpad.design.engine as engine
+
+    folder, study, _, ds = swept
+    store = tmp_path / "r.zarr"
+    shutil.copytree(folder / "r.zarr", store)
+    for kind in ("attributes", "array metadata"):
+        _damage(store, kind)
+
+    def no_cluster(*args, **kwargs):
+        raise AssertionError("a cluster was started to repair metadata")
+
+    monkeypatch.setattr(engine, "connect", no_cluster)
+    res = runner.invoke(app, ["sweep", str(study), "--out", str(store), "--repair"])
+    assert res.exit_code == 0, res.output
+    assert "repaired: " in res.stderr and "nothing to compute" in res.stderr
+    after = load(store)
+    assert after.attrs["signature"] == ds.attrs["signature"]
+    for name in ("spacing", "critical_load_bem", "mu_rel", "done"):
+        np.testing.assert_array_equal(after[name].values, ds[name].values)
+
+
+def test_waiting_for_a_worker_is_said_then_repeated():
+    """Unit test of the wait (a fake client): a notice after the first wait, then one per
+    reminder period, each with the time waited; none once a worker is there."""
+    from dask.distributed import TimeoutError as DaskTimeout
+
+    from fingerpad.cli.sweep import _Progress
+    from fingerpad.design import engine
+
+    class Client:
+        def __init__(self, misses: int) -> None:
+            self.misses = misses
+
+        def scheduler_info(self) -> dict:
+            return {"workers": {} if self.misses else {"w": {}}}
+
+        def wait_for_workers(self, n: int, timeout: float) -> None:
+            if self.misses:
+                self.misses -= 1
+                raise DaskTimeout(timeout)
+
+    said: list[str] = []
+    engine._wait_for_a_worker(Client(misses=3), "tcp://127.0.0.1:1", said.append)
+    assert len(said) == 3 and all("no Dask worker has joined the scheduler at tcp://127.0.0.1:1" in x for x in said)
+    waited = [engine.NO_WORKER_NOTICE + k * engine.NO_WORKER_REPEAT for k in range(3)]
+    assert [f"after {w:.0f} s" in x for x, w in zip(said, waited, strict=True)] == [True] * 3
+    said.clear()
+    engine._wait_for_a_worker(Client(misses=0), "tcp://127.0.0.1:1", said.append)
+    assert said == []
+    # the command shows its headline once, then the notices
+    import io
+
+    from rich.console import Console
+
+    out = io.StringIO()
+    bar = _Progress(Console(file=out, width=200), 4, "sweep: 4 points")
+    bar.notice("first")
+    bar.notice("second")
+    assert out.getvalue().splitlines() == ["sweep: 4 points", "first", "second"]

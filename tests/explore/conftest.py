@@ -59,11 +59,14 @@ def screenshot_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 class Server:
     """``fingerpad explore --no-browser`` in a subprocess; ``url`` once it listens."""
 
-    def __init__(self, args: list[str]) -> None:
+    def __init__(self, args: list[str], tmpdir: Path | None = None) -> None:
         code = "import sys; from fingerpad.cli import main; sys.argv[0] = 'fingerpad'; main()"
+        env = {**os.environ, "BOKEH_BROWSER": "none"}
+        if tmpdir is not None:  # the server's upload area is made in here (tests look into it)
+            env["TMPDIR"] = str(tmpdir)
+        self.tmpdir = tmpdir
         self.proc = subprocess.Popen([sys.executable, "-c", code, "explore", "--no-browser", *args],
-                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                                     env={**os.environ, "BOKEH_BROWSER": "none"})
+                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
         self.lines: queue.Queue[str] = queue.Queue()
         self.output: list[str] = []
         threading.Thread(target=self._read, daemon=True).start()
@@ -95,12 +98,13 @@ class Server:
 
 
 @pytest.fixture(scope="session")
-def explorer(sweep_store: Path) -> Server:
-    """The explorer with the synthetic sweep, on a free port of 127.0.0.1."""
+def explorer(sweep_store: Path, tmp_path_factory: pytest.TempPathFactory) -> Server:
+    """The explorer with the synthetic sweep, on a free port of 127.0.0.1 (its temporary files,
+    the upload area among them, in a folder of the test session: ``explorer.tmpdir``)."""
     reason = _browser_missing()
     if reason:
         pytest.skip(reason)
-    server = Server(["--sweep", str(sweep_store)])
+    server = Server(["--sweep", str(sweep_store)], tmpdir=tmp_path_factory.mktemp("server-tmp"))
     yield server
     server.stop()
 

@@ -22,7 +22,7 @@ from fingerpad.cli import app
 from fingerpad.explore import builders
 from fingerpad.explore.inputs import study_data, to_toml, validate
 from fingerpad.explore.jobs import Job, Memo, contact_at, run_data
-from fingerpad.explore.specs import spec_csv, spec_json
+from fingerpad.plotting.specs import spec_csv, spec_json
 from fingerpad.study.spec import DEFAULT_STUDY, study_from_dict
 
 runner = CliRunner()
@@ -105,33 +105,48 @@ def test_exported_toml_reproduces_the_prediction(tmp_path):
     assert mine["critical_load"] == theirs["critical_load"]
 
 
-def test_plot_data_carry_the_prediction_numbers():
+def test_plot_data_carry_the_prediction_numbers_in_si():
+    """The downloads of a plot are in SI (the page says so), though the plot shows mm²."""
+    from fingerpad.plotting.prediction_specs import state_bands
+
     pred = run_data(HERTZ)
-    spec = builders.areas_spec(pred)
+    panels = builders.prediction_panels(pred)
+    spec = panels["areas"]
+    assert spec.y.label == "contact area (mm²)"  # shown
     rows = list(csv.reader(io.StringIO(spec_csv(spec))))
-    col = rows[0].index("real A_re (hertz) [contact area (mm^2)]")
+    assert rows[0][0] == "normal load F (N)"
+    col = rows[0].index("real A_re (hertz) [contact area (m²)]")
     assert [float(r[0]) for r in rows[1:]] == list(pred.primary.load)
-    assert np.allclose([float(r[col]) * 1e-6 for r in rows[1:]], pred.primary.real_area, rtol=1e-14, atol=0)
+    assert [float(r[col]) for r in rows[1:]] == list(pred.primary.real_area)  # the numbers themselves
     payload = json.loads(spec_json(spec))
+    assert payload["units_system"] == "SI" and payload["y"]["unit"] == "m²"
+    assert payload["series"][2]["y"] == list(pred.primary.real_area)
     assert payload["reference_lines"][0]["x"] == pytest.approx(pred.critical_load["hertz"], rel=1e-15)
-    mu, norm = builders.friction_specs(pred)
-    assert json.loads(spec_json(norm))["series"][0]["y"] == pytest.approx(list(pred.primary.mu_normalised), rel=1e-15)
+    assert json.loads(spec_json(panels["friction-normalised"]))["series"][0]["y"] == list(pred.primary.mu_normalised)
+    # zones: radii in m though drawn in mm, the profile's pressure in Pa though drawn in kPa
+    zones = json.loads(spec_json(panels["zones"]))
+    assert zones["zones"][0]["radius"] == pred.zones["ridge_radius"] and zones["x"]["unit"] == "m"
+    prof = list(csv.reader(io.StringIO(spec_csv(panels["zone-profile"]))))
+    assert prof[0][:2] == ["radius r (m)", "pad pressure p(r) (Eq. 3.7) [pressure (Pa)]"]
+    assert float(prof[-1][0]) == pytest.approx(pred.zones["ridge_radius"], rel=1e-12)
+    hm = list(csv.reader(io.StringIO(spec_csv(builders.height_map_spec(pred.texture)))))
+    assert hm[0] == ["x (m)", "y (m)", "height (m)"]
+    assert max(float(r[2]) for r in hm[1:]) == pytest.approx(float(np.max(pred.texture.heights)), rel=1e-12)
     # the bands split the loads at the critical load
-    bands = builders.state_bands(pred)
+    bands = state_bands(pred)
     assert [b.state for b in bands] == ["asperity", "transition"]
     assert bands[0].x1 == pytest.approx(pred.critical_load["hertz"])
 
 
 def test_images_are_png_and_svg():
     pytest.importorskip("matplotlib")
-    from fingerpad.explore.render_mpl import spec_image
+    from fingerpad.plotting.render import spec_image
 
-    pred = run_data(HERTZ)
-    zones, profile = builders.zone_specs(pred)
-    assert spec_image(zones, "png").startswith(b"\x89PNG")
-    assert b"<svg" in spec_image(profile, "svg")[:2000]
+    panels = builders.prediction_panels(run_data(HERTZ))
+    assert spec_image(panels["zones"], "png").startswith(b"\x89PNG")
+    assert b"<svg" in spec_image(panels["zone-profile"], "svg")[:2000]
     with pytest.raises(ValueError):
-        spec_image(zones, "gif")
+        spec_image(panels["zones"], "gif")
 
 
 def test_contact_map_is_one_solver_solve():
@@ -139,8 +154,10 @@ def test_contact_map_is_one_solver_solve():
     res = contact_at(pred.texture, pred.reduced_modulus, 20e3)
     assert res.converged and math.isclose(res.mean_pressure, 20e3)
     pmap, cmap = builders.contact_specs(res)
-    # the map's mean pressure is the one asked for (kPa on the map)
-    assert float(np.mean(pmap.images[0].z)) == pytest.approx(20.0, rel=1e-6)
+    # the map's mean pressure is the one asked for: held in Pa, shown in kPa
+    assert float(np.mean(pmap.images[0].z)) == pytest.approx(20e3, rel=1e-6)
+    assert float(np.mean(pmap.images[0].value.show(pmap.images[0].z))) == pytest.approx(20.0, rel=1e-6)
+    assert pmap.images[0].value.label == "contact pressure (kPa)"
     assert cmap.images[0].overlay.mean() == pytest.approx(res.contact_fraction)
 
 
@@ -173,19 +190,6 @@ def test_job_reports_a_user_error():
     job = Job({"texture": {"name": "ridges", "width": "40um", "height": "10um", "spacing": "120um"},
                "model": {"kind": "hertz"}})
     assert job.wait(60) and job.state == "failed" and "Hertz" in job.error
-
-
-def test_uploads_are_size_limited_and_never_named_by_the_user(tmp_path):
-    from fingerpad.explore.views.upload import store_upload
-
-    folder = tmp_path / "uploads"
-    path = store_upload(folder, "../../etc/passwd.npy", b"123", limit=100)
-    assert path.parent == folder and path.suffix == ".npy" and "passwd" not in path.name
-    with pytest.raises(ValueError, match="limited"):
-        store_upload(folder, "big.txt", b"x" * 101, limit=100)
-    with pytest.raises(ValueError, match="suffix"):
-        store_upload(folder, "map.t$t", b"1", 100)
-    assert sorted(p.name for p in tmp_path.rglob("*") if p.is_file()) == [path.name]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -325,3 +329,35 @@ def test_log_ticks_label_a_narrow_load_range():
     narrow, _ = log_ticks(np.array([0.33, 0.9]))
     assert np.allclose([t for t in narrow if 0.33 <= t <= 0.9], [0.5])
     assert log_ticks(np.array([0.0, -1.0, np.nan])) is None
+
+
+def test_design_values_read_in_the_units_of_the_map():
+    """A log-spaced axis value (not round in um) opens as um text that reads back exactly."""
+    from fingerpad.explore.sweepdata import _as_text
+    from fingerpad.units import parse_quantity
+
+    for v in [*np.geomspace(50e-6, 400e-6, 37), 0.0002519842099789746, 2e-4, 3e-10]:
+        text = _as_text(float(v), "m")
+        assert text.endswith(("mm", "um", "nm")) and parse_quantity(text, "length") == float(v), text
+    for v in np.geomspace(1e3, 3e9, 41):
+        text = _as_text(float(v), "Pa")
+        assert text.endswith("Pa") and parse_quantity(text, "pressure") == float(v), text
+    assert _as_text(0.0002519842099789746, "m").startswith("251.98")
+    assert _as_text(2e-4, "m") == "200um"
+
+
+def test_map_view_labels_the_colour_bar_and_reads_the_base_study(store):
+    pytest.importorskip("panel")
+    from bokeh.models import ColorBar
+
+    from fingerpad.explore import sweepdata as sd
+    from fingerpad.explore.views.mapview import MapView
+
+    ds = sd.open_sweep(store)
+    view = MapView(None, ds, str(store))
+    bar = view.plot.object.select_one(ColorBar)
+    assert bar.title == "critical load (N)"
+    view.quantity.value = "mu_rel"
+    assert view.plot.object.select_one(ColorBar).title.endswith("N (-)")
+    about = view.panel.select(lambda o: "fp-map-about" in getattr(o, "css_classes", []))[0].object
+    assert "[texture]" in about and 'name = &quot;caps&quot;' in about and "{&quot;" not in about

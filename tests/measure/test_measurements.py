@@ -15,6 +15,7 @@ from typer.testing import CliRunner
 from fingerpad import measure as m
 from fingerpad.cli.measure import register
 from fingerpad.errors import FingerpadError
+from fingerpad.io import MANIFEST
 from fingerpad.finger import get_finger
 
 # =============================================================================================
@@ -202,6 +203,8 @@ def test_recovers_power_law_and_skin_modulus(study):
             assert row["breakpoint_p"] < 0.05
             assert row["breakpoint_ci_low"] < row["breakpoint_load"] < row["breakpoint_ci_high"]
             assert row["slope_above"] > row["slope_below"]
+        elif row["breakpoint_outside"]:  # the best change at the edge of the load range: not reported
+            assert math.isnan(row["breakpoint_load"]) and "edge of the load range" in row["transition"]
         else:
             assert row["breakpoint_p"] >= 0.05 and math.isnan(row["breakpoint_load"])
             assert row["transition"].startswith("no transition detected in ")
@@ -209,16 +212,31 @@ def test_recovers_power_law_and_skin_modulus(study):
 
 def test_closed_form_modulus_on_hertz_data(hertz_study):
     """On data from the Hertz micro model the closed form (Eq. 3.6 inverted at the friction
-    breakpoint) recovers E_s within 40 %, and the model fit within 20 %."""
+    breakpoint) recovers E_s within 40 %, and the model fit within 20 %. A break in the outer
+    fifth of the load range (here P03's, at 2.8 N with 4 of 24 strokes above it) is not reported,
+    and neither is an E_s from it."""
     _, truth, result = hertz_study
     parts = result.participants.set_index("participant")
     cond = result.conditions.set_index(["participant", "sample"])
+    reported = 0
     for pid, tr in truth["participants"].items():
         assert parts.loc[pid, "skin_modulus"] == pytest.approx(tr["skin_modulus"], rel=0.20)
         row = cond.loc[(pid, "bumps")]
+        if row["breakpoint_outside"]:
+            assert not row["breakpoint_detected"] and math.isnan(row["breakpoint_load"])
+            assert math.isnan(row.get("skin_modulus_closed_form", math.nan))
+            assert "edge of the load range" in row["transition"]
+            continue
+        reported += 1
         assert row["skin_modulus_closed_form"] == pytest.approx(tr["skin_modulus"], rel=0.40)
         lo, hi = row["skin_modulus_closed_form_ci_low"], row["skin_modulus_closed_form_ci_high"]
         assert lo <= row["skin_modulus_closed_form"] <= hi
+        assert row["breakpoint_edge_low"] <= row["breakpoint_load"] <= row["breakpoint_edge_high"]
+    assert reported >= 3
+    if reported < len(truth["participants"]):  # the report says why, too
+        from fingerpad.measure.htmlreport import conditions_table
+
+        assert "the best change lies at the edge of the load range" in conditions_table(result)
 
 
 def test_normalisation_reduces_spread(study):
@@ -372,6 +390,7 @@ def test_report_atomic(study, tmp_path, monkeypatch):
     out = tmp_path / "res"
     out.mkdir()
     (out / "report.html").write_text("an earlier report")  # an earlier analysis: replaced as a whole
+    (out / MANIFEST).write_text('{"files": ["report.html"]}')  # written by fingerpad (the manifest says so)
 
     def boom(*args, **kwargs):
         raise FingerpadError("figure failed")
@@ -379,17 +398,17 @@ def test_report_atomic(study, tmp_path, monkeypatch):
     monkeypatch.setattr(report, "figure_participant", boom)  # after the tables are written
     with pytest.raises(FingerpadError, match="figure failed"):
         report.write_report(result, out)
-    assert sorted(p.name for p in out.iterdir()) == ["report.html"]  # left as it was
+    assert sorted(p.name for p in out.iterdir()) == [MANIFEST, "report.html"]  # left as it was
     other = tmp_path / "other"
     other.mkdir()
     (other / "keep.txt").write_text("mine")
-    with pytest.raises(FingerpadError, match="holds files of something else"):
+    with pytest.raises(FingerpadError, match="did not write"):
         report.write_report(result, other)  # never mixed with another study's files
     assert sorted(p.name for p in other.iterdir()) == ["keep.txt"]
     with pytest.raises(FingerpadError):
         report.write_report(result, tmp_path / "new")
     assert not (tmp_path / "new").exists()
-    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".fingerpad-report")]
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
 
 
 def test_write_report_contents(study, tmp_path):
@@ -404,6 +423,12 @@ def test_write_report_contents(study, tmp_path):
     summary = json.loads((tmp_path / "res" / "summary.json").read_text())
     assert summary["study"]["reference_sample"] == "flat"
     assert len(summary["participants"]) == len(truth["participants"])
+    # the population numbers say where they come from, in the JSON, the table and the page
+    (pop,) = [r for r in summary["population_fits"] if r["sample"] == "flat"]
+    assert pop["source"] in ("mixed model", "two-stage") and pop["two_stage_n"] is not None
+    assert "population" in summary["study"] and summary["study"]["n_clipped_strokes"] == 0
+    html = (tmp_path / "res" / "report.html").read_text()
+    assert "numbers from" in html and f">{pop['source']}</td>" in html
     with xr.open_dataset(tmp_path / "res" / "curves.nc", engine="h5netcdf") as ds:
         assert set(ds["participant"].values) == set(truth["participants"])
         assert ds["skin_modulus"].sel(condition="bumps").notnull().all()
@@ -457,7 +482,7 @@ def test_cli_errors_leave_nothing(app, tmp_path):
     assert r.stderr.strip() == "error: reference sample 'glass' is not in the data (samples: bumps, flat)"
     assert not res.exists()
     r = runner.invoke(app, ["analyse", str(sim), "--reference", "flat", "--out", str(res), "--trim", "0.9"])
-    assert r.exit_code == 2 and r.stderr.startswith("error: --trim") and not res.exists()
+    assert r.exit_code == 2 and r.stderr.startswith("error: trim must lie in [0, 0.45]") and not res.exists()
     r = runner.invoke(app, ["simulate-measurement", "--out", str(tmp_path / "x"), "--loads", "5N:1N"])
     assert r.exit_code == 2 and "--loads" in r.stderr and not (tmp_path / "x").exists()
 

@@ -172,8 +172,9 @@ def test_breakpoint_test_size_and_power():
         f, mu, cl = clustered_strokes(rng, recordings=3, strokes=15)
         bp = m.find_breakpoint(f, mu, trend="steeper", clusters=cl, n_null=99, seed=i)
         rejections += bp.detected
-        if not bp.detected:
-            assert math.isnan(bp.ci_low) and bp.describe().startswith("no transition detected in ")
+        if not bp.detected:  # none found, or the best one at the edge of the load range
+            assert math.isnan(bp.ci_low) and bp.describe().startswith(
+                "no transition reported: the best change of trend" if bp.outside else "no transition detected in ")
     assert rejections / reps <= 0.11
     # a real change of slope (0.25 -> 0.6 at 0.8 N) is found, with an interval of non-zero width
     f = np.geomspace(0.1, 5, 60)
@@ -186,14 +187,19 @@ def test_breakpoint_test_size_and_power():
 
 
 def test_breakpoint_never_zero_width_at_the_edge():
-    """A kink right at the end of the searched range: the interval still has width."""
+    """A kink right at the end of the searched range: the interval still has width (with the
+    edge rule switched off); by default such a break is not reported, and the reason says so."""
     f = np.geomspace(0.1, 5, 40)
     y = np.exp(np.where(f < 4.0, 0.2 * np.log(f), 0.2 * np.log(f) + 3.0 * np.log(f / 4.0)))
     y = y * np.exp(1e-4 * np.random.default_rng(0).standard_normal(f.size))
     for method in ("profile", "bootstrap"):
-        bp = m.find_breakpoint(f, y, trend="steeper", method=method)
+        bp = m.find_breakpoint(f, y, trend="steeper", method=method, edge=0.0)
         assert bp.detected and bp.ci_high > bp.ci_low
         assert bp.ci_low <= bp.load <= bp.ci_high
+    bp = m.find_breakpoint(f, y, trend="steeper")
+    assert bp.outside and not bp.detected and math.isnan(bp.ci_low)
+    assert bp.load == pytest.approx(4.0, rel=0.05) and bp.edge_high < 2.5
+    assert "edge of the load range" in bp.describe()
 
 
 def test_breakpoint_no_admissible_turn_is_not_an_error():

@@ -100,7 +100,7 @@ def test_profile_models_never_exceed_the_gross_area_and_grow_with_load():
     (dict(wavelength=0.0), "ridge wavelength"),
     (dict(modulus=-1.0), "ridge modulus"),
     (dict(amplitude=0.0), "ridge amplitude"),
-    (dict(pressure_distribution="parabolic"), "pressure distribution must be 'hertz' or 'uniform'"),
+    (dict(pressure_distribution="parabolic"), "pressure distribution: must be one of hertz, uniform"),
 ])
 def test_sinusoidal_refusals(kwargs, word):
     with pytest.raises(FingerpadError, match=word):
@@ -108,10 +108,10 @@ def test_sinusoidal_refusals(kwargs, word):
 
 
 def test_models_by_name():
-    assert meso.RIDGE_MODELS["constant_fraction"] is meso.ConstantFractionRidges
-    assert meso.RIDGE_MODELS["power_law"] is meso.PowerLawRidges
-    assert meso.RIDGE_MODELS["sinusoidal"] is meso.SinusoidalRidges
-    assert meso.RIDGE_MODELS["circular"] is meso.CircularRidges
+    assert meso.RIDGE_MODELS["constant_fraction"].factory is meso.ConstantFractionRidges
+    assert meso.RIDGE_MODELS["power_law"].factory is meso.PowerLawRidges
+    assert meso.RIDGE_MODELS["sinusoidal"].factory is meso.SinusoidalRidges
+    assert meso.RIDGE_MODELS["circular"].factory is meso.CircularRidges
 
 
 def test_model_curves_share_their_inputs():

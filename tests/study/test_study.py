@@ -18,6 +18,7 @@ from fingerpad.cli import app
 from fingerpad.cli.predict import build_study
 from fingerpad.errors import FingerpadError
 from fingerpad.finger import get_finger
+from fingerpad.io import MANIFEST
 from fingerpad.micro.hertz import critical_load_hertz
 from fingerpad.study.outputs import OUTPUT_FILES, prediction_json, write_outputs
 from fingerpad.study.run import run_study
@@ -233,7 +234,7 @@ def test_write_outputs(tmp_path):
     out = tmp_path / "new" / "out"
     paths = write_outputs(pred, out)
     assert sorted(p.name for p in paths) == sorted(OUTPUT_FILES)
-    assert sorted(p.name for p in out.iterdir()) == sorted(OUTPUT_FILES)  # no staging leftovers
+    assert sorted(p.name for p in out.iterdir()) == sorted([*OUTPUT_FILES, MANIFEST])  # no staging leftovers
     from fingerpad.netcdf import load_dataset
 
     ds = load_dataset(out / "predict.nc")
@@ -256,7 +257,7 @@ def test_predict_cli_end_to_end(tmp_path):
                  "--loads", "0.2N:2N:3", "--log", "--cache", tmp_path / "cache", "--out", out,
                  "--json", tmp_path / "copy.json")
     assert res.exit_code == 0, (res.output, res.exception)
-    assert sorted(p.name for p in out.iterdir()) == sorted(OUTPUT_FILES)
+    assert sorted(p.name for p in out.iterdir()) == sorted([*OUTPUT_FILES, MANIFEST])
     data = json.loads((out / "predict.json").read_text())
     assert data == json.loads((tmp_path / "copy.json").read_text())
     assert len(data["results"]) == 3 and data["inputs"]["model"] == "both"

@@ -18,6 +18,9 @@ Exit codes
 2
     A user error (bad option value, unknown unit, unreadable file, ...): one line
     ``error: <message>`` on stderr, nothing written.
+130
+    Interrupted (Ctrl-C, SIGTERM): one line ``interrupted: nothing written`` on stderr (a sweep
+    says how many points its store kept).
 
 Start-up is kept short: command modules import only Typer and light modules at import time;
 the numerics load inside the commands.
@@ -25,8 +28,9 @@ the numerics load inside the commands.
 
 from __future__ import annotations
 
+import re
 import sys
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from typer.core import TyperGroup
@@ -34,21 +38,54 @@ from typer.core import TyperGroup
 from .._version import __version__
 from ..errors import one_line
 from . import deflection, design, explore, fingers, measure, predict, solve, sweep, textures
-from .common import EXIT_USER_ERROR
+from . import common
+from .common import EXIT_INTERRUPTED, EXIT_USER_ERROR, report_interrupt
+
+
+#: What Rich reads as a markup tag (its own pattern): ``[columns]`` in a help text would vanish.
+_RICH_TAG = re.compile(r"(\\*)(\[[a-z#/@][^[]*?])")
+
+
+def escape_markup(text: str) -> str:
+    """``text`` with every bracketed word kept when Rich renders the help (``[sweep]``, ``[units]``)."""
+    return _RICH_TAG.sub(lambda m: m.group(1) * 2 + "\\" + m.group(2), text)
+
+
+def _escape_help(command: Any) -> None:
+    """Help texts are plain text: escape them once for Typer's Rich formatting."""
+    for attr in ("help", "short_help", "epilog"):
+        text = getattr(command, attr, None)
+        if isinstance(text, str) and "[" in text:
+            setattr(command, attr, escape_markup(text))
+    for param in getattr(command, "params", []):
+        text = getattr(param, "help", None)
+        if isinstance(text, str) and "[" in text:
+            param.help = escape_markup(text)
+    for sub in getattr(command, "commands", {}).values():
+        _escape_help(sub)
 
 
 class _OneLineErrors(TyperGroup):
     """Typer's own usage errors (a missing value, an unknown option) as one ``error:`` line on
-    stderr and exit code 2, like every other user mistake, instead of a framed panel."""
+    stderr and exit code 2, like every other user mistake, instead of a framed panel.
+
+    Help texts are shown as written: a bracketed word is not taken for Rich markup."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        _escape_help(self)
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):  # noqa: ANN001
+        common.reset_interrupt()
         try:
             rv = super().main(args=args, prog_name=prog_name, complete_var=complete_var, standalone_mode=False,
                               **extra)
             code = rv if isinstance(rv, int) else 0
+            if code == EXIT_INTERRUPTED:  # Typer turns Ctrl-C (and SIGTERM, see main) into exit code 130
+                report_interrupt()
         except typer.Abort:
-            sys.stderr.write("error: interrupted\n")
-            code = 130
+            report_interrupt()
+            code = EXIT_INTERRUPTED
         except typer.TyperException as exc:
             if type(exc).__name__ == "NoArgsIsHelpError":  # `fingerpad` alone: the help, as usual
                 exc.show()  # type: ignore[attr-defined]

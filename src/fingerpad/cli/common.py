@@ -18,6 +18,26 @@ from ..errors import FingerpadError, describe_exception, one_line
 
 EXIT_UNCONVERGED = 1
 EXIT_USER_ERROR = 2
+EXIT_INTERRUPTED = 130
+
+_interrupt_reported = False
+
+
+def reset_interrupt() -> None:
+    """Forget an earlier interrupt report (a new command starts)."""
+    global _interrupt_reported
+    _interrupt_reported = False
+
+
+def report_interrupt(kept: str | None = None) -> None:
+    """Say once, on one stderr line, that the command was interrupted and what it left:
+    ``kept`` (e.g. the points a sweep stored), else nothing (outputs are staged and moved into
+    place only when complete)."""
+    global _interrupt_reported
+    if not _interrupt_reported:
+        _interrupt_reported = True
+        sys.stderr.write(f"interrupted: {kept or 'nothing written'}\n")
+        sys.stderr.flush()
 
 #: Typer settings of commands that take a texture's own ``--NAME VALUE`` options.
 EXTRA_ARGS = {"allow_extra_args": True, "ignore_unknown_options": True}

@@ -1,10 +1,10 @@
 """``fingerpad deflection``: the section model of a compliant asperity under sliding.
 
-The command parses its options, calls
-:func:`~fingerpad.micro.deflection.gain.directional_gain` once per direction, prints a table
-(contact length gain at a few shear levels, tip deflection, tangential stiffness, flags) and,
-with ``--out``, writes ``deflection.json``, ``deflection.nc`` and ``deflection.png`` all or none.
-User mistakes: one ``error:`` line on stderr, exit code 2.
+The command parses its options, calls :func:`~fingerpad.micro.deflection.job.run_deflection`
+once, prints its table (contact length gain at a few shear levels, ``*`` where held, tip
+deflection, tangential stiffness, flags) and, with ``--out``, writes ``deflection.json``,
+``deflection.nc`` and ``deflection.png`` all or none. User mistakes: one ``error:`` line on
+stderr, exit code 2.
 """
 
 from __future__ import annotations
@@ -20,16 +20,8 @@ import typer
 from ..errors import FingerpadError
 
 EXIT_USER_ERROR = 2
-#: Shear levels of the printed table.
-TABLE_MU = (0.3, 0.6, 1.0, 1.5)
-
-
-def _length(text: str | None, name: str) -> float:
-    from ..units import parse_positive
-
-    if text is None:
-        raise FingerpadError(f"--{name} is required for this texture")
-    return parse_positive(text, "length", name=f"--{name}")
+#: The texture options of the command, by the families' keyword names.
+_TEXTURE_OPTIONS = ("semi_axis_x", "semi_axis_y", "spacing_x", "spacing_y", "orientation", "width", "spacing")
 
 
 def _pressure_range(text: str) -> tuple[float, float]:
@@ -47,59 +39,31 @@ def _pressure_range(text: str) -> tuple[float, float]:
     return lo, hi
 
 
-def _table(curves: list[Any]) -> str:
-    """Per direction: the gains (one table), the ramp's state and flags (a second one) and why
-    a ramp stopped (a line each), so that every line fits an 80-column terminal."""
-    lines = []
-    for c in curves:
-        head = f"direction {c.direction_deg:g} deg"
-        if c.is_identity:
-            lines.append(f"{head}: gain 1 (rigid texture or no shear across the section)")
-            continue
-        s = c.section
-        lines.append(f"{head}: half-width {s.half_width * 1e6:.4g} um, height {s.height * 1e6:.4g} um, "
-                     f"period {s.period * 1e6:.4g} um, shear factor {c.shear_factor:.3g}")
-        lines.append("  p (kPa)  " + "  ".join(f"G(mu={m:g})" for m in TABLE_MU) + "  mu reached")
-        for r in c.ramps:
-            g = [c(r.pressure, m) for m in TABLE_MU]
-            lines.append(f"  {r.pressure / 1e3:7.3g}  " + "  ".join(f"{float(v):9.3f}" for v in g)
-                         + f"  {r.mu_reached:10.3g}")
-        lines.append("  p (kPa)  bend@max (um)  k_t0 (kPa)  fold@mu  limit@mu  buckled")
-        for r in c.ramps:
-            kt0 = r.tangential_stiffness[1] if r.tangential_stiffness.size > 1 else math.nan
-            tip = r.bend_dx[-1] * 1e6 if r.bend_dx.size else math.nan
-            lines.append(f"  {r.pressure / 1e3:7.3g}  {tip:13.3g}  {kt0 / 1e3:10.3g}  {r.fold_onset_mu:7.3g}  "
-                         f"{r.limit_mu:8.3g}  {r.buckled}")
-        for r in c.ramps:
-            if r.stopped:
-                lines += [f"  the ramp at {r.pressure / 1e3:.3g} kPa stopped:", f"    {r.stopped}"]
-    return "\n".join(lines)
-
-
 def deflection(
-    texture: Annotated[str, typer.Option(help="ellipsoids or ridges (circular profile).")],
+    texture: Annotated[str, typer.Option(help="A texture family with a deflection model: ellipsoids or ridges (circular profile).")],
     height: Annotated[str, typer.Option(help="Asperity height, e.g. 50um.")],
     material_modulus: Annotated[str | None, typer.Option(help="Texture Young's modulus, e.g. 0.3MPa; omit for a rigid texture (gain 1).")] = None,
     semi_axis_x: Annotated[str | None, typer.Option(help="Ellipsoids: semi-axis along x.")] = None,
     semi_axis_y: Annotated[str | None, typer.Option(help="Ellipsoids: semi-axis along y.")] = None,
     spacing_x: Annotated[str | None, typer.Option(help="Ellipsoids: lattice period along x.")] = None,
     spacing_y: Annotated[str | None, typer.Option(help="Ellipsoids: lattice period along y.")] = None,
-    orientation: Annotated[str, typer.Option(help="Ellipsoids: rotation of the ellipse, e.g. 30deg.")] = "0deg",
+    orientation: Annotated[str | None, typer.Option(help="Ellipsoids: rotation of the ellipse, e.g. 30deg (default 0).")] = None,
     width: Annotated[str | None, typer.Option(help="Ridges: base width.")] = None,
     spacing: Annotated[str | None, typer.Option(help="Ridges: period.")] = None,
     direction: Annotated[list[str] | None, typer.Option(help="Sliding direction(s), degrees from the texture's x axis (repeat; default 0 and 90).")] = None,
     pressure: Annotated[str, typer.Option(help="Nominal cell pressure P or range LOW:HIGH, e.g. 5kPa:40kPa.")] = "5kPa:40kPa",
-    levels: Annotated[int, typer.Option(help="Pressure levels solved (log-spaced).")] = 3,
-    mu_max: Annotated[float, typer.Option(help="Largest shear level followed.")] = 1.5,
+    levels: Annotated[int, typer.Option(help="Pressure levels solved (log-spaced), 1-20.")] = 3,
+    mu_max: Annotated[float, typer.Option(help="Largest shear level followed, in (0, 5].")] = 1.5,
     friction: Annotated[str, typer.Option(help="package (tau0 + alpha p shape) or coulomb.")] = "package",
     tau0: Annotated[str, typer.Option(help="Shear strength at zero pressure, Eq. 2.3.")] = "8.1kPa",
-    alpha: Annotated[float, typer.Option(help="Pressure coefficient of the shear strength, Eq. 2.3.")] = 0.1,
+    alpha: Annotated[float, typer.Option(help="Pressure coefficient of the shear strength, Eq. 2.3, in [0, 10].")] = 0.1,
     skin_modulus: Annotated[str, typer.Option(help="Skin Young's modulus E_s.")] = "0.3MPa",
     skin_poisson: Annotated[float, typer.Option(help="Skin Poisson ratio.")] = 0.49,
-    material_poisson: Annotated[float, typer.Option(help="Texture Poisson ratio (0.5 is taken as 0.499).")] = 0.49,
-    resolution: Annotated[int, typer.Option(help="Elements per asperity half-width.")] = 6,
-    time_limit: Annotated[float, typer.Option(help="Wall-clock budget of one shear ramp, s.")] = 120.0,
-    out: Annotated[Path | None, typer.Option(help="Folder for deflection.json, deflection.nc, deflection.png.")] = None,
+    material_poisson: Annotated[float | None, typer.Option(help="Texture Poisson ratio (default 0.35, the package's material default, as predict; silicone: give 0.49; 0.5 is taken as 0.499).")] = None,
+    resolution: Annotated[int, typer.Option(help="Elements per asperity half-width, 2-32.")] = 6,
+    max_steps: Annotated[int, typer.Option(help="Largest number of shear steps per ramp (deterministic).")] = 300,
+    time_limit: Annotated[float | None, typer.Option(help="Optional wall-clock safety stop per shear ramp, s (default: none); a ramp it cuts is marked INCOMPLETE and never cached.")] = None,
+    out: Annotated[Path | None, typer.Option(help="Folder for deflection.json, deflection.nc, deflection.png (replaced as a whole; a folder of other files is refused).")] = None,
     no_cache: Annotated[bool, typer.Option("--no-cache", help="Do not read or write the result cache.")] = False,
 ) -> None:
     """Contact length against shear of a compliant asperity section, per sliding direction.
@@ -118,77 +82,65 @@ def deflection(
 
 def _run(**o: Any) -> None:
     from ..materials import Materials, check_poisson
+    from ..micro.deflection.gain import DeflectionSettings
+    from ..micro.deflection.job import run_deflection
     from ..units import parse_positive, parse_quantity
-    from ..micro.deflection.gain import DeflectionSettings, as_dataset, directional_gain
-    from ..micro.deflection.section import EllipsoidGeometry, RidgeGeometry
 
-    kind = str(o["texture"]).strip().lower()
-    h = _length(o["height"], "height")
-    if kind == "ellipsoids":
-        geometry: Any = EllipsoidGeometry(
-            _length(o["semi_axis_x"], "semi-axis-x"), _length(o["semi_axis_y"], "semi-axis-y"), h,
-            _length(o["spacing_x"], "spacing-x"), _length(o["spacing_y"], "spacing-y"),
-            parse_quantity(o["orientation"], "angle", name="--orientation"))
-        c, sn = math.cos(geometry.orientation), math.sin(geometry.orientation)
-        ex = 2 * math.hypot(geometry.semi_axis_x * c, geometry.semi_axis_y * sn)
-        ey = 2 * math.hypot(geometry.semi_axis_x * sn, geometry.semi_axis_y * c)
-        if ex > geometry.spacing_x * (1 + 1e-9) or ey > geometry.spacing_y * (1 + 1e-9):
-            raise FingerpadError("ellipsoids overlap: the footprint extent exceeds the spacing")
-    elif kind == "ridges":
-        geometry = RidgeGeometry(_length(o["width"], "width"), h, _length(o["spacing"], "spacing"))
-        if geometry.width > geometry.spacing:
-            raise FingerpadError("ridge width exceeds the ridge spacing")
-    else:
-        raise FingerpadError(f"--texture must be ellipsoids or ridges, got {o['texture']!r}")
+    height = o["height"]
+    params = {"height": height, **{k: o[k] for k in _TEXTURE_OPTIONS if o[k] is not None}}
     em = None if o["material_modulus"] is None else parse_positive(o["material_modulus"], "pressure", name="--material-modulus")
+    given = {} if o["material_poisson"] is None else {
+        "material_poisson": check_poisson(o["material_poisson"], "--material-poisson")}
     mats = Materials(skin_modulus=parse_positive(o["skin_modulus"], "pressure", name="--skin-modulus"),
-                     skin_poisson=check_poisson(o["skin_poisson"], "--skin-poisson"),
-                     material_modulus=em, material_poisson=check_poisson(o["material_poisson"], "--material-poisson"))
+                     skin_poisson=check_poisson(o["skin_poisson"], "--skin-poisson"), material_modulus=em, **given)
     dirs = [parse_quantity(d, "none", name="--direction") for d in (o["direction"] or ["0", "90"])]
-    if not all(math.isfinite(d) for d in dirs):
-        raise FingerpadError("--direction must be finite angles in degrees")
     lo, hi = _pressure_range(o["pressure"])
     tau0 = parse_quantity(o["tau0"], "pressure", name="--tau0")
-    if tau0 < 0 or not (o["alpha"] >= 0):
-        raise FingerpadError("--tau0 and --alpha must be non-negative")
+    # every range is decided by the library (DeflectionSettings, run_deflection), once
     settings = DeflectionSettings(friction=o["friction"], mu_max=o["mu_max"], n_pressures=o["levels"],
-                                  resolution=o["resolution"], time_limit=o["time_limit"])
+                                  resolution=o["resolution"], max_steps=o["max_steps"], time_limit=o["time_limit"])
     out = o["out"]
-    if out is not None and out.exists() and not out.is_dir():
-        raise FingerpadError(f"--out {str(out)!r} exists and is not a directory")
+    if out is not None:
+        from ..io import OutputFolder
+
+        OutputFolder.check(out, _FILES)  # before the work: a bad --out costs nothing
 
     def progress(msg: str) -> None:
         print(f"  {msg}", file=sys.stderr, flush=True)
 
-    curves = []
-    for d in dirs:
-        print(f"direction {d:g} deg", file=sys.stderr, flush=True)
-        curves.append(directional_gain(geometry, mats, d, (lo, hi), tau0=tau0, alpha=o["alpha"], settings=settings,
-                                       cache=not o["no_cache"], progress=progress))
-    typer.echo(_table(curves))
+    result = run_deflection(str(o["texture"]), params, mats, dirs, (lo, hi), tau0=tau0, alpha=o["alpha"],
+                            settings=settings, cache=not o["no_cache"], progress=progress)
+    typer.echo("\n".join(result.lines()))
+    if result.incomplete:
+        typer.echo("warning: INCOMPLETE: the --time-limit safety stop cut a ramp; not cached, not a result",
+                   err=True)
     if out is None:
         return
-    from ..io import Staging, write_text
+    from ..io import OutputFolder, write_text
     from ..plotting.deflection import deflection_figure
 
-    out.mkdir(parents=True, exist_ok=True)
-    doc = {"texture": kind, "geometry": {k: getattr(geometry, k) for k in geometry.__dataclass_fields__},
-           "materials": mats.as_dict(), "tau0": tau0, "alpha": o["alpha"],
-           "settings": {k: getattr(settings, k) for k in settings.__dataclass_fields__},
-           "units": "SI (m, Pa, N/m per unit depth); directions in degrees",
-           "directions": [c.as_dict() for c in curves]}
-    text = json.dumps(doc, indent=1, default=lambda v: None if isinstance(v, float) and not math.isfinite(v) else str(v))
-    staging = Staging()
-    try:
-        staging.stage(str(out / "deflection.json"), lambda tmp: write_text(tmp, text))
-        staging.stage(str(out / "deflection.nc"), lambda tmp: as_dataset(curves).to_netcdf(tmp, engine="h5netcdf"))
-        staging.stage(str(out / "deflection.png"), lambda tmp: deflection_figure(curves, tmp))
-        staging.commit()
-    except OSError as exc:
-        raise FingerpadError(f"cannot write to {str(out)!r}: {exc.strerror or exc}") from None
-    finally:
-        staging.discard()
+    text = json.dumps(_finite(result.document()), indent=1, default=str, allow_nan=False)
+    with OutputFolder(out, _FILES) as folder:  # replaced as a whole; errors name the user's path
+        folder.write("deflection.json", lambda tmp: write_text(tmp, text))
+        folder.write("deflection.nc", lambda tmp: result.dataset().to_netcdf(tmp, engine="h5netcdf"))
+        folder.write("deflection.png", lambda tmp: deflection_figure(result.curves, tmp))
+        folder.commit()
     typer.echo(f"wrote {out / 'deflection.json'}, {out / 'deflection.nc'}, {out / 'deflection.png'}")
+
+
+#: The files of ``--out`` (a folder holding only these, or written by fingerpad, is replaced).
+_FILES = ("deflection.json", "deflection.nc", "deflection.png")
+
+
+def _finite(value: Any) -> Any:
+    """NaN and infinities as JSON null (NaN is not JSON)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    return value
 
 
 def register(app: typer.Typer) -> None:

@@ -38,6 +38,7 @@ def design_map_command(
     """
     from .. import io as fio
     from .. import netcdf
+    from ..encode import flatten_attrs
     from ..design.designmap import map_data
     from ..design.store import open_sweep
     from ..plotting.designmap import figure_design_map
@@ -57,15 +58,12 @@ def design_map_command(
             ds = open_sweep(store).load()
             data = map_data(ds, x, y, at=at_v, select=sel, quantity=quantity)
             fig = figure_design_map(data)
-        folder = fio.OutputFolder(out, MAP_FILES)
-        try:
+        with fio.OutputFolder(out, MAP_FILES) as folder:  # errors name the user's path
             fig.savefig(folder.path("design_map.png"), format="png", dpi=120)
             fig.savefig(folder.path("design_map.svg"), format="svg")
-            netcdf.to_netcdf(data.assign_attrs(fio.flatten_attrs(data.attrs)), folder.path("design_map.nc"))
+            netcdf.to_netcdf(data.assign_attrs(flatten_attrs(data.attrs)), folder.path("design_map.nc"))
             data.to_dataframe().reset_index().to_csv(folder.path("design_map.csv"), index=False)
             folder.commit()
-        finally:
-            folder.discard()
         say(err, "wrote " + ", ".join(str(folder.final_path(n)) for n in MAP_FILES))
 
 
@@ -98,100 +96,36 @@ def design_command(
 ) -> None:
     """Find textures of a family, within bounds, that give a wanted friction (inverse design).
 
-    Every number reported for a candidate comes from a direct prediction of that texture.
-    Example: fingerpad design study.toml --vary spacing=100um:400um --vary height=5um:40um
+    Every number reported for a candidate comes from a direct prediction of that texture;
+    candidates closer than the optimiser's tolerance are one design and listed once.
+    Example: fingerpad design examples/study.toml --vary spacing=100um:400um --vary height=5um:40um
     --target mu_rel=0.5@1N --min-feature 20um
     """
     import json
     import sys
 
-    from ..design.axes import resolve_axis
-    from ..design.inverse import DesignProblem, parse_target, predict_candidate, rank_sweep, search
-    from ..design.spec import DEFAULT_SWEEP_LOADS
-    from ..io import check_writable, to_jsonable, write_text
-    from ..study.spec import read_study_file, study_from_dict
-    from ..units import parse_int, parse_positive, parse_quantity, parse_range
+    from ..design.proposal import design_textures
+    from ..io import check_writable, write_text
+    from .common import ProgressBar
 
     with user_errors():
         err = stderr_console()
         if json_path not in (None, "-"):
             check_writable(json_path, "--json", (".json",))
-        data = read_study_file(study, extra_sections=("sweep",))
-        data.pop("sweep", None)
-        with warnings_to(err):
-            study_from_dict(data)  # the base must be a valid study
-        family = data.get("texture", {}).get("name")
-        axes = []
-        for item in vary:
-            if "=" not in item:
-                raise FingerpadError(f"--vary: expected NAME=LOW:HIGH, got {item!r}")
-            name, bounds = (t.strip() for t in item.split("=", 1))
-            axis = resolve_axis(name, family)
-            if not axis.numeric:
-                raise FingerpadError(f"--vary {name}: only numeric parameters can be optimised")
-            parts = bounds.split(":")
-            if len(parts) != 2:
-                raise FingerpadError(f"--vary {item!r}: expected LOW:HIGH bounds")
-            lo, hi = (axis.parse(p, f"--vary {name}") for p in parts)
-            if not hi > lo:
-                raise FingerpadError(f"--vary {item!r}: the bounds must satisfy LOW < HIGH")
-            axes.append(type(axis)(**{**axis.__dict__, "values": (lo, hi), "log": lo > 0}))
-        if not axes:
-            raise FingerpadError("give at least one --vary NAME=LOW:HIGH")
-        targets = [parse_target(t) for t in target]
-        problem = DesignProblem(
-            base=data, axes=axes, targets=targets,
-            min_critical_load=parse_positive(min_critical_load, "force", name="--min-critical-load")
-            if min_critical_load is not None else None,
-            min_feature=parse_positive(min_feature, "length", name="--min-feature") if min_feature is not None else None,
-            max_aspect=parse_quantity(max_aspect, "none", name="--max-aspect") if max_aspect is not None else None,
-            tolerance=parse_quantity(tolerance, "none", name="--tolerance"),
-        )
-        n_cand = parse_int(candidates, "--candidates")
-        curve_loads = parse_range(DEFAULT_SWEEP_LOADS, "force", log=True)
-        from .common import ProgressBar
-
         with warnings_to(err), ProgressBar(err, "direct predictions") as bar:
-            if from_sweep is not None:
-                from ..design.store import open_sweep
-
-                ds = open_sweep(from_sweep).load()
-                missing = [a.name for a in axes if a.name not in ds.variables]
-                if missing:
-                    raise FingerpadError(f"--from-sweep: the sweep has no axis {', '.join(missing)}")
-                ranked = rank_sweep(ds, targets, problem.min_critical_load)[: max(3 * n_cand, n_cand)]
-                found = []
-                for i, row in enumerate(ranked):
-                    params = {a.name: row["params"][a.name] for a in axes}
-                    if all(a.values[0] <= params[a.name] <= a.values[1] for a in axes):
-                        found.append(predict_candidate(problem, params))
-                    bar(i + 1, len(ranked))
-                found.sort(key=lambda c: c.objective)
-            else:
-                found = search(problem, max_evaluations=parse_int(evaluations, "--evaluations"), progress=bar)
-            best = found[:n_cand]
-            # the reported candidates, predicted once more over the exploration loads (their curves)
-            best = [predict_candidate(problem, c.params, curve_loads=curve_loads) for c in best]
-    best.sort(key=lambda c: c.objective)
-    payload = to_jsonable({
-        "targets": [str(t) for t in targets], "axes": {a.name: list(a.values) for a in axes},
-        "min_critical_load": problem.min_critical_load, "min_feature": problem.min_feature,
-        "max_aspect": problem.max_aspect, "tolerance": problem.tolerance,
-        "source": "sweep " + str(from_sweep) if from_sweep else "optimisation (BEM in the loop)",
-        "met": any(c.meets for c in best), "candidates": [c.as_dict() for c in best],
-        "units": {"params": "SI (m, Pa, rad)", "critical_load": "N", "feature": "m", "curve.load": "N"},
-    })
+            result = design_textures(study, vary, target, min_critical_load=min_critical_load,
+                                     min_feature=min_feature, max_aspect=max_aspect, tolerance=tolerance,
+                                     from_sweep=from_sweep, candidates=candidates, evaluations=evaluations,
+                                     progress=bar)
     if json_path == "-":
-        sys.stdout.write(json.dumps(payload, indent=2) + "\n")
+        sys.stdout.write(json.dumps(result.document(), indent=2) + "\n")
     else:
         if json_path is not None:
-            write_text(json_path, json.dumps(payload, indent=2) + "\n")
-        _print_candidates(best, axes, targets)
-    if not best or not best[0].meets:
-        closest = best[0] if best else None
-        what = ", ".join(f"{k} = {v:.3g}" for k, v in closest.values.items()) if closest else "nothing valid"
-        say(err, f"no texture in the box meets the target within {100 * problem.tolerance:g} %; the closest: {what}"
-                 + (f" ({'; '.join(closest.violations)})" if closest and closest.violations else ""))
+            write_text(json_path, json.dumps(result.document(), indent=2) + "\n")
+        _print_candidates(result.candidates, result.problem.axes, result.problem.targets)
+    shortfall = result.shortfall()
+    if shortfall:
+        say(err, shortfall)
 
 
 def _print_candidates(best: list, axes: list, targets: list) -> None:

@@ -82,9 +82,14 @@ def finger_models(
         values = parse_range(loads, "force", name="--loads", log=True)
         if min(values) <= 0:
             raise FingerpadError("--loads: loads must be positive")
+        from ..io import check_output_location, check_writable
+
+        check_output_location(out, "--out", replaces=False)  # only adds ridge_models.png: '.' is fine
         out_dir = Path(out)
         if out_dir.exists() and not out_dir.is_dir():
             raise FingerpadError(f"--out {out!r} exists and is not a directory")
+        if out_dir.is_dir():
+            check_writable(out_dir / "ridge_models.png", "--out")
         inputs: dict[str, object] = {}
         if finger is not None:
             from ..finger import get_finger

@@ -59,11 +59,14 @@ def _number(text: str, name: str, *, low: float | None = None, high: float | Non
     return value
 
 
-def _choice(text: str, name: str, choices: tuple[str, ...]) -> str:
-    value = str(text).strip().lower()
-    if value not in choices:
-        raise FingerpadError(f"{name}: expected one of {', '.join(choices)}, got {text!r}")
-    return value
+def _integer(text: str, name: str) -> int:
+    """An integer, any value: its range is the options class's to decide."""
+    return parse_int(text, name, minimum=-sys.maxsize)
+
+
+def _word(text: str) -> str:
+    """A choice as typed, case and spaces aside: the options class checks it."""
+    return str(text).strip().lower()
 
 
 def _load_range(text: str) -> tuple[float, float]:
@@ -161,8 +164,11 @@ def analyse_command(
     with _user_errors(), _measurement_warnings() as shown:
         from .. import measure as m
         from ..finger import get_finger
+        from ..io import OutputFolder
         from ..measure.report import write_report
 
+        # Before anything is read or fitted; never a folder holding the recordings it reads.
+        OutputFolder.check(out, inputs=[*data, *([spec] if spec else []), *([samples] if samples else [])])
         if decimal is not None and decimal not in (".", ","):
             raise FingerpadError(f"--decimal: expected '.' or ',', got {decimal!r}")
         if delimiter is not None and delimiter.lower() in ("tab", "\\t"):
@@ -180,30 +186,27 @@ def analyse_command(
             delimiter=delimiter,
             decimal=decimal,
         )
+        # the CLI only parses: every range and choice is decided by the options classes
         stroke_opts = m.StrokeOptions(
-            trim=_number(trim, "--trim", low=0.0, high=0.45),
-            direction_source=_choice(direction_source, "--direction-source",
-                                     ("auto", "velocity", "position", "friction")),  # type: ignore[arg-type]
-            min_strokes=parse_int(min_strokes, "--min-strokes"),
+            trim=_number(trim, "--trim"),
+            direction_source=_word(direction_source),  # type: ignore[arg-type]
+            min_strokes=_integer(min_strokes, "--min-strokes"),
             min_travel=parse_quantity(min_travel, "length", name="--min-travel"),
             min_load=parse_quantity(min_load, "force", name="--min-load"),
         )
-        if stroke_opts.min_travel < 0 or stroke_opts.min_load < 0:
-            raise FingerpadError("--min-travel and --min-load must not be negative")
         options = m.AnalysisOptions(
             reference=reference,
             strokes=stroke_opts,
-            outlier_z=_number(outlier_z, "--outlier-z", low=0.5),
-            n_bins=parse_int(bins, "--bins"),
-            breakpoint_space=_choice(breakpoint_space, "--breakpoint-space", ("log", "linear")),  # type: ignore[arg-type]
-            breakpoint_method=_choice(breakpoint_method, "--breakpoint-method",
-                                      ("profile", "bootstrap")),  # type: ignore[arg-type]
-            breakpoint_trend=_choice(trend, "--trend", ("steeper", "flatter", "any")),  # type: ignore[arg-type]
-            level=_number(level, "--level", low=0.5, high=0.999),
-            seed=parse_int(seed, "--seed", minimum=0),
+            outlier_z=_number(outlier_z, "--outlier-z"),
+            n_bins=_integer(bins, "--bins"),
+            breakpoint_space=_word(breakpoint_space),  # type: ignore[arg-type]
+            breakpoint_method=_word(breakpoint_method),  # type: ignore[arg-type]
+            breakpoint_trend=_word(trend),  # type: ignore[arg-type]
+            level=_number(level, "--level"),
+            seed=_integer(seed, "--seed"),
             finger=get_finger(finger),
             fit_scale=fit_scale,
-            n_null=parse_int(n_null, "--n-null", minimum=19),
+            n_null=_integer(n_null, "--n-null"),
             sensitivity=not no_sensitivity,
         )
         table = Path(samples) if samples else _find_samples_table(data)
@@ -241,6 +244,19 @@ def _measurement_warnings() -> Iterator[list[str]]:
             sys.stderr.flush()
 
 
+def _fit_widths(natural: list[int], minimum: list[int], budget: int) -> list[int]:
+    """Column widths (characters) within ``budget``: each column's natural width, the widest
+    narrowed first, never below its ``minimum`` (its longest word: a number is never cut)."""
+    widths = list(natural)
+    while sum(widths) > budget:
+        slack = [w - lo for w, lo in zip(widths, minimum)]
+        j = max(range(len(widths)), key=lambda i: (slack[i] > 0, widths[i]))
+        if slack[j] <= 0:
+            break  # a terminal narrower than the longest words: Rich folds the rest
+        widths[j] -= 1
+    return widths
+
+
 def _print_summary(result: Any, written: list[Path], out: Path, shown: list[str] | None = None) -> None:
     from rich.table import Table
 
@@ -252,25 +268,38 @@ def _print_summary(result: Any, written: list[Path], out: Path, shown: list[str]
                   f"{s['file'].nunique()} files, {len(s)} strokes ({int(s['outlier'].sum())} outliers)")
     parts = result.participants
     if "skin_modulus" in parts:
-        table = Table(title="skin micro-modulus E_s per participant")
-        for col in ("participant", "reference k", "reference n", "E_s (MPa)", f"{100 * result.options.level:.0f} % set",
-                    "model", "other model", "friction params"):
-            table.add_column(col)
+        # compact, so that it fits an 80-column terminal: the unit once in the title, no
+        # borders, and no number ever cut or folded (a column is at least as wide as its
+        # longest word; cells wrap only at spaces, "not determined", "0.1-0.2 or 0.5-0.7")
+        header = ("participant", "ref. k", "ref. n", "E_s", f"{100 * result.options.level:.0f} % set", "model",
+                  "other model", "friction params")
+        cells = []
         for row in parts.to_dict("records"):
             e = row.get("skin_modulus", math.nan)
             ok = isinstance(e, float) and math.isfinite(e)
             determined = bool(row.get("skin_modulus_determined", True))
             other = row.get("skin_modulus_other", math.nan)
             lo, hi = row.get("skin_modulus_sens_low", math.nan), row.get("skin_modulus_sens_high", math.nan)
-            table.add_row(
-                row["participant"], f"{row['ref_k']:.3g}", f"{row['ref_n']:.3g}",
+            interval = str(row.get("skin_modulus_interval") or "-").removesuffix(" MPa")
+            cells.append((
+                str(row["participant"]), f"{row['ref_k']:.3g}", f"{row['ref_n']:.3g}",
                 (f"{e / 1e6:.3g}" if determined else f"not determined ({e / 1e6:.3g})") if ok else "-",
-                str(row.get("skin_modulus_interval") or "-") if ok else "-",
+                interval if ok else "-",
                 str(row.get("skin_modulus_model") or "") if ok else "",
-                f"{other / 1e6:.3g} ({row.get('skin_modulus_other_model')})"
+                f"{other / 1e6:.3g} {row.get('skin_modulus_other_model')}"
                 if isinstance(other, float) and math.isfinite(other) else "",
                 f"{lo / 1e6:.3g}-{hi / 1e6:.3g}" if isinstance(lo, float) and math.isfinite(lo) else "",
-            )
+            ))
+        table = Table(title="skin micro-modulus E_s per participant (MPa)", box=None, pad_edge=False,
+                      title_justify="left", header_style="bold underline")
+        columns = [[name] + [c[j] for c in cells] for j, name in enumerate(header)]
+        widths = _fit_widths([max(map(len, col)) for col in columns],
+                             [max((len(w) for text in col for w in text.split()), default=1) for col in columns],
+                             console.width - 2 * (len(header) - 1))
+        for name, width in zip(header, widths):
+            table.add_column(name, width=width, overflow="fold")
+        for c in cells:
+            table.add_row(*c)
         console.print(table)
     for row in result.conditions.to_dict("records"):
         text = row.get("transition")
@@ -314,7 +343,9 @@ def simulate_command(
     """
     with _user_errors():
         from .. import measure as m
+        from ..io import OutputFolder
 
+        OutputFolder.check(out)  # before anything is simulated
         parts = skin_modulus.split(":")
         if len(parts) != 2:
             raise FingerpadError(f"--skin-modulus: expected LOW:HIGH, got {skin_modulus!r}")

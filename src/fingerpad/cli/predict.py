@@ -217,7 +217,7 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
     """
     import warnings
 
-    from ..io import to_jsonable
+    from ..encode import to_jsonable
     from ..study.outputs import FOLDER_FILES, check_outputs, prediction_json, write_outputs
     from ..study.run import run_study
 

@@ -127,7 +127,12 @@ def solve(
         raise typer.Exit(code)
 
 
-def _print_table(results: Sequence[Any], texture: Any) -> None:
+def resolved(value: float, resolution: float) -> float:
+    """``value``, or 0 when it lies below ``resolution`` (round-off is not shown as a value)."""
+    return 0.0 if abs(value) <= resolution else value
+
+
+def _print_table(results: Sequence[Any], texture: Any, tol: float = 0.0) -> None:
     from rich import box
     from rich.table import Table
 
@@ -145,13 +150,16 @@ def _print_table(results: Sequence[Any], texture: Any) -> None:
                else ("mean p", "psi", "state", "iter", "conv"))
     for col in columns:
         table.add_column(col, justify="left" if col == "state" else "right", no_wrap=True)
+    # The gap is solved to the relative tolerance of the heights' range: below that it is round-off
+    # (a full contact's mean gap of -2e-23 m is 0).
+    gap_resolution = tol * float(getattr(texture, "peak_to_valley", 0.0))
     for r in results:
         cells = {
             "mean p": format_quantity(r.mean_pressure, "pressure", 3),
             "psi": f"{r.contact_fraction:.4f}",
             "A_re (m²)": f"{r.real_contact_area:.3e}",
             "max p": format_quantity(r.max_pressure, "pressure", 3),
-            "mean gap": format_quantity(r.mean_gap, "length", 3),
+            "mean gap": format_quantity(resolved(r.mean_gap, gap_resolution), "length", 3),
             "state": str(r.contact_state),
             "iter": str(r.iterations),
             "conv": "yes" if r.converged else "NO",
@@ -188,7 +196,7 @@ def run_job(job: Any) -> int:
         sys.stdout.write(json.dumps(outcome.payload, indent=2) + "\n")
         sys.stdout.flush()
     elif job.show_table:
-        _print_table(results, job.texture)
+        _print_table(results, job.texture, job.tol)
         if critical is not None:
             print(f"critical (transition) pressure: {format_quantity(critical.estimate, 'pressure')} "
                   f"(bracket {format_quantity(critical.lower, 'pressure')} - {format_quantity(critical.upper, 'pressure')}, "

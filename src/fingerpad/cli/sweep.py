@@ -2,19 +2,20 @@
 
 from __future__ import annotations
 
-import math
 from typing import Annotated, Any
 
 import typer
 
-from .common import say, stderr_console, user_errors, warnings_to
+from .common import EXIT_INTERRUPTED, report_interrupt, say, stderr_console, user_errors, warnings_to
 
 _HELP = {
     "--out": "Zarr store of the results (default: the study file's name with .zarr). Rerunning the same sweep "
              "into it computes only the points not done.",
     "--workers": "Worker processes of the local Dask cluster (default: one per core), one thread each.",
     "--scheduler": "Address of an existing Dask scheduler (tcp://HOST:PORT) instead of a local cluster.",
-    "--overwrite": "Replace a store that holds another sweep.",
+    "--overwrite": "Replace a sweep store that holds another sweep (anything else at --out is never replaced).",
+    "--repair": "Mend a damaged store of this sweep: its unreadable chunks are computed again and its "
+                "metadata rewritten (a damaged store is refused without it).",
 }
 
 
@@ -26,6 +27,7 @@ def sweep_command(
     scheduler: Annotated[str | None, typer.Option("--scheduler", metavar="tcp://HOST:PORT",
                                                   help=_HELP["--scheduler"])] = None,
     overwrite: Annotated[bool, typer.Option("--overwrite", help=_HELP["--overwrite"])] = False,
+    repair: Annotated[bool, typer.Option("--repair", help=_HELP["--repair"])] = False,
 ) -> None:
     """Sweep texture, material or finger values of a study on Dask; results in a Zarr store.
 
@@ -37,6 +39,8 @@ def sweep_command(
     from pathlib import Path
 
     from ..design.engine import eta, run_sweep
+    from ..design.store import check_store_path, points_done
+    from ..io import check_output_location
     from ..design.spec import read_sweep_file, sweep_from_dict
     from ..units import parse_int
 
@@ -48,10 +52,19 @@ def sweep_command(
         with warnings_to(err):
             spec = sweep_from_dict(read_sweep_file(study))
         store = out if out is not None else str(Path(study).with_suffix(".zarr"))
+        where = str(check_output_location(store, "--out"))  # before any work; a link is written through
+        check_store_path(store, spec, overwrite)  # only a sweep store is ever replaced
         bar = _Progress(err, spec.size,
                         f"sweep: {spec.size} points ({spec.design}: {', '.join(a.name for a in spec.axes)}) into {store}")
         try:
-            report = run_sweep(spec, store, workers=n, scheduler=scheduler, overwrite=overwrite, progress=bar)
+            report = run_sweep(spec, where, workers=n, scheduler=scheduler, overwrite=overwrite, repair=repair,
+                               progress=bar, notice=bar.notice)
+        except KeyboardInterrupt:
+            bar.close()
+            done = points_done(where)
+            report_interrupt(None if done is None else
+                             f"{done} of {spec.size} points kept in {store} (rerun the same command to finish)")
+            raise typer.Exit(EXIT_INTERRUPTED) from None
         finally:
             bar.close()
         _summary(err, report, store, eta)
@@ -76,11 +89,16 @@ class _Progress:
         self.task = self.bar.add_task("sweep", total=total, info="")
         self.headline = headline
         self.started = False
+        self.started_headline = False
         self.announced = False
 
     def __call__(self, report: Any) -> None:
         if not self.started:
-            self.bar.console.print(self.headline, markup=False)
+            if not self.started_headline:
+                self.bar.console.print(self.headline, markup=False)
+            if report.damage:
+                self.bar.console.print(f"repairing ({report.damage}): {report.repaired} points computed again",
+                                       markup=False)
             if report.done_before:
                 self.bar.console.print(f"resuming: {report.done_before} points done before", markup=False)
             self.bar.start()
@@ -92,17 +110,30 @@ class _Progress:
                 f"{report.invalid} invalid, {len(report.failures)} failed")
         self.bar.update(self.task, completed=report.done_before + report.computed, info=info)
 
+    def notice(self, message: str) -> None:
+        """A line while the sweep waits (no worker yet on the scheduler)."""
+        if not self.started and not self.started_headline:
+            self.bar.console.print(self.headline, markup=False)
+            self.started_headline = True
+        self.bar.console.print(message, markup=False)
+
     def close(self) -> None:
         if self.started:
             self.bar.stop()
 
 
 def _summary(err: Any, report: Any, store: str, eta: Any) -> None:
+    if report.damage and not report.computed:
+        say(err, f"repaired: {report.damage}")
+    if report.done_before == report.points and not report.computed:
+        say(err, f"sweep: all {report.points} points of {store} were done before: nothing to compute "
+                 f"(fingerpad design-map {store} --x AXIS --y AXIS)")
+        return
     minutes = report.seconds / 60
-    rate = report.computed / minutes if minutes > 0 and report.computed else math.nan
+    rate = f"{report.computed / minutes:.3g} points/min, " if minutes > 0 and report.computed else ""
     lines = [
         f"sweep: {report.points} points, {report.done_before} done before, {report.computed} computed now "
-        f"in {report.seconds:.1f} s ({rate:.3g} points/min, {report.workers} workers)",
+        f"in {report.seconds:.1f} s ({rate}{report.workers} workers)",
         f"cells: {report.cells} distinct, {report.cells_solved} solved, {report.cache_hits} from the cache",
         f"points: {report.invalid} invalid (stored with their reason), {report.unconverged} with unconverged cells",
     ]

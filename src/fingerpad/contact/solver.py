@@ -1,6 +1,6 @@
 """Frictionless, non-adhesive normal contact of an elastic half-space (the skin) with a texture.
 
-The skin is an ideal flat elastic half-space of reduced modulus E* (MODEL.md Eq. 3.4); the
+The skin is an ideal flat elastic half-space of reduced modulus E* (docs/model.md Eq. 3.4); the
 texture is a rigid height map ``h`` (its own compliance is folded into E*). With the skin's
 rest plane at ``h_max - d`` (``d`` the approach, measured from first touch), the gap is
 
@@ -145,7 +145,7 @@ class HalfSpaceSolver:
     texture
         The counter-surface height map (periodic unit cell or finite patch).
     modulus
-        Reduced modulus E* (Pa), MODEL.md Eq. 3.4.
+        Reduced modulus E* (Pa), docs/model.md Eq. 3.4.
     tol
         Relative KKT residual at which a solve stops (see module docstring).
     max_iter

@@ -25,10 +25,9 @@ import numpy as np
 
 from ..errors import FingerpadError
 
-__all__ = ["CRITICAL_CONTOURS", "MARKERS", "REGIONS", "map_data", "swept_axes"]
+__all__ = ["MARKERS", "REGIONS", "map_data", "swept_axes"]
 
-#: Contour levels of the critical load, N.
-CRITICAL_CONTOURS = (0.1, 0.5, 1.0, 2.0, 4.0)
+#: The contact-state regions (the ``region`` variable's ``flag_meanings``, in this order).
 REGIONS = {0: "transition below the range", 1: "transition inside the range", 2: "asperity contact over the range"}
 #: Literature markers: (axis-name fragment, value in m, label); bands as (fragment, low, high, label).
 MARKERS = {
@@ -54,7 +53,8 @@ COLOUR_QUANTITIES = {"mu_rel": "μ/μ_ref", "mu_perp_over_par": "μ⊥/μ∥", "
 def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[str, Any] | None = None,
              quantity: str = "mu_rel") -> Any:
     """The data behind a design map: ``critical_load`` (N), ``mu_rel`` (at load ``at``) and
-    ``region`` (see the module docstring) on the axes ``x`` and ``y``.
+    ``region`` (see the module docstring) on the axes ``x`` and ``y``, with the literature
+    markers (:data:`MARKERS`, JSON) in the attribute ``markers``.
 
     Parameters
     ----------
@@ -154,5 +154,7 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
     out.attrs = {"x": x, "y": y, "x_log": ds[x].attrs.get("log") == "true", "y_log": ds[y].attrs.get("log") == "true",
                  "at": float(at), "load_min": lo, "load_max": hi, "design": design,
                  "x_kind": ds[x].attrs.get("kind", ""), "y_kind": ds[y].attrs.get("kind", ""),
-                 "quantity": quantity, "quantity_label": COLOUR_QUANTITIES[quantity]}
+                 "quantity": quantity, "quantity_label": COLOUR_QUANTITIES[quantity],
+                 # the literature markers travel with the data (plotting draws them, knows none)
+                 "markers": json.dumps(MARKERS)}
     return out

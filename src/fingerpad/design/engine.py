@@ -24,15 +24,19 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FingerpadError
+from ..errors import FingerpadError, one_line
 from .evaluate import cell_key, evaluate_chunk, prepare_cell
 from .spec import SweepSpec
 from .store import SweepStore, chunk_slices, pressure_grid
 
-__all__ = ["SweepReport", "connect", "run_sweep", "sweep_pressures"]
+__all__ = ["SweepReport", "check_address", "connect", "probe_scheduler", "run_sweep", "sweep_pressures"]
 
 #: Seconds to wait for an existing scheduler before giving up.
 CONNECT_TIMEOUT = 5.0
+#: Seconds without a worker on an existing scheduler before the sweep says it is waiting, and
+#: between the reminders after that.
+NO_WORKER_NOTICE = 5.0
+NO_WORKER_REPEAT = 60.0
 
 
 @dataclass
@@ -52,6 +56,9 @@ class SweepReport:
     seconds: float = 0.0
     dashboard: str | None = None
     workers: int = 0
+    #: Points of damaged chunks marked for recomputing, and what was damaged (``repair``).
+    repaired: int = 0
+    damage: str = ""
 
 
 def sweep_pressures(spec: SweepSpec) -> np.ndarray:
@@ -65,30 +72,118 @@ def sweep_pressures(spec: SweepSpec) -> np.ndarray:
     return pressure_grid(P_LOW * float(p.min()), P_HIGH * float(p.max()))
 
 
+def check_address(scheduler: str) -> str:
+    """``scheduler`` as a Dask address (``tcp://HOST:PORT``, or ``HOST:PORT`` for tcp).
+
+    Raises
+    ------
+    FingerpadError
+        An address without a port, with an unknown scheme or a port out of range.
+    """
+    from distributed.comm.addressing import parse_address, parse_host_port
+    from distributed.comm.registry import get_backend
+
+    text = str(scheduler).strip()
+    try:
+        scheme, location = parse_address(text)
+        get_backend(scheme)
+        _, port = parse_host_port(location)
+    except (ValueError, TypeError) as exc:
+        raise FingerpadError(f"--scheduler {scheduler!r}: {exc} (expected tcp://HOST:PORT)") from None
+    if not 0 < int(port) < 65536:
+        raise FingerpadError(f"--scheduler {scheduler!r}: port {port} is out of range (1-65535)")
+    return text if "://" in text else f"tcp://{text}"
+
+
+async def _identity(address: str) -> Any:
+    """Connect to ``address`` and ask its identity (the scheduler must answer, not just accept)."""
+    from distributed.comm import connect as comm_connect
+    from distributed.security import Security
+
+    # the client's connection settings from the Dask configuration (TLS certificates, if any),
+    # as the Client itself would use them
+    args = Security().get_connection_args("client")
+    comm = await comm_connect(address, timeout=CONNECT_TIMEOUT, **args)
+    try:
+        await comm.write({"op": "identity"})
+        return await comm.read()
+    finally:
+        comm.abort()
+
+
+def probe_scheduler(address: str, timeout: float = CONNECT_TIMEOUT) -> dict[str, Any]:
+    """The identity of the Dask scheduler at ``address``, within ``timeout`` seconds overall.
+
+    A peer that accepts the connection but never answers (not a scheduler, a stalled one) would
+    hold the Client's handshake until it closes (minutes): the bound here covers the whole
+    exchange, connection, handshake and answer.
+
+    Raises
+    ------
+    FingerpadError
+        Nothing answers as a scheduler within ``timeout`` s.
+    """
+    import asyncio
+
+    try:
+        answer = asyncio.run(asyncio.wait_for(_identity(address), timeout))
+    except (OSError, TimeoutError, asyncio.TimeoutError) as exc:
+        why = "no answer" if isinstance(exc, (TimeoutError, asyncio.TimeoutError)) and not str(exc) else \
+            type(exc).__name__
+        raise FingerpadError(f"--scheduler {address}: no Dask scheduler answers there within {timeout:g} s "
+                             f"({why})") from None
+    except Exception as exc:  # noqa: BLE001 - a peer speaking another protocol, TLS not configured
+        raise FingerpadError(f"--scheduler {address}: cannot talk to a Dask scheduler there "
+                             f"({type(exc).__name__}: {one_line(str(exc))})") from None
+    if not isinstance(answer, dict) or answer.get("type") != "Scheduler":
+        raise FingerpadError(f"--scheduler {address}: answers, but not as a Dask scheduler")
+    return answer
+
+
 def connect(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
     """A Dask client: to ``scheduler`` (answering within :data:`CONNECT_TIMEOUT` s), or to a new
-    LocalCluster of ``workers`` single-threaded processes on 127.0.0.1 (default: one per core)."""
+    LocalCluster of ``workers`` single-threaded processes on 127.0.0.1 (default: one per core).
+
+    The address is checked and the scheduler asked for its identity before a Client exists: a
+    Client that fails while connecting cannot be closed by its caller and prints a traceback
+    when it is collected, seconds after the error.
+    """
     from distributed import Client, LocalCluster
 
     if scheduler is not None:
+        address = check_address(scheduler)
+        probe_scheduler(address)
+        client = Client.__new__(Client)
         try:
-            client = Client(scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)
-        except (OSError, TimeoutError) as exc:
-            raise FingerpadError(f"--scheduler {scheduler}: no Dask scheduler answers there within "
-                                 f"{CONNECT_TIMEOUT:g} s ({type(exc).__name__})") from None
-        except ValueError as exc:
-            raise FingerpadError(f"--scheduler {scheduler!r}: {exc}") from None
+            client.__init__(address, timeout=CONNECT_TIMEOUT, set_as_default=False)
+        except Exception as exc:  # noqa: BLE001 - it went away between the probe and the Client
+            _close_quietly(client)
+            raise FingerpadError(f"--scheduler {address}: the Dask scheduler stopped answering "
+                                 f"({type(exc).__name__})") from None
         return client, None
     n = workers or os.cpu_count() or 1
-    try:
-        import bokeh  # noqa: F401 - the dashboard needs it
+    import importlib.util
 
-        dashboard: str | None = "127.0.0.1:0"
-    except ImportError:
-        dashboard = None
+    # Dask's dashboard is drawn with Bokeh: ask for it only where Bokeh is installed (looked up,
+    # not imported: Bokeh belongs to the explorer's layer).
+    dashboard: str | None = "127.0.0.1:0" if importlib.util.find_spec("bokeh") is not None else None
     cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
                            dashboard_address=dashboard, silence_logs=50)
-    return Client(cluster, set_as_default=False), cluster
+    try:
+        return Client(cluster, set_as_default=False), cluster
+    except BaseException:
+        cluster.close()
+        raise
+
+
+def _close_quietly(client: Any) -> None:
+    """Close a Client whose constructor failed, so that its ``__del__`` has nothing left to do."""
+    import contextlib
+
+    with contextlib.suppress(Exception):
+        client.close(timeout=2)
+    with contextlib.suppress(Exception):
+        client.status = "closed"
 
 
 def run_sweep(
@@ -98,15 +193,23 @@ def run_sweep(
     workers: int | None = None,
     scheduler: str | None = None,
     overwrite: bool = False,
+    repair: bool = False,
     progress: Callable[[SweepReport], None] | None = None,
+    notice: Callable[[str], None] | None = None,
 ) -> SweepReport:
     """Run the sweep into ``store_path`` (resuming it if it holds the same sweep).
+
+    A store of this sweep is checked first (every chunk read): a damaged one is refused unless
+    ``repair``, which recomputes the points of its damaged chunks and rewrites its metadata.
+    When every point is done already, no cluster is started. With an existing ``scheduler``
+    that has no worker yet, ``notice`` is told so after :data:`NO_WORKER_NOTICE` s, and again
+    every minute, while the sweep waits for one.
 
     Raises
     ------
     FingerpadError
-        A store of another sweep without ``overwrite``, a scheduler that does not answer, a bad
-        ``FINGERPAD_FFT`` setting.
+        A store of another sweep without ``overwrite``, a damaged store without ``repair``, a
+        scheduler that does not answer, a bad ``FINGERPAD_FFT`` setting.
     """
     from distributed import as_completed
 
@@ -116,12 +219,31 @@ def run_sweep(
     # SetupError, see evaluate_point): check it here, once, before any work (LocalCluster workers
     # inherit this environment; those of an existing scheduler have their own).
     Backend()
+    if scheduler is not None:
+        scheduler = check_address(scheduler)
     t_start = time.perf_counter()
     pressures = sweep_pressures(spec)
     store = SweepStore(store_path, spec, pressures)
     report = SweepReport(points=spec.size)
+    if store.check_existing(overwrite) == "resume":
+        # Checked before any cluster starts: a damaged store is said at once, and a finished
+        # sweep costs no cluster (9-16 s to start one on two cores, to do nothing).
+        damage = store.check()
+        if damage:
+            if not repair:
+                raise FingerpadError(damage.message())
+            report.repaired = store.repair(damage)
+            report.damage = damage.describe()
+        done = store.done()
+        if done.all():
+            report.done_before = int(done.size)
+            report.seconds = time.perf_counter() - t_start
+            return report
     client, cluster = connect(scheduler, workers)
     try:
+        if cluster is None:
+            _wait_for_a_worker(client, scheduler or "", notice)
+            t_start = time.perf_counter()  # the rate of the summary counts computing, not waiting
         store.create(overwrite=overwrite)
         done = store.done()
         report.done_before = int(done.sum())
@@ -180,11 +302,29 @@ def run_sweep(
             if progress is not None:
                 progress(report)
     finally:
-        client.close()
+        _close_quietly(client)
         if cluster is not None:
             cluster.close()
     report.seconds = time.perf_counter() - t_start
     return report
+
+
+def _wait_for_a_worker(client: Any, address: str, notice: Callable[[str], None] | None) -> None:
+    """Wait until the scheduler has a worker, saying so after :data:`NO_WORKER_NOTICE` s and then
+    every :data:`NO_WORKER_REPEAT` s: a sweep waiting for workers must not look like a hang."""
+    from dask.distributed import TimeoutError as DaskTimeout
+
+    waited, step = 0.0, NO_WORKER_NOTICE
+    while not client.scheduler_info().get("workers"):
+        try:
+            client.wait_for_workers(1, timeout=step)
+            return
+        except (DaskTimeout, TimeoutError):
+            waited += step
+        if notice is not None:
+            notice(f"no Dask worker has joined the scheduler at {address} after {waited:.0f} s; waiting for one "
+                   f"(start workers with `dask worker {address} --nthreads 1`; Ctrl-C stops)")
+        step = NO_WORKER_REPEAT
 
 
 def _limit_worker_threads() -> None:

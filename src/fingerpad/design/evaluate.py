@@ -23,6 +23,13 @@ from ..errors import FingerpadError, SetupError, one_line
 
 __all__ = ["STATE_CODES", "cell_key", "evaluate_chunk", "evaluate_point", "limit_threads", "prepare_cell"]
 
+#: Pixels the texture's smallest lateral feature must span for a point to be valid: below two
+#: (the sampling limit) the feature is not in the height map at all, and the cell solves a
+#: nearly flat surface (A_re/A_fr near 1 with a tiny error estimate) that is no result for it.
+#: ``predict`` warns from 8 pixels (textures.geometry.WARN_PIXELS); a sweep records the point
+#: as one that cannot be computed on its grid.
+MIN_FEATURE_PIXELS = 2.0
+
 #: Contact state at the pad centre, as stored.
 STATE_CODES = {"asperity": 0, "transition": 1, "full": 2}
 
@@ -106,6 +113,7 @@ def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: S
             data["loads"]["values"] = [float(f) for f in loads]
             data["loads"].pop("zones_at", None)
             study = _study(data)
+            _check_resolved(study)
             pred = run_study(study)
     except SetupError:
         raise  # the machine's settings, not this point: the chunk fails and a rerun retries it
@@ -138,6 +146,30 @@ def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: S
         out["solves"] = int(pred.resolution.get("solves", 0))
     out["seconds"] = time.perf_counter() - t0
     return out
+
+
+def _check_resolved(study: Any) -> None:
+    """Refuse a texture whose smallest feature spans fewer than :data:`MIN_FEATURE_PIXELS` pixels.
+
+    Raises
+    ------
+    FingerpadError
+        ``grid too small: ...``, naming the feature, its size, the pixel and the grid.
+    """
+    from ..textures import registry
+    from ..textures.geometry import fmt_length
+
+    tex = study.build_texture()
+    fam = registry().get(tex.family or "")
+    if fam is None or fam.features is None:
+        return
+    feature, _ = fam.features(tex)
+    nx, ny = tex.shape
+    pixel = max(tex.spacing)
+    if not feature >= MIN_FEATURE_PIXELS * pixel:
+        raise FingerpadError(f"grid too small: the texture's smallest feature ({fmt_length(feature)}) spans "
+                             f"{feature / pixel:.2g} pixels of {fmt_length(pixel)} on the {nx} x {ny} cell "
+                             f"(at least {MIN_FEATURE_PIXELS:g} needed): a finer grid, or a smaller cell")
 
 
 def evaluate_chunk(items: Sequence[tuple[tuple[int, ...], dict[str, Any]]], loads: Sequence[float],

@@ -113,9 +113,31 @@ class SweepSpec:
         return data
 
     def signature(self) -> str:
-        """Hash of everything that determines the results (a store of another sweep is refused)."""
-        payload = json.dumps({"base": self.base, "sweep": self.raw, "version": __version__}, sort_keys=True, default=repr)
+        """Hash of everything that determines the results (a store of another sweep is refused).
+
+        It depends on the study's content only: not on the path by which the study file was
+        named (relative, absolute, a copy elsewhere), nor on the cache folder; a measured surface
+        counts by the content of its file, not by its path.
+        """
+        base = {k: dict(v) for k, v in self.base.items() if k != "_source"}
+        base.get("model", {}).pop("cache", None)
+        surface = base.get("texture", {}).get("surface")
+        if isinstance(surface, str):
+            base["texture"]["surface"] = _file_digest(surface)
+        payload = json.dumps({"base": base, "sweep": self.raw, "version": __version__}, sort_keys=True, default=repr)
         return hashlib.sha256(payload.encode()).hexdigest()
+
+
+def _file_digest(path: str) -> str:
+    """``sha256:<hex>`` of a file's content, or the path itself when it cannot be read."""
+    try:
+        digest = hashlib.sha256()
+        with open(path, "rb") as fh:
+            for block in iter(lambda: fh.read(1 << 20), b""):
+                digest.update(block)
+        return "sha256:" + digest.hexdigest()
+    except OSError:
+        return path
 
 
 def read_sweep_file(path: str) -> dict[str, Any]:
@@ -125,7 +147,7 @@ def read_sweep_file(path: str) -> dict[str, Any]:
     data = read_study_file(path, extra_sections=("sweep",))
     if "sweep" not in data:
         raise FingerpadError(f"study file {Path(path).name!r} has no [sweep] table: nothing to sweep "
-                             "(see docs/howto/sweep-and-design.md)")
+                             "(see docs/sweeps.md)")
     return data
 
 

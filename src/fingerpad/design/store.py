@@ -19,6 +19,7 @@ import json
 import math
 import shutil
 import warnings
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -29,7 +30,8 @@ from ..errors import FingerpadError
 from .evaluate import STATE_CODES
 from .spec import SweepSpec
 
-__all__ = ["SweepStore", "chunk_slices", "open_sweep", "pressure_grid"]
+__all__ = ["StoreDamage", "SweepStore", "check_store", "check_store_path", "chunk_slices", "open_sweep",
+           "points_done", "pressure_grid"]
 
 _FLOAT_VARS = {
     "critical_load_bem": ("N", "load at which the pad centre reaches the transition (BEM cell)"),
@@ -122,7 +124,7 @@ class SweepStore:
             "axes": json.dumps([a.name for a in spec.axes]),
             "study": json.dumps({k: v for k, v in spec.base.items() if k != "_source"}, default=repr),
             "sweep": json.dumps(spec.raw, default=repr),
-            "study_file": str(spec.source or ""),
+            "study_file": str(Path(spec.source).resolve()) if spec.source else "",
             "chunk": spec.chunk,
             "units_system": "SI",
             "fingerpad_version": __version__,
@@ -140,27 +142,75 @@ class SweepStore:
         enc["psi"] = {"chunks": (*lead, self.pressures.size)}
         return enc
 
+    def check_existing(self, overwrite: bool = False) -> str:
+        """What is at the store's path: ``"new"`` (nothing), ``"resume"`` (this sweep) or
+        ``"replace"`` (an empty folder, or another sweep with ``overwrite``): see
+        :func:`check_store_path`, whose refusals it raises."""
+        state = check_store_path(self.path, self.spec, overwrite)
+        return "new" if state == "create" else state
+
     def create(self, overwrite: bool = False) -> None:
         """Lay the store out (or find it): a store of another sweep is refused unless ``overwrite``."""
+        if self.check_existing(overwrite) == "resume":
+            return  # the same sweep: resume
         if self.path.exists():
-            existing = _read_attrs(self.path)
-            if existing is None:
-                if any(self.path.iterdir()) if self.path.is_dir() else True:
-                    if not overwrite:
-                        raise FingerpadError(f"{self.path}: exists and is not a fingerpad sweep store "
-                                             "(give --overwrite to replace it, or another --out)")
-            elif existing.get("signature") == self.spec.signature():
-                return  # the same sweep: resume
-            elif not overwrite:
-                raise FingerpadError(f"{self.path}: holds another sweep (other study or [sweep] table); "
-                                     "give --overwrite to replace it, or another --out")
-            shutil.rmtree(self.path) if self.path.is_dir() else self.path.unlink()
+            shutil.rmtree(self.path)  # an empty folder or another sweep's store (check_store_path)
         tmp = self.path.with_name(f".{self.path.name}.creating")
         shutil.rmtree(tmp, ignore_errors=True)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             self.template().to_zarr(tmp, mode="w", encoding=self.encoding(), zarr_format=2, consolidated=True)
         tmp.rename(self.path)  # a store appears complete or not at all
+
+    def check(self) -> StoreDamage:
+        """:func:`check_store` of this store, knowing which arrays this sweep's store has."""
+        return check_store(self.path, expected=list(self.template().variables))
+
+    def repair(self, damage: StoreDamage) -> int:
+        """Make a damaged store of this sweep whole again; returns the points to compute again.
+
+        Damaged chunks of results are rewritten as not computed (NaN, ``done`` False) so that the
+        sweep computes their points again; a result array that is lost (or whose own metadata is
+        unreadable) is laid out anew, all its points to compute again; damaged inputs (axis values,
+        loads, pressures) and the store's attributes are rewritten from the study; the
+        consolidated metadata is written anew.
+        """
+        import zarr
+
+        template = self.template()
+        if damage.root:
+            # the group's own metadata, as xarray writes it (the attributes hold the signature)
+            (self.path / ".zgroup").write_text(json.dumps({"zarr_format": 2}), encoding="utf-8")
+            (self.path / ".zattrs").write_text(json.dumps(template.attrs), encoding="utf-8")
+        redo = np.zeros(self.spec.shape, bool)
+        encoding = self.encoding()
+        for name in damage.arrays:
+            tmp = self.path.with_name(f".{self.path.name}.{name}.repair")
+            shutil.rmtree(tmp, ignore_errors=True)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                template[[name]].to_zarr(tmp, mode="w", zarr_format=2, consolidated=False,
+                                         encoding={name: encoding[name]} if name in encoding else {})
+            shutil.rmtree(self.path / name, ignore_errors=True)
+            (tmp / name).rename(self.path / name)
+            shutil.rmtree(tmp, ignore_errors=True)
+            if name in _RESULT_VARS:
+                redo[...] = True
+        group = zarr.open_group(str(self.path), mode="r+", use_consolidated=False)
+        if redo.all():
+            group["done"][...] = False
+        for name, regions in damage.chunks.items():
+            if name in damage.arrays:
+                continue
+            var = template[name]
+            for region in regions:
+                group[name][region] = var.values[region]  # results: not computed (NaN, -1, "", False)
+                if name in _RESULT_VARS:
+                    lead = region[: len(self.spec.shape)]
+                    group["done"][lead] = False
+                    redo[lead] = True
+        zarr.consolidate_metadata(str(self.path), zarr_format=2)
+        return int(redo.sum())
 
     # ---------------------------------------------------------------- filling
 
@@ -204,23 +254,191 @@ class SweepStore:
         return str(self.path)
 
 
+#: The variables a sweep computes (the others are its inputs: axis values, loads, pressures).
+_RESULT_VARS = {*_FLOAT_VARS, *_LOAD_VARS, "contact_state", "psi", "valid", "converged", "reason", "done"}
+
+
+@dataclass
+class StoreDamage:
+    """What is damaged in a sweep store (:func:`check_store`); false when nothing is.
+
+    Attributes
+    ----------
+    path
+        The store.
+    metadata
+        Damaged metadata, in words (the consolidated ``.zmetadata``, the group's own).
+    root
+        Whether the group's own metadata (``.zgroup``, ``.zattrs``) is damaged.
+    arrays
+        Arrays lost, or whose own metadata (``.zarray``) is unreadable.
+    chunks
+        ``{variable: [region, ...]}``: chunks that cannot be read, as index regions of the variable.
+    study_file
+        The study file the store records (for the message that says how to repair it).
+
+    Every kind is mended by :meth:`SweepStore.repair` (``fingerpad sweep ... --repair``).
+    """
+
+    path: Path
+    metadata: list[str] = field(default_factory=list)
+    root: bool = False
+    arrays: dict[str, str] = field(default_factory=dict)
+    chunks: dict[str, list[tuple[slice, ...]]] = field(default_factory=dict)
+    study_file: str = ""
+
+    def __bool__(self) -> bool:
+        return bool(self.metadata or self.root or self.arrays or self.chunks)
+
+    def describe(self) -> str:
+        """The damage in a few words (the first chunks of each variable named)."""
+        parts = list(self.metadata) + list(self.arrays.values())
+        for name, regions in self.chunks.items():
+            shown = ", ".join(_region_text(r) for r in regions[:3])
+            more = f" and {len(regions) - 3} more" if len(regions) > 3 else ""
+            parts.append(f"{len(regions)} unreadable chunk{'s' if len(regions) > 1 else ''} of {name!r} "
+                         f"({shown}{more})")
+        return "; ".join(parts)
+
+    def message(self) -> str:
+        """One line: the store, what is damaged, and how to mend it."""
+        study = self.study_file or "STUDY.toml"
+        return (f"{self.path}: damaged sweep store: {self.describe()}; fingerpad sweep {study} --out {self.path} "
+                "--repair recomputes the damaged points and rewrites the metadata")
+
+
+def _region_text(region: tuple[slice, ...]) -> str:
+    return "[" + ", ".join(f"{s.start}:{s.stop}" for s in region) + "]"
+
+
+def check_store(path: str | Path, expected: list[str] | None = None) -> StoreDamage:
+    """Read every chunk and the metadata of a sweep store; what cannot be read is damage.
+
+    A chunk of garbage (a disk error, a copy cut short) otherwise shows as a decoding traceback
+    when the store is read, or is silently resumed over; a lost ``.zmetadata`` makes the store
+    unreadable by :func:`open_sweep` although its arrays are whole. ``expected`` names the
+    arrays the store must have (the sweep knows them; otherwise those of ``.zmetadata``).
+    """
+    import zarr
+
+    p = Path(path)
+    damage = StoreDamage(p)
+    attrs = _read_attrs(p) or {}
+    damage.study_file = str(attrs.get("study_file", ""))
+    for name in (".zgroup", ".zattrs"):
+        try:
+            if not isinstance(json.loads((p / name).read_text(encoding="utf-8")), dict):
+                raise ValueError(name)
+        except (OSError, ValueError):
+            damage.root = True
+            damage.metadata.append(f"the store's own metadata ({name}) is unreadable")
+    listed: list[str] = []
+    try:
+        meta = json.loads((p / ".zmetadata").read_text(encoding="utf-8"))
+        listed = sorted({k.split("/")[0] for k in meta["metadata"] if "/" in k})
+    except FileNotFoundError:
+        damage.metadata.append(".zmetadata (the consolidated metadata) is missing")
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        damage.metadata.append(".zmetadata (the consolidated metadata) is unreadable")
+    on_disk = sorted(d.name for d in p.iterdir() if d.is_dir() and not d.name.startswith("."))
+    for name in sorted(set(on_disk) | set(listed) | set(expected or [])):
+        if name not in on_disk:
+            damage.arrays[name] = f"the array {name!r} is missing"
+            continue
+        try:
+            arr = zarr.open_array(str(p / name), mode="r", zarr_format=2)
+        except Exception:  # noqa: BLE001 - any unreadable metadata is damage
+            damage.arrays[name] = f"the metadata of {name!r} ({name}/.zarray) is unreadable"
+            continue
+        bad = _unreadable_chunks(arr)
+        if bad:
+            damage.chunks[name] = bad
+    return damage
+
+
+def _unreadable_chunks(arr: Any) -> list[tuple[slice, ...]]:
+    """Regions of the chunks of ``arr`` that cannot be read (whole array first: usually all is well)."""
+    try:
+        arr[...]
+        return []
+    except Exception:  # noqa: BLE001 - a codec error, a short file: any failure is a damaged chunk
+        pass
+    bad = []
+    grid = [range(math.ceil(n / c)) for n, c in zip(arr.shape, arr.chunks, strict=True)]
+    for idx in itertools.product(*grid):
+        region = tuple(slice(i * c, min((i + 1) * c, n)) for i, c, n in zip(idx, arr.chunks, arr.shape, strict=True))
+        try:
+            arr[region]
+        except Exception:  # noqa: BLE001 - see above
+            bad.append(region)
+    return bad
+
+
 def _read_attrs(path: Path) -> dict[str, Any] | None:
     try:
         import zarr
 
-        attrs = dict(zarr.open_group(str(path), mode="r").attrs)
-    except Exception:  # noqa: BLE001 - anything unreadable is "not a sweep store"
-        return None
+        # the group's own attributes, not the consolidated copy: a store whose .zmetadata is
+        # lost is still this sweep's store (damaged, and repairable) ...
+        attrs = dict(zarr.open_group(str(path), mode="r", use_consolidated=False).attrs)
+    except Exception:  # noqa: BLE001 - anything unreadable is "not a sweep store" ...
+        try:  # ... unless the consolidated copy of the attributes says it is one (damaged)
+            meta = json.loads((Path(path) / ".zmetadata").read_text(encoding="utf-8"))
+            attrs = dict(meta["metadata"][".zattrs"])
+        except Exception:  # noqa: BLE001 - see above
+            return None
     return attrs if attrs.get("fingerpad_sweep") == 1 else None
 
 
-def open_sweep(path: str | Path) -> Any:
-    """The results of a sweep as an :class:`xarray.Dataset` (lazy; read with ``.load()``).
+def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite: bool = False) -> str:
+    """What a sweep into ``path`` does there: ``"create"``, ``"resume"`` (the same sweep) or
+    ``"replace"`` (another sweep, with ``overwrite``); cheap, to run before any work.
 
     Raises
     ------
     FingerpadError
-        When ``path`` is missing or not a fingerpad sweep store.
+        ``path`` holds something other than a sweep store (a folder of notes, the study file
+        itself): it is a user's own and is never replaced, ``overwrite`` or not; or it holds
+        another sweep and ``overwrite`` is not given.
+    """
+    p = Path(path)
+    if not p.exists():
+        return "create"
+    existing = _read_attrs(p)
+    if existing is None:
+        if p.is_dir() and not any(p.iterdir()):
+            return "replace"
+        raise FingerpadError(f"{p}: exists and is not a fingerpad sweep store; it is left alone (name another --out)")
+    if spec is not None and existing.get("signature") == spec.signature():
+        return "resume"
+    if spec is not None and not overwrite:
+        raise FingerpadError(f"{p}: holds another sweep (other study or [sweep] table); "
+                             "give --overwrite to replace it, or another --out")
+    return "replace"
+
+
+def points_done(path: str | Path) -> int | None:
+    """How many points of the sweep store at ``path`` are done (``None``: no readable store)."""
+    if _read_attrs(Path(path)) is None:
+        return None
+    try:
+        import zarr
+
+        return int(np.count_nonzero(zarr.open_group(str(path), mode="r")["done"][...]))
+    except Exception:  # noqa: BLE001 - a damaged store: nothing to count
+        return None
+
+
+def open_sweep(path: str | Path, check: bool = True) -> Any:
+    """The results of a sweep as an :class:`xarray.Dataset` (lazy; read with ``.load()``).
+
+    With ``check`` (default), every chunk is read first (:func:`check_store`), so that a damaged
+    store is said in one line instead of failing somewhere in the reading.
+
+    Raises
+    ------
+    FingerpadError
+        When ``path`` is missing, not a fingerpad sweep store, or damaged.
     """
     import xarray as xr
 
@@ -229,6 +447,10 @@ def open_sweep(path: str | Path) -> Any:
         raise FingerpadError(f"{str(p)!r}: no such sweep store (a folder written by `fingerpad sweep`)")
     if _read_attrs(p) is None:
         raise FingerpadError(f"{str(p)!r} is not a fingerpad sweep store (made by `fingerpad sweep`)")
+    if check:
+        damage = check_store(p)
+        if damage:
+            raise FingerpadError(damage.message())
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return xr.open_zarr(p, consolidated=True)

@@ -7,8 +7,10 @@ and references. Every plot downloads its data (CSV/JSON) and image (PNG/SVG); th
 as a study TOML that ``fingerpad predict`` reproduces. See docs/explorer.md.
 
 Modules without a browser dependency: :mod:`.inputs` (the form as a study, validation),
-:mod:`.jobs` (running predictions), :mod:`.specs` and :mod:`.builders` (plots as data),
-:mod:`.render_mpl` (images), :mod:`.sweepdata` (reading sweep stores). Panel and Bokeh are
+:mod:`.uploads` (the only files read for a client), :mod:`.jobs` (running predictions),
+:mod:`.builders` (plots as data: predict's figures from :mod:`fingerpad.plotting.prediction_specs`,
+the explorer's own on :mod:`fingerpad.plotting.specs`; images by :mod:`fingerpad.plotting.render`),
+:mod:`.sweepdata` (reading sweep stores). Panel and Bokeh are
 imported only when the server starts (:func:`.server.serve`), so that ``fingerpad --help`` stays
 fast and the rest of the package works without them (``pip install 'fingerpad[explore]'``).
 """

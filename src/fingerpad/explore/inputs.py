@@ -25,6 +25,7 @@ from ..errors import FingerpadError, one_line
 __all__ = [
     "FINGER_LABELS",
     "FieldError",
+    "MAX_PAGE_LOADS",
     "StudyCheck",
     "data_key",
     "family_examples",
@@ -179,16 +180,64 @@ def _texture_param_errors(data: Mapping[str, Mapping[str, Any]]) -> list[FieldEr
     return out
 
 
-def validate(data: Mapping[str, Mapping[str, Any]], *, check: bool = True) -> StudyCheck:
+def _page_limits(data: Mapping[str, Mapping[str, Any]]) -> list[FieldError]:
+    """What the page refuses before the library runs anything: a measured map that is not the
+    session's upload is checked by :func:`validate`, and more loads than :data:`MAX_PAGE_LOADS`
+    once the library has read them; here, a grid beyond the library's
+    :data:`~fingerpad.textures.MAX_GRID`."""
+    from ..study.values import integer
+    from ..textures import MAX_GRID, MIN_GRID
+
+    out = []
+    grid = data.get("model", {}).get("grid")
+    if grid is not None:
+        try:
+            n = integer(grid, field_label("model", "grid"), MIN_GRID)
+            if n > MAX_GRID:
+                raise FingerpadError(f"{field_label('model', 'grid')}: at most {MAX_GRID} points, got {n}")
+        except FingerpadError as exc:
+            out.append(FieldError("model.grid", one_line(str(exc))))
+    return out
+
+
+def _too_many_loads(study: Any, data: Mapping[str, Mapping[str, Any]]) -> FieldError | None:
+    """More loads than the page shows (counted as the library read them: ranges, lists, both)."""
+    n = int(getattr(study.loads, "size", len(study.loads)))
+    if n <= MAX_PAGE_LOADS:
+        return None
+    key = "range" if "range" in data.get("loads", {}) else "values"
+    return FieldError(f"loads.{key}", f"loads: at most {MAX_PAGE_LOADS} loads in the explorer, got {n} "
+                                      "(fingerpad predict takes more)")
+
+
+#: Most loads of one curve in the page (each is a row of the table and a point of every plot).
+MAX_PAGE_LOADS = 2000
+
+
+def validate(data: Mapping[str, Mapping[str, Any]], *, check: bool = True, uploads: Any = None,
+             upload: Any = None) -> StudyCheck:
     """Check a study with the library (``study_from_dict`` and, with ``check``, ``Study.check``,
     which builds the texture) and route every message to its field.
 
     Texture parameters are first read one by one (so that several bad fields are reported at
     once); then the whole study is read once, as ``fingerpad predict`` reads it.
+
+    With ``uploads`` (an :class:`~.uploads.UploadArea`), a measured map is read only if it is a
+    file of that area, and a study without a texture name must have one; ``upload`` (the
+    session's :class:`~.uploads.StoredUpload`) puts the user's file name in place of the server's
+    path in every message.
     """
     from ..study.spec import study_from_dict
+    from .uploads import REFUSED, page_message
 
-    param_msgs = _texture_param_errors(data)
+    tex = data.get("texture", {})
+    if uploads is not None and "name" not in tex:
+        try:
+            uploads.check(tex.get("surface"))
+        except FingerpadError:
+            return StudyCheck(None, [FieldError("texture.surface", REFUSED)], [])
+    words = (lambda m: m) if uploads is None else (lambda m: page_message(m, upload, uploads.root))
+    param_msgs = _texture_param_errors(data) + _page_limits(data)
     errors = [e for e in param_msgs if not e.warning]
     warns = [e for e in param_msgs if e.warning]
     study = None
@@ -199,11 +248,15 @@ def validate(data: Mapping[str, Mapping[str, Any]], *, check: bool = True) -> St
             # the texture's parameters are read when it is built (check), so a bad one already
             # reported above does not hide the messages of the other sections
             study = study_from_dict(data, labels_for(data))
+            many = _too_many_loads(study, data)
+            if many is not None:
+                errors.append(many)
             if check and not errors:
                 study.check()
         except FingerpadError as exc:
-            msg = one_line(str(exc))
-            errors.append(FieldError(_route(msg, data), msg))
+            msg = words(one_line(str(exc)))
+            errors.append(FieldError(_route(msg, data) or ("texture.surface" if "surface" in tex and (
+                "surface" in msg or (upload is not None and upload.name in msg)) else None), msg))
             study = None
         except OSError as exc:  # an unreadable uploaded map
             errors.append(FieldError("texture.surface", one_line(f"cannot read the map: {exc.strerror or exc}")))
@@ -214,7 +267,7 @@ def validate(data: Mapping[str, Mapping[str, Any]], *, check: bool = True) -> St
     for w in caught:
         if issubclass(w.category, (DeprecationWarning, PendingDeprecationWarning)):
             continue
-        msg = one_line(str(w.message))
+        msg = words(one_line(str(w.message)))
         if msg not in seen and "mpi4py" not in msg:
             seen.add(msg)
             warns.append(FieldError(_route(msg, data), msg, warning=True))

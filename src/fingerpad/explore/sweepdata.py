@@ -20,6 +20,7 @@ import json
 import math
 import os
 from collections.abc import Mapping
+from decimal import Decimal
 from typing import Any
 
 import numpy as np
@@ -224,12 +225,18 @@ def _as_text(value: Any, units: str) -> Any:
     dim = "length" if units == "m" else "pressure"
     for unit, factor in table:
         if abs(v) >= factor or unit == table[-1][0]:
-            text = f"{v / factor:.12g}{unit}"
-            try:
-                if parse_quantity(text, dim) == v:
-                    return text
-            except FingerpadError:
-                pass
+            # the shortest number in that unit that reads back as exactly v (a log-spaced axis
+            # gives 251.98420997897458um, not 0.0002519842099789746); units are read by moving
+            # the decimal point, so repr(v) with its point moved always reads back exactly
+            shown = v / factor
+            exact = Decimal(repr(v)).scaleb(-round(math.log10(factor)))
+            candidates = [f"{shown:.{d}g}" for d in range(12, 18)] + [format(exact.normalize(), "f")]
+            for number in candidates:
+                try:
+                    if parse_quantity(f"{number}{unit}", dim) == v:
+                        return f"{number}{unit}"
+                except FingerpadError:
+                    pass
             break
     return repr(v)
 

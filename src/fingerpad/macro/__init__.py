@@ -37,16 +37,9 @@ def discover_models() -> dict[str, Model]:
     ValueError
         Two models of the same name.
     """
-    from ..discover import collect
+    from ..discover import fill_registry
 
-    found: dict[str, Model] = {}
-    for model in collect(__name__, __path__, "MODELS", Model, skip=HELPER_MODULES):
-        if model.name in found:
-            raise ValueError(f"two pad models are named {model.name!r}")
-        found[model.name] = model
-    GROSS_MODELS.clear()
-    GROSS_MODELS.update(found)
-    return GROSS_MODELS
+    return fill_registry(GROSS_MODELS, __name__, __path__, "MODELS", Model, skip=HELPER_MODULES, what="pad model")
 
 
 discover_models()

@@ -6,6 +6,7 @@ import math
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
@@ -13,17 +14,17 @@ import pandas as pd
 
 from .._version import __version__
 from ..errors import FingerpadError
-from .breakpoint import Breakpoint, find_breakpoint
+from .breakpoint import EDGE_FRACTION, Breakpoint, find_breakpoint
+from .clipping import Clip, clipping_warnings
 from .curves import fit_curves, fit_row, normalise, sense_ratio, spread_summary, spread_table
 from .models import Model, TextureGeometry, resolve_finger, texture_model
 from .modulus import ModelTable, ModulusFit, estimate_skin_modulus, estimate_skin_modulus_joint
 from .population import population_curves, population_fits
 from .recordings import Recording
 from .sensitivity import other_micro_model, perturbed_models
-from .strokes import (
+from .strokes import StrokeOptions, StrokeReport
+from .tables import (
     GROUP,
-    StrokeOptions,
-    StrokeReport,
     bin_strokes,
     cluster_column,
     flag_outliers,
@@ -54,9 +55,10 @@ class AnalysisOptions:
         Log-spaced load bins shared by the study (tables, spread, figures).
     min_fit_strokes
         Fewest strokes for a power-law fit.
-    breakpoint_space, breakpoint_method, breakpoint_trend, n_boot, n_null
-        See :func:`find_breakpoint`; the default trend ``"steeper"`` looks for the contact
-        transition (friction rising faster once the skin reaches the texture's base).
+    breakpoint_space, breakpoint_method, breakpoint_trend, n_boot, n_null, breakpoint_edge
+        See :func:`find_breakpoint` (``breakpoint_edge`` is its ``edge``); the default trend
+        ``"steeper"`` looks for the contact transition (friction rising faster once the skin
+        reaches the texture's base).
     level
         Confidence level of every interval; a breakpoint is reported when its test gives
         ``p < 1 - level``.
@@ -73,7 +75,8 @@ class AnalysisOptions:
         Refit E_s with the other micro-model and with the friction parameters varied
         (:mod:`.sensitivity`).
     population
-        Per-texture population summary and mixed-effects fits across participants.
+        Per-texture population summary and power-law fits across participants (mixed model or
+        two-stage, :mod:`.population`).
     """
 
     reference: str = "flat"
@@ -86,6 +89,7 @@ class AnalysisOptions:
     breakpoint_trend: Literal["any", "steeper", "flatter"] = "steeper"
     n_boot: int = 200
     n_null: int = 999
+    breakpoint_edge: float = EDGE_FRACTION
     level: float = 0.95
     seed: int = 0
     finger: Any = None
@@ -105,6 +109,16 @@ class AnalysisOptions:
             raise FingerpadError(f"outlier_z must be positive, got {self.outlier_z!r}")
         if self.n_null < 19 or self.n_boot < 20:
             raise FingerpadError("n_null must be >= 19 and n_boot >= 20")
+        if self.breakpoint_space not in ("log", "linear"):
+            raise FingerpadError(f"breakpoint_space must be 'log' or 'linear', got {self.breakpoint_space!r}")
+        if self.breakpoint_method not in ("profile", "bootstrap"):
+            raise FingerpadError(f"breakpoint_method must be 'profile' or 'bootstrap', got {self.breakpoint_method!r}")
+        if self.breakpoint_trend not in ("any", "steeper", "flatter"):
+            raise FingerpadError(f"breakpoint_trend must be 'any', 'steeper' or 'flatter', got {self.breakpoint_trend!r}")
+        if not 0 <= self.breakpoint_edge < 0.5:
+            raise FingerpadError(f"breakpoint_edge must lie in [0, 0.5), got {self.breakpoint_edge!r}")
+        if self.seed < 0:
+            raise FingerpadError(f"seed must be a non-negative integer, got {self.seed!r}")
 
 
 @dataclass
@@ -114,7 +128,13 @@ class StudyResult:
     Attributes
     ----------
     strokes
-        One row per stroke: metadata, load, mu, robust_z, outlier, mu_ref, mu_norm.
+        One row per stroke used: metadata, load, mu, robust_z, outlier, mu_ref, mu_norm.
+    clipped_strokes
+        Strokes left out because a force channel was saturated in their steady window (column
+        ``clipped`` names the channels; :mod:`.clipping`).
+    clipping
+        The saturated channels found per recording (:class:`~.clipping.Clip`; empty lists for
+        clean files).
     bins
         Binned means per participant/sample/direction/sense (:func:`bin_strokes`).
     fits
@@ -127,7 +147,8 @@ class StudyResult:
         One row per participant: reference power law and E_s fitted jointly to all textures.
     population_curves, population_fits
         Per texture: the mean curve over participants with a between-person interval, and
-        the mixed-effects power law across participants (:mod:`.population`).
+        the power law across participants, from the mixed model or the two-stage estimate
+        (column ``source``; :mod:`.population`).
     sensitivity
         E_s refitted with the other micro-model and varied friction parameters.
     warnings
@@ -158,11 +179,18 @@ class StudyResult:
     warnings: list[str] = field(default_factory=list)
     recordings: list[Recording] = field(repr=False, default_factory=list)
     stroke_reports: dict[str, StrokeReport] = field(repr=False, default_factory=dict)
+    clipped_strokes: pd.DataFrame = field(default_factory=pd.DataFrame)
+    clipping: dict[str, list[Clip]] = field(default_factory=dict)
 
     @property
     def summary(self) -> pd.DataFrame:
         """The summary table (alias of :attr:`conditions`)."""
         return self.conditions
+
+    def load_grid(self, n: int = 60) -> np.ndarray:
+        """``n`` log-spaced loads (N) over the study's measured range, for curves and figures."""
+        loads = self.strokes["load"].to_numpy()
+        return np.geomspace(float(loads.min()), float(loads.max()), n)
 
 
 def _closed_form(bp: Breakpoint, geom: TextureGeometry, finger: Any) -> tuple[float, float, float]:
@@ -270,7 +298,16 @@ def analyse_study(
     textures = dict(textures or {})
     reports: dict[str, StrokeReport] = {}
     strokes = stroke_table(recordings, opts.strokes, reports=reports)
-    notes = plausibility_warnings(strokes)
+    clipping = {source: report.clips for source, report in reports.items()}
+    notes = clipping_warnings(strokes, clipping)
+    # a saturated sensor biases mu (a capped normal force raises it, capped friction lowers it):
+    # such strokes are left out of every fit, and kept apart for the tables and QC figures
+    is_clipped = strokes["clipped"] != ""
+    clipped_strokes = strokes[is_clipped].reset_index(drop=True)
+    strokes = strokes[~is_clipped].reset_index(drop=True)
+    if strokes.empty:
+        raise FingerpadError("every stroke touches a saturated (clipped) force channel: " + "; ".join(notes))
+    notes += plausibility_warnings(strokes)
     strokes = flag_outliers(strokes, opts.outlier_z)
     strokes, ref_fits = normalise(strokes, opts.reference, opts.min_fit_strokes, level=opts.level)
     fits, power_laws = fit_curves(strokes, opts.min_fit_strokes, level=opts.level)
@@ -327,13 +364,17 @@ def analyse_study(
                 bp = find_breakpoint(good["load"].to_numpy(), good["mu_norm"].to_numpy(),
                                      space=opts.breakpoint_space, method=opts.breakpoint_method,
                                      trend=opts.breakpoint_trend, level=opts.level, n_boot=opts.n_boot,
-                                     n_null=opts.n_null, seed=opts.seed, clusters=clusters)
+                                     n_null=opts.n_null, seed=opts.seed, clusters=clusters,
+                                     edge=opts.breakpoint_edge)
                 breakpoints[key] = bp
                 row.update({c: math.nan for c in ("breakpoint_load", "breakpoint_ci_low", "breakpoint_ci_high",
                                                   "slope_below", "slope_above")})
+                # a best location at the edge of the load range is named in `transition` (with
+                # why it is not a transition) but gives no breakpoint load and no closed-form E_s
                 row.update(breakpoint_detected=bp.detected, breakpoint_p=bp.p_value,
                            breakpoint_search_low=bp.search_low, breakpoint_search_high=bp.search_high,
-                           transition=bp.describe())
+                           breakpoint_edge_low=bp.edge_low, breakpoint_edge_high=bp.edge_high,
+                           breakpoint_outside=bp.outside, transition=bp.describe())
                 if bp.detected:
                     row.update(breakpoint_load=bp.load, breakpoint_ci_low=bp.ci_low, breakpoint_ci_high=bp.ci_high,
                                slope_below=bp.slope_below, slope_above=bp.slope_above)
@@ -411,18 +452,8 @@ def analyse_study(
         reference_fits=ref_fits, breakpoints=breakpoints, modulus_fits=modulus_fits, models=all_models,
         tables=tables, textures=textures, population_curves=pop_curves, population_fits=pop_fits,
         sensitivity=pd.DataFrame(sens_rows), warnings=notes, recordings=list(recordings), stroke_reports=reports,
+        clipped_strokes=clipped_strokes, clipping=clipping,
     )
-
-
-def condition_label(sample: str, direction: str) -> str:
-    """``sample/direction`` (or the sample alone): the label of one measured condition."""
-    return f"{sample}/{direction}" if direction else str(sample)
-
-
-def load_grid(result: StudyResult, n: int = 60) -> np.ndarray:
-    """``n`` log-spaced loads (N) over the study's measured range, for curves and figures."""
-    loads = result.strokes["load"].to_numpy()
-    return np.geomspace(float(loads.min()), float(loads.max()), n)
 
 
 def study_info(result: StudyResult) -> dict[str, Any]:
@@ -437,12 +468,19 @@ def study_info(result: StudyResult) -> dict[str, Any]:
         "n_files": int(s["file"].nunique()),
         "n_strokes": int(len(s)),
         "n_outliers": int(s["outlier"].sum()),
+        "n_clipped_strokes": int(len(result.clipped_strokes)),
+        "clipping": {Path(str(f)).name: [c.describe() for c in clips]
+                     for f, clips in sorted(result.clipping.items()) if clips},
         "confidence_level": opts.level,
         "stroke_trim": opts.strokes.trim,
         "outlier_z": opts.outlier_z,
         "breakpoint": {"space": opts.breakpoint_space, "method": opts.breakpoint_method,
                        "trend": opts.breakpoint_trend, "test": "sup likelihood ratio, parametric bootstrap",
-                       "n_null": opts.n_null, "alpha": 1 - opts.level},
+                       "n_null": opts.n_null, "alpha": 1 - opts.level,
+                       "edge_fraction": opts.breakpoint_edge},
+        "population": "mixed model (random level and slope per participant, variance component per "
+                      "recording) where its variance components are estimable, else two-stage "
+                      "(per-participant fits, their mean and spread); Student t with participants - 1 df",
         "intervals": "random intercept per recording (session), REML; Student t with between-recording df",
         "warnings": list(result.warnings),
         "modulus_bounds_pa": list(opts.modulus_bounds),

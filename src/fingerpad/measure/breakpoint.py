@@ -9,6 +9,15 @@ best improvement found on data simulated from the fitted straight line (a parame
 of the supremum likelihood ratio, which is what searching the location does to the null
 distribution). The simulations keep the grouping of strokes into recordings (random intercept
 per recording), so session-to-session scatter cannot pass for a transition.
+
+Why an edge: a hinge near either end of the load range has one segment drawn from a handful of
+strokes over a narrow range of loads. Any curvature of the data (a smooth transition, the bend
+of asperity contact at light loads) then makes such a hinge beat the straight line, and the test
+fires at the lowest (or highest) loads whatever the true transition: on smooth-transition data
+it fired at 0.21-0.49 N when the true transition was at 0.3-3 N. A change of trend is therefore
+reported only where both segments have support: at least ``edge`` of the load range and of
+the points on each side. A best location in the outer part is stated, with the reason, and
+neither its load nor an E_s from it is reported as a transition.
 """
 
 from __future__ import annotations
@@ -23,6 +32,10 @@ from scipy import stats
 
 from ..errors import FingerpadError
 from .stats import cluster_labels, random_intercept_fit
+
+#: Outer fraction of the load range (of ``log F`` in log space) at each end, and least fraction of
+#: the points on each side, where a breakpoint is not reported (see :func:`find_breakpoint`).
+EDGE_FRACTION = 0.2
 
 
 @dataclass(frozen=True)
@@ -56,6 +69,12 @@ class Breakpoint:
         The loads searched (at least ``min_side`` points on each side), N.
     at_edge
         The interval reaches the edge of the searched range.
+    edge_low, edge_high
+        The part of the load range where a transition can be reported (N): the outer
+        ``edge`` of the range and of the points at each end lie outside it.
+    outside
+        The test rejected one straight line (``p < 1 - level``) but its best location lies
+        outside ``edge_low``-``edge_high``: not reported (``detected`` is False).
     """
 
     load: float
@@ -77,6 +96,9 @@ class Breakpoint:
     search_low: float = math.nan
     search_high: float = math.nan
     at_edge: bool = False
+    edge_low: float = math.nan
+    edge_high: float = math.nan
+    outside: bool = False
 
     def predict(self, loads: np.ndarray) -> np.ndarray:
         """The fitted hinge at ``loads`` (in value units)."""
@@ -89,6 +111,12 @@ class Breakpoint:
     def describe(self, unit: str = "N") -> str:
         """One line for tables and reports."""
         rng = f"{self.search_low:.3g}-{self.search_high:.3g} {unit}"
+        if self.outside:
+            where = (f"outside {self.edge_low:.3g}-{self.edge_high:.3g} {unit} where both segments have support"
+                     if math.isfinite(self.edge_low) else "where no location has support on both sides")
+            return (f"no transition reported: the best change of trend, at {self.load:.3g} {unit} "
+                    f"(p = {format_p(self.p_value, self.n_null)}), lies at the edge of the load range, {where} "
+                    f"(too few strokes on one side to tell a transition from curvature)")
         if not self.detected:
             return f"no transition detected in {rng} (p = {format_p(self.p_value, self.n_null)})"
         return (f"transition at {self.load:.3g} {unit} [{self.ci_low:.3g}, {self.ci_high:.3g}] "
@@ -175,6 +203,7 @@ def find_breakpoint(
     min_side: int = 3,
     n_grid: int = 200,
     clusters: Sequence[Any] | np.ndarray | None = None,
+    edge: float = EDGE_FRACTION,
 ) -> Breakpoint:
     """Test for, and locate, a change of trend of ``values`` vs load (segmented regression).
 
@@ -197,6 +226,11 @@ def find_breakpoint(
 
     widened if need be to the neighbouring grid points, so that it never has zero width.
 
+    A best location in the outer ``edge`` of the load range (of ``log F`` in log space), or with
+    fewer than ``edge`` of the points on one side, is not reported even when the test rejects
+    the straight line (``outside``): one segment there rests on a few strokes over a narrow
+    range of loads, and the curvature of a smooth transition passes for a break (module doc).
+
     Parameters
     ----------
     loads, values
@@ -208,6 +242,9 @@ def find_breakpoint(
         texture) or ``"flatter"``; ``"any"`` takes the largest change.
     clusters
         Recording (session) of each point; ``None``: independent points.
+    edge
+        Fraction in [0, 0.5) of the load range and of the points at each end where no
+        breakpoint is reported (0: anywhere in the searched range).
 
     Raises
     ------
@@ -226,6 +263,8 @@ def find_breakpoint(
         raise FingerpadError(f"trend must be 'any', 'steeper' or 'flatter', got {trend!r}")
     if not 0 < level < 1:
         raise FingerpadError(f"level must lie in (0, 1), got {level!r}")
+    if not 0 <= edge < 0.5:
+        raise FingerpadError(f"edge must lie in [0, 0.5), got {edge!r}")
     if not (np.all(np.isfinite(f)) and np.all(np.isfinite(v)) and np.all(f > 0)):
         raise FingerpadError("breakpoint: loads must be positive and values finite")
     if space == "log" and np.any(v <= 0):
@@ -290,6 +329,14 @@ def find_breakpoint(
     else:
         p_value = (1.0 + exceed) / (1.0 + done) if done else math.nan
     detected = bool(done and p_value < 1.0 - level)
+    # where both segments have support: inside the outer `edge` of the range and of the points
+    xs = np.sort(x)
+    span = float(xs[-1] - xs[0])
+    k = int(math.ceil(edge * n))
+    edge_lo = max(float(xs[0]) + edge * span, float(xs[max(k - 1, 0)]) if k else -math.inf)
+    edge_hi = min(float(xs[-1]) - edge * span, float(xs[n - k]) if k else math.inf)
+    outside = bool(detected and not (edge_lo <= x0 <= edge_hi))
+    detected = detected and not outside
 
     lo = hi = math.nan
     at_edge = False
@@ -329,7 +376,8 @@ def find_breakpoint(
         slope_below=float(coef[1]), slope_above=float(coef[2]), level_at_break=float(coef[0]),
         rss=rss_min, rss_line=rss_line, p_value=float(p_value), n=n, space=space, method=method, level=level,
         detected=detected, statistic=float(lr), n_null=int(done), search_low=search[0], search_high=search[1],
-        at_edge=bool(at_edge),
+        at_edge=bool(at_edge), edge_low=float(back(edge_lo)) if edge_lo <= edge_hi else math.nan,
+        edge_high=float(back(edge_hi)) if edge_lo <= edge_hi else math.nan, outside=outside,
     )
 
 

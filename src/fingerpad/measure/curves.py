@@ -1,4 +1,4 @@
-"""Friction curves: power law mu = k F^(n-1) per participant and sample, normalisation by the flat reference (MODEL.md "Normalisation"), spread between people.
+"""Friction curves: power law mu = k F^(n-1) per participant and sample, normalisation by the flat reference (docs/model.md "Normalisation"), spread between people.
 
 Every fit respects the grouping of strokes into recordings (sessions): ``ln mu = ln k + (n-1) ln F
 + u_recording + e`` with a random intercept per recording (:func:`.stats.random_intercept_fit`),
@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -17,67 +16,9 @@ import numpy as np
 import pandas as pd
 
 from ..errors import FingerpadError
+from ..friction import PowerLaw
 from .stats import ClusterFit, random_intercept_fit, t_quantile
-from .strokes import GROUP, bin_index, cluster_column
-
-
-@dataclass(frozen=True)
-class PowerLaw:
-    """``mu = k F^(n-1)`` fitted in log space with a random intercept per recording.
-
-    Attributes
-    ----------
-    k, n
-        Estimates (k is mu at 1 N).
-    k_stderr, n_stderr
-        Standard errors (``k_stderr = k se(ln k)``).
-    k_ci, n_ci
-        Intervals at ``level`` (Student t, between-recording df for k, see :mod:`.stats`).
-    covariance, log_covariance
-        Covariance of ``(k, n)`` (delta method) and of ``(ln k, n - 1)``.
-    dof
-        Degrees of freedom of the exponent's interval.
-    df_level
-        Degrees of freedom of the level (k): recordings minus one.
-    n_clusters
-        Recordings (or sessions) in the fit.
-    sigma_between, sigma_within
-        Standard deviations of ``ln mu`` between recordings and between strokes.
-    note
-        Caveat (e.g. one recording only), else empty.
-    """
-
-    k: float
-    n: float
-    k_stderr: float
-    n_stderr: float
-    k_ci: tuple[float, float]
-    n_ci: tuple[float, float]
-    covariance: np.ndarray
-    log_covariance: np.ndarray
-    dof: float
-    df_level: float
-    n_clusters: int
-    sigma_between: float
-    sigma_within: float
-    level: float = 0.95
-    note: str = ""
-    absolute_sigma: bool = False
-
-    def __call__(self, load: Any) -> Any:
-        """Fitted ``mu`` at ``load`` (N)."""
-        f = np.asarray(load, dtype=float)
-        return self.k * f ** (self.n - 1.0)
-
-    def log_level(self, loads: np.ndarray) -> tuple[float, float, float]:
-        """Mean fitted ``ln mu`` over ``loads``, its standard error and df.
-
-        A normalisation by this curve shifts every ``ln mu_norm`` by the error of this level.
-        """
-        v = np.array([1.0, float(np.mean(np.log(np.asarray(loads, dtype=float))))])
-        value = math.log(self.k) + (self.n - 1.0) * v[1]
-        se = math.sqrt(max(float(v @ self.log_covariance @ v), 0.0))
-        return value, se, self.df_level
+from .tables import GROUP, bin_index, cluster_column
 
 
 def fit_power_law_clustered(
@@ -90,7 +31,9 @@ def fit_power_law_clustered(
     """Fit ``ln mu = ln k + (n - 1) ln F`` with a random intercept per cluster (REML).
 
     Without ``clusters`` every stroke is independent (ordinary least squares, the t intervals of
-    :func:`fingerpad.friction.fit_power_law`).
+    :func:`fingerpad.friction.fit_power_law`). Returns the same :class:`fingerpad.friction.PowerLaw`
+    as that function, with the recordings' part filled in (``n_clusters``, ``df_level``,
+    ``sigma_between``, ``sigma_within``, ``note``).
 
     Raises
     ------
@@ -204,7 +147,7 @@ def normalise(strokes: pd.DataFrame, reference: str, min_strokes: int = 4, *, le
 
     ``mu_norm = mu / mu_ref(F)`` with ``mu_ref`` the power law fitted to the participant's
     strokes on the flat ``reference`` sample (all its directions pooled; the same sense where
-    that fit exists, else both senses). By MODEL.md "Normalisation", ``mu_norm`` estimates
+    that fit exists, else both senses). By docs/model.md "Normalisation", ``mu_norm`` estimates
     ``A_re,tex / A_re,ref`` and no longer depends on the person's ridge area.
 
     Returns

@@ -18,7 +18,8 @@ from typing import Any
 import numpy as np
 
 from .._version import __version__
-from .analysis import StudyResult, condition_label
+from ..plotting.measure import condition_label
+from .analysis import StudyResult
 from .analysis import study_info as default_study_info
 from .breakpoint import format_p
 
@@ -130,12 +131,17 @@ def conditions_table(result: StudyResult) -> str:
     rows = []
     for row in result.conditions.to_dict("records"):
         ref = bool(row.get("is_reference"))
+        notes_extra: list[str] = []
         if ref:
             transition = "<span class='muted'>reference</span>"
             p = ""
         elif _get(row, "breakpoint_detected"):
             transition = _with_ci(row.get("breakpoint_load"), row.get("breakpoint_ci_low"), row.get("breakpoint_ci_high"))
             p = format_p(float(row["breakpoint_p"]), result.options.n_null)
+        elif _get(row, "breakpoint_outside"):
+            transition = "none reported: the best change lies at the edge of the load range (see note)"
+            p = format_p(float(row["breakpoint_p"]), result.options.n_null)
+            notes_extra = [str(row.get("transition") or "")]
         elif _get(row, "breakpoint_p") is not None:
             transition = (f"none detected in {row['breakpoint_search_low']:.2g}-{row['breakpoint_search_high']:.2g} N")
             p = format_p(float(row["breakpoint_p"]), result.options.n_null)
@@ -143,7 +149,7 @@ def conditions_table(result: StudyResult) -> str:
             transition, p = "", ""
         closed = _with_ci(row.get("skin_modulus_closed_form"), row.get("skin_modulus_closed_form_ci_low"),
                           row.get("skin_modulus_closed_form_ci_high"), scale=1e6)
-        notes = [n for n in (_get(row, "skin_modulus_note"), _get(row, "note")) if n]
+        notes = [n for n in (*notes_extra, _get(row, "skin_modulus_note"), _get(row, "note")) if n]
         rows.append([
             _esc(row["participant"]), _esc(condition_label(row["sample"], row.get("direction") or "")),
             f"{_num(row.get('n_strokes'))} ({_num(row.get('n_outliers'))})",
@@ -160,8 +166,9 @@ def population_table(result: StudyResult) -> str:
     pf = result.population_fits
     if pf is None or pf.empty:
         return "<p class='facts'>No population fits (fewer than three participants, or switched off).</p>"
-    header = ["sample", "quantity", "participants", "recordings", "k [CI]", "n [CI]", "sd between persons (ln)",
-              "sd between recordings (ln)", "sd between strokes (ln)", "model", "note"]
+    header = ["sample", "quantity", "participants", "recordings", "k [CI]", "n [CI]", "numbers from",
+              "sd between persons: ln k", "sd between persons: n", "sd between recordings (ln)",
+              "sd between strokes (ln)", "mixed model: k, n (se)", "two-stage: k, n (se)", "model", "note"]
     rows = []
     for row in pf.to_dict("records"):
         rows.append([
@@ -169,11 +176,22 @@ def population_table(result: StudyResult) -> str:
             _num(row.get("n_participants")), _num(row.get("n_recordings")),
             _with_ci(row.get("k"), row.get("k_ci_low"), row.get("k_ci_high")),
             _with_ci(row.get("n"), row.get("n_ci_low"), row.get("n_ci_high")),
-            _num(row.get("sd_participant_level")), _num(row.get("sd_recording")), _num(row.get("sd_stroke")),
+            _esc(row.get("source") if isinstance(row.get("source"), str) else ""),
+            _num(row.get("sd_participant_level")), _num(row.get("sd_participant_slope")),
+            _num(row.get("sd_recording")), _num(row.get("sd_stroke")),
+            _pair(row, "mixed"), _pair(row, "two_stage"),
             _esc(row.get("model") if isinstance(row.get("model"), str) else ""),
             _esc(row.get("note") if isinstance(row.get("note"), str) else ""),
         ])
-    return _table(header, rows, text_columns=(9, 10))
+    return _table(header, rows, text_columns=(6, 13, 14))
+
+
+def _pair(row: Mapping[str, Any], prefix: str) -> str:
+    """``k, n (se of n)`` of one of the two population estimates, for comparison."""
+    k, n, se = (_get(row, f"{prefix}_{name}") for name in ("k", "n", "n_se"))
+    if k is None or n is None:
+        return ""
+    return f"{_num(k)}, {_num(n)} ({_num(se)})" if se is not None else f"{_num(k)}, {_num(n)}"
 
 
 def spread_table_html(result: StudyResult) -> str:
@@ -212,6 +230,14 @@ def sensitivity_table(result: StudyResult) -> str:
     return _table(header, rows)
 
 
+def _clipped_facts(info: Mapping[str, Any]) -> str:
+    n = int(info.get("n_clipped_strokes") or 0)
+    if not n:
+        return ""
+    return (f"; {n} more left out because a force sensor was saturated (clipped) during them "
+            f"({len(info.get('clipping') or {})} recordings, see the warnings)")
+
+
 def html_report(
     result: StudyResult,
     figures: Mapping[str, bytes],
@@ -233,7 +259,7 @@ def html_report(
         f"{len(info['participants'])} participants, {len(info['samples'])} samples "
         f"({', '.join(map(_esc, info['samples']))}), reference <b>{_esc(info['reference_sample'])}</b>; "
         f"{info['n_files']} recordings, {info['n_strokes']} strokes, {info['n_outliers']} flagged as outliers "
-        f"(robust |z| &gt; {info['outlier_z']}). Friction per stroke: mean |F<sub>t</sub>|/F<sub>n</sub> over the "
+        f"(robust |z| &gt; {info['outlier_z']}){_clipped_facts(info)}. Friction per stroke: mean |F<sub>t</sub>|/F<sub>n</sub> over the "
         f"steady part ({100 * info['stroke_trim']:.0f} % trimmed at each end). Power law mu = k F<sup>n-1</sup> "
         f"(k = mu at 1 N); normalised friction mu<sub>tex</sub>/mu<sub>ref</sub> with the participant's fitted "
         f"reference curve. Intervals at {lv:.0f} % treat the strokes of one recording as one cluster "
@@ -255,12 +281,19 @@ def html_report(
         "<p class='facts'>Transition: a change of trend of mu<sub>tex</sub>/mu<sub>ref</sub> is reported only "
         f"when the sup-likelihood-ratio test (which accounts for searching its location; {result.options.n_null} "
         "simulations of a straight line with the recordings' scatter) gives p &lt; "
-        f"{1 - info['confidence_level']:.2g}; the closed-form E<sub>s</sub> (Eq. 3.6) is given beside the model "
+        f"{1 - info['confidence_level']:.2g} and its location leaves at least "
+        f"{100 * result.options.breakpoint_edge:.0f} % of the load range (log scale) and of the strokes on each side "
+        "(nearer the edge one segment rests on a few strokes, and any curvature passes for a break); "
+        "the closed-form E<sub>s</sub> (Eq. 3.6) is given beside the model "
         "fit only then. Sense ratio: mu sliding + over mu sliding -, at equal load.</p>",
         conditions_table(result),
         "<h2>Population per sample</h2>",
-        "<p class='facts'>Mixed-effects power law across participants (random level per participant, "
-        "variance component per recording); intervals with participants minus one degrees of freedom. The "
+        "<p class='facts'>Power law across participants, two ways: a mixed-effects model (random level and "
+        "exponent per participant, variance component per recording) and a two-stage estimate (each "
+        "participant's own power law, then the mean and spread of ln k and n over participants). The numbers "
+        "come from the mixed model where its variance components are estimable (converged, positive-definite "
+        "covariance, invertible Hessian), else from the two-stage estimate: 'numbers from' says which, and the "
+        "two are shown side by side. Intervals with participants minus one degrees of freedom. The "
         "sample figures show the mean curve over participants with its between-person interval.</p>",
         population_table(result),
         "<h2>Spread between participants</h2>",

@@ -28,7 +28,7 @@ class TextureGeometry:
     ``material_modulus=None`` means a rigid counter-surface. ``micro_model`` picks the unit-cell
     model: ``"bem"`` (default, :func:`bem_texture_model`: the half-space solver through the
     asperity, transition and full-contact states) or ``"hertz"`` (:func:`hertz_texture_model`,
-    MODEL.md 3.1-3.6, asperity tops only). ``full_contact_ratio`` (Hertz only) adds the empirical
+    docs/model.md 3.1-3.6, asperity tops only). ``full_contact_ratio`` (Hertz only) adds the empirical
     :class:`BaseContactCell` growth past the transition.
     """
 
@@ -114,8 +114,8 @@ class BaseContactCell:
     """A Hertzian bump cell extended past the transition by contact spreading over the base.
 
     :class:`fingerpad.micro.hertz.HertzUnitCell` follows the asperity tops only (Hertz cannot
-    follow the skin onto the base, MODEL.md 3.1). Measured friction, however, changes trend at
-    the transition because the skin starts to touch the base (MODEL.md "Using it"). This
+    follow the skin onto the base, docs/model.md 3.1). Measured friction, however, changes trend at
+    the transition because the skin starts to touch the base (docs/model.md "Using it"). This
     phenomenological cell keeps Hertz below the transition pressure ``p_t`` and lets psi rise
     from ``psi_t = psi_Hertz(p_t)`` to 1 linearly in ``log p`` up to full contact at
     ``full_contact_ratio * p_t``, which steepens ``d log psi / d log p`` at ``p_t`` from 2/3

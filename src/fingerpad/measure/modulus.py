@@ -143,7 +143,10 @@ def _reference_level(reference: Any, loads: np.ndarray, design: float = 1.0) -> 
         return 0.0, math.inf
     if hasattr(reference, "log_level"):
         _, se, df = reference.log_level(loads)
-        return se**2, float(df)
+        # a fit that took every stroke as independent (no recordings) is inflated by the design
+        # effect the caller measured; a clustered fit already carries its recordings
+        inflate = max(float(design), 1.0) if getattr(reference, "n_clusters", 1) == 0 else 1.0
+        return se**2 * inflate, float(df)
     cov = getattr(reference, "log_covariance", None)
     if cov is None:
         return 0.0, math.inf
@@ -380,7 +383,7 @@ def estimate_skin_modulus(
     log_residuals
         Residuals of ``ln mu`` (multiplicative scatter, the default) or of ``mu``.
     reference
-        The reference power law used to normalise (a :class:`fingerpad.measure.curves.PowerLaw`,
+        The reference power law used to normalise (a :class:`fingerpad.friction.PowerLaw`,
         or any fit with ``log_covariance`` and ``dof``): the error of its level shifts every
         mu_norm alike and is added to the level test.
     reference_design_effect

@@ -1,6 +1,6 @@
 """Outputs of a friction-measurement study: tables, figures, NetCDF curves and an HTML report.
 
-:func:`write_report` writes everything for a :class:`fingerpad.measurements.StudyResult` into a
+:func:`write_report` writes everything for a :class:`fingerpad.measure.StudyResult` into a
 folder, all at once: the files are made in a temporary folder beside it and moved into place
 only when every one of them is complete, so an error never leaves a half-written report.
 
@@ -8,11 +8,13 @@ Layout of ``OUT``::
 
     summary.csv, summary.json   one row per participant, sample and direction (+ study info)
     participants.csv            reference power law and E_s per participant
-    strokes.csv                 every stroke (load, mu, outlier flag, mu_norm)
+    strokes.csv                 every stroke (load, mu, outlier flag, mu_norm; ``clipped``: the saturated
+                                force channels of a stroke left out of the fits)
     fits.csv, bins.csv          power-law fits per sense; binned means
     spread.csv                  between-participant spread per load bin, before/after
     population_curves.csv       mean curve over participants per texture, between-person interval
-    population_fits.csv         mixed-effects power law across participants per texture
+    population_fits.csv         power law across participants per texture (mixed model or two-stage,
+                                column ``source``; both estimates side by side)
     sensitivity.csv             E_s refitted with the other micro-model and varied friction parameters
     curves.nc                   binned and fitted curves (xarray, h5netcdf)
     figures/participant_<P>.png, figures/sample_<S>.png
@@ -26,8 +28,6 @@ import json
 import math
 import os
 import re
-import shutil
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -35,9 +35,9 @@ import numpy as np
 import pandas as pd
 
 from .._version import __version__
-from ..io import check_replaceable, existing_parent, replace_folder
-from ..plotting.measure import figure_participant, figure_qc, figure_sample, png_bytes
-from .analysis import StudyResult, condition_label, load_grid, study_info
+from ..io import OutputFolder
+from ..plotting.measure import condition_label, figure_participant, figure_qc, figure_sample, png_bytes
+from .analysis import StudyResult, study_info
 from .htmlreport import html_report
 
 __all__ = ["curves_dataset", "html_report", "write_report"]
@@ -75,7 +75,7 @@ def curves_dataset(result: StudyResult):
     labels = [condition_label(s, d) for s, d in conds]
     senses = ["+", "-", "both"]
     nbins = len(result.bin_edges) - 1
-    grid = load_grid(result)
+    grid = result.load_grid()
     shape_b = (len(participants), len(conds), len(senses), nbins)
     binned = {k: np.full(shape_b, np.nan) for k in ("mu_mean", "mu_sd", "mu_n", "mu_norm_mean", "mu_norm_sd",
                                                      "bin_load")}
@@ -224,9 +224,8 @@ def write_report(
         If ``out`` exists and is not a folder.
     """
     out_path = Path(out)
-    check_replaceable(out_path, "report.html")
-    tmp = Path(tempfile.mkdtemp(prefix=".fingerpad-report-", dir=existing_parent(out_path)))
-    try:
+    with OutputFolder(out_path) as folder:  # refuses a folder of the user's files; errors name the user's path
+        tmp = folder.build
         written: list[str] = []
 
         def csv_file(name: str, df: pd.DataFrame) -> None:
@@ -235,7 +234,9 @@ def write_report(
 
         csv_file("summary.csv", result.conditions)
         csv_file("participants.csv", result.participants)
-        csv_file("strokes.csv", result.strokes)
+        # every stroke, those left out for a saturated sensor included (column `clipped` says so)
+        csv_file("strokes.csv", pd.concat([result.strokes, result.clipped_strokes], ignore_index=True)
+                 if len(result.clipped_strokes) else result.strokes)
         csv_file("fits.csv", result.fits)
         csv_file("bins.csv", result.bins)
         csv_file("spread.csv", result.spread)
@@ -296,7 +297,5 @@ def write_report(
                 tick(name)
         (tmp / "report.html").write_text(html_report(result, pngs, title, qc_links=qc_links), encoding="utf-8")
         written.append("report.html")
-        replace_folder(tmp, out_path)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+        folder.commit()
     return [out_path / name for name in written]

@@ -7,8 +7,8 @@ interface parameters (tau0, alpha of Eq. 2.3, beta of Eq. 2.4) and the ridge fra
 
 * with the other micro-model (BEM <-> Hertz, asperity tops only), and
 * with each friction parameter at the ends of a plausible range, the others kept:
-  tau0 x 0.5 and x 2 (dry to wet skin, MODEL.md: mu ~ 0.5 dry, > 1 wet), alpha and beta
-  x 0.5 and x 2 (both assumed, no value in MODEL.md), ridge fraction 0.3 and 0.7 (MODEL.md:
+  tau0 x 0.5 and x 2 (dry to wet skin, docs/model.md: mu ~ 0.5 dry, > 1 wet), alpha and beta
+  x 0.5 and x 2 (both assumed, no value in docs/model.md), ridge fraction 0.3 and 0.7 (docs/model.md:
   10-70 % of the gross area; the default is 0.5).
 """
 

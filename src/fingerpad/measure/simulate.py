@@ -6,18 +6,18 @@ import csv
 import json
 import math
 import os
-import shutil
-import tempfile
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pandas as pd
 
 from ..errors import FingerpadError
-from ..io import check_replaceable, existing_parent, replace_folder
+from ..io import OutputFolder
 from .models import Model, TextureGeometry, resolve_finger, texture_model
+from .recordings import Recording
 
 
 @dataclass(frozen=True)
@@ -55,6 +55,10 @@ class SimulationConfig:
         Probability that a stroke's friction is raised 1.5-2x (e.g. a moisture burst).
     finger
         Finger preset of the micro-model (the same for everybody, so the normalisation holds).
+    normal_range, friction_range
+        Ranges of the force sensors, N (``None``: unlimited): the recorded normal force is capped
+        at ``normal_range`` and the friction force at ``+-friction_range``, as a load cell driven
+        past its range records (saturation, clipping).
     """
 
     participants: int = 4
@@ -80,8 +84,14 @@ class SimulationConfig:
     drift: float = 0.003
     outlier_rate: float = 0.02
     finger: str = "default"
+    normal_range: float | None = None
+    friction_range: float | None = None
 
     def __post_init__(self) -> None:
+        for name in ("normal_range", "friction_range"):
+            value = getattr(self, name)
+            if value is not None and not (math.isfinite(value) and value > 0):
+                raise FingerpadError(f"{name} must be a positive force (N) or None, got {value!r}")
         if self.participants < 1 or self.repetitions < 1 or self.strokes_per_file < 2:
             raise FingerpadError("need at least 1 participant, 1 repetition and 2 strokes per file")
         lo, hi = self.load_range
@@ -166,12 +176,105 @@ def _simulate_file(
     drift_n = cfg.drift * rng.uniform(-1, 1) * t / t[-1]
     drift_t = cfg.drift * rng.uniform(-1, 1) * t / t[-1]
     sensor = 0.002
+    normal = fn_true + drift_n + sensor * rng.standard_normal(n)
+    friction = ft_true + drift_t + sensor * rng.standard_normal(n)
+    if cfg.normal_range is not None:  # a load cell at its range records its full-scale value
+        normal = np.minimum(normal, cfg.normal_range)
+    if cfg.friction_range is not None:
+        friction = np.clip(friction, -cfg.friction_range, cfg.friction_range)
     return {
         "time": t,
-        "normal": fn_true + drift_n + sensor * rng.standard_normal(n),
-        "friction": ft_true + drift_t + sensor * rng.standard_normal(n),
+        "normal": normal,
+        "friction": friction,
         "position": x + 2e-6 * rng.standard_normal(n),
     }, [int(j) + 1 for j in np.flatnonzero(bursts)]
+
+
+def simulate_recording(
+    config: SimulationConfig = SimulationConfig(),
+    *,
+    k: float = 0.5,
+    n: float = 0.7,
+    seed: int = 0,
+    source: str = "simulated.csv",
+) -> Recording:
+    """One synthetic recording in memory: the time series :func:`simulate_study` writes to a
+    file (same noise, drift, static peaks, outliers and sensor ranges), on a sample with
+    ``mu = k F^(n-1)``; for tests of stroke detection and clipping without files.
+
+    Returns
+    -------
+    Recording
+        Time (s), normal and friction force (N), position (m); ``participant`` ``P1``,
+        ``sample`` ``config.reference``.
+    """
+    rng = np.random.default_rng(seed)
+    data, _ = _simulate_file(rng, config, lambda f: k * f ** (n - 1.0), first_sense=1)
+    return Recording(source=source, normal=data["normal"], friction=data["friction"], time=data["time"],
+                     position=data["position"], participant="P1", sample=config.reference, repetition="1")
+
+
+def _mean_log_uniform(lo: float, hi: float) -> float:
+    """``E[ln X]`` for ``X`` uniform on ``[lo, hi]``."""
+    if hi <= lo:
+        return math.log(lo)
+    return (hi * math.log(hi) - lo * math.log(lo)) / (hi - lo) - 1.0
+
+
+def population_truth(config: SimulationConfig) -> dict[str, float]:
+    """The population power law of a simulated study: ``k`` is the geometric mean of the
+    participants' k (``exp E[ln k]``, what a fit in log space estimates) and ``n`` their mean
+    exponent, for k and n drawn uniformly from ``config.k_range`` and ``config.n_range``; with
+    the standard deviations of ``ln k`` and ``n`` between people."""
+    (k_lo, k_hi), (n_lo, n_hi) = config.k_range, config.n_range
+    m1 = _mean_log_uniform(k_lo, k_hi)
+    if k_hi > k_lo:  # E[(ln X)^2] for X uniform: the antiderivative x (ln^2 x - 2 ln x + 2)
+        def g(x: float) -> float:
+            return x * (math.log(x) ** 2 - 2 * math.log(x) + 2)
+        m2 = (g(k_hi) - g(k_lo)) / (k_hi - k_lo)
+    else:
+        m2 = m1 * m1
+    return {"k": math.exp(m1), "n": 0.5 * (n_lo + n_hi), "sd_ln_k": math.sqrt(max(m2 - m1 * m1, 0.0)),
+            "sd_n": (n_hi - n_lo) / math.sqrt(12.0)}
+
+
+def simulate_stroke_table(config: SimulationConfig = SimulationConfig(), *, seed: int = 0
+                          ) -> tuple[pd.DataFrame, dict[str, Any]]:
+    """A study's stroke table on the reference sample drawn directly, without time series.
+
+    Each participant draws k and n from ``config.k_range`` and ``config.n_range`` (as in
+    :func:`simulate_study`); each of their ``repetitions`` recordings has a log-normal level
+    (``file_noise``) and ``strokes_per_file`` strokes at loads spread log-uniformly over
+    ``load_range`` with log-normal scatter (``stroke_noise``). Thousands of studies take
+    seconds, which is what checking the coverage of population intervals needs.
+
+    Returns
+    -------
+    strokes, truth
+        The columns the study-level fits read (``participant``, ``sample``, ``direction``,
+        ``file``, ``session``, ``sense``, ``load``, ``mu``, ``mu_norm`` = 1, ``outlier``,
+        ``clipped``), and the truth: per participant k and n, and :func:`population_truth`.
+    """
+    rng = np.random.default_rng(seed)
+    lo, hi = config.load_range
+    m = config.strokes_per_file
+    width = max(2, len(str(config.participants)))
+    frames, people = [], {}
+    for i in range(config.participants):
+        pid = f"P{i + 1:0{width}d}"
+        k = float(rng.uniform(*config.k_range))
+        n_exp = float(rng.uniform(*config.n_range))
+        people[pid] = {"k": k, "n": n_exp}
+        for rep in range(1, config.repetitions + 1):
+            loads = np.exp(rng.permutation(np.linspace(math.log(lo), math.log(hi), m)) + rng.normal(0, 0.05, m))
+            level = config.file_noise * rng.standard_normal() + config.stroke_noise * rng.standard_normal(m)
+            frames.append(pd.DataFrame({
+                "file": f"{pid}_{config.reference}_{rep}.csv", "participant": pid, "sample": config.reference,
+                "direction": "", "repetition": str(rep), "session": "", "stroke": np.arange(1, m + 1),
+                "sense": np.where(np.arange(m) % 2 == 0, "+", "-"), "load": loads,
+                "mu": k * loads ** (n_exp - 1.0) * np.exp(level), "mu_norm": 1.0, "outlier": False, "clipped": "",
+            }))
+    return pd.concat(frames, ignore_index=True), {"participants": people, "population": population_truth(config)}
 
 
 def _write_csv(path: Path, header: Sequence[str], rows: Iterable[Sequence[Any]]) -> None:
@@ -225,9 +328,8 @@ def simulate_study(
                              "outliers": []}
     manifest = []
     out_path = Path(out)
-    check_replaceable(out_path, "truth.json")
-    tmp = Path(tempfile.mkdtemp(prefix=".simulate-", dir=existing_parent(out_path)))
-    try:
+    with OutputFolder(out_path) as folder:  # refuses a folder of the user's files; errors name the user's path
+        tmp = folder.build
         for i in range(config.participants):
             pid = f"P{i + 1:0{width}d}"
             es = float(rng.uniform(*config.skin_modulus_range))
@@ -259,8 +361,8 @@ def simulate_study(
                        g.full_contact_ratio or "")
                       for name, g in config.textures.items()])
         truth["files"] = [m[0] for m in manifest]
+        truth["population"] = population_truth(config)
+        truth["sensor_ranges"] = {"normal": config.normal_range, "friction": config.friction_range}
         (tmp / "truth.json").write_text(json.dumps(truth, indent=2), encoding="utf-8")
-        replace_folder(tmp, out_path)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+        folder.commit()
     return truth

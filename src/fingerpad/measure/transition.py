@@ -1,4 +1,4 @@
-"""Closed-form skin modulus from the transition load (MODEL.md Eqs. 3.4 and 3.6), and its inverse."""
+"""Closed-form skin modulus from the transition load (docs/model.md Eqs. 3.4 and 3.6), and its inverse."""
 
 from __future__ import annotations
 
@@ -32,7 +32,7 @@ def modulus_from_transition(
     material_modulus: float | None = None,
     material_poisson: float = 0.35,
 ) -> float:
-    """Skin modulus E_s from the transition load, closed form (MODEL.md Eq. 3.6 and 3.4).
+    """Skin modulus E_s from the transition load, closed form (docs/model.md Eq. 3.6 and 3.4).
 
     ``F_crit = (8/9) E1* sqrt(h^3 R) A_fr / lambda^2`` gives
     ``E1* = 9 F_crit lambda^2 / (8 sqrt(h^3 R) A_fr(F_crit))``, and Eq. 3.4 solved for E_s:

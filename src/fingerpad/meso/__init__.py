@@ -38,16 +38,9 @@ def discover_models() -> dict[str, Model]:
     ValueError
         Two models of the same name.
     """
-    from ..discover import collect
+    from ..discover import fill_registry
 
-    found: dict[str, Model] = {}
-    for model in collect(__name__, __path__, "MODELS", Model, skip=HELPER_MODULES):
-        if model.name in found:
-            raise ValueError(f"two ridge models are named {model.name!r}")
-        found[model.name] = model
-    RIDGE_MODELS.clear()
-    RIDGE_MODELS.update(found)
-    return RIDGE_MODELS
+    return fill_registry(RIDGE_MODELS, __name__, __path__, "MODELS", Model, skip=HELPER_MODULES, what="ridge model")
 
 
 discover_models()

@@ -2,7 +2,7 @@
 
 The most detailed ridge model of the thesis: the finger pad's surface, a sphere of radius
 ``R_fp`` carrying the fingerprint ridges, pressed on a flat rigid plate and solved with the
-non-periodic half-space solver (:mod:`fingerpad.halfspace`). For frictionless contact only the
+non-periodic half-space solver (:mod:`fingerpad.contact`). For frictionless contact only the
 sum of the two surfaces' heights matters, so the pad topography is handed to the solver as the
 "texture" and the plate as the flat elastic body, with the skin's reduced modulus.
 

@@ -7,7 +7,11 @@ SHA-256 of that content. Several processes (sweep workers) may fill the same ent
 takes a file lock (``filelock``), re-reads the entry, merges its new points and replaces the file
 atomically, so readers never see a partial file and no computed point is lost.
 
-The cache folder is ``$FINGERPAD_CACHE`` if set, else ``~/.cache/fingerpad``.
+The cache folder is ``$FINGERPAD_CACHE`` if set, else ``~/.cache/fingerpad``. Entries and lock
+files are written with the permissions the umask allows (``umask 002`` and a group-owned folder
+give a cache shared by a group's workers). A folder that cannot be written (read-only, not a
+folder, a lock another user holds with other permissions) never stops a prediction: it runs
+without storing, with one :class:`CacheWarning` per folder.
 """
 
 from __future__ import annotations
@@ -16,18 +20,31 @@ import hashlib
 import json
 import os
 import tempfile
+import warnings
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from filelock import FileLock
-
-from ..errors import FingerpadError
+from filelock import FileLock, Timeout
 
 #: Bump when a solver change alters cached numbers (2: full contact = at most 1 % open; state
 #: brackets searched beyond the asked range; 3: unit cells stored modulus- and length-free,
 #: pressures over E* and lengths over the cell length, keyed without either).
 CACHE_VERSION = 3
+
+
+class CacheWarning(UserWarning):
+    """The cache folder cannot be used: the work goes on without storing its results."""
+
+
+#: Folders already warned about (one warning per folder and process).
+_WARNED: set[str] = set()
+
+
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def default_cache_dir() -> Path:
@@ -70,23 +87,37 @@ class CurveCache:
         Top-level dictionaries are merged key by key (new values win), other values replaced.
         """
         path, lock = self._paths(key)
+        mode = 0o666 & ~_umask()  # what a plain file gets: a shared cache needs group-writable entries and locks
         try:
             self.folder.mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            raise FingerpadError(f"cannot create cache folder {self.folder}: {exc.strerror}") from None
-        with FileLock(str(lock), timeout=600):
+            with FileLock(str(lock), timeout=600, mode=mode):
+                data = self.load(key)
+                _merge(data, new)
+                fd, tmp = tempfile.mkstemp(dir=self.folder, prefix=f".{key[:12]}.", suffix=".tmp")
+                try:
+                    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+                        json.dump(data, fh)
+                    os.chmod(tmp, mode)  # mkstemp makes it private (0600)
+                    os.replace(tmp, path)
+                except BaseException:
+                    Path(tmp).unlink(missing_ok=True)
+                    raise
+        except (OSError, Timeout) as exc:
+            reason = getattr(exc, "strerror", None) or str(exc) or type(exc).__name__
+            if str(self.folder) not in _WARNED:
+                _WARNED.add(str(self.folder))
+                warnings.warn(f"cache folder {str(self.folder)!r} cannot be written ({reason}): running without "
+                              f"storing results in the cache (set FINGERPAD_CACHE or --cache to a writable folder)",
+                              CacheWarning, stacklevel=2)
             data = self.load(key)
-            for k, v in new.items():
-                if isinstance(v, dict) and isinstance(data.get(k), dict):
-                    data[k].update(v)
-                else:
-                    data[k] = v
-            fd, tmp = tempfile.mkstemp(dir=self.folder, prefix=f".{key[:12]}.", suffix=".tmp")
-            try:
-                with os.fdopen(fd, "w", encoding="utf-8") as fh:
-                    json.dump(data, fh)
-                os.replace(tmp, path)
-            except BaseException:
-                Path(tmp).unlink(missing_ok=True)
-                raise
+            _merge(data, new)
         return data
+
+
+def _merge(data: dict[str, Any], new: dict[str, Any]) -> None:
+    """Top-level dictionaries merged key by key (new values win), other values replaced."""
+    for k, v in new.items():
+        if isinstance(v, dict) and isinstance(data.get(k), dict):
+            data[k].update(v)
+        else:
+            data[k] = v

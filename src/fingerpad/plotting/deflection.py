@@ -40,11 +40,12 @@ def deflection_figure(curves: list[GainCurve], path: str | os.PathLike[str], pre
         title = f"direction {curve.direction_deg:g}°"
         if curve.is_identity or not curve.ramps:
             for ax in row:
-                ax.text(0.5, 0.5, "no deflection (rigid texture or no shear across the section): G = 1",
-                        ha="center", va="center", transform=ax.transAxes, fontsize="small")
+                ax.text(0.5, 0.5, f"G = 1: {curve.reason or 'no deflection'}",
+                        ha="center", va="center", transform=ax.transAxes, fontsize="small", wrap=True)
             ax_shape.set_title(title)
             continue
         ramp = curve.ramps[pressure_index]
+        mu_top = max([float(np.max(np.abs(r.mu))) for r in curve.ramps if r.mu.size] + [0.0])
         n = len(ramp.surfaces)
         picks = sorted(set(np.linspace(0, n - 1, min(n, 5)).astype(int))) if n else []
         cmap = __import__("matplotlib").colormaps["viridis"]
@@ -71,10 +72,14 @@ def deflection_figure(curves: list[GainCurve], path: str | os.PathLike[str], pre
                 ax_gain.axvline(r.fold_onset_mu, color=line.get_color(), ls=":", lw=0.8)
             if r.stopped:
                 ax_gain.plot(abs(r.mu[-1]), r.gain[-1], "x", color=line.get_color())
+            mu_b, g_b = r.branch()
+            if mu_b.size and r.mu_reached < mu_top - 1e-9:  # the table holds the last gain past the reach
+                ax_gain.plot([r.mu_reached, mu_top], [g_b[-1], g_b[-1]], ":", color=line.get_color(), lw=1.5)
         ax_gain.axhline(1.0, color="k", lw=0.5)
         ax_gain.set_xlabel("shear level μ (section)")
         ax_gain.set_ylabel("contact length gain L(μ)/L(0)")
-        ax_gain.set_title("gain (dotted: fold-over onset, x: ramp stopped)")
+        ax_gain.set_title("gain (x: ramp stopped, dotted: held past it; thin: fold-over onset)"
+                          + (" INCOMPLETE: time limit" if curve.incomplete else ""), fontsize="small")
         ax_gain.legend(fontsize="x-small")
         ax_tip.set_xlabel("shear level μ (section)")
         ax_tip.set_ylabel("tip displacement (µm)")

@@ -1,14 +1,23 @@
 """The design map figure: mu/mu_ref in colour, critical-load contours, contact-state regions and
-the literature markers, on two swept axes (one panel per value of a further axis)."""
+the literature markers, on two swept axes (one panel per value of a further axis).
+
+Everything the figure shows comes with the data (the region names in the ``region`` variable's
+``flag_meanings``, the literature markers in the ``markers`` attribute): this module decides
+only how it is drawn.
+"""
 
 from __future__ import annotations
 
+import json
 import math
 from typing import Any
 
 import numpy as np
 
-__all__ = ["figure_design_map"]
+__all__ = ["CRITICAL_CONTOURS", "figure_design_map"]
+
+#: Contour levels of the critical load drawn on the map, N (those inside the data's range).
+CRITICAL_CONTOURS = (0.1, 0.5, 1.0, 2.0, 4.0)
 
 _SCALE = {"length": (1e6, "µm"), "pressure": (1e-3, "kPa"), "angle": (180 / math.pi, "deg")}
 
@@ -23,7 +32,9 @@ def figure_design_map(data: Any) -> Any:
     from matplotlib.figure import Figure
     from matplotlib.ticker import FixedLocator, FuncFormatter, NullLocator, ScalarFormatter
 
-    from ..design.designmap import CRITICAL_CONTOURS, MARKERS, REGIONS
+    meanings = str(data["region"].attrs.get("flag_meanings", ""))
+    regions = dict(enumerate(m.strip() for m in meanings.split(";"))) if meanings else {}
+    markers = json.loads(data.attrs["markers"]) if data.attrs.get("markers") else {"lines": [], "bands": []}
 
     x, y, design = data.attrs["x"], data.attrs["y"], data.attrs["design"]
     panels: list[tuple[str, Any]] = [("", data)]
@@ -94,7 +105,7 @@ def figure_design_map(data: Any) -> Any:
             else:
                 axis.set_major_formatter(ScalarFormatter())
         limits = ax.get_xlim(), ax.get_ylim()
-        _markers(ax, x, y, xs_kind, ys_kind, MARKERS, limits)
+        _markers(ax, x, y, xs_kind, ys_kind, markers, limits)
         ax.set_xlim(*limits[0])
         ax.set_ylim(*limits[1])
         ax.set_xlabel(f"{x} ({xu})" if xu else x)
@@ -108,7 +119,7 @@ def figure_design_map(data: Any) -> Any:
         what = data.attrs.get("quantity_label", "μ/μ_ref")
         extra = " (friction against the flat reference)" if what == "μ/μ_ref" else ""
         cbar.set_label(f"{what} at {data.attrs['at']:g} N{extra}")
-    legend = "; ".join(f"{'hatched' if k == 0 else 'dotted' if k == 2 else 'plain'}: {v}" for k, v in REGIONS.items())
+    legend = "; ".join(f"{'hatched' if k == 0 else 'dotted' if k == 2 else 'plain'}: {v}" for k, v in regions.items())
     fig.suptitle(f"Design map: critical load (white contours), {data.attrs.get('quantity_label', 'μ/μ_ref')} at "
                  f"{data.attrs['at']:g} N (colour), "
                  f"exploration loads {data.attrs['load_min']:g}-{data.attrs['load_max']:g} N\n{legend}; "

@@ -8,12 +8,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import FingerpadError
-from ..measure.analysis import condition_label, load_grid
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # the figures read a result; plotting imports nothing of measure/ at run time
     from ..measure.analysis import StudyResult
 
-__all__ = ["figure_participant", "figure_qc", "figure_sample", "log_subs", "png_bytes"]
+__all__ = ["condition_label", "figure_participant", "figure_qc", "figure_sample", "log_subs", "png_bytes"]
+
+
+def condition_label(sample: str, direction: str) -> str:
+    """``sample/direction`` (or the sample alone): the label of one measured condition in
+    figures, tables and reports."""
+    return f"{sample}/{direction}" if direction else str(sample)
 
 _SENSE_STYLE = {"+": ("o", "forward (+)"), "-": ("s", "backward (-)")}
 
@@ -89,7 +94,7 @@ def figure_participant(result: StudyResult, participant: str):
     textured = [c for c in conds if c[0] != ref]
     fig, axes = _new_figure(2 if textured else 1)
     ax = axes[0]
-    grid = load_grid(result)
+    grid = result.load_grid()
     for sample, direction in conds:
         label = condition_label(sample, direction)
         g = s[(s["sample"] == sample) & (s["direction"] == direction)]
@@ -146,7 +151,7 @@ def figure_sample(result: StudyResult, sample: str):
     participants = sorted(s["participant"].unique())
     colours = _colours(participants)
     fig, axes = _new_figure(1 if is_ref else 3, width=4.6)
-    grid = load_grid(result)
+    grid = result.load_grid()
     ax = axes[0]
     for p in participants:
         g = s[s["participant"] == p]
@@ -222,8 +227,9 @@ def figure_qc(result: StudyResult, source: str):
     Top three panels against time (or sample number): normal force, friction force and position
     (or velocity, or the friction-derived direction); every stroke shaded by sense (blue ``+``,
     orange ``-``), its steady window (where mu is averaged) darker, strokes flagged as
-    outliers outlined in red, strokes dropped (lift-off) hatched grey; the lift-off threshold
-    on the normal force. Bottom: mu of each stroke against its number (running-in, moisture
+    outliers outlined in red, strokes dropped (lift-off) hatched grey, strokes left out because
+    a force channel saturated cross-hatched magenta with the saturated level dashed; the
+    lift-off threshold on the normal force. Bottom: mu of each stroke against its number (running-in, moisture
     drift), outliers as red crosses.
     """
     from matplotlib.figure import Figure
@@ -234,6 +240,9 @@ def figure_qc(result: StudyResult, source: str):
         raise FingerpadError(f"no recording {source!r} in the result")
     strokes = result.strokes[result.strokes["file"] == source]
     outlier = dict(zip(strokes["stroke"], strokes["outlier"]))
+    cs = getattr(result, "clipped_strokes", None)
+    clipped = set(cs.loc[cs["file"] == source, "stroke"]) if cs is not None and len(cs) else set()
+    clips = getattr(report, "clips", [])
     t = rec.time if rec.time is not None else np.arange(len(rec), dtype=float)
     xlabel = "time (s)" if rec.time is not None else "sample"
     third, third_label = ((rec.position * 1e3, "position (mm)") if rec.position is not None else
@@ -262,10 +271,14 @@ def figure_qc(result: StudyResult, source: str):
             ax.axvspan(t[st.steady_start], t[st.steady_stop - 1], color=c, alpha=0.25, lw=0)
             if outlier.get(number, False):
                 ax.axvspan(a, b, facecolor="none", edgecolor="red", lw=1.5)
+            if number in clipped:  # left out: a force channel saturated during the stroke
+                ax.axvspan(a, b, facecolor="none", edgecolor="magenta", hatch="xx", lw=1.5)
         ax.set_ylabel(label, fontsize=8)
         ax.tick_params(labelsize=7)
         ax.grid(True, alpha=0.3)
     axes[0].axhline(result.options.strokes.min_load, color="red", lw=0.8, ls=":")
+    for clip in clips:  # the saturated level of each clipped channel
+        axes[0 if clip.channel == "normal" else 1].axhline(clip.level, color="magenta", lw=1.0, ls="--")
     axes[n_rows - 2].set_xlabel(xlabel, fontsize=8)
     ax = axes[-1]
     for sense, (marker, label) in _SENSE_STYLE.items():
@@ -286,7 +299,8 @@ def figure_qc(result: StudyResult, source: str):
     n_drop = len(report.strokes) - len(report.used)
     fig.suptitle(f"{Path(source).name}: {len(report.used)} strokes (direction from {report.source}), "
                  f"{int(strokes['outlier'].sum())} outlier(s), {n_drop} dropped (lift-off)"
-                 + (f", {report.short_travel} shorter than the minimum travel" if report.short_travel else ""),
+                 + (f", {report.short_travel} shorter than the minimum travel" if report.short_travel else "")
+                 + (f", {len(clipped)} clipped (sensor saturated, left out)" if clipped else ""),
                  fontsize=10)
     return fig
 

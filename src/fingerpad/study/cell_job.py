@@ -278,7 +278,7 @@ def write_solve_outputs(job: SolveJob, outcome: SolveOutcome) -> None:
 
 
 def _results_json(job: SolveJob, results: Sequence[Any], critical: Any = None) -> dict[str, Any]:
-    from ..io import to_jsonable
+    from ..encode import to_jsonable
 
     payload: dict[str, Any] = {
         "inputs": job.inputs(),

@@ -68,7 +68,7 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
       pad centre) and, for model ``both`` on caps, ``hertz``: ``real_area``, ``area_ratio``,
       ``transition_radius``, ``mu``, ``mu_normalised``, ``contact_state``.
     """
-    from ..io import to_jsonable
+    from ..encode import to_jsonable
     from ..textures import describe
 
     study, tex, cur = pred.study, pred.texture, pred.primary
@@ -95,6 +95,7 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
             row["mu_parallel"] = d["mu_parallel"][i]
             row["mu_perpendicular"] = d["mu_perpendicular"][i]
             row["mu_perpendicular_over_parallel"] = d["mu_perpendicular_over_parallel"][i]
+            row["gain_held"] = bool(d["gain_held_parallel"][i] or d["gain_held_perpendicular"][i])
         if pred.bem is not None and pred.hertz is not None:
             h = pred.hertz
             row["hertz"] = {
@@ -188,7 +189,7 @@ def prediction_dataset(pred: Prediction):
     ``cell_pressure``; every variable has a ``units`` attribute, inputs are global attributes."""
     import xarray as xr
 
-    from ..io import flatten_attrs
+    from ..encode import flatten_attrs
 
     cur = pred.primary
     long = {
@@ -225,6 +226,9 @@ def prediction_dataset(pred: Prediction):
                                 ("mu_perpendicular", "friction coefficient sliding across the long axis"),
                                 ("mu_perpendicular_over_parallel", "mu_perpendicular / mu_parallel")):
             data[name] = xr.Variable(("load",), np.asarray(d[name], float), {"units": "1", "long_name": long_name})
+        data["gain_held"] = xr.Variable(("load",), np.asarray(d["gain_held_parallel"], np.int8)
+                                        | np.asarray(d["gain_held_perpendicular"], np.int8),
+                                        {"units": "1", "long_name": "1: deflection gain held past the shear its ramps reached"})
     coords = {"load": xr.Variable("load", np.asarray(cur.load, float), {"units": "N", "long_name": "normal load"})}
     if pred.cell is not None and not pred.cell.flat:
         nodes = pred.cell.curve()
@@ -285,7 +289,7 @@ def check_outputs(out_dir: str | os.PathLike[str] | None, json_path: str | None 
             continue
         fio.check_writable(path, option, suffixes)
         key = os.path.abspath(path)
-        if out_dir is not None and Path(key).parent == Path(os.path.abspath(out_dir)):
+        if out_dir is not None and Path(os.path.realpath(key)).parent == Path(os.path.realpath(out_dir)):
             raise FingerpadError(f"{option} {path!r} lies inside --out {os.fspath(out_dir)!r}, which is replaced as a whole")
         if key in targets:
             raise FingerpadError(f"{option} and {targets[key]} name the same file {path!r}")
@@ -355,13 +359,13 @@ def write_outputs(
             staging.stage(csv_path, write_csv)
             written.append(Path(csv_path))
         if folder is not None:
-            fio.write_text(folder.path(OUTPUT_FILES[0]), text)
-            netcdf.to_netcdf(prediction_dataset(pred), folder.path(OUTPUT_FILES[1]))
+            folder.write(OUTPUT_FILES[0], lambda tmp: fio.write_text(tmp, text))
+            folder.write(OUTPUT_FILES[1], lambda tmp: netcdf.to_netcdf(prediction_dataset(pred), tmp))
             figures = dict(zip(OUTPUT_FILES[2:], (figure_areas(pred), figure_friction(pred), figure_zones(pred)),
                                strict=True))
             figures.update(extra or {})
             for name, fig in figures.items():
-                fig.savefig(folder.path(name), format="png", dpi=dpi)
+                folder.write(name, lambda tmp, fig=fig: fig.savefig(tmp, format="png", dpi=dpi))
             written += [folder.final_path(name) for name in names]
         staging.commit()
         if folder is not None:

@@ -229,35 +229,27 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
     """
     from ..coupling import predict_curve
     from ..materials import Materials
-    from ..micro.deflection import (
-        DirectionalCell,
-        EllipsoidGeometry,
-        directional_gain,
-        hysteresis_direction_factor,
-        texture_geometry,
-    )
-    from ..micro.deflection.section import principal_directions
+    from ..micro.deflection import DirectionalCell, directional_gain, texture_geometry
+    from ..micro.deflection.hysteresis import geometry_hysteresis_factor
 
     finger = study.finger
-    geometry = texture_geometry(tex)
+    geometry = texture_geometry(tex)  # the family's deflection hook (checked before the cell was solved)
+    # the study's material Poisson ratio, the same one its reduced modulus uses (default 0.35)
     materials = Materials(finger.skin_modulus, finger.skin_poisson, study.material_modulus,
-                          study.material_poisson or 0.35)
+                          study.material_poisson if study.material_poisson is not None else Materials.material_poisson)
     loads = study.loads
     centre = 1.5 * loads / np.asarray(finger.ridge_area(loads), float)
     p_range = (float(centre.min()), float(centre.max()))
-    parallel, perpendicular = principal_directions(geometry)
+    parallel, perpendicular = geometry.principal_directions()
     cache = study.curve_cache()
     cache_arg: Any = True if cache is None else (False if cache is False else str(cache.folder))
 
     def curve_at(direction: float) -> tuple[Any, Any, float]:
         gain = directional_gain(geometry, materials, direction, p_range, tau0=finger.tau0, alpha=finger.alpha,
                                 cache=cache_arg)
-        factor = 1.0
         # The elliptical Greenwood-Tabor factor belongs to the compliant-asperity model: a rigid
         # texture keeps the isotropic friction exactly.
-        if isinstance(geometry, EllipsoidGeometry) and not gain.is_identity:
-            factor = hysteresis_direction_factor(geometry.semi_axis_x, geometry.semi_axis_y, geometry.height,
-                                                 math.radians(direction) - geometry.orientation)
+        factor = 1.0 if gain.is_identity else geometry_hysteresis_factor(geometry, direction)
         textured = finger.with_overrides(beta=min(1.0, finger.beta * factor))
         curve = predict_curve(loads, textured, DirectionalCell(cell, gain, finger.tau0, finger.alpha))
         reference = predict_curve(loads, finger, cell)  # the flat reference is isotropic
@@ -272,11 +264,28 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
                       if getattr(ramp, "buckled", False) or getattr(ramp, "stopped", False)})
     if flagged:
         notes.append(f"deflection model: shear ramps buckled or stopped at {flagged[0] / 1e3:.3g}-"
-                     f"{flagged[-1] / 1e3:.3g} kPa; the gain is held from there on (docs/deflection.md)")
+                     f"{flagged[-1] / 1e3:.3g} kPa (docs/deflection.md, 'Limits and doubts')")
     main, gain, factor = curves["direction"]
     mu_perp, mu_par = curves["perpendicular"][0].mu, curves["parallel"][0].mu
-    saturated = [bool(np.any(np.asarray(gain.saturated(p, m)))) if hasattr(gain, "saturated") else False
-                 for p, m in zip(centre, main.mu, strict=True)]
+
+    def held(name: str) -> list[bool]:
+        """Per load: the gain at the pad-centre pressure and the local shear is held (past the
+        shear level the ramps reached), not computed there."""
+        g = curves[name][1]
+        if g.is_identity:
+            return [False] * len(centre)
+        cell_dir = DirectionalCell(cell, g, finger.tau0, finger.alpha)
+        return [bool(v) for v in np.asarray(cell_dir.local_shear(np.asarray(centre, float)).saturated)]
+
+    saturated = held("direction")
+    held_par, held_perp = held("parallel"), held("perpendicular")
+    if any(held_par) or any(held_perp):
+        first = min(float(f) for f, a, b in zip(loads, held_par, held_perp, strict=True) if a or b)
+        notes.append(f"deflection model: the gain is held (past the shear level its ramps reached) from {first:.3g} N "
+                     "on; marked in the outputs (gain_held_*) and the friction figure")
+    rigid = [c[1].reason for c in curves.values() if c[1].is_identity and c[1].reason]
+    if rigid:
+        notes.append(f"deflection model: gain 1 at some directions: {rigid[0]}")
     return {
         "curve": main,
         "direction": float(study.direction),
@@ -289,6 +298,8 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
         "area_ratio_perpendicular": np.asarray(curves["perpendicular"][0].area_ratio, float),
         "hysteresis_factor": {k: v[2] for k, v in curves.items()},
         "gain_saturated": saturated,
+        "gain_held_parallel": held_par,
+        "gain_held_perpendicular": held_perp,
         "identity": bool(getattr(gain, "is_identity", False)),
     }
 
@@ -311,6 +322,11 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
     """
     study.check()
     tex = study.build_texture()
+    if study.direction is not None:
+        # directional friction needs the family's deflection model: refuse before solving the cell
+        from ..micro.deflection import texture_geometry
+
+        texture_geometry(tex)
     finger = study.finger
     e1 = study.reduced_modulus
     loads = study.loads

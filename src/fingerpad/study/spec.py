@@ -265,6 +265,16 @@ class Study:
 # ---------------------------------------------------------------------------------------------
 
 
+def _undecodable(path: Path, raw: bytes, exc: UnicodeDecodeError) -> str:
+    """What is wrong with a study file that is not UTF-8 text, in the user's words."""
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        what = "is saved as UTF-16 (a byte-order mark says so)"
+    else:
+        line = raw[: exc.start].count(b"\n") + 1
+        what = f"is not UTF-8 text (byte {exc.start + 1}, line {line}: {raw[exc.start:exc.start + 1]!r})"
+    return f"study file {str(path)!r} {what}; save it as UTF-8 TOML text"
+
+
 def read_study_file(path: str | os.PathLike[str], extra_sections: tuple[str, ...] = ()) -> dict[str, dict[str, Any]]:
     """Read a TOML study file into its sections (keys checked, relative paths resolved).
 
@@ -285,10 +295,13 @@ def read_study_file(path: str | os.PathLike[str], extra_sections: tuple[str, ...
         raw = p.read_bytes()
     except OSError as exc:
         raise FingerpadError(f"cannot read study file {str(p)!r}: {exc.strerror or exc}") from None
+    if b"\x00" in raw[:4096] and not raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise FingerpadError(f"study file {str(p)!r} is a binary file, not a text file; save it as UTF-8 TOML text")
     try:
-        data = tomllib.loads(raw.decode("utf-8"))
-    except UnicodeDecodeError:
-        raise FingerpadError(f"study file {str(p)!r} is not a text (UTF-8 TOML) file") from None
+        # utf-8-sig: a byte-order mark (Windows editors write one) is skipped, not read as text.
+        data = tomllib.loads(raw.decode("utf-8-sig"))
+    except UnicodeDecodeError as exc:
+        raise FingerpadError(_undecodable(p, raw, exc)) from None
     except tomllib.TOMLDecodeError as exc:
         raise FingerpadError(f"study file {str(p)!r}: {exc}") from None
     unknown = [k for k in data if k not in SECTION_KEYS and k not in extra_sections]

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Protocol, runtime_checkable
 
 import lazy_loader
 
@@ -147,6 +147,54 @@ class HertzAsperity:
     note: str | None = None
 
 
+# ------------------------------------------------------------------------------------------------
+# What the compliant-asperity (deflection) model needs of a family: its asperity section
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Section:
+    """One asperity section in SI units and how the cell's nominal pressure loads it.
+
+    ``load_per_pressure``: P / p (m), the section's normal load per unit depth per nominal
+    pressure. ``shear_factor``: the fraction of the shear level acting in the section's plane.
+    """
+
+    profile: str
+    half_width: float
+    height: float
+    period: float
+    load_per_pressure: float
+    shear_factor: float = 1.0
+
+
+@runtime_checkable
+class Geometry(Protocol):
+    """What the deflection model needs of a texture's asperities (returned by the texture
+    family's ``deflection`` hook, :attr:`TextureFamily.deflection`).
+
+    ``section(direction_deg)``: the :class:`Section` sheared when sliding at that direction;
+    ``principal_directions()``: (parallel, perpendicular) directions in degrees;
+    ``tip_radii()``: the asperity tip's principal radii of curvature (m) and the direction of the
+    first (radians from x), or ``None`` where the tip contact is not elliptical (the hysteresis
+    factor is then 1). Fields are SI and read by ``dataclasses.fields`` for outputs.
+    """
+
+    def section(self, direction_deg: float) -> Section: ...
+
+    def principal_directions(self) -> tuple[float, float]: ...
+
+    def tip_radii(self) -> tuple[float, float, float] | None: ...
+
+
+def section_radians(direction_deg: float) -> float:
+    """Radians of a sliding direction given in degrees (finite)."""
+    if not math.isfinite(direction_deg):
+        raise FingerpadError("direction must be a finite angle in degrees")
+    return math.radians(direction_deg)
+
+
+
 @dataclass(frozen=True)
 class TextureFamily:
     """A texture generator with its declared parameters.
@@ -168,6 +216,10 @@ class TextureFamily:
         ``features(texture) -> (lateral size, height)`` in m: the smallest lateral size of a
         feature (a cap's base diameter, a ridge's width) and its height, for manufacturing
         limits (minimum feature, aspect ratio) in inverse design; ``None`` if not declared.
+    deflection
+        ``deflection(params) -> geometry`` from the texture's ``params`` (SI) to the asperity
+        geometry of the compliant-asperity model (:class:`Geometry`:
+        its section per sliding direction), for families that model supports; ``None`` otherwise.
     """
 
     name: str
@@ -176,6 +228,7 @@ class TextureFamily:
     summary: str
     hertz: Callable[[Texture], HertzAsperity] | None = None
     features: Callable[[Texture], tuple[float, float]] | None = None
+    deflection: Callable[[Mapping[str, Any]], Any] | None = None
 
     def param(self, name: str) -> Param | None:
         return next((p for p in self.params if p.name == name), None)

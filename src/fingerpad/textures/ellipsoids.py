@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import lazy_loader
@@ -11,8 +12,9 @@ import lazy_loader
 # NumPy loads on first use: listing the texture families (`fingerpad textures`) must start fast.
 np = lazy_loader.load("numpy")
 
+from ..errors import FingerpadError
 from ..units import parse_quantity
-from .base import Param, Texture, TextureFamily
+from .base import Param, Section, Texture, TextureFamily, section_radians
 from .geometry import (
     centred_field,
     check_length,
@@ -95,6 +97,56 @@ def ellipsoids(
     return Texture(heights, (sx, sy), periodic=True, name="ellipsoids", params=params, family="ellipsoids")
 
 
+@dataclass(frozen=True)
+class EllipsoidGeometry:
+    """Half-ellipsoid asperities (as :func:`fingerpad.textures.ellipsoids`), SI units.
+
+    ``orientation`` in radians (counter-clockwise from x).
+    """
+
+    semi_axis_x: float
+    semi_axis_y: float
+    height: float
+    spacing_x: float
+    spacing_y: float
+    orientation: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("semi_axis_x", "semi_axis_y", "height", "spacing_x", "spacing_y"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise FingerpadError(f"ellipsoid {name} must be a positive length, got {v!r}")
+        if not math.isfinite(self.orientation):
+            raise FingerpadError("ellipsoid orientation must be finite")
+
+    def section(self, direction_deg: float) -> Section:
+        """The semi-elliptical section sheared when sliding at ``direction_deg`` (module docstring)."""
+        t = section_radians(direction_deg)
+        phi = t - self.orientation
+        r = 1.0 / math.sqrt(math.cos(phi) ** 2 / self.semi_axis_x**2 + math.sin(phi) ** 2 / self.semi_axis_y**2)
+        lam = 1.0 / math.sqrt(math.cos(t) ** 2 / self.spacing_x**2 + math.sin(t) ** 2 / self.spacing_y**2)
+        lam = max(lam, 2.0 * r)
+        per_p = self.spacing_x * self.spacing_y * 2.0 * r / (math.pi * self.semi_axis_x * self.semi_axis_y)
+        return Section("ellipse", r, self.height, lam, per_p, 1.0)
+
+    def principal_directions(self) -> tuple[float, float]:
+        """(parallel, perpendicular): along the long axis of the footprint and across it, degrees."""
+        long = math.degrees(self.orientation) + (0.0 if self.semi_axis_x >= self.semi_axis_y else 90.0)
+        return long % 180.0, (long + 90.0) % 180.0
+
+    def tip_radii(self) -> tuple[float, float, float]:
+        """The asperity tip's principal radii of curvature ``(a^2/h, b^2/h)`` (m) and the
+        direction of the first one (radians from x): what the elliptical hysteresis needs."""
+        return self.semi_axis_x**2 / self.height, self.semi_axis_y**2 / self.height, self.orientation
+
+
+def _deflection(params: Any) -> Any:
+    """The compliant-asperity model's geometry of these ellipsoids (a semi-ellipse per direction)."""
+    return EllipsoidGeometry(float(params["semi_axis_x"]), float(params["semi_axis_y"]), float(params["height"]),
+                             float(params["spacing_x"]), float(params["spacing_y"]),
+                             float(params.get("orientation", 0.0)))
+
+
 FAMILIES = (
     TextureFamily(
         name="ellipsoids",
@@ -110,5 +162,6 @@ FAMILIES = (
             Param("grid", "grid", "grid points along x of the cell (even; default: the smallest feature over 16 pixels)", None),
         ),
         summary="Half-ellipsoid asperities on a rectangular lattice.",
+        deflection=_deflection,
     ),
 )

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import lazy_loader
@@ -13,7 +14,7 @@ np = lazy_loader.load("numpy")
 
 from ..errors import FingerpadError
 from ..units import parse_quantity
-from .base import Param, Texture, TextureFamily
+from .base import Param, Section, Texture, TextureFamily, section_radians
 from .geometry import (
     DEFAULT_NY_1D,
     OVERLAP_RTOL,
@@ -119,6 +120,49 @@ def ridges(
     return Texture(heights, (s, nyy * dx), periodic=True, name="ridges", params=params, family="ridges")
 
 
+@dataclass(frozen=True)
+class RidgeGeometry:
+    """Parallel ridges along y (as :func:`fingerpad.textures.ridges`), SI units."""
+
+    width: float
+    height: float
+    spacing: float
+    profile: str = "circular"
+
+    def __post_init__(self) -> None:
+        for name in ("width", "height", "spacing"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise FingerpadError(f"ridge {name} must be a positive length, got {v!r}")
+        if self.profile != "circular":
+            raise FingerpadError(
+                f"the deflection model supports circular ridges only, not {self.profile!r} "
+                "(a sinusoidal ridge meets its base tangentially and a trapezoid has corners)")
+        if self.height > self.width / 2 * (1 + 1e-9):
+            raise FingerpadError("a circular ridge cannot be higher than half its width")
+
+    def section(self, direction_deg: float) -> Section:
+        """The ridge's cross-section; only the shear component across the ridges acts in it."""
+        t = section_radians(direction_deg)
+        # |cos| of an angle that is an odd multiple of 90 deg is exactly 0 (not 6e-17)
+        across = 0.0 if math.isclose(math.fmod(abs(direction_deg), 180.0), 90.0, abs_tol=1e-9) else abs(math.cos(t))
+        return Section("circular", self.width / 2, self.height, self.spacing, self.spacing, across)
+
+    def principal_directions(self) -> tuple[float, float]:
+        """(parallel, perpendicular): along the ridges (y) and across them, degrees."""
+        return 90.0, 0.0
+
+    def tip_radii(self) -> None:
+        """Parallel ridges have no elliptical tip contact (the hysteresis factor is 1)."""
+        return None
+
+
+def _deflection(params: Any) -> Any:
+    """The compliant-asperity model's geometry of these ridges (their cross-section; circular only)."""
+    return RidgeGeometry(float(params["width"]), float(params["height"]), float(params["spacing"]),
+                         str(params.get("profile", "circular")))
+
+
 FAMILIES = (
     TextureFamily(
         name="ridges",
@@ -134,5 +178,6 @@ FAMILIES = (
             Param("ny", "count", "grid points along the ridges (the map is constant along y)", DEFAULT_NY_1D),
         ),
         summary="Parallel ridges running along y.",
+        deflection=_deflection,
     ),
 )

@@ -14,7 +14,7 @@ import lazy_loader
 
 pn = lazy_loader.load("panel")
 
-from ..specs import PlotSpec, spec_csv, spec_json
+from ...plotting.specs import PlotSpec, spec_csv, spec_json
 
 __all__ = ["PlotCard", "download", "fmt", "html_table", "num_span"]
 
@@ -65,11 +65,14 @@ def download(label: str, filename: str, make: Callable[[], bytes | str], css: st
     """A download button whose file is made when clicked (in memory, nothing written on disk)."""
 
     def callback() -> io.BytesIO:
+        # the name is the server's: a client may have set the widget's filename to anything
+        widget.filename = filename
         data = make()
         return io.BytesIO(data.encode("utf-8") if isinstance(data, str) else data)
 
-    return pn.widgets.FileDownload(callback=callback, filename=filename, label=label, color="light",
-                                   css_classes=[css], embed=False, width=70, height=30, margin=(0, 4))
+    widget = pn.widgets.FileDownload(callback=callback, filename=filename, label=label, color="light",
+                                     css_classes=[css], embed=False, width=70, height=30, margin=(0, 4))
+    return widget
 
 
 class PlotCard:
@@ -101,7 +104,7 @@ class PlotCard:
             return spec_csv(spec)
         if fmt_ == "json":
             return spec_json(spec)
-        from ..render_mpl import spec_image
+        from ...plotting.render import spec_image
 
         return spec_image(spec, fmt_)
 
@@ -124,3 +127,4 @@ class PlotCard:
             self.downloads.visible = True
         self.note.object = html.escape(note) if note else ""
         self.note.visible = bool(note)
+        self.panel.visible = self.spec is not None or bool(note)  # nothing to say: no empty card

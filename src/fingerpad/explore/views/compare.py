@@ -10,7 +10,7 @@ import lazy_loader
 pn = lazy_loader.load("panel")
 
 from .. import builders
-from ..specs import DESIGN_COLOURS
+from ...plotting.specs import DESIGN_COLOURS
 from .common import PlotCard, num_span
 
 __all__ = ["MAX_PINS", "CompareView", "design_label"]

@@ -76,16 +76,17 @@ class Field:
         else:
             self.widget.value = "" if value is None else str(value)
 
-    def show(self, text: str | None, warning: bool = False) -> None:
-        """Show ``text`` beside the field (red for an error, amber for a warning); ``None`` clears."""
+    def show(self, text: str | None, warning: bool = False, level: str | None = None) -> None:
+        """Show ``text`` beside the field (``level``: error in red, warning in amber, info in
+        grey; ``warning=True`` is level warning); ``None`` clears."""
         import html
 
         if not text:
             self.message.object = ""
             self.message.visible = False
             return
-        colour = "#8a5a00" if warning else "#b00020"
-        kind = "warning" if warning else "error"
+        kind = level or ("warning" if warning else "error")
+        colour = {"warning": "#8a5a00", "info": "#444444"}.get(kind, "#b00020")
         self.message.object = (f'<div class="fp-{kind}" style="color:{colour};font-size:12px;line-height:1.25">'
                                f"{html.escape(text)}</div>")
         self.message.visible = True

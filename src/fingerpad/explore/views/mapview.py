@@ -69,6 +69,30 @@ def map_table(md: Any, x: str, y: str) -> list[dict[str, Any]]:
     return rows
 
 
+def base_study_html(ds: Any) -> str:
+    """The sweep's base study as the study file it reads as (TOML), folded under a summary."""
+    from ..inputs import to_toml
+
+    base = ds.attrs.get("study")
+    try:
+        data = json.loads(base) if isinstance(base, str) else dict(base or {})
+        text = to_toml({k: v for k, v in data.items() if isinstance(v, dict) and not k.startswith("_")})
+        text = "\n".join(line for line in text.splitlines() if not line.startswith("# ")).strip()
+    except (ValueError, TypeError, FingerpadError):
+        text = str(base)
+    return ("<details class='fp-map-study' style='font-size:12px'><summary>base study (the values the axes do "
+            f"not set)</summary><pre style='margin:2px 0;font-size:11px'>{html.escape(text)}</pre></details>")
+
+
+def colour_label(quantity: str, at: float) -> str:
+    """The colour bar's title: the quantity with its unit (and the load of mu / mu_ref)."""
+    if quantity == "mu_rel":
+        return f"mu / mu_ref at {at:.4g} N (-)"
+    if quantity == "region":
+        return "region at the load: " + ", ".join(f"{k} {v}" for k, v in sorted(sd.REGIONS.items()))
+    return _NAMES[quantity]
+
+
 def _val(v: Any) -> Any:
     return v.item() if isinstance(v, np.generic) else v
 
@@ -122,12 +146,11 @@ class MapView:
                                     "fp-dl-design-map-png"),
                            download("SVG", "fingerpad-design-map.svg", lambda: self.image("svg"),
                                     "fp-dl-design-map-svg"))
-        study = html.escape(str(ds.attrs.get("study", ""))[:400])
         self.panel = pn.Row(
             pn.Column(
                 pn.pane.HTML(f"<div style='font-size:12px'>sweep <code>{html.escape(path)}</code>, design "
                              f"{html.escape(str(ds.attrs.get('design', '?')))}, axes {html.escape(', '.join(self.axes))}"
-                             f"<br>base study: <code>{study}</code></div>"),
+                             f"</div>{base_study_html(ds)}", css_classes=["fp-map-about"]),
                 self.x, self.y, self.quantity, self.at, self.fixed_box,
                 pn.pane.HTML("<h4 style='margin:8px 0 2px'>Inverse design</h4><div style='font-size:12px'>designs "
                              "whose mu / mu_ref at the load is within the tolerance of the target</div>"),
@@ -237,15 +260,18 @@ class MapView:
                                                         ("mu / mu_ref", "@mu"), ("region", "@region"),
                                                         ("valid", "@valid")]))
         p.select_one(TapTool).renderers = [r]
-        p.add_layout(ColorBar(color_mapper=mapper, title=q, width=12), "right")
+        p.add_layout(ColorBar(color_mapper=mapper, title=colour_label(q, md.attrs["at"]), width=12), "right")
         src.selected.on_change("indices", self._tapped)
         return p
 
     def _tapped(self, attr: str, old: Any, new: Any) -> None:
-        if not new:
+        # the indices come from the client: only a row of the map shown opens
+        try:
+            index = int(new[0]) if new else -1
+        except (TypeError, ValueError):
             return
-        row = self.rows[int(new[0])]
-        self.open_row(row)
+        if 0 <= index < len(self.rows):
+            self.open_row(self.rows[index])
 
     def _index(self, row: dict[str, Any]) -> Any:
         if "point" in self.ds.dims:
@@ -268,8 +294,13 @@ class MapView:
 
     def open_values(self, values: dict[str, Any], crit: Any = None, mu: Any = None) -> None:
         data = sd.design_data(self.ds, values)
+        shown = []
+        for k, v in values.items():  # as the map shows them (lengths in um)
+            factor, unit = _shown(sd.axis_info(self.ds, k))
+            shown.append(f"{k} = {fmt(float(v) * factor)} {unit}".strip() if isinstance(v, (int, float))
+                         and not isinstance(v, bool) else f"{k} = {v}")
         self.info.object = (f"<div class='fp-map-opened' style='font-size:12px'>opened "
-                            f"{html.escape(', '.join(f'{k} = {v}' for k, v in values.items()))} "
+                            f"{html.escape(', '.join(shown))} "
                             f"(critical load {fmt(crit)} N, mu/mu_ref {fmt(mu)}) in the texture view</div>")
         self.app.open_design(data)
 
@@ -331,28 +362,19 @@ class MapView:
                           _val(v)) + "\n"
 
     def image(self, fmt_: str) -> bytes:
-        from matplotlib.figure import Figure
+        from ...plotting.render import map_image
 
         md, x, y, q = self.md, self.x.value, self.y.value, self.quantity.value
-        fig = Figure(figsize=(7, 5.2))
-        ax = fig.subplots()
         xi, yi = sd.axis_info(self.ds, x), sd.axis_info(self.ds, y)
         (fx, ux), (fy, uy) = _shown(xi), _shown(yi)
-        if "point" not in md.dims and xi["numeric"] and yi["numeric"]:
-            art = ax.pcolormesh(np.asarray(md[x].values, float) * fx, np.asarray(md[y].values, float) * fy,
-                                np.asarray(md[q].values, float), shading="nearest")
+        grid = "point" not in md.dims and xi["numeric"] and yi["numeric"]
+        if grid:
+            xs, ys = np.asarray(md[x].values, float) * fx, np.asarray(md[y].values, float) * fy
+            values = np.asarray(md[q].values, float)
         else:
-            art = ax.scatter([float(r[x]) * fx if not isinstance(r[x], str) else r["i"] for r in self.rows],
-                             [float(r[y]) * fy if not isinstance(r[y], str) else r["j"] for r in self.rows],
-                             c=[math.nan if r[q] is None else r[q] for r in self.rows], s=80)
-        fig.colorbar(art, ax=ax, label=q)
-        if xi["log"]:
-            ax.set_xscale("log")
-        if yi["log"]:
-            ax.set_yscale("log")
-        ax.set_xlabel(f"{x} ({ux})")
-        ax.set_ylabel(f"{y} ({uy})")
-        ax.set_title(f"design map: {q} (mu/mu_ref at {md.attrs['at']:.4g} N)", fontsize="small")
-        buf = io.BytesIO()
-        fig.savefig(buf, format=fmt_, dpi=130)
-        return buf.getvalue()
+            xs = [float(r[x]) * fx if not isinstance(r[x], str) else r["i"] for r in self.rows]
+            ys = [float(r[y]) * fy if not isinstance(r[y], str) else r["j"] for r in self.rows]
+            values = [math.nan if r[q] is None else r[q] for r in self.rows]
+        return map_image(xs, ys, values, grid=grid, x_label=f"{x} ({ux})", y_label=f"{y} ({uy})",
+                         colour_label=colour_label(q, md.attrs["at"]), x_log=xi["log"], y_log=yi["log"],
+                         title=f"design map: {_NAMES[q]} (mu/mu_ref at {md.attrs['at']:.4g} N)", fmt=fmt_)

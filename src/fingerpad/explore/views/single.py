@@ -27,6 +27,7 @@ from ..inputs import data_key, study_data, to_toml, validate
 from ..jobs import Job, contact_at, run_data
 from .common import PlotCard, download, html_table, num_span
 from .fields import MEASURED, Field, Form
+from ..uploads import StoredUpload, page_message
 from .upload import Upload
 
 __all__ = ["SingleView"]
@@ -85,7 +86,8 @@ class SingleView:
         self.pin_button.on_click(lambda e: self.pin())
 
         self.cards = {k: PlotCard(k, height=h) for k, h in (
-            ("areas", 330), ("friction", 330), ("friction-normalised", 330), ("psi", 330), ("height-map", 360),
+            ("areas", 330), ("friction", 330), ("friction-normalised", 330), ("friction-directional", 330),
+            ("psi", 330), ("height-map", 360),
             ("pressure-map", 360), ("contact-map", 360), ("zones", 330), ("zone-profile", 330))}
         self.exports = pn.Row(
             pn.pane.HTML("<b style='font-size:12px'>export:</b>", margin=(6, 4)),
@@ -123,6 +125,7 @@ class SingleView:
             self.status, bem, self.summary, pn.Row(self.pin_button, self.exports), self.notes,
             pn.GridBox(c["areas"].panel, c["friction"].panel, c["friction-normalised"].panel, c["psi"].panel,
                        ncols=2, sizing_mode="stretch_width"),
+            c["friction-directional"].panel,
             pn.pane.HTML("<h4 style='margin:6px 0'>Unit cell</h4>"),
             pn.Row(self.pressure.panel, width=340),
             pn.GridBox(c["height-map"].panel, c["pressure-map"].panel, c["contact-map"].panel, ncols=3,
@@ -172,20 +175,50 @@ class SingleView:
             self._loading = False
         self.refresh()
 
-    def _on_upload(self, path: str | None, message: str | None) -> None:
-        self.form.surface.set_value(path or "")
-        self.form.surface.show(message, warning=path is not None)
-        self.refresh()
+    def _on_upload(self, upload: StoredUpload | None, message: str | None, reading: bool) -> None:
+        """Show the upload's state at once; read the map a moment later (``reading``), so that
+        ``reading NAME ...`` reaches the page before the seconds of reading and checking."""
+        self._loading = True
+        try:
+            self.form.surface.set_value("" if upload is None else upload.name)
+        finally:
+            self._loading = False
+        self.form.surface.show(message, level="info" if reading or message and message.startswith("receiving")
+                               else "error" if upload is None else "info")
+        if not reading:
+            if upload is None and message is None:
+                self.refresh()
+            return
+        if self.doc is not None and self.doc.session_context is not None:
+            self.doc.add_timeout_callback(self.refresh, 150)
+        else:
+            self.refresh()
 
     def current_data(self) -> dict[str, Any]:
-        return study_data(self.form.values())
+        """The study of the form. The measured map's path is the server's own upload, never the
+        widget's value: a client can set a disabled field's value to any text."""
+        values = self.form.values()
+        measured = "texture.surface" in values
+        values.pop("texture.surface", None)
+        data = study_data(values)
+        if measured:
+            shown = "" if self.upload.current is None else self.upload.current.name
+            if self.form.surface.value != shown:  # a forged value: show the truth again
+                self._loading = True
+                try:
+                    self.form.surface.set_value(shown)
+                finally:
+                    self._loading = False
+            if self.upload.current is not None:
+                data.setdefault("texture", {})["surface"] = str(self.upload.current.path)
+        return data
 
     # ------------------------------------------------------------------ computing
 
     def refresh(self) -> None:
         """Rebuild and check the study from the form; show what is known for it."""
         data = self.current_data()
-        check = validate(data)
+        check = validate(data, uploads=self.upload.area, upload=self.upload.current)
         loose = self.form.show_messages(check.errors, check.warnings)
         errors = [e for e in loose if not e.warning]
         warns = [e for e in loose if e.warning]
@@ -217,11 +250,19 @@ class SingleView:
                         shown = _with_kind(data, "hertz")
                         pred = self._hertz(shown)
         except FingerpadError as exc:
-            self.status.object = f'<div class="fp-error" style="color:#b00020">{html.escape(one_line(str(exc)))}</div>'
+            self.status.object = (f'<div class="fp-error" style="color:#b00020">'
+                                  f"{html.escape(self._words(one_line(str(exc))))}</div>")
             return
+        if self.upload.current is not None and "surface" in data.get("texture", {}):
+            self.form.surface.show(f"{self.upload.current.name}: {self.texture.shape[0]} x {self.texture.shape[1]} "
+                                   "points", level="info")
         self.show(pred, shown, pending)
         if pending and self.auto_bem.value:
             self.start_bem()
+
+    def _words(self, text: str) -> str:
+        """A library message in the page's words (the user's file name, the page's fields)."""
+        return page_message(text, self.upload.current, self.upload.area.root)
 
     def _supports_hertz(self) -> bool:
         from ...micro.hertz import supports_hertz
@@ -290,7 +331,7 @@ class SingleView:
             self.job_status.object = '<span class="fp-job-cancelled">BEM cancelled</span>'
         else:
             self.job_status.object = f'<span class="fp-job-failed" style="color:#b00020">BEM failed: ' \
-                                     f"{html.escape(job.error or '')}</span>"
+                                     f"{html.escape(self._words(job.error or ''))}</span>"
 
     # ------------------------------------------------------------------ showing
 
@@ -311,18 +352,15 @@ class SingleView:
         if pred is None:
             for key in ("areas", "friction", "friction-normalised", "psi", "zones", "zone-profile"):
                 self.cards[key].set(None, "run the BEM to see this plot")
+            self.cards["friction-directional"].set(None)
             self.summary.object = ""
             self.table.object = ""
             self.notes.object = ""
         else:
-            self.cards["areas"].set(builders.areas_spec(pred))
-            mu, norm = builders.friction_specs(pred)
-            self.cards["friction"].set(mu)
-            self.cards["friction-normalised"].set(norm)
+            panels = builders.prediction_panels(pred)  # predict's figures, panel by panel
+            for key in ("areas", "friction", "friction-normalised", "friction-directional", "zones", "zone-profile"):
+                self.cards[key].set(panels.get(key))
             self.cards["psi"].set(builders.psi_spec(pred, self._contact_pressure()))
-            zones, profile = builders.zone_specs(pred)
-            self.cards["zones"].set(zones)
-            self.cards["zone-profile"].set(profile)
             self._show_numbers(pred)
         pn.state.execute(self._update_contact)
 
@@ -346,7 +384,7 @@ class SingleView:
         parts.append(f"at {num_span('zones_load', z['load'], 'N')}: A_re/A_fr = "
                      f"{num_span('zones_area_ratio', z['area_ratio'])}, centre {html.escape(z['contact_state'])}")
         self.summary.object = '<div style="font-size:13px;line-height:1.6">' + " &middot; ".join(parts) + "</div>"
-        self.notes.object = "".join(f'<div style="font-size:12px;color:#555">note: {html.escape(n)}</div>'
+        self.notes.object = "".join(f'<div style="font-size:12px;color:#555">note: {html.escape(self._words(n))}</div>'
                                     for n in payload["notes"])
         self.table.object = html_table(_RESULT_COLUMNS, payload["results"], "fp-results")
 
@@ -416,9 +454,9 @@ class SingleView:
             self.app.pin(self.shown_data, self.pred)
 
     def export_toml(self) -> str:
-        if self.shown_data is None:
+        data = self.shown_data if self.shown_data is not None else self.data  # the inputs, if not computed yet
+        if data is None:
             return "# nothing to export: the inputs are not valid\n"
-        data = self.shown_data
         header = None
         tex = data.get("texture", {})
         if "surface" in tex:
@@ -433,7 +471,17 @@ class SingleView:
 
         if self.pred is None:
             return "{}\n"
-        return json.dumps(prediction_json(self.pred), indent=2) + "\n"
+        return json.dumps(self._scrub(prediction_json(self.pred)), indent=2) + "\n"
+
+    def _scrub(self, value: Any) -> Any:
+        """``value`` with every text in the page's words (no server path of an upload)."""
+        if isinstance(value, str):
+            return self._words(value)
+        if isinstance(value, dict):
+            return {k: self._scrub(v) for k, v in value.items()}
+        if isinstance(value, list):
+            return [self._scrub(v) for v in value]
+        return value
 
     def export_csv(self) -> str:
         from ...study.outputs import CSV_COLUMNS, prediction_rows

@@ -1,76 +1,100 @@
-"""Uploading a measured height map: size-limited, stored under a generated name in the server's
-upload folder (the only place the explorer writes to; the user's file name is never a path)."""
+"""Uploading a measured height map: size-limited while it arrives, stored under a generated name
+in the server's upload area (:mod:`..uploads`; the user's file name is never a path).
+
+The page says ``reading NAME ...`` as soon as the file has arrived; the map is read on the next
+tick, so the message reaches the browser before the seconds of reading and checking.
+"""
 
 from __future__ import annotations
 
-import os
-import re
-import uuid
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import lazy_loader
 
 pn = lazy_loader.load("panel")
 
-__all__ = ["Upload", "store_upload"]
+from ..uploads import StoredUpload, UploadArea, display_name
 
-_SUFFIX = re.compile(r"^\.[A-Za-z0-9]{1,10}$")
+__all__ = ["Upload", "bounded_dropper"]
 
 
-def store_upload(folder: str | os.PathLike[str], name: str, data: bytes | str, limit: int) -> Path:
-    """Write an uploaded file into ``folder`` under a new name that keeps only its suffix.
+def bounded_dropper(limit: int, on_start: Callable[[str], None], on_refused: Callable[[str], None],
+                    **params: Any) -> Any:
+    """A FileDropper that keeps at most ``limit`` bytes of one file in memory while it arrives.
 
-    Raises
-    ------
-    ValueError
-        Too large (over ``limit`` bytes), empty, or a suffix that is not letters and digits.
+    Panel's FileDropper buffers every chunk a client sends, for any number of names, until the
+    client says the last has come: its ``max_file_size`` is checked only in the browser. This one
+    refuses, server-side, a file whose chunks pass ``limit`` bytes and more than one file at once.
     """
-    raw = data.encode("utf-8") if isinstance(data, str) else bytes(data)
-    if len(raw) > limit:
-        raise ValueError(f"the map is {len(raw) / 2**20:.1f} MiB; uploads are limited to {limit / 2**20:.0f} MiB")
-    if not raw:
-        raise ValueError("the uploaded file is empty")
-    suffix = Path(str(name)).suffix
-    if suffix and not _SUFFIX.match(suffix):
-        raise ValueError(f"unsupported file name suffix {suffix!r}")
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    target = folder / f"upload-{uuid.uuid4().hex[:16]}{suffix.lower()}"
-    target.write_bytes(raw)
-    return target
+
+    class _Dropper(pn.widgets.FileDropper):
+        def _process_event(self, event: Any) -> None:
+            data = event.data if isinstance(event.data, dict) else {}
+            if event.event_name != "upload_event":
+                return super()._process_event(event)
+            name = str(data.get("name", ""))
+            chunk = data.get("chunk")
+            if chunk == 1:
+                self._file_buffer.clear()  # one file at a time: a new upload drops any other
+                on_start(display_name(name))
+            elif name not in self._file_buffer:
+                return  # a chunk without its start (or after a refusal): ignored
+            payload = data.get("data", b"")
+            size = len(payload) * (3 / 4 if isinstance(payload, str) else 1)
+            held = sum(len(b) for b in self._file_buffer.get(name, []))
+            if held + size > limit:
+                self._file_buffer.pop(name, None)
+                on_refused(f"{display_name(name)}: uploads are limited to {limit / 2**20:.0f} MiB")
+                return
+            return super()._process_event(event)
+
+    return _Dropper(**params)
 
 
 class Upload:
-    """A drop zone for one measured map; ``on_change(path, message)`` receives the stored file."""
+    """A drop zone for one measured map; ``on_change(upload, message, reading)`` receives the
+    stored file (``None``: none), a message, and whether the map is about to be read."""
 
-    def __init__(self, folder: str, limit: int, on_change: Callable[[str | None, str | None], None]) -> None:
-        self.folder = folder
+    def __init__(self, folder: str, limit: int,
+                 on_change: Callable[[StoredUpload | None, str | None, bool], None]) -> None:
+        self.area = UploadArea(folder)
         self.limit = limit
         self.on_change = on_change
-        self.original_name: str | None = None
-        self.dropper = pn.widgets.FileDropper(max_file_size=f"{max(1, limit // 2**20)}MB", multiple=False,
-                                              css_classes=["fp-upload"], sizing_mode="stretch_width",
-                                              layout="compact")
+        self.current: StoredUpload | None = None
+        self.dropper = bounded_dropper(
+            limit, self._started, self._refused, max_file_size=f"{max(1, limit // 2**20)}MB", multiple=False,
+            css_classes=["fp-upload"], sizing_mode="stretch_width", layout="compact")
         self.dropper.param.watch(self._changed, "value")
         self.panel = pn.Column(
             pn.pane.HTML(f"<div style='font-size:12px'>measured height map (at most {limit / 2**20:.0f} MiB): "
                          "text, .npy or instrument files</div>"),
             self.dropper, sizing_mode="stretch_width", margin=0)
 
+    @property
+    def original_name(self) -> str | None:
+        return None if self.current is None else self.current.name
+
+    def _started(self, name: str) -> None:
+        self.on_change(self.current, f"receiving {name} ...", False)
+
+    def _refused(self, message: str) -> None:
+        self.current = None
+        self.on_change(None, message, False)
+
     def _changed(self, event: Any) -> None:
         value = event.new or {}
         if not value:
-            self.original_name = None
-            self.on_change(None, None)
+            self.current = None
+            self.on_change(None, None, False)
             return
         name, data = next(iter(value.items()))
         try:
-            path = store_upload(self.folder, name, data, self.limit)
+            self.current = self.area.store(name, data, self.limit)
         except ValueError as exc:
-            self.original_name = None
-            self.on_change(None, str(exc))
+            self.current = None
+            self.on_change(None, f"{display_name(name)}: {exc}", False)
             return
-        self.original_name = Path(str(name)).name
-        self.on_change(str(path), f"uploaded {self.original_name}")
+        finally:
+            value.clear()  # the bytes are on disk now: do not keep a second copy in memory
+        self.on_change(self.current, f"reading {self.current.name} ...", True)

@@ -15,7 +15,9 @@ Public API
 directional_gain, GainCurve, DirectionalCell, solve_local_shear, texture_geometry, as_dataset,
 EllipsoidGeometry, RidgeGeometry, Section, section_for, solve_section, DeflectionSettings,
 SectionMaterials, PressureRamp, hertz_ellipse, elliptical_hysteresis_force,
-hysteresis_direction_factor.
+hysteresis_direction_factor, run_deflection, DeflectionResult (the job :mod:`.job` that
+``fingerpad deflection`` runs). Texture families give their asperity geometry through their
+``deflection`` hook (:attr:`fingerpad.textures.TextureFamily.deflection`).
 """
 
 from __future__ import annotations
@@ -24,8 +26,10 @@ from .fixedpoint import DirectionalCell, LocalShear, solve_local_shear
 from .gain import DeflectionSettings, GainCurve, PressureRamp, SectionMaterials, as_dataset, directional_gain, solve_section
 from .section import EllipsoidGeometry, RidgeGeometry, Section, section_for, texture_geometry
 from .hysteresis import elliptical_hysteresis_force, hertz_ellipse, hysteresis_direction_factor
+from .job import DeflectionResult, run_deflection
 
 __all__ = [
+    "DeflectionResult",
     "DeflectionSettings",
     "DirectionalCell",
     "EllipsoidGeometry",
@@ -36,6 +40,7 @@ __all__ = [
     "Section",
     "SectionMaterials",
     "as_dataset",
+    "run_deflection",
     "directional_gain",
     "elliptical_hysteresis_force",
     "hertz_ellipse",

@@ -22,87 +22,18 @@ import numpy as np
 
 from ...errors import FingerpadError
 from .mesh import SectionGeometry, build_mesh
+from .settings import DeflectionSettings, SectionMaterials
 from .path import follow_load, follow_shear
 from .section import EllipsoidGeometry, Geometry, RidgeGeometry, Section, section_for, texture_geometry
 from .solve import FrictionLaw, SectionSolver
 
 #: Bump when a change of the section model alters cached numbers.
-MODEL_VERSION = 5  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact
+MODEL_VERSION = 6  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact;
+# 6: no wall-clock limit in the key or the results (entries of 5 could hold ramps a slow machine cut short)
 
 __all__ = ["DeflectionSettings", "EllipsoidGeometry", "GainCurve", "MODEL_VERSION", "PressureRamp", "RidgeGeometry",
            "Section", "SectionMaterials", "as_dataset", "directional_gain", "section_for", "solve_section",
            "texture_geometry"]
-
-
-# ---------------------------------------------------------------------------------------------
-# materials and settings
-# ---------------------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class DeflectionSettings:
-    """Numerical and modelling settings of the section solves.
-
-    Attributes
-    ----------
-    friction
-        ``"package"`` (tau0 + alpha p shape, Eq. 2.3) or ``"coulomb"``.
-    mu_max
-        Largest shear level followed.
-    n_pressures
-        Pressure levels of the gain table (log-spaced over the pressure range).
-    resolution
-        Elements per asperity half-width.
-    base_thickness
-        Base layer thickness in units of the section period.
-    fold_penalty
-        Penalty stiffness of the fold-over contact, in units of the texture modulus.
-    check_stability
-        Compute the stability eigenvalue at every converged state (buckling flag).
-    time_limit
-        Wall-clock budget of one shear ramp, s (the ramp then stops and says so).
-    """
-
-    friction: str = "package"
-    mu_max: float = 1.5
-    n_pressures: int = 3
-    resolution: int = 6
-    base_thickness: float = 1.0
-    fold_penalty: float = 20.0
-    check_stability: bool = True
-    time_limit: float = 120.0
-
-    def __post_init__(self) -> None:
-        if self.friction not in ("package", "coulomb"):
-            raise FingerpadError(f"friction must be 'package' or 'coulomb', got {self.friction!r}")
-        if not (0 < self.mu_max <= 5):
-            raise FingerpadError(f"mu_max must lie in (0, 5], got {self.mu_max!r}")
-        if not (1 <= int(self.n_pressures) <= 20):
-            raise FingerpadError("n_pressures must lie in 1..20")
-        if not (2 <= int(self.resolution) <= 32):
-            raise FingerpadError("resolution must lie in 2..32 elements per half-width")
-        if not self.base_thickness > 0:
-            raise FingerpadError("base_thickness must be positive")
-
-
-@dataclass(frozen=True)
-class SectionMaterials:
-    """Elastic constants (SI) of the texture (neo-Hookean) and the skin (linear half-space)."""
-
-    texture_modulus: float | None
-    texture_poisson: float
-    skin_modulus: float
-    skin_poisson: float
-
-    @classmethod
-    def from_materials(cls, materials: Any) -> SectionMaterials:
-        """From a :class:`fingerpad.materials.Materials` (``material_modulus=None``: rigid)."""
-        return cls(materials.material_modulus, materials.material_poisson, materials.skin_modulus,
-                   materials.skin_poisson)
-
-    @property
-    def skin_plane_modulus(self) -> float:
-        return self.skin_modulus / (1.0 - self.skin_poisson**2)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -136,6 +67,9 @@ class PressureRamp:
         The state at zero shear is already unstable (buckling under the normal load alone).
     stopped
         Why the ramp ended before ``mu_max`` (None: it reached it).
+    incomplete
+        The ramp was cut by the wall-clock safety stop (``DeflectionSettings.time_limit``): where
+        it ended depends on the machine's speed, so it is not a result (never cached).
     surfaces
         Deformed top surface (x, z) in m at every state, for figures.
     """
@@ -159,12 +93,13 @@ class PressureRamp:
     contact: list[np.ndarray] = field(default_factory=list)
     bend_dx: np.ndarray = field(default_factory=lambda: np.zeros(0))
     bend_dz: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    incomplete: bool = False
 
     def _along(self) -> np.ndarray:
-        """Shear level along the sliding direction of the ramp (+x unless every state has
-        mu <= 0). Signed, not |mu|: past a buckled start the path's shear level first falls
-        below zero (the folding column pushes the tip on) before it carries shear again."""
-        return -self.mu if self.mu.size and np.all(self.mu <= 0) else self.mu
+        """Shear level along the sliding direction of the ramp. Signed, not |mu|: past a buckled
+        start the path's shear level first falls below zero (the folding column pushes the tip
+        on) before it carries shear again."""
+        return _sliding_sign(self.mu, self.tip_dx) * self.mu
 
     @property
     def mu_reached(self) -> float:
@@ -194,10 +129,21 @@ class PressureRamp:
                   "min_eigenvalue", "skin_slope", "bend_dx", "bend_dz")
         kw = {k: (np.asarray(v, dtype=float) if k in arrays else v) for k, v in data.items()
               if k not in ("surfaces", "contact")}
+        kw["incomplete"] = bool(kw.get("incomplete", False))
         kw["surfaces"] = [np.asarray(s) for s in data.get("surfaces", [])]
         kw["contact"] = [np.asarray(c, dtype=bool) for c in data.get("contact", [])]
         return cls(**kw)
 
+
+
+def _sliding_sign(mu: np.ndarray, tip_dx: np.ndarray) -> float:
+    """+1 for a ramp sliding toward +x, -1 toward -x: the side the tip was moved to (the path
+    prescribes the tip toward the sliding direction), else the sign of the shear levels. By the
+    shear alone, a ramp from a buckled start that stopped before its shear came back above
+    zero read as a ramp toward -x that had reached |mu| (0.25 at 20 kPa for h/a = 3)."""
+    if tip_dx.size and np.all(np.isfinite(tip_dx)) and tip_dx[-1] != 0.0:
+        return 1.0 if tip_dx[-1] > 0 else -1.0
+    return -1.0 if mu.size and np.all(mu <= 0) else 1.0
 
 
 def solve_section(
@@ -235,8 +181,9 @@ def solve_section(
         if progress:
             progress(f"shear ramp {k + 1}/{len(ramp0.states)} at p = {p[k]:.4g} Pa")
         ramp = follow_shear(solver, start, settings.mu_max, check_stability=settings.check_stability,
-                            time_limit=settings.time_limit)
+                            max_steps=int(settings.max_steps), time_limit=settings.time_limit)
         out.append(_to_ramp(solver, ramp, p[k], start.load * em * r, r, em))
+        out[-1].incomplete = bool(ramp.timed_out)
     if ramp0.stopped:
         for pk in p[len(ramp0.states):]:
             out.append(PressureRamp(float(pk), float(pk * section.load_per_pressure), *([np.zeros(0)] * 9),
@@ -256,7 +203,7 @@ def _to_ramp(solver: SectionSolver, ramp: Any, pressure: float, load: float, r: 
         kt = np.gradient(q, tip) if len(st) > 2 else np.full(len(st), math.nan)
     fold = info("fold_nodes")
     onset = float(np.abs(mu)[np.argmax(fold > 0)]) if np.any(fold > 0) else math.nan
-    amu = -mu if np.all(mu <= 0) else mu  # along the sliding direction, signed (see PressureRamp)
+    amu = _sliding_sign(mu, tip) * mu  # along the sliding direction, signed (see PressureRamp)
     drops = np.nonzero(np.diff(amu) < -1e-9)[0]
     limit = float(amu[drops[0]]) if drops.size else math.nan
     eig = info("min_eigenvalue")
@@ -307,11 +254,18 @@ class GainCurve:
     direction_deg: float = 0.0
     section: Section | None = None
     cache_key: str | None = None
+    #: Why the gain is exactly 1 without a solve (identity curves only), in words.
+    reason: str | None = None
 
     @classmethod
-    def identity(cls, direction_deg: float = 0.0) -> GainCurve:
-        """G = 1 everywhere (rigid texture)."""
-        return cls(np.zeros(0), None, 1.0, direction_deg)
+    def identity(cls, direction_deg: float = 0.0, reason: str = "rigid texture") -> GainCurve:
+        """G = 1 everywhere, for the reason given (a rigid texture, no shear across the section)."""
+        return cls(np.zeros(0), None, 1.0, direction_deg, reason=reason)
+
+    @property
+    def incomplete(self) -> bool:
+        """Some ramp was cut by the wall-clock safety stop (see :class:`PressureRamp`)."""
+        return any(r.incomplete for r in self.ramps or [])
 
     @property
     def is_identity(self) -> bool:
@@ -364,6 +318,8 @@ class GainCurve:
             "pressures": self.pressures.tolist(),
             "ramps": [r.as_dict(surfaces) for r in self.ramps] if self.ramps else [],
             "cache_key": self.cache_key,
+            "identity_reason": self.reason,
+            "incomplete": self.incomplete,
         }
 
 
@@ -417,7 +373,9 @@ def directional_gain(
     mats = materials if isinstance(materials, SectionMaterials) else SectionMaterials.from_materials(materials)
     section = section_for(geometry, direction_deg)
     if mats.texture_modulus is None or section.shear_factor == 0.0:
-        curve = GainCurve.identity(direction_deg)
+        why = ("rigid texture (no material modulus): it does not deflect" if mats.texture_modulus is None else
+               "no shear across the section (sliding along the ridges): it does not deflect")
+        curve = GainCurve.identity(direction_deg, why)
         curve.section = section
         return curve
     lo, hi = (float(v) for v in pressure_range)
@@ -435,13 +393,15 @@ def directional_gain(
         numbers = np.array([section.half_width, section.height, section.period, section.load_per_pressure,
                             *pressures], dtype=float)
         key = content_key(numbers, kind="deflection", model=MODEL_VERSION, profile=section.profile,
-                          materials=asdict(mats), tau0=float(tau0), alpha=float(alpha), settings=asdict(settings))
+                          materials=asdict(mats), tau0=float(tau0), alpha=float(alpha), settings=settings.key())
         hit = store.load(key).get("ramps")
         if hit:
             ramps = [PressureRamp.from_dict(d) for d in hit]
             return GainCurve(pressures, ramps, section.shear_factor, float(direction_deg), section, key)
     ramps = solve_section(section, mats, pressures, tau0, alpha, settings, progress)
-    if store is not None and key is not None:
+    # A ramp cut by the wall-clock safety stop ended where the machine's speed let it: no result,
+    # never stored (a later run, on any machine, solves it again).
+    if store is not None and key is not None and not any(r.incomplete for r in ramps):
         store.update(key, {"ramps": [r.as_dict(surfaces=True) for r in ramps]})
     return GainCurve(pressures, ramps, section.shear_factor, float(direction_deg), section, key)
 
@@ -458,7 +418,7 @@ def as_dataset(curves: list[GainCurve]) -> Any:
     names = {"mu": "1", "gain": "1", "contact_length": "m", "tip_dx": "m", "tip_dz": "m", "bend_dx": "m", "bend_dz": "m",
              "tangential_stiffness": "Pa", "fold_nodes": "1", "min_eigenvalue": "1"}
     data = {k: np.full(shape, np.nan) for k in names}
-    flags = {k: np.full(shape[:2], np.nan) for k in ("fold_onset_mu", "limit_mu", "mu_reached", "buckled")}
+    flags = {k: np.full(shape[:2], np.nan) for k in ("fold_onset_mu", "limit_mu", "mu_reached", "buckled", "incomplete")}
     stopped = np.full(shape[:2], "", dtype=object)
     for i, c in enumerate(curves):
         for r in c.ramps or []:
@@ -471,11 +431,14 @@ def as_dataset(curves: list[GainCurve]) -> Any:
             flags["limit_mu"][i, j] = r.limit_mu
             flags["mu_reached"][i, j] = r.mu_reached
             flags["buckled"][i, j] = float(r.buckled)
+            flags["incomplete"][i, j] = float(r.incomplete)
             stopped[i, j] = r.stopped or ""
     coords = {"direction": ("direction", np.asarray(dirs, dtype=float), {"units": "degree"}),
               "pressure": ("pressure", np.asarray(pressures or [np.nan], dtype=float), {"units": "Pa"})}
     variables = {k: (("direction", "pressure", "step"), v, {"units": names[k]}) for k, v in data.items()}
     variables.update({k: (("direction", "pressure"), v) for k, v in flags.items()})
+    variables["incomplete"] = (("direction", "pressure"), variables["incomplete"][1],
+                               {"long_name": "1: cut by the wall-clock safety stop (not a result)"})
     variables["stopped"] = (("direction", "pressure"), stopped.astype(str))
     return xr.Dataset(variables, coords=coords, attrs={"model": "fingerpad deflection section model",
                                                        "model_version": MODEL_VERSION})

@@ -106,9 +106,24 @@ def hysteresis_direction_factor(semi_axis_x: float, semi_axis_y: float, height: 
             raise FingerpadError(f"{name} must be positive, got {v!r}")
     if semi_axis_x == semi_axis_y:
         return 1.0
-    rx, ry = semi_axis_x**2 / height, semi_axis_y**2 / height
+    return _tip_factor(semi_axis_x**2 / height, semi_axis_y**2 / height, direction)
+
+
+def geometry_hysteresis_factor(geometry: object, direction_deg: float) -> float:
+    """:func:`hysteresis_direction_factor` of a compliant-asperity geometry (the texture family's
+    ``deflection`` hook) sliding at ``direction_deg`` (degrees from x): 1 where its tip contact is
+    not elliptical (``tip_radii()`` is ``None``, e.g. parallel ridges)."""
+    radii = geometry.tip_radii()  # type: ignore[attr-defined]
+    if radii is None:
+        return 1.0
+    rx, ry, orientation = radii
+    return 1.0 if rx == ry else _tip_factor(rx, ry, math.radians(direction_deg) - orientation)
+
+
+def _tip_factor(rx: float, ry: float, direction: float) -> float:
+    """Eq. 2.4e for a tip of principal radii ``rx, ry`` sliding at ``direction`` (radians from the
+    ``rx`` axis) over Eq. 2.4 for the sphere of radius ``sqrt(rx ry)``."""
     ax, ay = hertz_ellipse(1.0, rx, ry, 1.0)
     req = math.sqrt(rx * ry)
     aeq = (3.0 * req / 4.0) ** (1.0 / 3.0)
-    m = math.hypot(ax * math.cos(direction) / rx, ay * math.sin(direction) / ry)
-    return m / (aeq / req)
+    return math.hypot(ax * math.cos(direction) / rx, ay * math.sin(direction) / ry) / (aeq / req)

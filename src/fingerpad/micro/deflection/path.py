@@ -20,6 +20,8 @@ class Ramp:
     states: list[State]
     stopped: str | None = None  # why the path ended early (None: reached the target)
     cuts: int = 0
+    #: ended by the wall-clock safety stop: depends on the machine's speed, never a result
+    timed_out: bool = False
 
 
 def follow_load(solver: SectionSolver, targets: np.ndarray, first: float | None = None,
@@ -76,8 +78,10 @@ def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float 
     an unknown), so a maximum of the shear level -- where a load-controlled asperity would snap
     over -- is passed and reported rather than stalling the solve. Tip steps aim at shear
     increments ``dmu`` using the current slope, capped at ``largest_tip`` (units of r) and halved
-    on failure; below ``smallest_tip``, after ``max_cuts`` failed steps in all, or past
-    ``time_limit`` seconds, the ramp stops and says where.
+    on failure; below ``smallest_tip``, after ``max_cuts`` failed steps in all or ``max_steps``
+    steps (deterministic limits: the same on every machine) the ramp stops and says where.
+    ``time_limit`` (s, default off) is a user's safety stop only: a ramp it cuts is marked
+    ``timed_out`` (its end depends on the machine's speed, so it is no result).
 
     Returns
     -------
@@ -142,7 +146,8 @@ def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float 
             return Ramp(states, None, cuts)
         tip_now = sign * last.info["tip_dx"]
         if time_limit is not None and time.perf_counter() - t_start > time_limit:
-            return Ramp(states, f"time limit ({time_limit:.0f} s) reached at mu = {mu_now:.3g}", cuts)
+            return Ramp(states, f"INCOMPLETE: wall-clock time limit ({time_limit:.3g} s) hit at mu = {mu_now:.3g} "
+                                f"(machine-dependent; not a result, not cached)", cuts, timed_out=True)
         # the guard is on the bending deflection (the tip relative to the asperity's base centre):
         # once folded flat, further shear is carried by the base layer, whose uniform shear
         # moves the tip on without bending the asperity any further

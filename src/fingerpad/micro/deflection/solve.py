@@ -204,6 +204,7 @@ class SectionSolver:
             raise NoConvergence("inverted elements in the first guess")
         pairs = self.fold.pair(self.positions(v))
         repairs = 0
+        history: list[float] = []  # relative equilibrium residuals with an unchanged active set
         for it in range(1, max_iter + 1):
             x = self.positions(v)
             if it > 1:
@@ -233,7 +234,16 @@ class SectionSolver:
             res_u = float(np.linalg.norm(r_u))
             res_g = float(np.max(np.abs(gap[active])))
             merit = self._merit(r_u, f, gap, r_z, r_t)
-            if (prev_active is not None and np.array_equal(active, prev_active) and res_u <= self.rtol * scale_f
+            same = prev_active is not None and np.array_equal(active, prev_active)
+            history = history + [res_u / scale_f] if same else []
+            # The round-off floor: a texture far stiffer than the skin (E_m >~ 100 E_s) strains by
+            # ~1e-6, and F = I + grad u keeps only ~10 digits of the strain, so the equilibrium
+            # residual stalls near 1e-6 of the load, above rtol (the 1 GPa ellipsoids never got
+            # pressed on). Accept a residual that has stalled -- no halving over three iterations
+            # with the same active set -- once it is below 1e-5 of the load: a state exact to
+            # that is exact for every reported digit. Converging solves never get here.
+            stalled = (len(history) >= 4 and history[-1] <= 1e-5 and history[-1] > 0.5 * history[-4])
+            if (same and (res_u <= self.rtol * scale_f or stalled)
                     and res_g <= self.rtol and abs(r_z) <= self.rtol * scale_f and abs(r_t) <= self.rtol):
                 fresh = self.fold.update_pairs(x, pairs)
                 if repairs < 4 and any(np.any((fn != fo) & ((fn >= 0) | (fo >= 0))) for fn, fo in zip(fresh, pairs)):

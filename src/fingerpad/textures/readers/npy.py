@@ -20,8 +20,16 @@ def one_line_exception(exc: BaseException) -> str:
 
 
 def _load_npy(path: Path) -> np.ndarray:
+    with open(path, "rb") as fh:
+        magic = fh.read(6)
+    if magic != b"\x93NUMPY":  # NumPy would take it for a pickle and advise allow_pickle=True
+        raise FingerpadError(f"cannot read {path}: not a valid .npy file (no NumPy header; save the map with numpy.save)")
     try:
         data = np.load(path, allow_pickle=False)
+    except ValueError as exc:
+        if "pickle" in str(exc):  # an array of Python objects: never loaded, whatever the source
+            raise FingerpadError(f"cannot read {path}: the .npy file holds Python objects, not numbers") from None
+        raise FingerpadError(f"cannot read {path}: not a valid .npy file ({one_line_exception(exc)})") from None
     except Exception as exc:
         raise FingerpadError(f"cannot read {path}: not a valid .npy file ({one_line_exception(exc)})") from None
     if not isinstance(data, np.ndarray):

@@ -1,0 +1,253 @@
+"""Inverse design as one call: a study, free parameters and targets in; ranked candidates, each a
+direct prediction, and the result document out (``fingerpad design``, the Python API and the
+explorer all get the same thing).
+
+The search itself (the objective, the optimiser, the ranking of a sweep) is in
+:mod:`fingerpad.design.inverse`; this module decides the inputs (each numeric option checked in
+one place, here), takes the candidates from a sweep or from the optimiser, merges those that
+are one design, and predicts the reported ones once more over the exploration loads (their curves).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import FingerpadError
+from .axes import Axis
+from .inverse import XATOL, Candidate, DesignProblem, Target, parse_target, predict_candidate, rank_sweep, search
+
+__all__ = ["DesignResult", "design_textures", "free_axes", "merge_close"]
+
+#: Largest number of direct predictions an optimisation may be asked for (each is a BEM
+#: prediction of seconds to minutes; beyond this a sweep is the tool).
+MAX_EVALUATIONS = 10_000
+
+
+@dataclass
+class DesignResult:
+    """The candidates of an inverse design, best first, and what was asked.
+
+    Attributes
+    ----------
+    problem
+        The problem solved (SI units).
+    candidates
+        The reported candidates, best first, each predicted directly over the exploration loads
+        (``curve``); near-identical ones merged (:func:`merge_close`).
+    source
+        Where the candidates came from (``"sweep PATH"`` or the optimisation).
+    """
+
+    problem: DesignProblem
+    candidates: list[Candidate] = field(default_factory=list)
+    source: str = ""
+
+    @property
+    def met(self) -> bool:
+        """Whether a candidate meets every target within the tolerance and every limit."""
+        return any(c.meets for c in self.candidates)
+
+    def document(self) -> dict[str, Any]:
+        """The result as plain data (JSON-ready; SI units, stated under ``units``)."""
+        from ..encode import to_jsonable
+
+        p = self.problem
+        return to_jsonable({
+            "targets": [str(t) for t in p.targets], "axes": {a.name: list(a.values) for a in p.axes},
+            "min_critical_load": p.min_critical_load, "min_feature": p.min_feature,
+            "max_aspect": p.max_aspect, "tolerance": p.tolerance, "source": self.source,
+            "met": self.met, "candidates": [c.as_dict() for c in self.candidates],
+            "units": {"params": "SI (m, Pa, rad)", "critical_load": "N", "feature": "m", "curve.load": "N"},
+        })
+
+    def shortfall(self) -> str | None:
+        """One sentence when no candidate meets the targets (and how close the best gets), else None."""
+        best = self.candidates[0] if self.candidates else None
+        if best is not None and best.meets:
+            return None
+        what = ", ".join(f"{k} = {v:.3g}" for k, v in best.values.items()) if best else "nothing valid"
+        if best is not None and best.violations:
+            what += f" ({'; '.join(best.violations)})"
+        return (f"no texture in the box meets the target within {100 * self.problem.tolerance:g} %; "
+                f"the closest: {what}")
+
+
+def free_axes(vary: Mapping[str, Any] | Sequence[str], family: str | None) -> list[Axis]:
+    """The free parameters: ``{"spacing": ("100um", "400um")}`` or ``["spacing=100um:400um"]``.
+
+    Bounds take units (numbers are SI); the axis is log-uniform unless its low bound is 0.
+
+    Raises
+    ------
+    FingerpadError
+        A parameter the family does not have, a non-numeric one, bounds not LOW < HIGH.
+    """
+    from .axes import resolve_axis
+
+    items: list[tuple[str, Any]] = []
+    if isinstance(vary, Mapping):
+        items = list(vary.items())
+    else:
+        for item in vary:
+            if "=" not in str(item):
+                raise FingerpadError(f"--vary: expected NAME=LOW:HIGH, got {item!r}")
+            name, bounds = (t.strip() for t in str(item).split("=", 1))
+            items.append((name, bounds))
+    axes = []
+    for name, bounds in items:
+        axis = resolve_axis(name, family)
+        if not axis.numeric:
+            raise FingerpadError(f"--vary {name}: only numeric parameters can be optimised")
+        parts = bounds.split(":") if isinstance(bounds, str) else list(bounds)
+        if len(parts) != 2:
+            raise FingerpadError(f"--vary {name}={bounds}: expected LOW:HIGH bounds")
+        lo, hi = (axis.parse(p, f"--vary {name}") for p in parts)
+        if not hi > lo:
+            raise FingerpadError(f"--vary {name}={bounds}: the bounds must satisfy LOW < HIGH")
+        if lo < 0 and axis.kind == "length":
+            raise FingerpadError(f"--vary {name}={bounds}: a length cannot be negative")
+        axes.append(Axis(**{**axis.__dict__, "values": (lo, hi), "log": lo > 0}))
+    if not axes:
+        raise FingerpadError("give at least one --vary NAME=LOW:HIGH")
+    if len({a.name for a in axes}) != len(axes):
+        raise FingerpadError("--vary: a parameter is given twice")
+    return axes
+
+
+def merge_close(problem: DesignProblem, candidates: Sequence[Candidate], distance: float = XATOL) -> list[Candidate]:
+    """Candidates with one from each group closer than ``distance`` (in the unit box of the free
+    parameters, log-scaled for log axes, largest coordinate difference): the best of each group.
+
+    ``distance`` defaults to the optimiser's own parameter tolerance: points closer than that are
+    one design to the optimiser (200.7 and 201.8 um in a 100-400 um box are 0.4 % of it apart).
+    """
+    kept: list[tuple[np.ndarray, Candidate]] = []
+    for cand in sorted(candidates, key=lambda c: c.objective):
+        u = problem.unit(cand.params)
+        if all(np.max(np.abs(u - v)) >= distance for v, _ in kept):
+            kept.append((u, cand))
+    return [c for _, c in kept]
+
+
+def _number(value: Any, dimension: str, name: str) -> float | None:
+    from ..units import parse_positive
+
+    return None if value is None else parse_positive(value, dimension, name=name)
+
+
+def design_textures(
+    study: str | os.PathLike[str] | Mapping[str, Any],
+    vary: Mapping[str, Any] | Sequence[str],
+    targets: Sequence[str | Target],
+    *,
+    min_critical_load: str | float | None = None,
+    min_feature: str | float | None = None,
+    max_aspect: str | float | None = None,
+    tolerance: str | float = 0.05,
+    from_sweep: str | os.PathLike[str] | None = None,
+    candidates: int | str = 5,
+    evaluations: int | str = 60,
+    progress: Callable[[int, int], None] | None = None,
+) -> DesignResult:
+    """Find textures of the study's family, within bounds, that give a wanted friction.
+
+    Parameters
+    ----------
+    study
+        A study file, or its sections (texture family and fixed parameters, material, finger;
+        a ``[sweep]`` table is ignored).
+    vary
+        The free parameters and their bounds (:func:`free_axes`).
+    targets
+        ``QUANTITY=VALUE@LOAD`` texts or :class:`~fingerpad.design.inverse.Target`.
+    min_critical_load
+        Stay in asperity contact up to this load (N, or text with a unit).
+    min_feature, max_aspect
+        Manufacturing limits: smallest lateral feature (m), largest height / feature.
+    tolerance
+        Relative deviation within which a target is met, in (0, 1].
+    from_sweep
+        Take the candidates from this sweep store (then predict each directly) instead of
+        optimising.
+    candidates
+        Candidates to report (at least 1).
+    evaluations
+        Direct predictions the optimisation may make (1 to :data:`MAX_EVALUATIONS`).
+    progress
+        Called with ``(done, total)`` after each direct prediction of the search.
+
+    Returns
+    -------
+    DesignResult
+        Every number of a candidate from a direct prediction of that texture.
+
+    Raises
+    ------
+    FingerpadError
+        An input that makes no sense (each checked before any prediction), a sweep without the
+        free parameters.
+    """
+    from ..study.spec import read_study_file, study_from_dict
+    from ..units import parse_int, parse_quantity, parse_range
+    from .spec import DEFAULT_SWEEP_LOADS
+
+    if isinstance(study, Mapping):
+        data = {k: dict(v) for k, v in study.items() if k != "sweep"}
+    else:
+        data = read_study_file(study, extra_sections=("sweep",))
+        data.pop("sweep", None)
+    study_from_dict(data)  # the base must be a valid study
+    axes = free_axes(vary, data.get("texture", {}).get("name"))
+    parsed = [t if isinstance(t, Target) else parse_target(t) for t in targets]
+    if not parsed:
+        raise FingerpadError("give at least one --target QUANTITY=VALUE@LOAD")
+    n_cand = parse_int(candidates, "--candidates")
+    n_eval = parse_int(evaluations, "--evaluations")
+    if n_eval > MAX_EVALUATIONS:
+        raise FingerpadError(f"--evaluations {n_eval}: at most {MAX_EVALUATIONS} (a sweep covers more points)")
+    problem = DesignProblem(
+        base=data, axes=axes, targets=parsed,
+        min_critical_load=_number(min_critical_load, "force", "--min-critical-load"),
+        min_feature=_number(min_feature, "length", "--min-feature"),
+        max_aspect=_number(max_aspect, "none", "--max-aspect"),
+        tolerance=parse_quantity(tolerance, "none", name="--tolerance"),
+    )
+    curve_loads = parse_range(DEFAULT_SWEEP_LOADS, "force", log=True)
+    if from_sweep is not None:
+        found = _from_sweep(problem, from_sweep, n_cand, progress)
+        source = f"sweep {from_sweep}"
+    else:
+        found = search(problem, max_evaluations=n_eval, progress=progress)
+        source = "optimisation (BEM in the loop)"
+    best = merge_close(problem, found)[:n_cand]
+    # the reported candidates, predicted once more over the exploration loads (their curves)
+    best = [predict_candidate(problem, c.params, curve_loads=curve_loads) for c in best]
+    best.sort(key=lambda c: c.objective)
+    return DesignResult(problem=problem, candidates=best, source=source)
+
+
+def _from_sweep(problem: DesignProblem, path: str | os.PathLike[str], n_cand: int,
+                progress: Callable[[int, int], None] | None) -> list[Candidate]:
+    """The best points of a sweep for the targets, each predicted directly, best first."""
+    from .store import open_sweep
+
+    ds = open_sweep(path).load()
+    missing = [a.name for a in problem.axes if a.name not in ds.variables]
+    if missing:
+        raise FingerpadError(f"--from-sweep: the sweep has no axis {', '.join(missing)}")
+    # three times the candidates asked for: some fall outside the bounds, some merge
+    ranked = rank_sweep(ds, problem.targets, problem.min_critical_load)[: 3 * n_cand]
+    found = []
+    for i, row in enumerate(ranked):
+        params = {a.name: row["params"][a.name] for a in problem.axes}
+        if all(a.values[0] <= params[a.name] <= a.values[1] for a in problem.axes):
+            found.append(predict_candidate(problem, params))
+        if progress is not None:
+            progress(i + 1, len(ranked))
+    return sorted(found, key=lambda c: c.objective if math.isfinite(c.objective) else math.inf)

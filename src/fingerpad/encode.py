@@ -1,0 +1,105 @@
+"""Values made writable: JSON documents and NetCDF attributes (SI numbers, no NaN in JSON).
+
+:func:`to_jsonable` turns results (NumPy scalars and arrays, tuples, non-finite floats) into
+plain JSON values; :func:`flatten_attrs` turns nested metadata into flat NetCDF attributes of
+the types NetCDF takes.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+__all__ = ["flatten_attrs", "to_jsonable"]
+
+
+_BAD_KEY = re.compile(r"[^A-Za-z0-9_]+")
+
+
+def _attr_key(key: Any) -> str:
+    text = _BAD_KEY.sub("_", str(key)).strip("_")
+    if not text:
+        text = "attr"
+    if text[0].isdigit():
+        text = "_" + text
+    return text
+
+
+def _attr_value(value: Any) -> str | int | float | np.ndarray:
+    """Convert one value to something NetCDF accepts as an attribute."""
+    if value is None:
+        return "none"
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        return v if math.isfinite(v) else str(v)
+    if isinstance(value, str):
+        return value
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    if isinstance(value, np.ndarray) and value.dtype.kind in "iuf" and value.ndim <= 1:
+        if value.size == 0:
+            return "[]"
+        return value.astype(float if value.dtype.kind == "f" else np.int64)
+    if isinstance(value, (list, tuple, np.ndarray)):
+        items = list(value)
+        if items and all(
+            isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_))
+            for v in items
+        ):
+            arr = np.asarray(items, dtype=float)
+            if np.all(np.isfinite(arr)):
+                return arr
+        return json.dumps(_jsonable(items))
+    return str(value)
+
+
+def _jsonable(value: Any) -> Any:
+    """Recursively convert numpy scalars/arrays, paths and non-finite floats for json.dumps."""
+    if isinstance(value, Mapping):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _jsonable(value.tolist())
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    if value is None or isinstance(value, str):
+        return value
+    return str(value)
+
+
+def to_jsonable(value: Any) -> Any:
+    """Public alias of the JSON conversion used by the command line (NaN/inf -> None)."""
+    return _jsonable(value)
+
+
+def flatten_attrs(attrs: Mapping[str, Any] | None, prefix: str = "") -> dict[str, Any]:
+    """Flatten ``attrs`` (nested dicts joined with ``_``) into NetCDF-safe attributes."""
+    out: dict[str, Any] = {}
+    for key, value in (attrs or {}).items():
+        name = _attr_key(f"{prefix}_{key}" if prefix else key)
+        if isinstance(value, Mapping):
+            if value:
+                out.update(flatten_attrs(value, name))
+            else:
+                out[name] = "{}"
+        else:
+            out[name] = _attr_value(value)
+    return out

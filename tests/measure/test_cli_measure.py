@@ -1,0 +1,137 @@
+"""``fingerpad analyse``: ranges decided in one place (the options classes), and a summary
+that fits an 80-column terminal."""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pandas as pd
+import pytest
+import typer
+from typer.testing import CliRunner
+
+from fingerpad import measure as m
+from fingerpad.cli.measure import _print_summary, register
+from fingerpad.errors import FingerpadError
+
+
+@pytest.fixture()
+def app():
+    application = typer.Typer()
+    register(application)
+    return application
+
+
+class _Stop(Exception):
+    pass
+
+
+@pytest.fixture()
+def captured(monkeypatch):
+    """Stop ``analyse`` at the library call, keeping the options it built: the options were
+    accepted exactly when the call is reached."""
+    seen = {}
+
+    def fake_analyse(recordings, options, **kw):
+        seen["options"] = options
+        raise FingerpadError("stopped before the work")
+
+    monkeypatch.setattr(m, "load_study", lambda *a, **k: [])
+    monkeypatch.setattr(m, "analyse_study", fake_analyse)
+    return seen
+
+
+# option, library field, values on both sides of every bound (the CLI had its own, stricter
+# ranges for --level (0.5-0.999) and --outlier-z (>= 0.5))
+CASES = [
+    ("--level", lambda v: m.AnalysisOptions(level=float(v)), ["0.3", "0.9995", "0.95", "1", "0", "-0.2"]),
+    ("--outlier-z", lambda v: m.AnalysisOptions(outlier_z=float(v)), ["0.3", "0.5", "3.5", "0", "-1"]),
+    ("--trim", lambda v: m.StrokeOptions(trim=float(v)), ["0", "0.45", "0.46", "-0.1"]),
+    ("--n-null", lambda v: m.AnalysisOptions(n_null=int(v)), ["19", "18", "999"]),
+    ("--bins", lambda v: m.AnalysisOptions(n_bins=int(v)), ["1", "0", "-3"]),
+    ("--seed", lambda v: m.AnalysisOptions(seed=int(v)), ["0", "7", "-1"]),
+    ("--min-strokes", lambda v: m.StrokeOptions(min_strokes=int(v)), ["1", "0"]),
+    ("--trend", lambda v: m.AnalysisOptions(breakpoint_trend=v), ["any", "steeper", "up"]),
+]
+
+
+@pytest.mark.parametrize("option, build, values", CASES, ids=[c[0] for c in CASES])
+def test_cli_accepts_exactly_what_the_library_accepts(app, captured, tmp_path, option, build, values):
+    runner = CliRunner()
+    for value in values:
+        try:
+            build(value)
+            library_ok, library_error = True, ""
+        except FingerpadError as exc:
+            library_ok, library_error = False, str(exc)
+        res = runner.invoke(app, ["analyse", str(tmp_path), "--reference", "flat", "--out",
+                                  str(tmp_path / "out"), option, value])
+        assert res.exit_code == 2  # every run ends: either at the library call or at the check
+        line = res.stderr.strip()
+        assert line.count("\n") == 0 and line.startswith("error: ")
+        if library_ok:
+            assert line == "error: stopped before the work", (option, value, line)
+        else:  # the library's own message, not a second opinion of the CLI
+            assert line == f"error: {library_error}", (option, value, line)
+
+
+def test_cli_still_parses(app, captured, tmp_path):
+    res = CliRunner().invoke(app, ["analyse", str(tmp_path), "--reference", "flat", "--out", str(tmp_path / "o"),
+                                   "--level", "high"])
+    assert res.exit_code == 2 and res.stderr.strip() == "error: --level: expected a number, got 'high'"
+    res = CliRunner().invoke(app, ["analyse", str(tmp_path), "--reference", "flat", "--out", str(tmp_path / "o"),
+                                   "--level", "0.3", "--outlier-z", "0.2", "--trend", " Steeper "])
+    assert res.stderr.strip() == "error: stopped before the work"
+    opts = captured["options"]
+    assert (opts.level, opts.outlier_z, opts.breakpoint_trend) == (0.3, 0.2, "steeper")
+
+
+# =============================================================================================
+# the E_s table at 80 columns
+# =============================================================================================
+
+
+def _stub_result(rows: list[dict]) -> SimpleNamespace:
+    strokes = pd.DataFrame({"participant": ["P1"], "sample": ["flat"], "file": ["a"], "outlier": [False]})
+    return SimpleNamespace(strokes=strokes, participants=pd.DataFrame(rows), conditions=pd.DataFrame(),
+                           spread_summary=pd.DataFrame(columns=["is_reference", "reduction"]),
+                           options=SimpleNamespace(level=0.95))
+
+
+def test_modulus_table_fits_80_columns(monkeypatch, capsys, tmp_path):
+    """Worst cases of the cells: a two-piece set, an undetermined E_s, long participant names."""
+    monkeypatch.setenv("COLUMNS", "80")
+    rows = [
+        {"participant": "P01", "ref_k": 0.4721, "ref_n": 0.6081, "skin_modulus": 2.91e5,
+         "skin_modulus_interval": "0.179-0.452 MPa", "skin_modulus_model": "bem", "skin_modulus_other": 3.31e5,
+         "skin_modulus_other_model": "hertz", "skin_modulus_sens_low": 1.54e5, "skin_modulus_sens_high": 1.71e6},
+        {"participant": "volunteer-12", "ref_k": 0.376, "ref_n": 0.711, "skin_modulus": 3.72e5,
+         "skin_modulus_determined": False, "skin_modulus_interval": "0.0213-0.162 or 1.56-19.9 MPa",
+         "skin_modulus_model": "hertz", "skin_modulus_other": math.nan, "skin_modulus_sens_low": math.nan,
+         "skin_modulus_sens_high": math.nan},
+    ]
+    _print_summary(_stub_result(rows), [], tmp_path)
+    out = capsys.readouterr().out
+    lines = out.splitlines()
+    assert max(len(line) for line in lines) <= 80
+    assert "…" not in out
+    for piece in ("0.179-0.452", "0.0213-0.162", "1.56-19.9", "0.154-1.71", "0.331", "volunteer-12"):
+        assert any(piece in line for line in lines), piece  # whole, on one line
+
+
+def test_analyse_summary_at_80_columns(app, small_study_dir, tmp_path):
+    """The real command on a simulated study: every 95 % set printed whole."""
+    res = CliRunner(env={"COLUMNS": "80"}).invoke(
+        app, ["analyse", str(small_study_dir), "--reference", "flat", "--out", str(tmp_path / "r"), "--no-figures",
+              "--n-null", "99"])
+    assert res.exit_code == 0, res.output
+    lines = res.stdout.splitlines()
+    table = [line for line in lines if line.startswith("P0")]
+    assert table and max(len(line) for line in lines) <= 80 and "…" not in res.stdout
+    parts = pd.read_csv(tmp_path / "r" / "participants.csv")
+    for row in parts.itertuples():
+        interval = str(row.skin_modulus_interval).removesuffix(" MPa")
+        assert any(line.startswith(row.participant) and interval in line for line in table), interval
+    assert np.isfinite(parts["skin_modulus"]).all()
