@@ -2,8 +2,8 @@
 
 A unit-cell curve psi(p) costs seconds to minutes of solving and is reused by every prediction
 on the same texture shape, grid and solver settings, whatever the moduli and the texture's
-scale (the curve is stored in p/E*, :mod:`fingerpad.micro.bem`). Entries are JSON files named by the
-SHA-256 of that content. Several processes (sweep workers) may fill the same entry: each update
+scale (the curve is stored in p/E*, :mod:`fingerpad.micro.bem`). Entries are JSON files named by
+the SHA-256 of that content. Several processes (sweep workers) may fill the same entry: each update
 takes a file lock (``filelock``), re-reads the entry, merges its new points and replaces the file
 atomically, so readers never see a partial file and no computed point is lost.
 
