@@ -64,7 +64,7 @@ def test_overrides_keep_a_hertz_type_gross_model_in_step():
 
 @pytest.mark.parametrize("kwargs, message", [
     (dict(thumb=1), r"unknown finger parameter\(s\) thumb"),
-    (dict(beta=1.5), r"beta must lie in \[0, 1\]"),
+    (dict(beta=1.5), r"beta: must lie in \[0, 1\]"),
     (dict(skin_poisson=0.7), "skin Poisson ratio"),
     (dict(ridges="half"), "ridges must be a ridge-area model"),
     (dict(gross=3), "gross must be a gross-area model"),

@@ -218,7 +218,7 @@ def test_an_unwritable_out_fails_before_the_work(command, args, work, tmp_path, 
 @pytest.mark.parametrize("option, name", [("--json", "r.json"), ("--save", "r.nc"), ("--plot", "r.png"),
                                           ("--csv", "r.csv")])
 def test_solve_checks_its_files_before_solving(option, name, tmp_path, monkeypatch):
-    no_work(monkeypatch, "fingerpad.study.solve.run_solve")
+    no_work(monkeypatch, "fingerpad.study.cell_job.run_solve")
     where = os.path.join(os.path.dirname(_unwritable(tmp_path)), name)
     line = error_line(invoke("solve", *CAPS, "--grid", "32", "--pressure", "1kPa", option, where))
     assert repr(where) in line and ".part" not in line

@@ -71,7 +71,7 @@ def test_parse_values():
         spacing.parse(True, "x")
     lattice = resolve_axis("lattice", "caps")
     assert lattice.parse(" Hexagonal ", "x") == "hexagonal"
-    with pytest.raises(FingerpadError, match="x: 'round' is not one of"):
+    with pytest.raises(FingerpadError, match="x: must be one of square, hexagonal, got 'round'"):
         lattice.parse("round", "x")
     # angles: degrees unless a unit says otherwise, kept in radians
     direction = resolve_axis("direction", "ridges")

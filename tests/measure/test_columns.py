@@ -33,9 +33,6 @@ def test_unknown_units_named(unit, dimension, message):
         m.unit_factor(unit, dimension, where="col Fn")
 
 
-@pytest.mark.xfail(strict=True, reason="bug: the spelled-out time units of UNIT_SYNONYMS (second, seconds, "
-                   "millisecond(s), which LabVIEW writes as unit_string) are never looked up for time: "
-                   "unit_factor('seconds', 'time') raises 'unknown time unit'")
 @pytest.mark.parametrize("unit, factor", [("seconds", 1.0), ("milliseconds", 1e-3), ("Second", 1.0)])
 def test_spelled_out_time_units(unit, factor):
     assert m.unit_factor(unit, "time") == pytest.approx(factor)

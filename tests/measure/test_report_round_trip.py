@@ -73,23 +73,35 @@ def test_figures_are_drawn(report, study_small):
     for path in pngs:
         if "qc" in path.parts:
             assert path.relative_to(out).as_posix() in html, "QC figures are linked"
-    assert sorted(files) == sorted(p for p in out.rglob("*") if p.is_file())
+    # every file the report wrote, besides the folder's hidden listing of them (fingerpad.io.MANIFEST)
+    assert sorted(files) == sorted(p for p in out.rglob("*") if p.is_file() and not p.name.startswith("."))
 
 
 def test_report_replaces_an_earlier_report_whole(study_small, tmp_path):
     out = tmp_path / "res"
     write_report(study_small, out, figures=False)
-    (out / "old_extra.csv").write_text("from an earlier version")
+    (out / "summary.csv").write_text("an older summary of this report")
     write_report(study_small, out, figures=False)
-    assert not (out / "old_extra.csv").exists()
+    assert (out / "summary.csv").read_text() != "an older summary of this report"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["res"], "no temporary folder left"
+
+
+def test_report_keeps_a_file_the_user_added(study_small, tmp_path):
+    """A file fingerpad did not write (not in the folder's listing) is the user's: the folder
+    is not replaced (issue 20), and nothing in it changes."""
+    out = tmp_path / "res"
+    write_report(study_small, out, figures=False)
+    (out / "my_notes.csv").write_text("mine")
+    with pytest.raises(FingerpadError, match=r"holds files fingerpad did not write there \(my_notes\.csv\)"):
+        write_report(study_small, out, figures=False)
+    assert (out / "my_notes.csv").read_text() == "mine"
 
 
 def test_report_refuses_a_foreign_folder(study_small, tmp_path):
     out = tmp_path / "thesis"
     out.mkdir()
     (out / "chapter1.tex").write_text("mine")
-    with pytest.raises(FingerpadError, match=r"holds files of something else \(chapter1\.tex\)"):
+    with pytest.raises(FingerpadError, match=r"holds files fingerpad did not write there \(chapter1\.tex\)"):
         write_report(study_small, out, figures=False)
     assert sorted(p.name for p in out.iterdir()) == ["chapter1.tex"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["thesis"]

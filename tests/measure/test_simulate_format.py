@@ -23,7 +23,7 @@ def simulated(tmp_path_factory):
 
 def test_files_and_columns_as_documented(simulated):
     out, truth = simulated
-    names = sorted(p.name for p in out.iterdir())
+    names = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))  # besides the hidden listing
     assert names == ["P01_bumps_1.csv", "P01_flat_1.csv", "P02_bumps_1.csv", "P02_flat_1.csv", "manifest.csv",
                      "samples.csv", "truth.json"]
     header = (out / "P01_flat_1.csv").read_text().splitlines()[0]

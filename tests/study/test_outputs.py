@@ -15,7 +15,8 @@ from fingerpad.study import outputs
 
 
 def listing(folder):
-    return sorted(p.name for p in folder.iterdir())
+    """The files a user sees (an output folder's hidden listing of what fingerpad wrote left out)."""
+    return sorted(p.name for p in folder.iterdir() if p.name != ".fingerpad-output.json")
 
 
 def test_prediction_invariants(prediction):
@@ -120,7 +121,7 @@ def test_check_outputs_collisions(tmp_path):
         outputs.check_outputs(out, json_path=str(out / "p.json"))
     (tmp_path / "foreign").mkdir()
     (tmp_path / "foreign" / "notes.txt").write_text("mine")
-    with pytest.raises(FingerpadError, match=r"already holds files this command does not write \(notes\.txt\)"):
+    with pytest.raises(FingerpadError, match=r"holds files fingerpad did not write there \(notes\.txt\)"):
         outputs.check_outputs(tmp_path / "foreign")
     outputs.check_outputs(out, json_path="-")  # stdout is fine
     assert listing(tmp_path) == ["foreign", "out"] and listing(out) == []

@@ -272,7 +272,7 @@ def test_file_errors_name_the_file_and_key(tmp_path):
 
 @pytest.mark.parametrize("content, message", [
     (b'[texture\nname = "caps"', r"study file '.*bad\.toml': "),
-    (b"\xff\xfe[texture]", "is not a text \\(UTF-8 TOML\\) file"),
+    (b"\xff\xfe[texture]", "is saved as UTF-16"),
     (b'[sweep]\nspacing = "1um:2um:2"\n', r"unknown section\(s\) or key\(s\) sweep .*read by `fingerpad sweep`"),
     (b'texture = 3\n', r"'texture' must be a \[texture\] section"),
 ])

@@ -40,6 +40,7 @@ def unit_factor(unit: str, dimension: str, *, where: str = "unit") -> float:
     if not u:
         return 1.0
     if dimension == "time":
+        u = u if u in TIME_UNITS else UNIT_SYNONYMS.get(u.lower(), u)  # "seconds", as LabVIEW writes
         if u in TIME_UNITS:
             return TIME_UNITS[u]
         raise FingerpadError(f"{where}: unknown time unit {u!r} (use one of: {', '.join(TIME_UNITS)})")

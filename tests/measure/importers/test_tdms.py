@@ -37,8 +37,6 @@ def test_tdms_sample_in_si(tmp_path, unit):
     check_si(m.read_recording(path), unit)
 
 
-@pytest.mark.xfail(strict=True, reason="bug: a time channel whose LabVIEW unit_string is spelled out ('seconds') "
-                   "is refused as 'unknown time unit', although columns.UNIT_SYNONYMS lists it")
 def test_time_channel_in_spelled_out_seconds(tmp_path):
     path = tmp_path / "run.tdms"
     chans = [nptdms.ChannelObject("run", "time", TIME, properties={"unit_string": "seconds"}),
