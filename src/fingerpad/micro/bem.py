@@ -8,9 +8,9 @@ the computed curve psi(p) is interpolated for the coupling integral. Curves are 
 One curve serves every modulus and every size (docs/solver.md, "One curve for every modulus and
 every scale"): the rigid texture on a linear elastic half-space has a contact fraction that
 depends on p/E* only, and a texture scaled uniformly in all its lengths has the same psi(p).
-So the cell solved
-and stored is the *unit cell*: the heights divided by the cell's length Lx, at unit modulus, with
-pressures in units of E* and lengths in units of Lx. Its key holds neither E* nor Lx.
+So the cell solved and stored is the *unit cell*: the heights divided by the cell's length Lx,
+at unit modulus, with pressures in units of E* and lengths in units of Lx. Its key holds
+neither E* nor Lx.
 """
 
 from __future__ import annotations
@@ -147,7 +147,7 @@ class BEMUnitCell:
         self.solver = HalfSpaceSolver(self.unit, 1.0, tol=tol, max_iter=max_iter)
         self.rtol = rtol
         self.cache = CurveCache() if cache is None else (cache or None)
-        self.key = unit_cell_key(texture, tol=tol, max_iter=max_iter, rtol=rtol)
+        self.key = unit_cell_key(self.unit, tol=tol, max_iter=max_iter, rtol=rtol)
         # the unit cell's nodes (p / E* -> row in units of E* and Lx) and state brackets (p / E*)
         self._unit_points: dict[float, dict[str, Any]] = {}
         self._transition: tuple[float, float] | None = None
@@ -405,7 +405,7 @@ class BEMUnitCell:
         """psi(p): real-to-nominal contact area fraction of the cell at mean pressure ``p`` (Pa).
 
         The unit cell's curve at ``p / E*``: a cell at k E* and pressure k p gives the same
-        number, bit for bit."""
+        number (bit for bit when k is a power of two, when k p / k E* is exactly p / E*)."""
         p = np.asarray(p, dtype=float)
         if self.flat:
             return np.where(p > 0, 1.0, 0.0)
