@@ -63,8 +63,12 @@ def test_cache_reuses_and_extends(tmp_path) -> None:
     assert set(first.points) < set(wider.points)
     # no node is computed twice (but for the warm start of each new bracket's bisection)
     assert 0 < wider.solves <= len(wider.points) - len(first.points) + 2
-    other = BEMUnitCell(tex, 2 * E, cache=CurveCache(tmp_path)).prepare(1e3, 1e4)
-    assert other.solves > 0  # different content, different key
+    # one stored curve in p/E* serves another modulus: twice E* over twice the pressures solves nothing
+    other = BEMUnitCell(tex, 2 * E, cache=CurveCache(tmp_path)).prepare(2e3, 2e4)
+    assert other.solves == 0 and other.key == first.key
+    taller = BEMUnitCell(spherical_caps(radius=50e-6, height=12e-6, spacing=150e-6, grid=64), E,
+                         cache=CurveCache(tmp_path))
+    assert taller.prepare(1e3, 1e4).solves > 0  # another shape is other content, another key
     assert len(list(tmp_path.glob("*.json"))) == 2
 
 

@@ -51,6 +51,7 @@ class SweepReport:
     cells: int = 0
     cells_solved: int = 0
     cache_hits: int = 0
+    solves: int = 0  # unit-cell solves, by the cell tasks and by the points (range ends they add)
     failures: list[str] = field(default_factory=list)
     seconds: float = 0.0
     dashboard: str | None = None
@@ -286,6 +287,7 @@ def run_sweep(
                         solves = cf.result()["solves"]
                         report.cells_solved += int(solves > 0)
                         report.cache_hits += int(solves == 0)
+                        report.solves += int(solves)
             region = futures[fut]
             if fut.status != "finished":
                 report.failures.append(f"chunk {_region_text(region)}: {fut.exception()!r}")
@@ -293,6 +295,7 @@ def run_sweep(
             results = fut.result()
             store.write(region, results)
             report.computed += len(results)
+            report.solves += sum(int(r.get("solves", 0)) for _, r in results)
             report.invalid += sum(1 for _, r in results if not r["valid"])
             report.unconverged += sum(1 for _, r in results if r["valid"] and not r["converged"])
             report.seconds = time.perf_counter() - t_start

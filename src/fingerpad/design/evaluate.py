@@ -58,9 +58,11 @@ def _study(data: Mapping[str, Any]) -> Any:
 
 
 def cell_key(data: Mapping[str, Any]) -> str | None:
-    """What identifies a point's unit cell (the texture's heights, E1* and the numerics); ``None``
-    for a point that cannot exist or runs no BEM cell."""
-    from ..micro.cache import content_key
+    """What identifies a point's unit cell (the texture's shape and the numerics); ``None``
+    for a point that cannot exist or runs no BEM cell. Neither the moduli nor the texture's scale
+    enter: the cell is stored in p/E* and lengths over the cell length
+    (:func:`fingerpad.micro.bem.unit_cell_key`), so points that differ only in them share it."""
+    from ..micro.bem import DEFAULT_RTOL, unit_cell_key
 
     try:
         with warnings.catch_warnings():
@@ -71,8 +73,8 @@ def cell_key(data: Mapping[str, Any]) -> str | None:
             tex = study.build_texture()
         if not tex.periodic:
             return None
-        return content_key(tex.heights, size=tex.size, modulus=study.reduced_modulus, tol=study.tol,
-                           max_iter=study.max_iter, grid=study.grid, accuracy=study.accuracy)
+        return unit_cell_key(tex, tol=study.tol, max_iter=study.max_iter, rtol=DEFAULT_RTOL, grid=study.grid,
+                             accuracy=study.accuracy)
     except FingerpadError:
         return None
 

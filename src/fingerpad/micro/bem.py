@@ -4,12 +4,19 @@ This is the micro scale of the model done numerically (thesis ch. 3.2 and the co
 Eq. 3.11): the unit cell of the texture is solved at the local pressures the pad produces, and
 the computed curve psi(p) is interpolated for the coupling integral. Curves are cached on disk
 (:mod:`fingerpad.micro.cache`), keyed by content, so every prediction on the same cell reuses them.
+
+One curve serves every modulus and every size (docs/solver.md, "One curve for every modulus and
+every scale"): the rigid texture on a linear elastic half-space has a contact fraction that
+depends on p/E* only, and a texture scaled uniformly in all its lengths has the same psi(p).
+So the cell solved and stored is the *unit cell*: the heights divided by the cell's length Lx,
+at unit modulus, with pressures in units of E* and lengths in units of Lx. Its key holds
+neither E* nor Lx.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
@@ -22,28 +29,68 @@ if TYPE_CHECKING:
     from ..textures import Texture
     from .cache import CurveCache
 
-__all__ = ["BEMUnitCell", "ScaledResponse"]
+__all__ = ["BEMUnitCell", "ScaledResponse", "unit_cell_key", "unit_texture"]
 
 
 # --------------------------------------------------------------------------------------------
 # Numerical unit-cell response for the coupling (Eq. 3.11 of docs/model.md)
 # --------------------------------------------------------------------------------------------
 
-#: Computed pressures lie on the global grid p_k = 10**(k / POINTS_PER_DECADE) Pa, so curves
-#: computed for different load ranges (or by different processes) merge in the cache.
+#: Computed pressures lie on the global grid p_k / E* = 10**(k / POINTS_PER_DECADE), so curves
+#: computed for different load ranges, moduli or processes merge in the cache.
 POINTS_PER_DECADE = 12
 #: Adjacent nodes of psi(p) differ by at most this much (steep stretches get extra nodes) ...
 MAX_PSI_STEP = 0.04
 #: ... using at most this many extra solves per prepare().
 MAX_REFINE_SOLVES = 40
+#: Relative width of the state-pressure brackets (part of the cache key).
+DEFAULT_RTOL = 1e-3
 #: The state pressures are searched up to this multiple of E*: the mean strain of the skin is then
 #: of order one and linear elasticity no longer describes it; a state not reached is "beyond".
 STATE_SEARCH_CAP = 10.0
 
 
+#: Heights of the unit cell are rounded to a power of two near 2**-HEIGHT_BITS of its peak-to-
+#: valley height (~1e-9 of it), so that a texture and its uniformly scaled copy, whose heights
+#: over Lx agree only to rounding, give the same key (a rare straddle of a rounding step only
+#: costs a new solve, never a wrong number).
+HEIGHT_BITS = 30
+
+
 def _grid_pressure(k: int) -> float:
-    """Node ``k`` of the global pressure grid, ``10**(k / POINTS_PER_DECADE)`` Pa."""
+    """Node ``k`` of the global grid of normalised pressures, ``p / E* = 10**(k / POINTS_PER_DECADE)``."""
     return 10 ** (k / POINTS_PER_DECADE)
+
+
+def _quantise(x: "np.ndarray | float", step: float) -> Any:
+    return np.round(np.asarray(x, dtype=float) / step) * step
+
+
+def unit_texture(texture: "Texture") -> "Texture":
+    """The texture with every length divided by its cell length Lx (``size[0]``), its lowest point
+    at zero, heights rounded to a power of two near 2**-:data:`HEIGHT_BITS` of the peak-to-valley
+    height: the geometry a unit-modulus solve sees. A texture scaled uniformly in all lengths has
+    the same unit texture (to that rounding), hence the same psi(p)."""
+    lx, ly = (float(v) for v in texture.size)
+    h = np.asarray(texture.heights, dtype=float)
+    low = float(h.min())
+    hn = (h - low) / lx
+    ptv = float(hn.max())
+    step = 2.0 ** (math.floor(math.log2(ptv)) - HEIGHT_BITS) if ptv > 0 else 1.0
+    base = None if texture.base_level is None else float(_quantise((texture.base_level - low) / lx, step))
+    aspect = float(_quantise(ly / lx, 2.0**-40))
+    return replace(texture, heights=_quantise(hn, step), size=(1.0, aspect), base_level=base)
+
+
+def unit_cell_key(texture: "Texture", *, tol: float, max_iter: int, rtol: float, **extra: Any) -> str:
+    """Cache key of the unit cell of ``texture`` (:func:`unit_texture`) and the solver settings:
+    no modulus, no absolute length. ``extra`` settings join the key (the sweep adds its grid
+    choice)."""
+    from .cache import content_key
+
+    unit = unit_texture(texture)  # idempotent: a unit texture is its own
+    return content_key(unit.heights, cell="unit", size=unit.size, base_level=unit.base_level, tol=tol,
+                       max_iter=max_iter, ppd=POINTS_PER_DECADE, rtol=rtol, **extra)
 
 
 class BEMUnitCell:
@@ -55,6 +102,12 @@ class BEMUnitCell:
     overshoot) and :attr:`interpolation_error` bounds the interpolation error by leave-one-out.
     Below the lowest computed pressure psi follows the power law of the two lowest points
     (Hertz-like asperity contact); above the highest node it keeps that node's value.
+
+    What is solved and cached is the modulus-free, length-free *unit cell*
+    (:func:`unit_texture`, unit modulus): nodes, state brackets and mean gaps are stored in units
+    of E* and of the cell length Lx, and this object presents them in Pa and m for its own
+    ``modulus`` and ``texture``. A cell at another modulus, or of a uniformly scaled texture,
+    finds the same cache entry, so it solves only nodes its pressure range adds (in p/E*).
 
     Parameters
     ----------
@@ -78,24 +131,28 @@ class BEMUnitCell:
         tol: float = 1e-8,
         max_iter: int = 5000,
         cache: "CurveCache | None | bool" = None,
-        rtol: float = 1e-3,
+        rtol: float = DEFAULT_RTOL,
     ) -> None:
-        from .cache import CurveCache, content_key
+        from ..materials import check_modulus
+        from .cache import CurveCache
 
         if not texture.periodic:
             raise FingerpadError("a unit-cell response needs a periodic texture (use --periodic or periodize)")
         self.texture = texture
-        self.solver = HalfSpaceSolver(texture, modulus, tol=tol, max_iter=max_iter)
-        self.modulus = self.solver.modulus
+        self.modulus = check_modulus(modulus, "reduced modulus E*")
+        #: The cell's length Lx (m): the unit of the stored lengths.
+        self.length = float(texture.size[0])
+        self.unit = unit_texture(texture)
+        #: The solver of the unit cell (unit modulus, lengths over Lx): its pressures are p / E*.
+        self.solver = HalfSpaceSolver(self.unit, 1.0, tol=tol, max_iter=max_iter)
         self.rtol = rtol
         self.cache = CurveCache() if cache is None else (cache or None)
-        self.key = content_key(
-            texture.heights, size=texture.size, modulus=self.modulus, tol=tol, max_iter=max_iter,
-            ppd=POINTS_PER_DECADE, rtol=rtol,
-        )
-        self.points: dict[float, dict[str, Any]] = {}
-        self.transition: tuple[float, float] | None = None
-        self.full: tuple[float, float] | None = None
+        self.key = unit_cell_key(self.unit, tol=tol, max_iter=max_iter, rtol=rtol)
+        # the unit cell's nodes (p / E* -> row in units of E* and Lx) and state brackets (p / E*)
+        self._unit_points: dict[float, dict[str, Any]] = {}
+        self._transition: tuple[float, float] | None = None
+        self._full: tuple[float, float] | None = None
+        self._points: dict[float, dict[str, Any]] | None = None
         self.flat = texture.peak_to_valley <= 0
         self.solves = 0
         self._interp = None
@@ -107,12 +164,34 @@ class BEMUnitCell:
 
     def _absorb(self, entry: dict[str, Any]) -> None:
         for p, row in entry.get("points", {}).items():
-            self.points[float(p)] = row
+            self._unit_points[float(p)] = row
         if entry.get("transition"):
-            self.transition = tuple(entry["transition"])  # type: ignore[assignment]
+            self._transition = tuple(entry["transition"])  # type: ignore[assignment]
         if "full" in entry and entry["full"] is not None:
-            self.full = tuple(entry["full"])  # type: ignore[assignment]
+            self._full = tuple(entry["full"])  # type: ignore[assignment]
         self._interp = None
+        self._points = None
+
+    @property
+    def points(self) -> dict[float, dict[str, Any]]:
+        """The computed nodes at this modulus and size: pressure (Pa) -> ``contact_fraction``,
+        ``mean_gap`` (m), ``max_pressure`` (Pa), ``contact_state``, ``converged``, ``iterations``."""
+        if self._points is None:
+            e, lx = self.modulus, self.length
+            self._points = {q * e: {**row, "mean_gap": row["mean_gap"] * lx, "max_pressure": row["max_pressure"] * e}
+                            for q, row in self._unit_points.items()}
+        return self._points
+
+    @property
+    def transition(self) -> tuple[float, float] | None:
+        """Bracket [lo, hi] (Pa) of the transition pressure (``None`` before :meth:`prepare`)."""
+        return None if self._transition is None else (self._transition[0] * self.modulus,
+                                                      self._transition[1] * self.modulus)
+
+    @property
+    def full(self) -> tuple[float, float] | None:
+        """Bracket [lo, hi] (Pa) of the full-contact pressure (``None`` before :meth:`prepare`)."""
+        return None if self._full is None else (self._full[0] * self.modulus, self._full[1] * self.modulus)
 
     def _store(self, new_points: dict[float, dict[str, Any]], **extra: Any) -> None:
         payload: dict[str, Any] = {"points": {repr(p): row for p, row in new_points.items()}, **extra}
@@ -123,6 +202,7 @@ class BEMUnitCell:
 
     @staticmethod
     def _row(res: ContactResult) -> dict[str, Any]:
+        # a unit-cell solve: pressures in units of E*, lengths in units of Lx
         return {
             "contact_fraction": res.contact_fraction, "mean_gap": res.mean_gap,
             "max_pressure": res.max_pressure, "contact_state": res.contact_state,
@@ -145,6 +225,7 @@ class BEMUnitCell:
             return self
         if not (0 < p_min <= p_max and math.isfinite(p_max)):
             raise FingerpadError(f"bad pressure range [{p_min!r}, {p_max!r}]")
+        p_min, p_max = p_min / self.modulus, p_max / self.modulus  # the unit cell's pressures
         k0 = math.floor(math.log10(p_min) * POINTS_PER_DECADE) - 1
         k1 = math.ceil(math.log10(p_max) * POINTS_PER_DECADE) + 1
         todo = [k for k in range(k0, k1 + 1) if self._node(_grid_pressure(k)) is None]
@@ -156,9 +237,9 @@ class BEMUnitCell:
             previous = self._solve_node(_grid_pressure(k), previous, new)
         if new:
             self._store(new)
-        if self.transition is None:
+        if self._transition is None:
             self._store({}, transition=self._bracket_state(lambda st: st != "asperity", k1))
-        if self.full is None:
+        if self._full is None:
             self._store({}, full=self._bracket_state(lambda st: st == "full", k1))
         self._refine(p_min, p_max)
         self._progress = (None, 0, 0)
@@ -166,7 +247,8 @@ class BEMUnitCell:
 
     def _refine(self, p_min: float, p_max: float) -> None:
         """Add nodes where psi rises steeply (just past the transition the skin floods the base):
-        bisect (in log p) every interval inside the range whose psi step exceeds MAX_PSI_STEP."""
+        bisect (in log p) every interval inside the range whose psi step exceeds MAX_PSI_STEP
+        (the range in units of E*, like the nodes)."""
         new: dict[float, dict[str, Any]] = {}
         for _ in range(MAX_REFINE_SOLVES):
             ps, psi = self._nodes()
@@ -192,11 +274,11 @@ class BEMUnitCell:
         return res
 
     def _node(self, p: float) -> dict[str, Any] | None:
-        """The computed node at pressure ``p`` (Pa), if any."""
-        row = self.points.get(p)
+        """The computed node of the unit cell at pressure ``p`` (units of E*), if any."""
+        row = self._unit_points.get(p)
         if row is not None:
             return row
-        return next((r for q, r in self.points.items() if math.isclose(p, q, rel_tol=1e-9)), None)
+        return next((r for q, r in self._unit_points.items() if math.isclose(p, q, rel_tol=1e-9)), None)
 
     def _state_at(self, k: int, sink: dict[float, dict[str, Any]]) -> str:
         """Contact state at global grid node ``k`` (solved if not yet computed)."""
@@ -208,7 +290,7 @@ class BEMUnitCell:
         return str(row["contact_state"])
 
     def _bracket_state(self, reached: Callable[[str], bool], k_start: int) -> list[float]:
-        """Bracket [lo, hi] (Pa) of the pressure where ``reached(state)`` starts.
+        """Bracket [lo, hi] (units of E*) of the pressure where ``reached(state)`` starts.
 
         Step 1 finds the first global grid node ``k`` with the state reached, by an exponential
         then binary search on the integers: the nodes and their states are the same whatever
@@ -216,8 +298,8 @@ class BEMUnitCell:
         to ``rtol``. Returns ``[p_cap, inf]`` when the state is not reached up to the cap.
         """
         new: dict[float, dict[str, Any]] = {}
-        k_cap = math.floor(math.log10(STATE_SEARCH_CAP * self.modulus) * POINTS_PER_DECADE)
-        k_floor = math.floor(math.log10(1e-9 * self.modulus) * POINTS_PER_DECADE)
+        k_cap = math.floor(math.log10(STATE_SEARCH_CAP) * POINTS_PER_DECADE)
+        k_floor = math.floor(math.log10(1e-9) * POINTS_PER_DECADE)
         k_start = min(max(k_start, k_floor), k_cap)
         if reached(self._state_at(k_start, new)):
             hi, step = k_start, 1
@@ -263,10 +345,10 @@ class BEMUnitCell:
         middle of a bracket of relative width ``rtol``; inf if beyond :data:`STATE_SEARCH_CAP` E*)."""
         if self.flat:
             return 0.0
-        if self.transition is None:
+        if self._transition is None:
             raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
-        lo, hi = self.transition
-        return math.inf if math.isinf(hi) else math.sqrt(lo * hi)
+        lo, hi = self._transition
+        return math.inf if math.isinf(hi) else self.modulus * math.sqrt(lo * hi)
 
     @property
     def full_contact_pressure(self) -> float:
@@ -275,23 +357,24 @@ class BEMUnitCell:
         of a bracket of relative width ``rtol``; inf if beyond :data:`STATE_SEARCH_CAP` E*)."""
         if self.flat:
             return 0.0
-        if self.full is None:
+        if self._full is None:
             raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
-        lo, hi = self.full
-        return math.inf if math.isinf(hi) else math.sqrt(lo * hi)
+        lo, hi = self._full
+        return math.inf if math.isinf(hi) else self.modulus * math.sqrt(lo * hi)
 
     def _nodes(self) -> tuple[np.ndarray, np.ndarray]:
-        ps = np.array(sorted(self.points))
-        psi = np.array([self.points[p]["contact_fraction"] for p in ps])
+        """The unit cell's nodes: pressures (units of E*) and psi."""
+        ps = np.array(sorted(self._unit_points))
+        psi = np.array([self._unit_points[p]["contact_fraction"] for p in ps])
         # A monotone curve by construction of the physics; enforce it against last-digit noise.
         return ps, np.maximum.accumulate(psi)
 
     def _pieces(self) -> list[np.ndarray]:
         """Index sets of the nodes on either side of the transition kink (PCHIP per piece)."""
         ps, _ = self._nodes()
-        if self.transition is None or not math.isfinite(self.transition[1]):
+        if self._transition is None or not math.isfinite(self._transition[1]):
             return [np.arange(ps.size)]
-        lo, hi = self.transition
+        lo, hi = self._transition
         left = np.flatnonzero(ps <= lo * (1 + 1e-12))
         right = np.flatnonzero(ps >= hi * (1 - 1e-12))
         return [piece for piece in (left, right) if piece.size]
@@ -319,10 +402,14 @@ class BEMUnitCell:
         return interp
 
     def contact_fraction(self, p: "np.ndarray | float") -> np.ndarray:
-        """psi(p): real-to-nominal contact area fraction of the cell at mean pressure ``p`` (Pa)."""
+        """psi(p): real-to-nominal contact area fraction of the cell at mean pressure ``p`` (Pa).
+
+        The unit cell's curve at ``p / E*``: a cell at k E* and pressure k p gives the same
+        number (bit for bit when k is a power of two, when k p / k E* is exactly p / E*)."""
         p = np.asarray(p, dtype=float)
         if self.flat:
             return np.where(p > 0, 1.0, 0.0)
+        p = p / self.modulus
         if self._interp is None:
             self._interp = self._build()
         ps, psi = self._nodes()
@@ -367,13 +454,14 @@ class BEMUnitCell:
 
     def curve(self) -> dict[str, np.ndarray]:
         """The computed nodes: pressure (Pa), contact_fraction, mean_gap (m), max_pressure (Pa)."""
-        ps = np.array(sorted(self.points))
+        points = self.points
+        ps = np.array(sorted(points))
         return {
             "pressure": ps,
-            "contact_fraction": np.array([self.points[p]["contact_fraction"] for p in ps]),
-            "mean_gap": np.array([self.points[p]["mean_gap"] for p in ps]),
-            "max_pressure": np.array([self.points[p]["max_pressure"] for p in ps]),
-            "contact_state": np.array([self.points[p]["contact_state"] for p in ps]),
+            "contact_fraction": np.array([points[p]["contact_fraction"] for p in ps]),
+            "mean_gap": np.array([points[p]["mean_gap"] for p in ps]),
+            "max_pressure": np.array([points[p]["max_pressure"] for p in ps]),
+            "contact_state": np.array([points[p]["contact_state"] for p in ps]),
         }
 
 

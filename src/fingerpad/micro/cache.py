@@ -1,8 +1,9 @@
 """On-disk cache of unit-cell load curves, keyed by content, safe for concurrent writers.
 
 A unit-cell curve psi(p) costs seconds to minutes of solving and is reused by every prediction
-on the same texture, materials, grid and solver settings. Entries are JSON files named by the
-SHA-256 of that content. Several processes (sweep workers) may fill the same entry: each update
+on the same texture shape, grid and solver settings, whatever the moduli and the texture's
+scale (the curve is stored in p/E*, :mod:`fingerpad.micro.bem`). Entries are JSON files named by
+the SHA-256 of that content. Several processes (sweep workers) may fill the same entry: each update
 takes a file lock (``filelock``), re-reads the entry, merges its new points and replaces the file
 atomically, so readers never see a partial file and no computed point is lost.
 
@@ -27,8 +28,9 @@ import numpy as np
 from filelock import FileLock, Timeout
 
 #: Bump when a solver change alters cached numbers (2: full contact = at most 1 % open; state
-#: brackets searched beyond the asked range).
-CACHE_VERSION = 2
+#: brackets searched beyond the asked range; 3: unit cells stored modulus- and length-free,
+#: pressures over E* and lengths over the cell length, keyed without either).
+CACHE_VERSION = 3
 
 
 class CacheWarning(UserWarning):

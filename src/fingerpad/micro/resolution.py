@@ -28,7 +28,7 @@ if TYPE_CHECKING:
 __all__ = ["DEFAULT_ACCURACY", "MAX_AUTO_GRID", "GridChoice", "choose_grid", "halve"]
 
 #: Target of the estimated relative error of A_re/A_fr when the grid is chosen automatically. The
-#: estimate is conservative: on the default cell it is 2.3 % at grid 64 and 1.1 % at 128 where the
+#: estimate is conservative: on the default cell it is 2.8 % at grid 64 and 1.2 % at 128 where the
 #: error against grid 256 is 1.2 % and 0.4 %; 2 % therefore takes the default cell to grid 128.
 DEFAULT_ACCURACY = 0.02
 #: The automatic choice stops at this many points along x (cost grows like the square).
