@@ -225,7 +225,7 @@ class Form:
             f.set_value(fin.get(key, ""))
         loads = data.get("loads", {})
         rng = loads.get("range", loads.get("values", "0.1N:4N:40"))
-        self.loads["range"].set_value(",".join(map(str, rng)) if isinstance(rng, list) else rng)
+        self.loads["range"].set_value(", ".join(map(str, rng)) if isinstance(rng, list) else rng)
         self.loads["log"].set_value(loads.get("log", True))
         self.loads["zones_at"].set_value(loads.get("zones_at", ""))
         model = data.get("model", {})
