@@ -374,3 +374,24 @@ def test_a_list_of_loads_typed_with_commas_is_the_study_list():
     check = validate(data)
     assert not check.errors, check.errors
     assert list(check.study.loads) == [0.5, 1.0, 2.0]
+
+
+def test_switching_families_watches_each_field_once(tmp_path, monkeypatch):
+    """The measured map's fields are the form's own and come back on every switch to that
+    family: each is watched once (a watcher added per switch made every change refresh the page
+    once more per switch)."""
+    pytest.importorskip("panel")
+    from types import SimpleNamespace
+
+    from fingerpad.explore.views.single import MEASURED, SingleView
+
+    monkeypatch.setattr(SingleView, "refresh", lambda self, *a, **k: None)  # no predictions here
+    view = SingleView(SimpleNamespace(upload_dir=tmp_path, max_upload_bytes=1 << 20, memo=None, state=None))
+    def counts() -> list[int]:
+        return [len(f.widget.param.watchers.get("value", {}).get("value", [])) for f in view.form.measured.values()]
+
+    view.form.family.widget.value = MEASURED
+    first = counts()
+    for name in ("caps", MEASURED, "ridges", MEASURED, "caps", MEASURED):
+        view.form.family.widget.value = name
+    assert counts() == first, (first, counts())

@@ -138,27 +138,34 @@ class SingleView:
         )
         return pn.Row(inputs, results, sizing_mode="stretch_width", css_classes=["fp-single"])
 
+    def _changed(self, event: Any) -> None:
+        if not self._loading:
+            self.refresh()
+
+    def _watch_fields(self, fields: Any) -> None:
+        """Refresh on a change of each field, watched once: the measured map's fields come back
+        on every switch to that family (they are the form's own, not made anew), and a watcher
+        added twice would refresh twice per change."""
+        for fl in fields:
+            if id(fl.widget) not in self._watched:
+                self._watched.add(id(fl.widget))
+                fl.widget.param.watch(self._changed, "value")
+
     def _watch_form(self) -> None:
-        def changed(event: Any) -> None:
-            if not self._loading:
-                self.refresh()
+        self._watched: set[int] = set()
 
         def family_changed(event: Any) -> None:
             if self._loading:
                 return
             self.form.set_family(event.new)
             self.upload.panel.visible = event.new == MEASURED
-            for fl in self.form.texture_fields.values():
-                fl.widget.param.watch(changed, "value")
+            self._watch_fields(self.form.texture_fields.values())
             self.refresh()
 
         self.form.family.widget.param.watch(family_changed, "value")
         self.upload.panel.visible = False
-        for fl in self.form.all_fields():
-            if fl is not self.form.family:
-                fl.widget.param.watch(changed, "value")
-        for fl in self.form.measured.values():
-            fl.widget.param.watch(changed, "value")
+        self._watch_fields(fl for fl in self.form.all_fields() if fl is not self.form.family)
+        self._watch_fields(self.form.measured.values())
         self.pressure.widget.param.watch(lambda e: pn.state.execute(self._update_contact), "value")
 
     # ------------------------------------------------------------------ inputs
@@ -168,8 +175,7 @@ class SingleView:
         self._loading = True
         try:
             self.form.load(data)
-            for fl in self.form.texture_fields.values():
-                fl.widget.param.watch(lambda e: None if self._loading else self.refresh(), "value")
+            self._watch_fields(self.form.texture_fields.values())
             self.upload.panel.visible = self.form.family.value == MEASURED
         finally:
             self._loading = False
