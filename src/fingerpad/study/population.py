@@ -337,6 +337,30 @@ class PopulationResult:
         states = np.array(self.states)
         return {s: np.mean(states == s, axis=0) for s in ("asperity", "transition", "full")}
 
+    def add_to_dataset(self, ds: Any) -> Any:
+        """``ds`` (the nominal ``predict.nc`` dataset) with the members along a ``member``
+        dimension: each member's curves (``member_mu``, ...), parameters (``member_radius``, SI)
+        and critical and full-contact loads; the quantile bands along ``quantile``."""
+        import xarray as xr
+
+        units = {"area_ratio": "1", "mu": "1", "mu_ref": "1", "mu_normalised": "1"}
+        data: dict[str, Any] = {}
+        for name in QUANTITIES:
+            data[f"member_{name}"] = xr.Variable(("member", "load"), self.values(name), {"units": units[name]})
+            table = np.quantile(self.values(name), np.asarray(self.quantile_levels), axis=0)
+            data[f"band_{name}"] = xr.Variable(("quantile", "load"), table, {"units": units[name]})
+        for name in self.population.distributions:
+            par = self.population.distributions[name].param
+            data[f"member_{name}"] = xr.Variable(("member",), [m[name] for m in self.members],
+                                                 {"units": par.unit or "1", "long_name": par.doc})
+        data["member_critical_load"] = xr.Variable(("member",), self.critical_load, {"units": "N"})
+        data["member_full_contact_load"] = xr.Variable(("member",), self.full_contact_load, {"units": "N"})
+        out = ds.assign(data).assign_coords(member=np.arange(len(self.members)),
+                                            quantile=np.asarray(self.quantile_levels))
+        out.attrs.update({"population_name": self.population.name, "population_size": self.population.size,
+                          "population_seed": self.population.seed, "population_method": self.population.method})
+        return out
+
     def as_dict(self) -> dict[str, Any]:
         """The ``population`` entry of ``predict.json`` (SI units)."""
         return {
