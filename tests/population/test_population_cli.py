@@ -74,6 +74,7 @@ def test_study_file_table_netcdf_and_terminal(tmp_path: Path):
     assert list(ds["quantile"].values) == [0.1, 0.5, 0.9]
     doc = json.loads((tmp_path / "o" / "predict.json").read_text())
     assert set(doc["population"]["quantiles"]["mu"]) == {"0.1", "0.5", "0.9"}
+    assert (tmp_path / "o" / "population.png").stat().st_size > 10_000  # the bands figure
     ds.close()
 
 

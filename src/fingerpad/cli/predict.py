@@ -266,7 +266,8 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
     from ..study.outputs import FOLDER_FILES, check_outputs, prediction_json, write_outputs
     from ..study.run import run_study
 
-    check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {})}))  # before any solving
+    pop_figure = {"population.png": None} if population is not None else {}
+    check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {}), *pop_figure}))  # before solving
     err = stderr_console()
     with warnings_to(err):
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
@@ -280,6 +281,10 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
             with ProgressBar(err, "unit cell ψ(p)") as bar:
                 pred = run_study(study, progress=bar)
         figures = {name: make() for name, make in (extra or {}).items()}
+        if result is not None and out is not None:
+            from ..plotting.population import figure_population
+
+            figures["population.png"] = figure_population(result)
         paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures, population=result)
     payload = to_jsonable(prediction_json(pred))
     if result is not None:
