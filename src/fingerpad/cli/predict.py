@@ -71,6 +71,9 @@ _PREDICT_HELP = {
              "whole (default 'out', or none with --json -).",
     "--json": "Also write the JSON to PATH ('-' for stdout, which replaces the table).",
     "--csv": "Also write the per-load table to PATH.csv (SI units in the headers).",
+    "--population": "Predict for a population of fingers: a preset (adults) or a TOML file with a [population] "
+                    "table (docs/population.md); a study file's own [population] table is used without it.",
+    "--quantiles": "Quantiles of the population bands, comma-separated (default 0.05,0.25,0.5,0.75,0.95).",
 }
 
 
@@ -107,10 +110,13 @@ def _split_study_args(args: Sequence[str]) -> tuple[str | None, list[str]]:
 def build_study(
     *, ctx_args: Sequence[str], flags: Mapping[str, Any] | None = None, finger_param: Sequence[str] = (),
     base: Mapping[str, Mapping[str, Any]] | None = None, options: Sequence[str] = (),
+    extra_sections: dict[str, Any] | None = None,
 ) -> Any:
     """A checked :class:`fingerpad.study.Study` from an optional study file (the first bare
     argument in ``ctx_args``, or ``base``) with the flags (see
-    :data:`fingerpad.study.overrides.FLAGS`) laid over it; its texture is built."""
+    :data:`fingerpad.study.overrides.FLAGS`) laid over it; its texture is built. The study file's
+    sections named by the keys of ``extra_sections`` (``population``) are taken out and stored
+    there (``None`` when absent)."""
     from ..study.overrides import apply_flags, split_texture_options
     from ..study.spec import read_study_file, study_from_dict
 
@@ -119,7 +125,9 @@ def build_study(
         raise FingerpadError(f"unexpected argument {study_file!r}")
     data: dict[str, dict[str, Any]] = {k: dict(v) for k, v in (base or {}).items()}
     if study_file is not None:
-        data = read_study_file(study_file)
+        data = read_study_file(study_file, extra_sections=tuple(extra_sections or ()))
+    for section in extra_sections or {}:
+        extra_sections[section] = data.pop(section, None)
     pairs = split_texture_options(extra)
     if options:
         texture = (flags or {}).get("--texture") or data.get("texture", {}).get("name")
@@ -208,12 +216,49 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
                      f"{100 * res['area_ratio_error']:.2g} %")
 
 
+def _band(q: Mapping[str, Any], name: str, i: int) -> str:
+    """``median [lowest-highest quantile]`` at load ``i``."""
+    levels = sorted(q[name], key=float)
+    mid = q[name].get("0.5")
+    lo, hi = q[name][levels[0]], q[name][levels[-1]]
+    text = "-" if mid is None else f"{mid[i]:.2f}"
+    return text + (f" [{lo[i]:.2f}-{hi[i]:.2f}]" if len(levels) > 1 else "")
+
+
+def _print_population(payload: Mapping[str, Any]) -> None:
+    """The population's table: per load the median and the 5-95 % band (80 columns)."""
+    from rich import box
+    from rich.table import Table
+
+    pop = payload["population"]
+    q = pop["quantiles"]
+    console = stdout_console(80)
+    levels = sorted(q["mu"], key=float)
+    band = f"median [{100 * float(levels[0]):g}-{100 * float(levels[-1]):g} %]"
+    table = Table(title=f"population {pop['name']}: {pop['size']} fingers ({pop['model']}); {band}",
+                  box=box.SIMPLE_HEAD, pad_edge=False)
+    for col in ("load N", "A_re/A_fr", "μ", "μ/μ_ref", "P(asp)"):
+        table.add_column(col, justify="right", no_wrap=True)
+    for i, load in enumerate(pop["loads"]):
+        table.add_row(f"{load:.3g}", _band(q, "area_ratio", i), _band(q, "mu", i), _band(q, "mu_normalised", i),
+                      f"{pop['state_probability']['asperity'][i]:.2f}")
+    console.print(table)
+    for name, label in (("critical_load", "critical load"), ("full_contact_load", "full-contact load")):
+        values = [q[name][k] for k in levels]
+        if any(v is not None for v in values):
+            shown = " ".join("inf" if v is None else format(v, ".3g") for v in values)
+            say(console, f"{label} (N), {'/'.join(format(100 * float(k), 'g') for k in levels)} %: {shown}")
+    say(console, "(each member and its curves: population.members, member_results in the JSON)")
+
+
 def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path: str | None = None,
-                   extra: Mapping[str, Any] | None = None) -> int:
+                   extra: Mapping[str, Any] | None = None, population: Any = None,
+                   quantiles: Sequence[float] | None = None) -> int:
     """Run ``study``, write its outputs (all or none), report. Returns the exit code.
 
     ``out``: the output folder (replaced as a whole), or ``None`` for none; ``extra``: more
-    figures for it (name -> callable returning a Figure).
+    figures for it (name -> callable returning a Figure); ``population``: a
+    :class:`~fingerpad.study.population.Population` to predict as well (``quantiles``: its bands).
     """
     import warnings
 
@@ -221,18 +266,35 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
     from ..study.outputs import FOLDER_FILES, check_outputs, prediction_json, write_outputs
     from ..study.run import run_study
 
-    check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {})}))  # before any solving
+    pop_figure = {"population.png": None} if population is not None else {}
+    check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {}), *pop_figure}))  # before solving
     err = stderr_console()
     with warnings_to(err):
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
-        with ProgressBar(err, "unit cell ψ(p)") as bar:
-            pred = run_study(study, progress=bar)
+        result = None
+        if population is not None:
+            from ..study.population import DEFAULT_QUANTILES, run_population
+
+            result = run_population(study, population, quantiles or DEFAULT_QUANTILES)
+            pred = result.nominal
+        else:
+            with ProgressBar(err, "unit cell ψ(p)") as bar:
+                pred = run_study(study, progress=bar)
         figures = {name: make() for name, make in (extra or {}).items()}
-        paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures)
+        if result is not None and out is not None:
+            from ..plotting.population import figure_population
+
+            figures["population.png"] = figure_population(result)
+        paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures, population=result)
     payload = to_jsonable(prediction_json(pred))
+    if result is not None:
+        payload["population"] = to_jsonable(result.as_dict())
+        pred.notes.extend(result.notes)
     if json_path == "-":
         sys.stdout.write(json.dumps(payload, indent=2) + "\n")
         sys.stdout.flush()
+    elif result is not None:
+        _print_population(payload)
     else:
         _print_prediction(payload)
     for note in pred.notes:
@@ -280,6 +342,8 @@ def predict(
     out: Annotated[str | None, _popt("--out", "-o", panel=_OUTPUT, metavar="DIR")] = None,
     csv_path: Annotated[str | None, _popt("--csv", panel=_OUTPUT, metavar="PATH.csv")] = None,
     json_path: Annotated[str | None, _popt("--json", panel=_OUTPUT, metavar="PATH|-")] = None,
+    population: Annotated[str | None, _popt("--population", panel=_FINGER, metavar="NAME|FILE")] = None,
+    quantiles: Annotated[str | None, _popt("--quantiles", panel=_OUTPUT, metavar="Q,Q,...")] = None,
 ) -> None:
     """Predict contact areas, contact zones and friction of a finger on a texture against load.
 
@@ -305,17 +369,41 @@ def predict(
     with user_errors():
         flags["--periodic"] = flag_pair(periodic, no_periodic, "--periodic", "--no-periodic")
         flags["--log"] = flag_pair(log, linear, "--log", "--linear")
+        sections: dict[str, Any] = {"population": None}
         with warnings_to(stderr_console()):
             study = build_study(ctx_args=list(ctx.args), flags=flags, finger_param=finger_param or [],
-                                options=command_options(ctx))
+                                options=command_options(ctx), extra_sections=sections)
+            pop, levels = _population(population, sections["population"], quantiles)
         if out is None and json_path != "-":
             out = "out"  # files only where asked: with --json - and no --out, none
-        code = run_prediction(study, out, json_path, csv_path)
+        code = run_prediction(study, out, json_path, csv_path, population=pop, quantiles=levels)
     if code:
         raise typer.Exit(code)
 
 
 
+
+
+def _population(source: str | None, table: Any, quantiles: str | None) -> tuple[Any, list[float] | None]:
+    """The population asked for (``--population``, else the study file's table) and the
+    ``--quantiles`` as numbers."""
+    levels = None
+    if quantiles is not None:
+        try:
+            levels = [float(q) for q in quantiles.split(",")]
+        except ValueError:
+            raise FingerpadError(f"--quantiles: expected numbers in [0, 1] separated by commas, got {quantiles!r}") \
+                from None
+        if not levels or any(not 0 <= q <= 1 for q in levels):
+            raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {quantiles!r}")
+    if source is None and table is None:
+        if levels is not None:
+            raise FingerpadError("--quantiles needs a population (--population or a [population] table)")
+        return None, None
+    from ..study.population import load_population, population_from_table
+
+    pop = load_population(source) if source is not None else population_from_table(table)
+    return pop, levels
 
 
 def run_default(

@@ -310,6 +310,7 @@ def write_outputs(
     csv_path: str | None = None,
     extra: dict[str, Any] | None = None,
     dpi: int = 110,
+    population: Any = None,
 ) -> list[Path]:
     """Write the outputs of a prediction, all of them or none.
 
@@ -323,6 +324,9 @@ def write_outputs(
         JSON path ``"-"`` is stdout, written by the caller).
     extra
         More figures for the folder: file name -> ``Figure``.
+    population
+        A :class:`~fingerpad.study.population.PopulationResult` of which ``pred`` is the nominal:
+        the JSON gets its ``population`` entry, the NetCDF its ``member`` dimension.
 
     Returns
     -------
@@ -339,7 +343,12 @@ def write_outputs(
     names = [*OUTPUT_FILES, *(extra or {})]
     replaceable = sorted({*FOLDER_FILES, *names})
     check_outputs(out_dir, json_path, csv_path, replaceable)
-    text = json.dumps(prediction_json(pred), indent=2) + "\n"
+    from ..encode import to_jsonable
+
+    doc = prediction_json(pred)
+    if population is not None:
+        doc["population"] = to_jsonable(population.as_dict())
+    text = json.dumps(doc, indent=2) + "\n"
     staging = fio.Staging()
     folder = fio.OutputFolder(out_dir, replaceable) if out_dir is not None else None
     written: list[Path] = []
@@ -360,7 +369,9 @@ def write_outputs(
             written.append(Path(csv_path))
         if folder is not None:
             folder.write(OUTPUT_FILES[0], lambda tmp: fio.write_text(tmp, text))
-            folder.write(OUTPUT_FILES[1], lambda tmp: netcdf.to_netcdf(prediction_dataset(pred), tmp))
+            folder.write(OUTPUT_FILES[1], lambda tmp: netcdf.to_netcdf(
+                prediction_dataset(pred) if population is None else population.add_to_dataset(prediction_dataset(pred)),
+                tmp))
             figures = dict(zip(OUTPUT_FILES[2:], (figure_areas(pred), figure_friction(pred), figure_zones(pred)),
                                strict=True))
             figures.update(extra or {})

@@ -1,0 +1,446 @@
+"""A population of fingers: distributions of the finger's parameters, sampled quasi-randomly, and
+the prediction of every member from one unit cell (issue 22).
+
+A ``[population]`` table (a study file's, a file of one's own, or a preset of
+:mod:`.population_presets`) reads::
+
+    [population]
+    size = 200                      # members
+    seed = 1                        # scrambling of the quasi-random sequence
+    method = "sobol"                # or "lhs" (scipy.stats.qmc)
+    skin_modulus = { distribution = "uniform", low = "0.2MPa", high = "0.5MPa" }
+    radius = { distribution = "normal", mean = "9mm", sd = "1mm" }
+    modulus = { distribution = "lognormal", median = "40kPa", sigma = 0.5 }
+    tau0 = { distribution = "truncnormal", mean = "8kPa", sd = "3kPa", low = "1kPa" }
+    alpha = { values = [0.05, 0.1, 0.12] }   # measured values, drawn with equal weight
+    ridge_fraction = { distribution = "uniform", low = 0.1, high = 0.7 }
+
+The names are the ``--finger-param`` names (:data:`fingerpad.finger.FINGER_PARAMS`) and
+``ridge_fraction`` (the constant-fraction ridge model's A_fr/A_g). Every value is read and
+checked through the parameter's declaration (:class:`fingerpad.params.Param`); lengths and
+pressures need a unit. Parameters not listed keep the study's finger's value.
+
+Cost: the unit cell's psi(p) depends on p/E* only (docs/solver.md, "One curve for every modulus
+and every scale"), so the BEM cell is solved once, over the union of the members' pressures in
+units of E*, and every member reads it at its own E1* (:meth:`BEMUnitCell.at_modulus`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..coupling import CurvePrediction, predict_curve
+from ..errors import FingerpadError
+from ..finger import FINGER_PARAMS, Finger
+from ..meso import ConstantFractionRidges
+from ..params import Param, _is_bare_number
+from .population_presets import POPULATION_PRESETS
+from .run import P_HIGH, P_LOW, Prediction, centre_state, load_at_centre_pressure, run_study
+from .spec import Study
+
+__all__ = [
+    "DEFAULT_QUANTILES",
+    "QUANTITIES",
+    "Distribution",
+    "Population",
+    "PopulationResult",
+    "load_population",
+    "population_from_table",
+    "run_population",
+]
+
+#: Quantiles reported by default.
+DEFAULT_QUANTILES: tuple[float, ...] = (0.05, 0.25, 0.5, 0.75, 0.95)
+#: The per-load quantities of each member (keys of ``member_results``).
+QUANTITIES: tuple[str, ...] = ("area_ratio", "mu", "mu_ref", "mu_normalised")
+#: The distributions a parameter may follow, and their keys.
+DISTRIBUTIONS: dict[str, tuple[str, ...]] = {
+    "uniform": ("low", "high"),
+    "normal": ("mean", "sd"),
+    "lognormal": ("median", "sigma"),
+    "truncnormal": ("mean", "sd", "low", "high"),
+    "values": ("values",),
+}
+_RIDGE_FRACTION = Param("ridge_fraction", "ratio", "constant-fraction ridge model's A_fr/A_g", 0.5,
+                        low=0, low_open=True, high=1)
+#: The parameters a population may vary: the finger's fields and the ridge fraction.
+POPULATION_PARAMS: dict[str, Param] = {p.name: p for p in (*FINGER_PARAMS, _RIDGE_FRACTION)}
+
+
+@dataclass(frozen=True)
+class Distribution:
+    """One parameter's distribution, in SI.
+
+    ``kind`` is a key of :data:`DISTRIBUTIONS`; ``args`` its values (SI; for ``lognormal``,
+    ``median`` in SI and ``sigma`` the standard deviation of the logarithm; for ``truncnormal``
+    ``low``/``high`` default to the parameter's bounds; for ``values`` a tuple of values).
+    """
+
+    param: Param
+    kind: str
+    args: Mapping[str, Any]
+
+    def ppf(self, u: np.ndarray) -> np.ndarray:
+        """Values (SI) at unit-interval points ``u`` (inverse CDF), so that quasi-random points map
+        to a quasi-random sample."""
+        from scipy import stats
+
+        a = self.args
+        u = np.clip(np.asarray(u, float), 1e-12, 1 - 1e-12)
+        if self.kind == "uniform":
+            return a["low"] + u * (a["high"] - a["low"])
+        if self.kind == "values":
+            vals = np.asarray(a["values"], float)
+            return vals[np.minimum((u * vals.size).astype(int), vals.size - 1)]
+        if self.kind == "lognormal":
+            return a["median"] * np.exp(a["sigma"] * stats.norm.ppf(u)) if a["sigma"] > 0 else \
+                np.full(u.shape, float(a["median"]))
+        if a["sd"] == 0:
+            return np.full(u.shape, float(a["mean"]))
+        if self.kind == "normal":
+            return stats.norm.ppf(u, loc=a["mean"], scale=a["sd"])
+        lo = (a["low"] - a["mean"]) / a["sd"]
+        hi = (a["high"] - a["mean"]) / a["sd"]
+        return stats.truncnorm.ppf(u, lo, hi, loc=a["mean"], scale=a["sd"])
+
+    @property
+    def spread(self) -> bool:
+        a = self.args
+        return {"uniform": lambda: a["high"] > a["low"], "normal": lambda: a["sd"] > 0,
+                "truncnormal": lambda: a["sd"] > 0, "lognormal": lambda: a["sigma"] > 0,
+                "values": lambda: len(set(a["values"])) > 1}[self.kind]()
+
+
+@dataclass(frozen=True)
+class Population:
+    """Distributions of the finger's parameters, a sample size, a seed and a sampling method."""
+
+    distributions: dict[str, Distribution]
+    size: int = 200
+    seed: int = 0
+    method: str = "sobol"
+    name: str = "custom"
+
+    def sample(self) -> list[dict[str, float]]:
+        """The members' parameters (SI), by scrambled Sobol or Latin hypercube points (seeded,
+        so the same table gives the same members)."""
+        from scipy.stats import qmc
+
+        names = list(self.distributions)
+        if not names:
+            return [{} for _ in range(self.size)]
+        if self.method == "sobol":
+            engine: Any = qmc.Sobol(len(names), scramble=True, seed=self.seed)
+        else:
+            engine = qmc.LatinHypercube(len(names), scramble=True, seed=self.seed)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # Sobol's note on sizes that are not powers of two
+            u = engine.random(self.size)
+        columns = {n: self.distributions[n].ppf(u[:, j]) for j, n in enumerate(names)}
+        members = []
+        for i in range(self.size):
+            row = {}
+            for n in names:
+                value = float(columns[n][i])
+                par = self.distributions[n].param
+                where = f"population {n} (member {i}, {self.distributions[n].kind})"
+                row[n] = par.check(value, where + ": use a truncnormal distribution to stay inside the bounds; value")
+            members.append(row)
+        return members
+
+
+def _number(par: Param, value: Any, where: str) -> float:
+    """A distribution's value read through the parameter's declaration (units required for
+    lengths and pressures), without the bounds (a spread or a mean may sit anywhere)."""
+    if par.dimensional and _is_bare_number(value) and float(str(value).strip()) != 0:
+        raise FingerpadError(f"{where}: {value!r} has no unit; a {par.kind} needs one, e.g. "
+                             f"\"{str(value).strip()}{par.unit}\"")
+    # no bounds (a spread may sit anywhere) and, for a spread, no plausibility range either
+    spread = where.endswith((" sd", " sigma"))
+    bare = dataclasses.replace(par, low=None, high=None, plausible=None if spread else par.plausible)
+    return float(bare.parse(value, where))
+
+
+def population_from_table(table: Mapping[str, Any], where: str = "[population]", name: str = "custom") -> Population:
+    """A :class:`Population` from a ``[population]`` table (see the module docstring).
+
+    Raises
+    ------
+    FingerpadError
+        Unknown parameter or distribution, a missing or unknown key, a length without a unit,
+        a negative spread, a bad size, seed or method; naming the key.
+    """
+    if not isinstance(table, Mapping):
+        raise FingerpadError(f"{where}: expected a table")
+    body = dict(table)
+    size, seed, method = body.pop("size", 200), body.pop("seed", 0), body.pop("method", "sobol")
+    if isinstance(size, bool) or not isinstance(size, int) or size < 1:
+        raise FingerpadError(f"{where} size: expected a positive integer, got {size!r}")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise FingerpadError(f"{where} seed: expected a non-negative integer, got {seed!r}")
+    if method not in ("sobol", "lhs"):
+        raise FingerpadError(f"{where} method: expected \"sobol\" or \"lhs\", got {method!r}")
+    dists: dict[str, Distribution] = {}
+    for key, spec in body.items():
+        if key not in POPULATION_PARAMS:
+            raise FingerpadError(f"{where}: unknown parameter {key!r} (known: {', '.join(POPULATION_PARAMS)}, "
+                                 "size, seed, method)")
+        par = POPULATION_PARAMS[key]
+        w = f"{where} {key}"
+        if not isinstance(spec, Mapping):
+            raise FingerpadError(f"{w}: expected a table {{ distribution = ..., ... }} or {{ values = [...] }}")
+        spec = dict(spec)
+        kind = spec.pop("distribution", "values" if "values" in spec else None)
+        if kind not in DISTRIBUTIONS:
+            raise FingerpadError(f"{w}: unknown distribution {kind!r} (choose one of: {', '.join(DISTRIBUTIONS)})")
+        keys = DISTRIBUTIONS[kind]
+        extra = sorted(set(spec) - set(keys))
+        if extra:
+            raise FingerpadError(f"{w}: unknown key(s) {', '.join(extra)} for {kind} (keys: {', '.join(keys)})")
+        optional = ("low", "high") if kind == "truncnormal" else ()
+        missing = [k for k in keys if k not in spec and k not in optional]
+        if missing:
+            raise FingerpadError(f"{w}: {kind} needs {', '.join(missing)}")
+        args: dict[str, Any] = {}
+        if kind == "values":
+            vals = spec["values"]
+            if not isinstance(vals, list) or not vals:
+                raise FingerpadError(f"{w}: values must be a non-empty list")
+            args["values"] = tuple(par.parse(v, f"{w} values") if not (par.dimensional and _is_bare_number(v)
+                                   and float(str(v)) != 0) else _number(par, v, f"{w} values") for v in vals)
+        else:
+            for k in keys:
+                if k in spec:
+                    # sigma of a lognormal is the log's sd: a plain number
+                    args[k] = float(spec[k]) if k == "sigma" and _is_bare_number(spec[k]) else _number(par, spec[k],
+                                                                                                       f"{w} {k}")
+            for k in ("sd", "sigma"):
+                if k in args and args[k] < 0:
+                    raise FingerpadError(f"{w} {k}: must be non-negative, got {spec[k]!r}")
+            if kind == "uniform" and args["high"] < args["low"]:
+                raise FingerpadError(f"{w}: high {spec['high']!r} lies below low {spec['low']!r}")
+            if kind == "truncnormal":
+                args.setdefault("low", par.low if par.low is not None else -math.inf)
+                args.setdefault("high", par.high if par.high is not None else math.inf)
+                if not args["low"] < args["high"]:
+                    raise FingerpadError(f"{w}: low must lie below high")
+            if kind == "lognormal" and not args["median"] > 0:
+                raise FingerpadError(f"{w} median: must be positive, got {spec['median']!r}")
+            for k in ("low", "high", "mean", "median"):
+                if k in args and math.isfinite(args[k]) and not (kind == "truncnormal" and k in ("low", "high")):
+                    par.check(args[k], f"{w} {k}")
+        dists[key] = Distribution(par, kind, args)
+    return Population(dists, size=size, seed=seed, method=method, name=name)
+
+
+def load_population(source: str | Mapping[str, Any]) -> Population:
+    """A population from a preset name (:data:`POPULATION_PRESETS`), a TOML file with a
+    ``[population]`` table (a study file will do), or a table."""
+    if isinstance(source, Mapping):
+        return population_from_table(source)
+    key = str(source).strip().lower()
+    if key in POPULATION_PRESETS:
+        return population_from_table(POPULATION_PRESETS[key], where=f"population {key!r}", name=key)
+    path = Path(source)
+    if not path.is_file():
+        raise FingerpadError(f"--population: {source!r} is neither a preset ({', '.join(POPULATION_PRESETS)}) "
+                             "nor a file")
+    import tomllib
+
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError, OSError) as exc:
+        raise FingerpadError(f"--population {source}: cannot read it as TOML: {exc}") from None
+    if "population" not in data:
+        raise FingerpadError(f"--population {source}: no [population] table")
+    return population_from_table(data["population"], where=f"{path.name} [population]", name=path.stem)
+
+
+def member_finger(finger: Finger, params: Mapping[str, float]) -> Finger:
+    """The study's finger with a member's parameters (SI)."""
+    values = {k: v for k, v in params.items() if k != "ridge_fraction"}
+    if "ridge_fraction" in params:
+        if not isinstance(finger.ridges, ConstantFractionRidges):
+            raise FingerpadError("population ridge_fraction: the study's finger must use the constant-fraction "
+                                 f"ridge model, not {type(finger.ridges).__name__}")
+        values["ridges"] = ConstantFractionRidges(params["ridge_fraction"])
+    return finger.with_overrides(**values) if values else finger
+
+
+@dataclass
+class PopulationResult:
+    """The prediction of every member and its quantiles (SI units).
+
+    Attributes
+    ----------
+    nominal
+        The study's own prediction (the study's finger).
+    population
+        The population sampled.
+    members
+        Each member's parameters (SI), named as ``--finger-param`` names them.
+    curves
+        Each member's :class:`~fingerpad.coupling.CurvePrediction`.
+    critical_load, full_contact_load
+        Per member, N (``inf`` if never reached; full contact ``nan`` for Hertz).
+    states
+        Per member, the contact state at the pad centre at each load.
+    quantile_levels
+        The quantiles reported.
+    """
+
+    nominal: Prediction
+    population: Population
+    members: list[dict[str, float]]
+    curves: list[CurvePrediction]
+    critical_load: np.ndarray
+    full_contact_load: np.ndarray
+    states: list[list[str]]
+    quantile_levels: tuple[float, ...]
+    notes: list[str] = field(default_factory=list)
+
+    def values(self, quantity: str) -> np.ndarray:
+        """``(members, loads)`` array of a per-load quantity."""
+        return np.array([np.asarray(getattr(c, quantity), float) for c in self.curves])
+
+    def quantiles(self) -> dict[str, dict[str, Any]]:
+        """``{quantity: {"0.5": values per load}}``; the loads' ``critical_load`` and
+        ``full_contact_load`` give one value each."""
+        q = np.asarray(self.quantile_levels)
+        out: dict[str, dict[str, Any]] = {}
+        for name in QUANTITIES:
+            table = np.quantile(self.values(name), q, axis=0)
+            out[name] = {f"{level:g}": table[i] for i, level in enumerate(q)}
+        for name, arr in (("critical_load", self.critical_load), ("full_contact_load", self.full_contact_load)):
+            finite = arr[~np.isnan(arr)]
+            out[name] = {f"{level:g}": (float(np.quantile(finite, level)) if finite.size else math.nan)
+                         for level in q}
+        return out
+
+    def monte_carlo_error(self) -> dict[str, np.ndarray]:
+        """Standard error of the mean per load, sd / sqrt(n) (the plain Monte Carlo bound; the
+        quasi-random sample converges at least as fast)."""
+        n = len(self.curves)
+        return {name: np.std(self.values(name), axis=0, ddof=1) / math.sqrt(n) if n > 1 else
+                np.zeros(len(self.nominal.study.loads)) for name in QUANTITIES}
+
+    def state_probability(self) -> dict[str, np.ndarray]:
+        """Per state, the fraction of members whose pad centre is in it, at each load."""
+        states = np.array(self.states)
+        return {s: np.mean(states == s, axis=0) for s in ("asperity", "transition", "full")}
+
+    def add_to_dataset(self, ds: Any) -> Any:
+        """``ds`` (the nominal ``predict.nc`` dataset) with the members along a ``member``
+        dimension: each member's curves (``member_mu``, ...), parameters (``member_radius``, SI)
+        and critical and full-contact loads; the quantile bands along ``quantile``."""
+        import xarray as xr
+
+        units = {"area_ratio": "1", "mu": "1", "mu_ref": "1", "mu_normalised": "1"}
+        data: dict[str, Any] = {}
+        for name in QUANTITIES:
+            data[f"member_{name}"] = xr.Variable(("member", "load"), self.values(name), {"units": units[name]})
+            table = np.quantile(self.values(name), np.asarray(self.quantile_levels), axis=0)
+            data[f"band_{name}"] = xr.Variable(("quantile", "load"), table, {"units": units[name]})
+        for name in self.population.distributions:
+            par = self.population.distributions[name].param
+            data[f"member_{name}"] = xr.Variable(("member",), [m[name] for m in self.members],
+                                                 {"units": par.unit or "1", "long_name": par.doc})
+        data["member_critical_load"] = xr.Variable(("member",), self.critical_load, {"units": "N"})
+        data["member_full_contact_load"] = xr.Variable(("member",), self.full_contact_load, {"units": "N"})
+        out = ds.assign(data).assign_coords(member=np.arange(len(self.members)),
+                                            quantile=np.asarray(self.quantile_levels))
+        out.attrs.update({"population_name": self.population.name, "population_size": self.population.size,
+                          "population_seed": self.population.seed, "population_method": self.population.method})
+        return out
+
+    def as_dict(self) -> dict[str, Any]:
+        """The ``population`` entry of ``predict.json`` (SI units)."""
+        return {
+            "name": self.population.name,
+            "size": self.population.size,
+            "seed": self.population.seed,
+            "method": self.population.method,
+            "distributions": {k: {"distribution": d.kind, **d.args} for k, d in self.population.distributions.items()},
+            "model": self.nominal.primary_model,
+            "loads": self.nominal.study.loads,
+            "quantiles": self.quantiles(),
+            "monte_carlo_error": self.monte_carlo_error(),
+            "state_probability": self.state_probability(),
+            "members": self.members,
+            "member_results": [
+                {**{q: getattr(c, q) for q in QUANTITIES}, "critical_load": float(fc), "full_contact_load": float(ff),
+                 "contact_state": st}
+                for c, fc, ff, st in zip(self.curves, self.critical_load, self.full_contact_load, self.states,
+                                         strict=True)
+            ],
+            "notes": self.notes,
+        }
+
+
+def run_population(study: Study, population: Population,
+                   quantiles: Sequence[float] = DEFAULT_QUANTILES) -> PopulationResult:
+    """Predict every member of ``population`` on the study's texture (see the module docstring).
+
+    The nominal prediction (the study's finger) is run first; the BEM cell is then prepared over
+    the union of the members' pressures in units of E* (no solve when that lies inside what is
+    cached) and each member's curve is :func:`~fingerpad.coupling.predict_curve` on the cell at
+    the member's E1*. With the Hertz model each member gets its own per-asperity cell (no solve).
+
+    Raises
+    ------
+    FingerpadError
+        A sliding direction (not supported with a population yet), bad quantiles, a member
+        outside its parameter's bounds.
+    """
+    from ..micro.hertz import hertz_cell_for
+
+    levels = tuple(float(q) for q in quantiles)
+    if not levels or any(not (0 <= q <= 1) for q in levels):
+        raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {list(quantiles)}")
+    if study.direction is not None:
+        raise FingerpadError("--population with --direction is not supported yet (directional friction "
+                             "of a population); drop one of them")
+    members = population.sample()
+    fingers = [member_finger(study.finger, m) for m in members]  # bounds checked before any solve
+    nominal = run_study(study)
+    tex = nominal.texture
+    mat_nu = study.material_poisson if study.material_poisson is not None else 0.35
+    moduli = [f.micro_modulus(study.material_modulus, mat_nu) for f in fingers]
+    loads = study.loads
+    cell = nominal.cell
+    bem = nominal.bem is not None
+    if bem and not cell.flat:
+        # the pressures every member asks for, in units of E*: one prepare covers them all
+        lo, hi = math.inf, 0.0
+        for f, e in zip(fingers, moduli, strict=True):
+            p = loads / np.asarray(f.ridge_area(loads), float)
+            lo, hi = min(lo, P_LOW * float(p.min()) / e), max(hi, P_HIGH * float(p.max()) / e)
+        cell.prepare(lo * cell.modulus, hi * cell.modulus)
+    curves, crit, full, states = [], [], [], []
+    for f, e in zip(fingers, moduli, strict=True):
+        if bem:
+            mcell: Any = cell.at_modulus(e)
+        else:
+            mcell = hertz_cell_for(tex, e)[0]
+        curve = predict_curve(loads, f, mcell)
+        curves.append(curve)
+        if bem:
+            crit.append(curve.critical_load)
+            full.append(0.0 if cell.flat else load_at_centre_pressure(f, mcell.full_contact_pressure))
+        else:
+            crit.append(curve.critical_load_hertz if curve.critical_load_hertz is not None else math.nan)
+            full.append(math.nan)
+        states.append([centre_state(p, mcell) for p in 1.5 * curve.load / curve.ridge_area])
+    notes = []
+    if study.model == "both":
+        notes.append("population: the BEM curves only (model both)")
+    return PopulationResult(nominal, population, members, curves, np.asarray(crit, float), np.asarray(full, float),
+                            states, levels, notes)

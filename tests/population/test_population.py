@@ -1,0 +1,129 @@
+"""Population of fingers (issue 22): sampling, zero spread, member reproduction, quantiles, errors."""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+import pytest
+
+from fingerpad.errors import FingerpadError
+from fingerpad.study.population import (
+    QUANTITIES,
+    Population,
+    load_population,
+    population_from_table,
+    run_population,
+)
+from fingerpad.study.run import run_study
+from fingerpad.study.spec import DEFAULT_STUDY, study_from_dict
+
+
+def _study(**finger):
+    d = copy.deepcopy(DEFAULT_STUDY)
+    d["model"] = {**d.get("model", {}), "kind": "hertz"}
+    d["loads"] = {"range": "0.1N:4N:8", "log": True}
+    d["finger"] = {**d.get("finger", {}), **finger}
+    return study_from_dict(d)
+
+
+TABLE = {
+    "size": 16, "seed": 3,
+    "skin_modulus": {"distribution": "uniform", "low": "0.2MPa", "high": "0.5MPa"},
+    "radius": {"distribution": "normal", "mean": "9mm", "sd": "0.5mm"},
+    "modulus": {"distribution": "lognormal", "median": "40kPa", "sigma": 0.3},
+    "tau0": {"distribution": "truncnormal", "mean": "8kPa", "sd": "3kPa", "low": "1kPa"},
+    "alpha": {"values": [0.05, 0.1, 0.15]},
+    "ridge_fraction": {"distribution": "uniform", "low": 0.1, "high": 0.7},
+}
+
+
+def test_zero_spread_is_the_single_finger_predict():
+    study = _study()
+    table = {"size": 4, "skin_modulus": {"distribution": "normal", "mean": "0.3MPa", "sd": "0MPa"},
+             "radius": {"distribution": "uniform", "low": "9mm", "high": "9mm"}}
+    res = run_population(study, population_from_table(table))
+    single = run_study(study).primary
+    for curve in res.curves:
+        for q in QUANTITIES:
+            np.testing.assert_array_equal(getattr(curve, q), getattr(single, q))
+    assert np.all(res.critical_load == single.critical_load_hertz)
+
+
+def test_member_reproduced_by_a_plain_predict():
+    res = run_population(_study(), population_from_table(TABLE))
+    assert len(res.members) == 16 and len({m["skin_modulus"] for m in res.members}) == 16
+    doc = res.as_dict()
+    i = 5
+    params = dict(res.members[i])
+    frac = params.pop("ridge_fraction")
+    study = _study(**params, ridges={"model": "constant_fraction", "fraction": frac})
+    plain = run_study(study).primary
+    for q in QUANTITIES:
+        np.testing.assert_array_equal(doc["member_results"][i][q], getattr(plain, q))
+
+
+def test_quantiles_are_those_of_member_results():
+    res = run_population(_study(), population_from_table(TABLE), quantiles=(0.1, 0.5, 0.9))
+    doc = res.as_dict()
+    mu = np.array([m["mu"] for m in doc["member_results"]])
+    for level in (0.1, 0.5, 0.9):
+        np.testing.assert_array_equal(doc["quantiles"]["mu"][f"{level:g}"], np.quantile(mu, level, axis=0))
+    crit = [m["critical_load"] for m in doc["member_results"]]
+    assert doc["quantiles"]["critical_load"]["0.5"] == np.quantile(crit, 0.5)
+    prob = doc["state_probability"]
+    np.testing.assert_allclose(prob["asperity"] + prob["transition"] + prob["full"], 1.0)
+
+
+def test_same_seed_same_members_and_other_seed_differs():
+    a = population_from_table(TABLE).sample()
+    assert a == population_from_table(TABLE).sample()
+    assert a != population_from_table({**TABLE, "seed": 4}).sample()
+    assert population_from_table({**TABLE, "method": "lhs"}).sample() != a
+
+
+def test_bands_converge_as_the_sample_grows():
+    study = _study()
+    table = {k: v for k, v in TABLE.items() if k not in ("size",)}
+
+    def median(n):
+        r = run_population(study, population_from_table({**table, "size": n}))
+        return np.asarray(r.quantiles()["mu_normalised"]["0.5"]), r.monte_carlo_error()["mu_normalised"]
+
+    ref, err_ref = median(1024)
+    d16 = np.max(np.abs(median(16)[0] - ref))
+    d256 = np.max(np.abs(median(256)[0] - ref))
+    assert d256 < d16
+    assert d256 < 0.02  # the median of mu/mu_ref to 2 % absolute at 256 members
+    assert np.all(err_ref < 0.01)
+
+
+def test_adults_preset_ranges():
+    pop = load_population("adults")
+    assert pop.size == 1000
+    small = Population(pop.distributions, size=64, seed=0)
+    members = small.sample()
+    es = [m["skin_modulus"] for m in members]
+    assert 0.2e6 <= min(es) and max(es) <= 0.5e6
+    assert all(0.1 <= m["ridge_fraction"] <= 0.7 for m in members)
+    assert all(7e-3 <= m["radius"] <= 11e-3 for m in members)
+    assert all(10e3 <= m["modulus"] <= 100e3 for m in members)
+
+
+@pytest.mark.parametrize(("table", "words"), [
+    ({"shoe_size": {"distribution": "uniform", "low": 1, "high": 2}}, "unknown parameter 'shoe_size'"),
+    ({"radius": {"distribution": "uniform", "low": 0.007, "high": "11mm"}}, "has no unit"),
+    ({"radius": {"distribution": "normal", "mean": "9mm", "sd": "-1mm"}}, "must be non-negative"),
+    ({"radius": {"distribution": "gamma", "mean": "9mm"}}, "unknown distribution 'gamma'"),
+    ({"radius": {"distribution": "normal", "mean": "9mm"}}, "needs sd"),
+    ({"size": 0}, "size"),
+])
+def test_bad_tables(table, words):
+    with pytest.raises(FingerpadError, match=words.replace("(", r"\(")):
+        population_from_table(table)
+
+
+def test_member_outside_bounds_is_refused_before_solving():
+    pop = population_from_table({"size": 64, "radius": {"distribution": "normal", "mean": "1mm", "sd": "5mm"}})
+    with pytest.raises(FingerpadError, match="truncnormal"):
+        pop.sample()
