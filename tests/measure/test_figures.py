@@ -33,8 +33,9 @@ def test_qc_figure_marks_every_stroke(study_small):
     fig = figure_qc(study_small, source)
     report = study_small.stroke_reports[source]
     top = fig.axes[0]
-    # one shaded span per stroke plus its steady window (and an outline per outlier)
-    spans = [p for p in top.patches]
+    # one shaded span per stroke plus its steady window (and an outline per outlier), drawn as
+    # one collection of bands per style
+    spans = [path for c in top.collections for path in c.get_paths()]
     n_out = int(study_small.strokes.loc[study_small.strokes["file"] == source, "outlier"].sum())
     dropped = len(report.strokes) - len(report.used)
     assert len(spans) == 2 * len(report.used) + n_out + dropped
