@@ -36,7 +36,7 @@ import pandas as pd
 
 from .._version import __version__
 from ..io import OutputFolder
-from ..plotting.measure import condition_label, figure_participant, figure_qc, figure_sample, png_bytes
+from ..plotting.measure import condition_label, figure_participant, figure_sample, png_bytes, qc_inputs, qc_png
 from .analysis import StudyResult, study_info
 from .htmlreport import html_report
 
@@ -195,6 +195,47 @@ def _records(df: pd.DataFrame) -> list[dict[str, Any]]:
 # =============================================================================================
 
 
+def _qc_workers(workers: int | None, n_figures: int) -> int:
+    """Processes for ``n_figures`` QC figures: ``workers``, or one per usable CPU (at most 8);
+    never more than the figures, and one (no pool) for fewer than four figures, where
+    starting the processes would cost more than it saves."""
+    if workers is None:
+        cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+        workers = min(cpus, 8) if n_figures >= 4 else 1
+    return max(1, min(int(workers), n_figures))
+
+
+def _qc_pngs(result: StudyResult, sources: list[str], names: list[str], dpi: int,
+             workers: int | None) -> Any:
+    """``(source, name, png bytes)`` of every QC figure, in the order of ``sources``.
+
+    With more than one worker, a process pool draws them; each task is sent only its own
+    recording (:func:`qc_inputs`), not the study, so any start method (fork, spawn) is cheap.
+    At most ``2 * workers`` tasks are in flight: memory stays bounded on a large study."""
+    n = _qc_workers(workers, len(sources))
+    if n <= 1:
+        for source, name in zip(sources, names):
+            yield source, name, qc_png(qc_inputs(result, source), dpi)
+        return
+    from collections import deque
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(max_workers=n) as pool:
+        pending: deque = deque()
+        todo = iter(zip(sources, names))
+        for source, name in todo:
+            pending.append((source, name, pool.submit(qc_png, qc_inputs(result, source), dpi)))
+            if len(pending) >= 2 * n:
+                break
+        while pending:
+            source, name, future = pending.popleft()
+            png = future.result()
+            nxt = next(todo, None)
+            if nxt is not None:
+                pending.append((nxt[0], nxt[1], pool.submit(qc_png, qc_inputs(result, nxt[0]), dpi)))
+            yield source, name, png
+
+
 def write_report(
     result: StudyResult,
     out: str | os.PathLike[str],
@@ -204,6 +245,7 @@ def write_report(
     title: str = "Finger friction study",
     qc: bool = True,
     progress: Any = None,
+    workers: int | None = None,
 ) -> list[Path]:
     """Write tables, figures, NetCDF curves and the HTML report into ``out`` (see module doc).
 
@@ -211,7 +253,10 @@ def write_report(
     whole at the end (an earlier report's files never mix with these); on any error ``out`` is
     left as it was. A folder holding anything but an earlier report is refused.
     ``qc`` adds one quality-control figure per recording (``figures/qc/``, linked from the
-    report); ``progress(done, total, what)`` is called as figures are drawn.
+    report); ``progress(done, total, what)`` is called as figures are drawn. The QC figures
+    are drawn by a pool of ``workers`` processes (default: one per CPU this process may use,
+    at most 8; ``1`` draws them here), each sent one recording at a time; the files are the
+    same, byte for byte, whatever the number of workers.
 
     Returns
     -------
@@ -285,13 +330,15 @@ def write_report(
             if sources:
                 (tmp / "figures" / "qc").mkdir()
             used: set[str] = set()
+            names: list[str] = []
             for source in sources:
                 stem = _safe(Path(source).stem)
                 while stem in used:  # two folders may hold files of one name
                     stem += "_"
                 used.add(stem)
-                name = f"figures/qc/{stem}.png"
-                (tmp / name).write_bytes(png_bytes(figure_qc(result, source), dpi))
+                names.append(f"figures/qc/{stem}.png")
+            for source, name, png in _qc_pngs(result, sources, names, dpi, workers):
+                (tmp / name).write_bytes(png)
                 written.append(name)
                 qc_links[source] = name
                 tick(name)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -12,7 +13,8 @@ from ..errors import FingerpadError
 if TYPE_CHECKING:  # the figures read a result; plotting imports nothing of measure/ at run time
     from ..measure.analysis import StudyResult
 
-__all__ = ["condition_label", "figure_participant", "figure_qc", "figure_sample", "log_subs", "png_bytes"]
+__all__ = ["QCInputs", "condition_label", "figure_participant", "figure_qc", "figure_sample", "log_subs", "png_bytes",
+           "qc_inputs", "qc_png"]
 
 
 def condition_label(sample: str, direction: str) -> str:
@@ -246,16 +248,46 @@ def figure_qc(result: StudyResult, source: str):
     lift-off threshold on the normal force. Bottom: mu of each stroke against its number (running-in, moisture
     drift), outliers as red crosses.
     """
-    from matplotlib.figure import Figure
+    return _draw_qc(qc_inputs(result, source))
 
+
+@dataclass(frozen=True)
+class QCInputs:
+    """What the QC figure of one recording reads: small enough to send to a worker process
+    (one recording's samples, not the study's). Built by :func:`qc_inputs`."""
+
+    source: str
+    recording: Any  # measure.Recording
+    report: Any  # measure.StrokeReport of the recording
+    strokes: Any  # pandas.DataFrame: the recording's rows of the result's stroke table
+    clipped: frozenset  # numbers of the strokes left out for a saturated sensor
+    min_load: float  # lift-off threshold (N)
+
+
+def qc_inputs(result: StudyResult, source: str) -> QCInputs:
+    """The inputs of :func:`figure_qc` for recording ``source`` of ``result``."""
     rec = next((r for r in result.recordings if r.source == source), None)
     report = result.stroke_reports.get(source)
     if rec is None or report is None:
         raise FingerpadError(f"no recording {source!r} in the result")
-    strokes = result.strokes[result.strokes["file"] == source]
-    outlier = dict(zip(strokes["stroke"], strokes["outlier"]))
     cs = getattr(result, "clipped_strokes", None)
-    clipped = set(cs.loc[cs["file"] == source, "stroke"]) if cs is not None and len(cs) else set()
+    clipped = frozenset(cs.loc[cs["file"] == source, "stroke"]) if cs is not None and len(cs) else frozenset()
+    return QCInputs(source, rec, report, result.strokes[result.strokes["file"] == source], clipped,
+                    float(result.options.strokes.min_load))
+
+
+def qc_png(inputs: QCInputs, dpi: int) -> bytes:
+    """The QC figure of ``inputs`` as PNG bytes (a module-level function: a process pool can
+    call it)."""
+    return png_bytes(_draw_qc(inputs), dpi)
+
+
+def _draw_qc(inputs: QCInputs):
+    from matplotlib.figure import Figure
+
+    source, rec, report, strokes = inputs.source, inputs.recording, inputs.report, inputs.strokes
+    outlier = dict(zip(strokes["stroke"], strokes["outlier"]))
+    clipped = set(inputs.clipped)
     clips = getattr(report, "clips", [])
     t = rec.time if rec.time is not None else np.arange(len(rec), dtype=float)
     xlabel = "time (s)" if rec.time is not None else "sample"
@@ -304,7 +336,7 @@ def figure_qc(result: StudyResult, source: str):
         ax.set_ylabel(label, fontsize=8)
         ax.tick_params(labelsize=7)
         ax.grid(True, alpha=0.3)
-    axes[0].axhline(result.options.strokes.min_load, color="red", lw=0.8, ls=":")
+    axes[0].axhline(inputs.min_load, color="red", lw=0.8, ls=":")
     for clip in clips:  # the saturated level of each clipped channel
         axes[0 if clip.channel == "normal" else 1].axhline(clip.level, color="magenta", lw=1.0, ls="--")
     axes[n_rows - 2].set_xlabel(xlabel, fontsize=8)
