@@ -98,3 +98,14 @@ def test_decimation_keeps_each_bucket_extremes_and_the_tail():
         assert yy[inside].max() == y[start:start + k].max()
         assert yy[inside].min() == y[start:start + k].min()
     assert 50.0 in yy and -40.0 in yy
+
+
+def test_qc_png_on_a_reused_figure_is_the_same_as_on_a_new_one(study_small):
+    """qc_png redraws one kept figure: each recording's PNG is byte-identical to the PNG of a
+    new figure, whatever recording was drawn on it before (limits, labels, legend, title)."""
+    from fingerpad.plotting.measure import png_bytes, qc_inputs, qc_png
+
+    sources = [r.source for r in study_small.recordings][:4]
+    fresh = [png_bytes(figure_qc(study_small, s), 40) for s in sources]
+    for s, want in zip(sources + sources[::-1], fresh + fresh[::-1]):
+        assert qc_png(qc_inputs(study_small, s), 40) == want, s
