@@ -28,6 +28,8 @@ import json
 import math
 import os
 import re
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -205,35 +207,28 @@ def _qc_workers(workers: int | None, n_figures: int) -> int:
     return max(1, min(int(workers), n_figures))
 
 
-def _qc_pngs(result: StudyResult, sources: list[str], names: list[str], dpi: int,
-             workers: int | None) -> Any:
-    """``(source, name, png bytes)`` of every QC figure, in the order of ``sources``.
+@contextmanager
+def _qc_drawer(result: StudyResult, sources: list[str], dpi: int, workers: int | None) -> Iterator[Any]:
+    """Start drawing the QC figure of every recording in ``sources``; yields ``png(i)``, the PNG
+    bytes of ``sources[i]``.
 
-    With more than one worker, a process pool draws them; each task is sent only its own
-    recording (:func:`qc_inputs`), not the study, so any start method (fork, spawn) is cheap.
-    At most ``2 * workers`` tasks are in flight: memory stays bounded on a large study."""
+    With more than one worker a process pool starts on all of them at once, so that it draws
+    while this process draws the participant and sample figures; each task carries only its own
+    recording (:func:`qc_inputs`; pickled when a worker takes it, so any start method, fork or
+    spawn, is cheap). Leaving the block cancels what is not drawn yet."""
     n = _qc_workers(workers, len(sources))
     if n <= 1:
-        for source, name in zip(sources, names):
-            yield source, name, qc_png(qc_inputs(result, source), dpi)
+        yield lambda i: qc_png(qc_inputs(result, sources[i]), dpi)
         return
-    from collections import deque
     from concurrent.futures import ProcessPoolExecutor
 
     with ProcessPoolExecutor(max_workers=n) as pool:
-        pending: deque = deque()
-        todo = iter(zip(sources, names))
-        for source, name in todo:
-            pending.append((source, name, pool.submit(qc_png, qc_inputs(result, source), dpi)))
-            if len(pending) >= 2 * n:
-                break
-        while pending:
-            source, name, future = pending.popleft()
-            png = future.result()
-            nxt = next(todo, None)
-            if nxt is not None:
-                pending.append((nxt[0], nxt[1], pool.submit(qc_png, qc_inputs(result, nxt[0]), dpi)))
-            yield source, name, png
+        futures = [pool.submit(qc_png, qc_inputs(result, source), dpi) for source in sources]
+        try:
+            yield lambda i: futures[i].result()
+        finally:
+            for future in futures:
+                future.cancel()
 
 
 def write_report(
@@ -315,33 +310,36 @@ def write_report(
 
         if figures:
             (tmp / "figures").mkdir()
-            for p in participants:
-                pngs[f"participant {p}"] = png = png_bytes(figure_participant(result, p), dpi)
-                name = f"figures/participant_{_safe(p)}.png"
-                (tmp / name).write_bytes(png)
-                written.append(name)
-                tick(name)
-            for s in samples:
-                pngs[f"sample {s}"] = png = png_bytes(figure_sample(result, s), dpi)
-                name = f"figures/sample_{_safe(s)}.png"
-                (tmp / name).write_bytes(png)
-                written.append(name)
-                tick(name)
-            if sources:
-                (tmp / "figures" / "qc").mkdir()
-            used: set[str] = set()
-            names: list[str] = []
-            for source in sources:
-                stem = _safe(Path(source).stem)
-                while stem in used:  # two folders may hold files of one name
-                    stem += "_"
-                used.add(stem)
-                names.append(f"figures/qc/{stem}.png")
-            for source, name, png in _qc_pngs(result, sources, names, dpi, workers):
-                (tmp / name).write_bytes(png)
-                written.append(name)
-                qc_links[source] = name
-                tick(name)
+            # the pool starts on the QC figures now and draws them while the participant
+            # and sample figures are drawn here
+            with _qc_drawer(result, sources, dpi, workers) as qc_png_of:
+                for p in participants:
+                    pngs[f"participant {p}"] = png = png_bytes(figure_participant(result, p), dpi)
+                    name = f"figures/participant_{_safe(p)}.png"
+                    (tmp / name).write_bytes(png)
+                    written.append(name)
+                    tick(name)
+                for s in samples:
+                    pngs[f"sample {s}"] = png = png_bytes(figure_sample(result, s), dpi)
+                    name = f"figures/sample_{_safe(s)}.png"
+                    (tmp / name).write_bytes(png)
+                    written.append(name)
+                    tick(name)
+                if sources:
+                    (tmp / "figures" / "qc").mkdir()
+                used: set[str] = set()
+                names: list[str] = []
+                for source in sources:
+                    stem = _safe(Path(source).stem)
+                    while stem in used:  # two folders may hold files of one name
+                        stem += "_"
+                    used.add(stem)
+                    names.append(f"figures/qc/{stem}.png")
+                for i, (source, name) in enumerate(zip(sources, names)):
+                    (tmp / name).write_bytes(qc_png_of(i))
+                    written.append(name)
+                    qc_links[source] = name
+                    tick(name)
         (tmp / "report.html").write_text(html_report(result, pngs, title, qc_links=qc_links), encoding="utf-8")
         written.append("report.html")
         folder.commit()
