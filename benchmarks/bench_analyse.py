@@ -13,6 +13,12 @@ Phases, each timed in the same run:
 * ``analyse + E_s``: the same with the texture table (Hertz micro-model): the E_s fits and
   their sensitivity refits (other micro-model, friction parameters);
 * ``report``: tables, NetCDF and HTML without figures;
+* ``report + figures``: the same with every figure (participants, samples and the 150 per-recording
+  QC figures, drawn by the default process pool), as ``fingerpad analyse`` writes it; ``figures``
+  is its difference from ``report``, and ``QC figures, one process`` draws the QC figures alone
+  without a pool (``--no-serial`` leaves that out);
+* ``fingerpad analyse`` (the command, defaults, as a user runs it: start-up, read, analysis with
+  E_s, report with every figure) in a subprocess: the user's wait, against issue 23's 88-92 s;
 * the line-by-line reader (the exact fallback, as slow as the former cell-by-cell parser) on
   one file, against the vectorised reader on the same file: their ratio.
 
@@ -29,6 +35,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import subprocess
 import sys
 import tempfile
 import time
@@ -85,6 +92,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--data", default=os.path.join(tempfile.gettempdir(), "fingerpad-bench-analyse"))
     parser.add_argument("--json", default=None, help="write the timings here")
+    parser.add_argument("--no-serial", action="store_true", help="leave out the one-process QC figures timing")
     args = parser.parse_args(argv)
 
     from fingerpad import measure as m
@@ -114,6 +122,22 @@ def main(argv: list[str] | None = None) -> int:
         t = time.perf_counter()
         write_report(result_es, Path(tmp) / "out", figures=False)
         timings["report (no figures)"] = time.perf_counter() - t
+        t = time.perf_counter()
+        written = write_report(result_es, Path(tmp) / "fig")
+        timings["report + figures"] = time.perf_counter() - t
+        n_qc = sum("/qc/" in p.as_posix() for p in written)
+        timings["figures"] = timings["report + figures"] - timings["report (no figures)"]
+        if not args.no_serial:
+            from fingerpad.plotting.measure import qc_inputs, qc_png
+
+            t = time.perf_counter()
+            for r in result_es.recordings:
+                qc_png(qc_inputs(result_es, r.source), 100)
+            timings["QC figures, one process"] = time.perf_counter() - t
+        t = time.perf_counter()
+        subprocess.run([str(Path(sys.executable).with_name("fingerpad")), "analyse", str(folder), "--reference", "flat",
+                        "--out", str(Path(tmp) / "cli")], check=True, stdout=subprocess.DEVNULL)
+        timings["fingerpad analyse (command)"] = time.perf_counter() - t
 
     one = Path(recordings[0].source)
     spec = m.ColumnSpec()
@@ -139,6 +163,18 @@ def main(argv: list[str] | None = None) -> int:
     print(f"  {'read + analyse':24s} {goal:7.2f} s   (CPU {cpu['read'] + cpu['analyse']:.2f} s; goal: < 10 s)")
     print(f"  one file ({len(table.rows)} rows): vectorised {fast * 1e3:.0f} ms, line by line {slow * 1e3:.0f} ms "
           f"(x{slow / fast:.0f})")
+    analysis = timings["read"] + timings["analyse + E_s"]
+    print(f"  issue 23 (today: analysis alone 9.5 s, each QC figure ~0.5 s, command 88-92 s; goal <= 15 s):")
+    print(f"    analysis alone (read + analyse + E_s) {analysis:6.2f} s   (x{9.5 / analysis:.2f} of 9.5 s)")
+    print(f"    figures ({n_qc} QC + participants + samples) {timings['figures']:6.2f} s"
+          f"   ({timings['figures'] / max(n_qc, 1):.3f} s per QC figure, x{0.5 * n_qc / timings['figures']:.1f} of"
+          f" {n_qc} x 0.5 s)")
+    if "QC figures, one process" in timings:
+        print(f"    QC figures, one process {timings['QC figures, one process']:6.2f} s"
+              f"   ({timings['QC figures, one process'] / max(n_qc, 1):.3f} s each)")
+    total = timings["fingerpad analyse (command)"]
+    print(f"    fingerpad analyse, total {total:6.2f} s   (x{90.0 / total:.1f} faster than 88-92 s; goal <= 15 s:"
+          f" {'met' if total <= 15 else 'not met'})")
     detected = int(result_es.conditions.get("breakpoint_detected", np.zeros(0)).fillna(False).sum())
     print(f"  transitions detected: {detected} of {int((~result_es.conditions['is_reference']).sum())} conditions")
     if args.json:

@@ -33,8 +33,9 @@ def test_qc_figure_marks_every_stroke(study_small):
     fig = figure_qc(study_small, source)
     report = study_small.stroke_reports[source]
     top = fig.axes[0]
-    # one shaded span per stroke plus its steady window (and an outline per outlier)
-    spans = [p for p in top.patches]
+    # one shaded span per stroke plus its steady window (and an outline per outlier), drawn as
+    # one collection of bands per style
+    spans = [path for c in top.collections for path in c.get_paths()]
     n_out = int(study_small.strokes.loc[study_small.strokes["file"] == source, "outlier"].sum())
     dropped = len(report.strokes) - len(report.used)
     assert len(spans) == 2 * len(report.used) + n_out + dropped
@@ -50,3 +51,61 @@ def test_qc_figure_unknown_recording(study_small):
     with pytest.raises(FingerpadError, match="no recording"):
         figure_qc(study_small, "nope.csv")
     assert np.isfinite(study_small.strokes["mu"]).all()
+
+
+def test_qc_figure_of_a_long_recording_is_bounded_and_keeps_every_stroke_extreme():
+    """A 60 s recording at 1 kHz: each time-series line of its QC figure draws at most 6000
+    vertices (not ~60 000), and still reaches the maximum and minimum of every stroke (within
+    the stroke's span widened by one decimation bucket), the last samples included."""
+    from fingerpad import measure as m
+
+    rec = m.simulate_recording(m.SimulationConfig(strokes_per_file=52, sampling_rate=1000.0), seed=5)
+    n = len(rec)
+    assert n > 50_000
+    result = m.analyse_study([rec], m.AnalysisOptions(sensitivity=False, population=False))
+    report = result.stroke_reports[rec.source]
+    fig = figure_qc(result, rec.source)
+    k = int(np.ceil(n / 3000))  # samples per bucket
+    dt = float(np.median(np.diff(rec.time)))
+    for ax, y in zip(fig.axes, (rec.normal, rec.friction, rec.position * 1e3)):
+        line = ax.get_lines()[0]
+        tt, yy = np.asarray(line.get_xdata()), np.asarray(line.get_ydata())
+        assert 2000 <= tt.size <= 6000
+        assert np.all(np.diff(tt) >= 0)  # in time order
+        assert tt[-1] >= rec.time[-k]  # the tail is drawn
+        assert yy.max() == y.max() and yy.min() == y.min()
+        for st in report.strokes:
+            a, b = rec.time[st.start] - k * dt, rec.time[st.stop - 1] + k * dt
+            near = (tt >= a) & (tt <= b)
+            assert yy[near].max() >= y[st.start:st.stop].max()
+            assert yy[near].min() <= y[st.start:st.stop].min()
+
+
+def test_decimation_keeps_each_bucket_extremes_and_the_tail():
+    from fingerpad.plotting.measure import _decimate
+
+    rng = np.random.default_rng(1)
+    n = 60_001  # not a multiple of the bucket length: the last bucket is short
+    t = np.arange(n) / 1000.0
+    y = rng.normal(size=n)
+    y[-1] = 50.0  # a spike in the very last sample
+    y[12_345] = -40.0
+    tt, yy = _decimate(t, y, max_points=6000)
+    assert tt.size <= 6000
+    k = int(np.ceil(n / 3000))
+    for start in range(0, n, k):
+        inside = (tt >= t[start]) & (tt <= t[min(start + k, n) - 1])
+        assert yy[inside].max() == y[start:start + k].max()
+        assert yy[inside].min() == y[start:start + k].min()
+    assert 50.0 in yy and -40.0 in yy
+
+
+def test_qc_png_on_a_reused_figure_is_the_same_as_on_a_new_one(study_small):
+    """qc_png redraws one kept figure: each recording's PNG is byte-identical to the PNG of a
+    new figure, whatever recording was drawn on it before (limits, labels, legend, title)."""
+    from fingerpad.plotting.measure import png_bytes, qc_inputs, qc_png
+
+    sources = [r.source for r in study_small.recordings][:4]
+    fresh = [png_bytes(figure_qc(study_small, s), 40) for s in sources]
+    for s, want in zip(sources + sources[::-1], fresh + fresh[::-1]):
+        assert qc_png(qc_inputs(study_small, s), 40) == want, s

@@ -105,3 +105,16 @@ def test_report_refuses_a_foreign_folder(study_small, tmp_path):
         write_report(study_small, out, figures=False)
     assert sorted(p.name for p in out.iterdir()) == ["chapter1.tex"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["thesis"]
+
+
+def test_qc_figures_drawn_by_a_process_pool_are_the_same_files(study_small, tmp_path):
+    """Two worker processes draw the QC figures; every file of the report is byte-identical to
+    the one drawn here without a pool (the figures do not depend on where they are drawn)."""
+    one = write_report(study_small, tmp_path / "one", dpi=30, workers=1)
+    two = write_report(study_small, tmp_path / "two", dpi=30, workers=2)
+    qc = [p for p in one if "/qc/" in p.as_posix()]
+    assert len(qc) == len(study_small.recordings) >= 4
+    assert [p.relative_to(tmp_path / "one") for p in one] == [p.relative_to(tmp_path / "two") for p in two]
+    for a, b in zip(one, two):
+        if a.suffix in {".png", ".csv", ".json"}:
+            assert a.read_bytes() == b.read_bytes(), a.name

@@ -28,6 +28,8 @@ import json
 import math
 import os
 import re
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -36,7 +38,7 @@ import pandas as pd
 
 from .._version import __version__
 from ..io import OutputFolder
-from ..plotting.measure import condition_label, figure_participant, figure_qc, figure_sample, png_bytes
+from ..plotting.measure import condition_label, figure_participant, figure_sample, png_bytes, qc_inputs, qc_png
 from .analysis import StudyResult, study_info
 from .htmlreport import html_report
 
@@ -195,6 +197,40 @@ def _records(df: pd.DataFrame) -> list[dict[str, Any]]:
 # =============================================================================================
 
 
+def _qc_workers(workers: int | None, n_figures: int) -> int:
+    """Processes for ``n_figures`` QC figures: ``workers``, or one per usable CPU (at most 8);
+    never more than the figures, and one (no pool) for fewer than four figures, where
+    starting the processes would cost more than it saves."""
+    if workers is None:
+        cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+        workers = min(cpus, 8) if n_figures >= 4 else 1
+    return max(1, min(int(workers), n_figures))
+
+
+@contextmanager
+def _qc_drawer(result: StudyResult, sources: list[str], dpi: int, workers: int | None) -> Iterator[Any]:
+    """Start drawing the QC figure of every recording in ``sources``; yields ``png(i)``, the PNG
+    bytes of ``sources[i]``.
+
+    With more than one worker a process pool starts on all of them at once, so that it draws
+    while this process draws the participant and sample figures; each task carries only its own
+    recording (:func:`qc_inputs`; pickled when a worker takes it, so any start method, fork or
+    spawn, is cheap). Leaving the block cancels what is not drawn yet."""
+    n = _qc_workers(workers, len(sources))
+    if n <= 1:
+        yield lambda i: qc_png(qc_inputs(result, sources[i]), dpi)
+        return
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(max_workers=n) as pool:
+        futures = [pool.submit(qc_png, qc_inputs(result, source), dpi) for source in sources]
+        try:
+            yield lambda i: futures[i].result()
+        finally:
+            for future in futures:
+                future.cancel()
+
+
 def write_report(
     result: StudyResult,
     out: str | os.PathLike[str],
@@ -204,6 +240,7 @@ def write_report(
     title: str = "Finger friction study",
     qc: bool = True,
     progress: Any = None,
+    workers: int | None = None,
 ) -> list[Path]:
     """Write tables, figures, NetCDF curves and the HTML report into ``out`` (see module doc).
 
@@ -211,7 +248,10 @@ def write_report(
     whole at the end (an earlier report's files never mix with these); on any error ``out`` is
     left as it was. A folder holding anything but an earlier report is refused.
     ``qc`` adds one quality-control figure per recording (``figures/qc/``, linked from the
-    report); ``progress(done, total, what)`` is called as figures are drawn.
+    report); ``progress(done, total, what)`` is called as figures are drawn. The QC figures
+    are drawn by a pool of ``workers`` processes (default: one per CPU this process may use,
+    at most 8; ``1`` draws them here), each sent one recording at a time; the files are the
+    same, byte for byte, whatever the number of workers.
 
     Returns
     -------
@@ -270,31 +310,36 @@ def write_report(
 
         if figures:
             (tmp / "figures").mkdir()
-            for p in participants:
-                pngs[f"participant {p}"] = png = png_bytes(figure_participant(result, p), dpi)
-                name = f"figures/participant_{_safe(p)}.png"
-                (tmp / name).write_bytes(png)
-                written.append(name)
-                tick(name)
-            for s in samples:
-                pngs[f"sample {s}"] = png = png_bytes(figure_sample(result, s), dpi)
-                name = f"figures/sample_{_safe(s)}.png"
-                (tmp / name).write_bytes(png)
-                written.append(name)
-                tick(name)
-            if sources:
-                (tmp / "figures" / "qc").mkdir()
-            used: set[str] = set()
-            for source in sources:
-                stem = _safe(Path(source).stem)
-                while stem in used:  # two folders may hold files of one name
-                    stem += "_"
-                used.add(stem)
-                name = f"figures/qc/{stem}.png"
-                (tmp / name).write_bytes(png_bytes(figure_qc(result, source), dpi))
-                written.append(name)
-                qc_links[source] = name
-                tick(name)
+            # the pool starts on the QC figures now and draws them while the participant
+            # and sample figures are drawn here
+            with _qc_drawer(result, sources, dpi, workers) as qc_png_of:
+                for p in participants:
+                    pngs[f"participant {p}"] = png = png_bytes(figure_participant(result, p), dpi)
+                    name = f"figures/participant_{_safe(p)}.png"
+                    (tmp / name).write_bytes(png)
+                    written.append(name)
+                    tick(name)
+                for s in samples:
+                    pngs[f"sample {s}"] = png = png_bytes(figure_sample(result, s), dpi)
+                    name = f"figures/sample_{_safe(s)}.png"
+                    (tmp / name).write_bytes(png)
+                    written.append(name)
+                    tick(name)
+                if sources:
+                    (tmp / "figures" / "qc").mkdir()
+                used: set[str] = set()
+                names: list[str] = []
+                for source in sources:
+                    stem = _safe(Path(source).stem)
+                    while stem in used:  # two folders may hold files of one name
+                        stem += "_"
+                    used.add(stem)
+                    names.append(f"figures/qc/{stem}.png")
+                for i, (source, name) in enumerate(zip(sources, names)):
+                    (tmp / name).write_bytes(qc_png_of(i))
+                    written.append(name)
+                    qc_links[source] = name
+                    tick(name)
         (tmp / "report.html").write_text(html_report(result, pngs, title, qc_links=qc_links), encoding="utf-8")
         written.append("report.html")
         folder.commit()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import io
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -12,7 +13,8 @@ from ..errors import FingerpadError
 if TYPE_CHECKING:  # the figures read a result; plotting imports nothing of measure/ at run time
     from ..measure.analysis import StudyResult
 
-__all__ = ["condition_label", "figure_participant", "figure_qc", "figure_sample", "log_subs", "png_bytes"]
+__all__ = ["QCInputs", "condition_label", "figure_participant", "figure_qc", "figure_sample", "log_subs", "png_bytes",
+           "qc_inputs", "qc_png"]
 
 
 def condition_label(sample: str, direction: str) -> str:
@@ -203,22 +205,36 @@ def figure_sample(result: StudyResult, sample: str):
 
 
 def _decimate(t: np.ndarray, y: np.ndarray, max_points: int = 6000) -> tuple[np.ndarray, np.ndarray]:
-    """At most ``max_points`` points that keep the envelope (min and max of each bucket), so a
-    60 s recording at 1 kHz draws fast and its spikes stay visible."""
+    """At most ``max_points`` points that keep the envelope: the samples are cut into
+    consecutive buckets (the last one may be shorter) and each bucket gives its minimum and its
+    maximum, in time order, so the line reaches every bucket's extremes (a stroke's peak is drawn,
+    or a higher sample next to it in its bucket) and ``max_points`` bounds its vertices: a 60 s
+    recording at 1 kHz (60 000 samples) draws 6000, some three per pixel column of the figure,
+    and looks the same; its spikes stay visible."""
     n = y.size
     if n <= max_points:
         return t, y
     k = int(np.ceil(n / (max_points // 2)))
-    m = n // k
-    yb = y[: m * k].reshape(m, k)
-    tb = t[: m * k].reshape(m, k)
-    lo, hi = yb.argmin(axis=1), yb.argmax(axis=1)
-    first = np.minimum(lo, hi)
-    second = np.maximum(lo, hi)
-    rows = np.arange(m)
-    tt = np.column_stack([tb[rows, first], tb[rows, second]]).ravel()
-    yy = np.column_stack([yb[rows, first], yb[rows, second]]).ravel()
-    return tt, yy
+    m = -(-n // k)  # buckets, the last one shorter where k does not divide n
+    # pad the tail bucket with its own last sample (changes neither its min nor its max)
+    yb = np.concatenate([y, np.repeat(y[-1:], m * k - n)]).reshape(m, k)
+    lo, hi = yb.argmin(axis=1), yb.argmax(axis=1)  # first index of each; NaN where one is NaN
+    base = np.arange(m) * k
+    pick = np.minimum(np.column_stack([base + np.minimum(lo, hi), base + np.maximum(lo, hi)]).ravel(), n - 1)
+    return t[pick], y[pick]
+
+def _add_spans(ax: Any, spans: list[tuple[float, float]], style: dict[str, Any]) -> None:
+    """Vertical bands ``(x0, x1)`` (data units, full axis height) as one collection, drawn
+    as ``axvspan`` draws them; the x data limits take the bands in as ``axvspan``'s do."""
+    if not spans:
+        return
+    from matplotlib.collections import PolyCollection
+
+    verts = [[(a, 0.0), (a, 1.0), (b, 1.0), (b, 0.0)] for a, b in spans]
+    ax.add_collection(PolyCollection(verts, transform=ax.get_xaxis_transform(which="grid"), **style),
+                      autolim=False)
+    xs = np.asarray(spans, dtype=float).ravel()
+    ax.update_datalim(np.column_stack([xs, np.zeros_like(xs)]), updatey=False)
 
 
 def figure_qc(result: StudyResult, source: str):
@@ -232,16 +248,59 @@ def figure_qc(result: StudyResult, source: str):
     lift-off threshold on the normal force. Bottom: mu of each stroke against its number (running-in, moisture
     drift), outliers as red crosses.
     """
-    from matplotlib.figure import Figure
+    return _draw_qc(qc_inputs(result, source))
 
+
+@dataclass(frozen=True)
+class QCInputs:
+    """What the QC figure of one recording reads: small enough to send to a worker process
+    (one recording's samples, not the study's). Built by :func:`qc_inputs`."""
+
+    source: str
+    recording: Any  # measure.Recording
+    report: Any  # measure.StrokeReport of the recording
+    strokes: Any  # pandas.DataFrame: the recording's rows of the result's stroke table
+    clipped: frozenset  # numbers of the strokes left out for a saturated sensor
+    min_load: float  # lift-off threshold (N)
+
+
+def qc_inputs(result: StudyResult, source: str) -> QCInputs:
+    """The inputs of :func:`figure_qc` for recording ``source`` of ``result``."""
     rec = next((r for r in result.recordings if r.source == source), None)
     report = result.stroke_reports.get(source)
     if rec is None or report is None:
         raise FingerpadError(f"no recording {source!r} in the result")
-    strokes = result.strokes[result.strokes["file"] == source]
-    outlier = dict(zip(strokes["stroke"], strokes["outlier"]))
     cs = getattr(result, "clipped_strokes", None)
-    clipped = set(cs.loc[cs["file"] == source, "stroke"]) if cs is not None and len(cs) else set()
+    clipped = frozenset(cs.loc[cs["file"] == source, "stroke"]) if cs is not None and len(cs) else frozenset()
+    return QCInputs(source, rec, report, result.strokes[result.strokes["file"] == source], clipped,
+                    float(result.options.strokes.min_load))
+
+
+# one QC figure per number of panels, reused by qc_png: building the axes and their ticks
+# was half of a figure's time; the PNG is the same, byte for byte, as a new figure's
+_QC_FIGURES: dict[int, Any] = {}
+
+
+def qc_png(inputs: QCInputs, dpi: int) -> bytes:
+    """The QC figure of ``inputs`` as PNG bytes, the same bytes as ``png_bytes(figure_qc(...))``.
+
+    It redraws one figure kept by this process (its axes emptied and filled again) instead of
+    building a new one; a module-level function, so that a process pool can call it. Not for
+    use from several threads at once."""
+    n_rows = 4 if inputs.recording.position is not None or inputs.recording.velocity is not None else 3
+    fig = _draw_qc(inputs, _QC_FIGURES.get(n_rows))
+    _QC_FIGURES[n_rows] = fig
+    return png_bytes(fig, dpi)
+
+
+def _draw_qc(inputs: QCInputs, reuse: Any = None):
+    """Draw the QC figure of ``inputs`` on a new figure, or on ``reuse`` (a figure this function
+    drew before with the same number of panels), emptied first."""
+    from matplotlib.figure import Figure
+
+    source, rec, report, strokes = inputs.source, inputs.recording, inputs.report, inputs.strokes
+    outlier = dict(zip(strokes["stroke"], strokes["outlier"]))
+    clipped = set(inputs.clipped)
     clips = getattr(report, "clips", [])
     t = rec.time if rec.time is not None else np.arange(len(rec), dtype=float)
     xlabel = "time (s)" if rec.time is not None else "sample"
@@ -249,34 +308,58 @@ def figure_qc(result: StudyResult, source: str):
                           (rec.velocity * 1e3, "velocity (mm/s)") if rec.velocity is not None else
                           (None, ""))
     n_rows = 4 if third is not None else 3
-    fig = Figure(figsize=(11, 2.0 * n_rows + 0.6))
-    axes = fig.subplots(n_rows, 1, squeeze=True)
-    fig.subplots_adjust(left=0.08, right=0.98, bottom=0.06, top=0.94, hspace=0.45)
+    if reuse is not None and len(reuse.axes) == n_rows:
+        fig, axes = reuse, reuse.axes
+        for ax in axes:  # back to empty axes: the data limits forgotten, autoscaling on
+            for artist in [*ax.lines, *ax.collections]:
+                artist.remove()
+            if ax.get_legend() is not None:
+                ax.get_legend().remove()
+            ax.relim()
+            ax.autoscale(True)
+    else:
+        fig = Figure(figsize=(11, 2.0 * n_rows + 0.6))
+        axes = fig.subplots(n_rows, 1, squeeze=True)
+        fig.subplots_adjust(left=0.08, right=0.98, bottom=0.06, top=0.94, hspace=0.45)
     series = [(rec.normal, "normal force F_n (N)"), (rec.friction, "friction force F_t (N)")]
     if third is not None:
         series.append((third, third_label))
     used = {id(st): i + 1 for i, st in enumerate(report.used)}
     colours = {1: "tab:blue", -1: "tab:orange"}
+    # the spans of every stroke, grouped by style: one collection per style and axis instead of
+    # one patch per span (some 320 patches per figure cost most of its time to add and draw);
+    # drawn in the order the patches were (shades, steady windows, outlines, clipped)
+    dropped: list[tuple[float, float]] = []
+    shade: dict[int, list[tuple[float, float]]] = {1: [], -1: []}
+    steady: dict[int, list[tuple[float, float]]] = {1: [], -1: []}
+    outlined: list[tuple[float, float]] = []
+    cross: list[tuple[float, float]] = []
+    for st in report.strokes:
+        number = used.get(id(st))
+        span = (t[st.start], t[min(st.stop, len(t)) - 1])
+        if number is None:
+            dropped.append(span)
+            continue
+        shade[st.sense].append(span)
+        steady[st.sense].append((t[st.steady_start], t[st.steady_stop - 1]))
+        if outlier.get(number, False):
+            outlined.append(span)
+        if number in clipped:  # left out: a force channel saturated during the stroke
+            cross.append(span)
+    styles = [(dropped, {"facecolor": "none", "edgecolor": "0.6", "hatch": "///", "linewidth": 0})]
+    styles += [(shade[s], {"color": colours[s], "alpha": 0.10, "linewidth": 0}) for s in (1, -1)]
+    styles += [(steady[s], {"color": colours[s], "alpha": 0.25, "linewidth": 0}) for s in (1, -1)]
+    styles += [(outlined, {"facecolor": "none", "edgecolor": "red", "linewidth": 1.5}),
+               (cross, {"facecolor": "none", "edgecolor": "magenta", "hatch": "xx", "linewidth": 1.5})]
     for ax, (y, label) in zip(axes, series):
         tt, yy = _decimate(t, np.asarray(y, dtype=float))
         ax.plot(tt, yy, color="0.25", lw=0.6)
-        for st in report.strokes:
-            number = used.get(id(st))
-            a, b = t[st.start], t[min(st.stop, len(t)) - 1]
-            if number is None:
-                ax.axvspan(a, b, facecolor="none", edgecolor="0.6", hatch="///", lw=0)
-                continue
-            c = colours[st.sense]
-            ax.axvspan(a, b, color=c, alpha=0.10, lw=0)
-            ax.axvspan(t[st.steady_start], t[st.steady_stop - 1], color=c, alpha=0.25, lw=0)
-            if outlier.get(number, False):
-                ax.axvspan(a, b, facecolor="none", edgecolor="red", lw=1.5)
-            if number in clipped:  # left out: a force channel saturated during the stroke
-                ax.axvspan(a, b, facecolor="none", edgecolor="magenta", hatch="xx", lw=1.5)
+        for spans, style in styles:
+            _add_spans(ax, spans, style)
         ax.set_ylabel(label, fontsize=8)
         ax.tick_params(labelsize=7)
         ax.grid(True, alpha=0.3)
-    axes[0].axhline(result.options.strokes.min_load, color="red", lw=0.8, ls=":")
+    axes[0].axhline(inputs.min_load, color="red", lw=0.8, ls=":")
     for clip in clips:  # the saturated level of each clipped channel
         axes[0 if clip.channel == "normal" else 1].axhline(clip.level, color="magenta", lw=1.0, ls="--")
     axes[n_rows - 2].set_xlabel(xlabel, fontsize=8)
