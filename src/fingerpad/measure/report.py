@@ -313,15 +313,11 @@ def write_report(
             # the pool starts on the QC figures now and draws them while the participant
             # and sample figures are drawn here
             with _qc_drawer(result, sources, dpi, workers) as qc_png_of:
-                for p in participants:
-                    pngs[f"participant {p}"] = png = png_bytes(figure_participant(result, p), dpi)
-                    name = f"figures/participant_{_safe(p)}.png"
-                    (tmp / name).write_bytes(png)
-                    written.append(name)
-                    tick(name)
-                for s in samples:
-                    pngs[f"sample {s}"] = png = png_bytes(figure_sample(result, s), dpi)
-                    name = f"figures/sample_{_safe(s)}.png"
+                drawn = [("participant", p, figure_participant) for p in participants] + \
+                        [("sample", s, figure_sample) for s in samples]
+                for kind, key, draw in drawn:
+                    pngs[f"{kind} {key}"] = png = png_bytes(draw(result, key), dpi)
+                    name = f"figures/{kind}_{_safe(key)}.png"
                     (tmp / name).write_bytes(png)
                     written.append(name)
                     tick(name)
