@@ -62,8 +62,13 @@ class Server:
     def __init__(self, args: list[str], tmpdir: Path | None = None) -> None:
         code = "import sys; from fingerpad.cli import main; sys.argv[0] = 'fingerpad'; main()"
         env = {**os.environ, "BOKEH_BROWSER": "none"}
+        self.cache: Path | None = None
         if tmpdir is not None:  # the server's upload area is made in here (tests look into it)
             env["TMPDIR"] = str(tmpdir)
+            # a unit-cell cache of its own: what the tests expect to compute is not already in
+            # the user's cache from an earlier run (CI runs on a machine that has run the suite)
+            self.cache = tmpdir / "cell-cache"
+            env["FINGERPAD_CACHE"] = str(self.cache)
         self.tmpdir = tmpdir
         self.proc = subprocess.Popen([sys.executable, "-c", code, "explore", "--no-browser", *args],
                                      stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)

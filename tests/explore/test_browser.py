@@ -52,10 +52,12 @@ def download(page, css_class: str) -> bytes:
     return Path(info.value.path()).read_bytes()
 
 
-def predict_toml(toml: bytes, tmp_path: Path) -> dict:
+def predict_toml(toml: bytes, tmp_path: Path, cache: Path | None = None) -> dict:
+    """``fingerpad predict`` of a downloaded study, with the explorer's cell cache (``cache``)."""
     study = tmp_path / "study.toml"
     study.write_bytes(toml)
-    res = runner.invoke(app, ["predict", str(study), "--json", "-"])
+    env = {"FINGERPAD_CACHE": str(cache)} if cache is not None else None
+    res = runner.invoke(app, ["predict", str(study), "--json", "-"], env=env)
     assert res.exit_code == 0, res.output
     return json.loads(res.stdout)
 
@@ -142,7 +144,7 @@ def test_plot_download_gives_the_numbers_shown(page, tmp_path):
     check_table_matches(rows, full)
 
 
-def test_bem_run_shows_progress_finishes_and_reproduces(page, tmp_path, screenshot_dir):
+def test_bem_run_shows_progress_finishes_and_reproduces(page, explorer, tmp_path, screenshot_dir):
     from playwright.sync_api import expect
 
     page.locator(f"{css('model.kind')} select").select_option("both")
@@ -156,7 +158,7 @@ def test_bem_run_shows_progress_finishes_and_reproduces(page, tmp_path, screensh
     crit = num(page, "critical_load_bem")
     rows = table(page)
     page.screenshot(path=str(screenshot_dir / "texture-view-bem.png"), full_page=True)
-    payload = predict_toml(download(page, "fp-export-toml"), tmp_path)
+    payload = predict_toml(download(page, "fp-export-toml"), tmp_path, explorer.cache)
     assert payload["model"] == "bem" and payload["cell"]["cached"]  # the explorer filled the cache
     assert same(payload["critical_load"]["bem"], crit)
     check_table_matches(rows, payload)
