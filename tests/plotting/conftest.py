@@ -46,21 +46,6 @@ def sinusoid_curve():
 
 
 @pytest.fixture(scope="session")
-def prediction(tmp_path_factory):
-    """Caps on the default finger by BEM (32 points) and Hertz; 0.3 s."""
-    from fingerpad.study import run as study_run
-    from fingerpad.study import study_from_dict
-
-    study = study_from_dict({
-        "texture": {"name": "caps", "radius": "50um", "height": "10um", "spacing": "100um"},
-        "material": {"modulus": "0.5GPa", "poisson": 0.4},
-        "loads": {"range": "0.2N:3N:5"},
-        "model": {"kind": "both", "grid": 32, "cache": str(tmp_path_factory.mktemp("cells"))},
-    })
-    return study_run.run_study(study)
-
-
-@pytest.fixture(scope="session")
 def measured(tmp_path_factory):
     """A simulated study of two people on flat and bumps, analysed (about a second)."""
     from fingerpad import measure as m
