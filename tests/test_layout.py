@@ -25,6 +25,15 @@ def _modules() -> list[str]:
     return names
 
 
+def _from_target(node: ast.ImportFrom, package: str) -> str:
+    """The absolute module of ``from X import ...`` written in ``package`` (relative levels resolved)."""
+    if not node.level:
+        return node.module or ""
+    base = package.split(".")
+    base = base[: len(base) - (node.level - 1)]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
 def _module_level_imports(path: Path, module: str) -> set[str]:
     """Modules of fingerpad imported at module level (not inside functions or TYPE_CHECKING)."""
     tree = ast.parse(path.read_text(encoding="utf-8"))
@@ -38,12 +47,7 @@ def _module_level_imports(path: Path, module: str) -> set[str]:
             if isinstance(node, ast.Import):
                 found.update(a.name for a in node.names if a.name.startswith("fingerpad"))
             elif isinstance(node, ast.ImportFrom):
-                if node.level:
-                    base = package.split(".")
-                    base = base[: len(base) - (node.level - 1)]
-                    target = ".".join(base + ([node.module] if node.module else []))
-                else:
-                    target = node.module or ""
+                target = _from_target(node, package)
                 if not target.startswith("fingerpad"):
                     continue
                 found.add(target)
@@ -229,12 +233,7 @@ def _all_imports(path: Path, module: str) -> tuple[set[str], set[str]]:
             for alias in node.names:
                 (ours if alias.name.startswith("fingerpad") else others).add(alias.name)
         elif isinstance(node, ast.ImportFrom):
-            if node.level:
-                base = package.split(".")
-                base = base[: len(base) - (node.level - 1)]
-                target = ".".join(base + ([node.module] if node.module else []))
-            else:
-                target = node.module or ""
+            target = _from_target(node, package)
             if not target.startswith("fingerpad"):
                 others.add(target)
                 continue
