@@ -10,26 +10,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from typer.testing import CliRunner
 
-from fingerpad.cli import app
 from fingerpad.errors import FingerpadError
 from fingerpad.study.population import load_population
 
-runner = CliRunner()
+from .test_population_cli import _user_error, invoke
+
 CAPS = ["--texture", "caps", "--radius", "50um", "--height", "10um", "--spacing", "100um",
         "--lattice", "hexagonal", "--model", "hertz", "--loads", "0.1N:4N:5"]
-
-
-def invoke(*args):
-    return runner.invoke(app, [str(a) for a in args])
-
-
-def _user_error(result) -> str:
-    assert result.exit_code == 2, (result.stdout, result.stderr)
-    lines = [line for line in result.stderr.splitlines() if line.strip()]
-    assert len(lines) == 1 and lines[0].startswith("error: "), result.stderr
-    return lines[0]
 
 
 @pytest.fixture(scope="module")
