@@ -265,11 +265,11 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
     import warnings
 
     from ..encode import to_jsonable
-    from ..study.outputs import FOLDER_FILES, check_outputs, prediction_json, write_outputs
+    from ..study.outputs import FOLDER_FILES, POPULATION_CSV, check_outputs, prediction_json, write_outputs
     from ..study.run import run_study
 
-    pop_figure = {"population.png": None} if population is not None else {}
-    check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {}), *pop_figure}))  # before solving
+    pop_files = dict.fromkeys(("population.png", *POPULATION_CSV)) if population is not None else {}
+    check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {}), *pop_files}))  # before solving
     err = stderr_console()
     with warnings_to(err):
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
