@@ -113,6 +113,8 @@ def test_direction_is_refused_with_its_reason(tmp_path: Path):
     ('radius = { distribution = "uniform", low = 0.007, high = "11mm" }', "has no unit"),
     ('tau0 = { distribution = "normal", mean = "8kPa", sd = "-1kPa" }', "must be non-negative"),
     ('tau0 = { distribution = "weibull", mean = "8kPa" }', "unknown distribution"),
+    ('radius = { distribution = "uniform", low = "7mm", high = "11mm" }\ncorrelations = [["radius", "modulus", 0.3]]',
+     "correlations: 'modulus' has no distribution"),
 ])
 def test_bad_population_files(tmp_path: Path, table: str, words: str):
     pop = tmp_path / "pop.toml"
