@@ -59,6 +59,13 @@ FINGER_PARAMS: tuple[Param, ...] = (
           low=-1, low_open=True, high=0.5, label="skin Poisson ratio", symbol="nu_s"),
 )
 
+#: ``--finger-param ridge_fraction=X``: the constant-fraction ridge model with ``A_fr / A_g = X``
+#: (replaces the finger's ridge model; a population's members are named by it, issue 22). Not a
+#: field of :class:`Finger` but the parameter of one ridge model, declared here beside the fields
+#: for ``--finger-param`` (:mod:`fingerpad.study.overrides`) and populations.
+RIDGE_FRACTION = Param("ridge_fraction", "ratio", "constant-fraction ridge model's A_fr/A_g (model.md: 10-70 %)",
+                       0.5, low=0, low_open=True, high=1, label="ridge fraction A_fr/A_g", symbol="A_fr/A_g")
+
 #: Dimension of each declared finger field (derived from :data:`FINGER_PARAMS`).
 FINGER_FIELDS: dict[str, str] = {p.name: p.dimension for p in FINGER_PARAMS}
 
@@ -276,6 +283,7 @@ __all__ = [
     "FINGER_FIELDS",
     "FINGER_PARAMS",
     "FINGER_PRESETS",
+    "RIDGE_FRACTION",
     "CircularRidges",
     "ConstantFractionRidges",
     "DzidekArea",

@@ -67,6 +67,19 @@ def test_finger_params():
     assert labels[("finger", "skin_modulus")] == "--finger-param skin_modulus"
 
 
+def test_finger_param_ridge_fraction_sets_constant_fraction_ridges():
+    """ridge_fraction (a population's name for the constant-fraction model's A_fr/A_g) replaces
+    the finger's ridge model, also that of a preset with other ridges; a bad value names the flag."""
+    from fingerpad.meso import ConstantFractionRidges
+
+    data, labels = apply_flags(FILE, {"--finger": "ridged"}, finger_params=["ridge_fraction=0.3"])
+    finger = study.study_from_dict(data, labels).finger
+    assert finger.ridges == ConstantFractionRidges(0.3) and finger.name == "ridged"
+    data, labels = apply_flags(FILE, {}, finger_params=["ridge_fraction=1.5"])
+    with pytest.raises(FingerpadError, match=r"^--finger-param ridge_fraction fraction: must lie in \(0, 1\]"):
+        study.study_from_dict(data, labels)
+
+
 @pytest.mark.parametrize("kwargs, message", [
     (dict(flags={"--texture": "caps", "--surface": "a.npy"}), "give either --texture NAME or --surface FILE"),
     (dict(flags={}, texture_options=[("radius", "1um")], data={}), r"unexpected option --radius \(texture "

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import csv
 import json
 from pathlib import Path
 
@@ -23,6 +24,7 @@ skin_modulus = { distribution = "uniform", low = "0.2MPa", high = "0.5MPa" }
 radius = { distribution = "uniform", low = "7mm", high = "11mm" }
 tau0 = { distribution = "normal", mean = "8kPa", sd = "1kPa" }
 alpha = { values = [0.05, 0.1] }
+ridge_fraction = { distribution = "uniform", low = 0.2, high = 0.7 }
 """
 
 
@@ -47,6 +49,8 @@ def test_member_reproduced_by_predict_finger_param(tmp_path: Path, model: str):
     doc = json.loads(res.stdout)["population"]
     assert len(doc["members"]) == 12 and len(doc["member_results"]) == 12
     i = 7
+    # every parameter, the ridge fraction included, is a --finger-param name
+    assert set(doc["members"][i]) == {"skin_modulus", "radius", "tau0", "alpha", "ridge_fraction"}
     params = [f"--finger-param={k}={v!r}" for k, v in doc["members"][i].items()]
     plain = invoke("predict", *CAPS, "--model", model, "--cache", cache, *params, "--json", "-")
     assert plain.exit_code == 0, plain.stderr
@@ -76,6 +80,32 @@ def test_study_file_table_netcdf_and_terminal(tmp_path: Path):
     assert set(doc["population"]["quantiles"]["mu"]) == {"0.1", "0.5", "0.9"}
     assert (tmp_path / "o" / "population.png").stat().st_size > 10_000  # the bands figure
     ds.close()
+    # the CSV tables: the same numbers as the JSON, units in the headers
+    pop = doc["population"]
+    with open(tmp_path / "o" / "population_bands.csv", newline="") as fh:
+        bands = list(csv.DictReader(fh))
+    assert [float(r["load_N"]) for r in bands] == pop["loads"]
+    assert [float(r["mu_over_mu_ref_q0.9"]) for r in bands] == pop["quantiles"]["mu_normalised"]["0.9"]
+    assert [float(r["area_ratio_Are_over_Afr_q0.1"]) for r in bands] == pop["quantiles"]["area_ratio"]["0.1"]
+    assert [float(r["p_asperity"]) for r in bands] == pop["state_probability"]["asperity"]
+    with open(tmp_path / "o" / "population_members.csv", newline="") as fh:
+        members = list(csv.DictReader(fh))
+    assert len(members) == 12 and "participant" not in members[0]
+    for row, member, result in zip(members, pop["members"], pop["member_results"], strict=True):
+        assert float(row["radius_m"]) == member["radius"] and float(row["tau0_Pa"]) == member["tau0"]
+        assert float(row["ridge_fraction"]) == member["ridge_fraction"]
+        assert float(row["critical_load_N"]) == result["critical_load"]
+        assert float(row["mu_over_mu_ref_at_4N"]) == result["mu_normalised"][-1]
+        assert float(row["mu_at_0.1N"]) == result["mu"][0]
+
+
+def test_direction_is_refused_with_its_reason(tmp_path: Path):
+    pop = tmp_path / "pop.toml"
+    pop.write_text(POP)
+    res = invoke("predict", *CAPS, "--model", "hertz", "--population", pop, "--direction", "30", "--out", tmp_path / "o")
+    line = _user_error(res)
+    assert "--direction" in line and "--finger-param" in line
+    assert not (tmp_path / "o").exists()
 
 
 @pytest.mark.parametrize(("table", "words"), [
@@ -83,6 +113,8 @@ def test_study_file_table_netcdf_and_terminal(tmp_path: Path):
     ('radius = { distribution = "uniform", low = 0.007, high = "11mm" }', "has no unit"),
     ('tau0 = { distribution = "normal", mean = "8kPa", sd = "-1kPa" }', "must be non-negative"),
     ('tau0 = { distribution = "weibull", mean = "8kPa" }', "unknown distribution"),
+    ('radius = { distribution = "uniform", low = "7mm", high = "11mm" }\ncorrelations = [["radius", "modulus", 0.3]]',
+     "correlations: 'modulus' has no distribution"),
 ])
 def test_bad_population_files(tmp_path: Path, table: str, words: str):
     pop = tmp_path / "pop.toml"

@@ -18,7 +18,7 @@ def fingers_command() -> None:
     from rich.markup import escape
     from rich.table import Table
 
-    from ..finger import FINGER_PARAMS, FINGER_PRESETS
+    from ..finger import FINGER_PARAMS, FINGER_PRESETS, RIDGE_FRACTION
     from ..macro import GROSS_MODELS
     from ..meso import RIDGE_MODELS
 
@@ -49,6 +49,8 @@ def fingers_command() -> None:
     for p in FINGER_PARAMS:
         bounds = f", {p.bounds_text()}" if p.bounds_text() else ""
         say(console, f"  {p.name} [{p.unit}]{bounds}: {head(p)}, {p.doc}")
+    say(console, f"  {RIDGE_FRACTION.name} [{RIDGE_FRACTION.unit}], {RIDGE_FRACTION.bounds_text()}: --finger-param "
+                 "only, the constant-fraction ridge model with this A_fr/A_g (replaces the finger's ridge model)")
     for title, key, registry in (("pad (gross-area) models", "gross", GROSS_MODELS),
                                  ("ridge-area models", "ridges", RIDGE_MODELS)):
         say(console, "")

@@ -52,7 +52,8 @@ _PREDICT_HELP = {
     "--skin-poisson": "Skin Poisson ratio (overrides the finger's skin_poisson).",
     "--finger": "Finger preset (default 'default'); see fingerpad.finger.FINGER_PRESETS.",
     "--finger-param": "Finger override NAME=VALUE (radius, modulus, beta, tau0, alpha, skin_modulus, "
-                      "skin_poisson); repeatable, e.g. --finger-param radius=8mm.",
+                      "skin_poisson; ridge_fraction: the constant-fraction ridge model's A_fr/A_g); "
+                      "repeatable, e.g. --finger-param radius=8mm.",
     "--loads": "Normal loads: START:STOP:COUNT or one load; repeatable (default 0.1N:4N:40, log).",
     "--log": "Log-spaced load ranges (the default, also when a study file says nothing).",
     "--linear": "Evenly spaced load ranges.",
@@ -71,8 +72,9 @@ _PREDICT_HELP = {
              "whole (default 'out', or none with --json -).",
     "--json": "Also write the JSON to PATH ('-' for stdout, which replaces the table).",
     "--csv": "Also write the per-load table to PATH.csv (SI units in the headers).",
-    "--population": "Predict for a population of fingers: a preset (adults) or a TOML file with a [population] "
-                    "table (docs/population.md); a study file's own [population] table is used without it.",
+    "--population": "Predict for a population of fingers: a preset (adults), a TOML file with a [population] "
+                    "table, or a folder written by fingerpad analyse (one member per participant, its fitted "
+                    "E_s; docs/population.md); a study file's own [population] table is used without it.",
     "--quantiles": "Quantiles of the population bands, comma-separated (default 0.05,0.25,0.5,0.75,0.95).",
 }
 
@@ -263,11 +265,11 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
     import warnings
 
     from ..encode import to_jsonable
-    from ..study.outputs import FOLDER_FILES, check_outputs, prediction_json, write_outputs
+    from ..study.outputs import FOLDER_FILES, POPULATION_CSV, check_outputs, prediction_json, write_outputs
     from ..study.run import run_study
 
-    pop_figure = {"population.png": None} if population is not None else {}
-    check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {}), *pop_figure}))  # before solving
+    pop_files = dict.fromkeys(("population.png", *POPULATION_CSV)) if population is not None else {}
+    check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {}), *pop_files}))  # before solving
     err = stderr_console()
     with warnings_to(err):
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
@@ -342,7 +344,7 @@ def predict(
     out: Annotated[str | None, _popt("--out", "-o", panel=_OUTPUT, metavar="DIR")] = None,
     csv_path: Annotated[str | None, _popt("--csv", panel=_OUTPUT, metavar="PATH.csv")] = None,
     json_path: Annotated[str | None, _popt("--json", panel=_OUTPUT, metavar="PATH|-")] = None,
-    population: Annotated[str | None, _popt("--population", panel=_FINGER, metavar="NAME|FILE")] = None,
+    population: Annotated[str | None, _popt("--population", panel=_FINGER, metavar="NAME|FILE|DIR")] = None,
     quantiles: Annotated[str | None, _popt("--quantiles", panel=_OUTPUT, metavar="Q,Q,...")] = None,
 ) -> None:
     """Predict contact areas, contact zones and friction of a finger on a texture against load.

@@ -302,6 +302,19 @@ def prediction_rows(pred: Prediction) -> list[dict[str, Any]]:
     return [{header: row.get(key) for key, header in CSV_COLUMNS} for row in payload["results"]]
 
 
+#: The population's tables in the output folder (:mod:`.population_tables`).
+POPULATION_CSV = ("population_bands.csv", "population_members.csv")
+
+
+def _write_csv(path: Path, header: Sequence[str], rows: Sequence[Sequence[Any]]) -> None:
+    import csv
+
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(header)
+        writer.writerows(rows)
+
+
 def write_outputs(
     pred: Prediction,
     out_dir: str | os.PathLike[str] | None,
@@ -326,7 +339,8 @@ def write_outputs(
         More figures for the folder: file name -> ``Figure``.
     population
         A :class:`~fingerpad.study.population.PopulationResult` of which ``pred`` is the nominal:
-        the JSON gets its ``population`` entry, the NetCDF its ``member`` dimension.
+        the JSON gets its ``population`` entry, the NetCDF its ``member`` dimension, the folder
+        :data:`POPULATION_CSV` (:mod:`.population_tables`).
 
     Returns
     -------
@@ -340,7 +354,7 @@ def write_outputs(
     from .. import netcdf
     from ..plotting.prediction import figure_areas, figure_friction, figure_zones
 
-    names = [*OUTPUT_FILES, *(extra or {})]
+    names = [*OUTPUT_FILES, *(extra or {}), *(POPULATION_CSV if population is not None else ())]
     replaceable = sorted({*FOLDER_FILES, *names})
     check_outputs(out_dir, json_path, csv_path, replaceable)
     from ..encode import to_jsonable
@@ -372,6 +386,12 @@ def write_outputs(
             folder.write(OUTPUT_FILES[1], lambda tmp: netcdf.to_netcdf(
                 prediction_dataset(pred) if population is None else population.add_to_dataset(prediction_dataset(pred)),
                 tmp))
+            if population is not None:
+                from .population_tables import band_table, member_table
+
+                for name, table in zip(POPULATION_CSV, (band_table, member_table), strict=True):
+                    header, rows = table(population)
+                    folder.write(name, lambda tmp, header=header, rows=rows: _write_csv(tmp, header, rows))
             figures = dict(zip(OUTPUT_FILES[2:], (figure_areas(pred), figure_friction(pred), figure_zones(pred)),
                                strict=True))
             figures.update(extra or {})

@@ -95,7 +95,7 @@ def apply_flags(
     """
     # Here, not at the top: `fingerpad solve` imports this module for split_texture_options only,
     # and the study spec pulls in the finger, ridge and pad models (~40 ms of its start-up).
-    from ..finger import FINGER_FIELDS  # noqa: PLC0415
+    from ..finger import FINGER_FIELDS, RIDGE_FRACTION  # noqa: PLC0415
     from .spec import SECTION_KEYS  # noqa: PLC0415
 
     out: dict[str, dict[str, Any]] = {k: dict(v) for k, v in data.items()}
@@ -148,9 +148,15 @@ def apply_flags(
             raise FingerpadError(f"--finger-param: expected NAME=VALUE, got {item!r}")
         pname, value = (s.strip() for s in item.split("=", 1))
         pname = pname.replace("-", "_")
+        if pname == RIDGE_FRACTION.name:
+            # the constant-fraction ridge model with this A_fr/A_g, in place of the finger's ridge
+            # model: a population member with a ridge fraction is reproduced by this one option
+            out.setdefault("finger", {})["ridges"] = {"model": "constant_fraction", "fraction": value}
+            labels[("finger", "ridges")] = f"--finger-param {pname}"
+            continue
         if pname not in FINGER_FIELDS:
             raise FingerpadError(f"--finger-param: unknown finger parameter {pname!r} "
-                                 f"(known: {', '.join(FINGER_FIELDS)})")
+                                 f"(known: {', '.join([*FINGER_FIELDS, RIDGE_FRACTION.name])})")
         out.setdefault("finger", {})[pname] = value
         labels[("finger", pname)] = f"--finger-param {pname}"
     return out, labels

@@ -14,11 +14,14 @@ A ``[population]`` table (a study file's, a file of one's own, or a preset of
     tau0 = { distribution = "truncnormal", mean = "8kPa", sd = "3kPa", low = "1kPa" }
     alpha = { values = [0.05, 0.1, 0.12] }   # measured values, drawn with equal weight
     ridge_fraction = { distribution = "uniform", low = 0.1, high = 0.7 }
+    correlations = [["radius", "modulus", 0.3]]   # Spearman rank correlations (Gaussian copula)
 
 The names are the ``--finger-param`` names (:data:`fingerpad.finger.FINGER_PARAMS`) and
 ``ridge_fraction`` (the constant-fraction ridge model's A_fr/A_g). Every value is read and
 checked through the parameter's declaration (:class:`fingerpad.params.Param`); lengths and
-pressures need a unit. Parameters not listed keep the study's finger's value.
+pressures need a unit. Parameters not listed keep the study's finger's value. Correlations:
+:mod:`.population_correlations`. A folder written by ``fingerpad analyse`` is a population too,
+one member per participant (:mod:`.population_measured`).
 
 Cost: the unit cell's psi(p) depends on p/E* only (docs/solver.md, "One curve for every modulus
 and every scale"), so the BEM cell is solved once, over the union of the members' pressures in
@@ -39,9 +42,10 @@ import numpy as np
 
 from ..coupling import CurvePrediction, predict_curve
 from ..errors import FingerpadError
-from ..finger import FINGER_PARAMS, Finger
+from ..finger import FINGER_PARAMS, RIDGE_FRACTION, Finger
 from ..meso import ConstantFractionRidges
 from ..params import Param, _is_bare_number
+from .population_correlations import Correlation, correlate, parse_correlations
 from .population_presets import POPULATION_PRESETS
 from .run import P_HIGH, P_LOW, Prediction, centre_state, load_at_centre_pressure, run_study
 from .spec import Study
@@ -69,10 +73,9 @@ DISTRIBUTIONS: dict[str, tuple[str, ...]] = {
     "truncnormal": ("mean", "sd", "low", "high"),
     "values": ("values",),
 }
-_RIDGE_FRACTION = Param("ridge_fraction", "ratio", "constant-fraction ridge model's A_fr/A_g", 0.5,
-                        low=0, low_open=True, high=1)
-#: The parameters a population may vary: the finger's fields and the ridge fraction.
-POPULATION_PARAMS: dict[str, Param] = {p.name: p for p in (*FINGER_PARAMS, _RIDGE_FRACTION)}
+#: The parameters a population may vary: the finger's fields and the ridge fraction (all of them
+#: ``--finger-param`` names).
+POPULATION_PARAMS: dict[str, Param] = {p.name: p for p in (*FINGER_PARAMS, RIDGE_FRACTION)}
 
 
 @dataclass(frozen=True)
@@ -121,19 +124,32 @@ class Distribution:
 
 @dataclass(frozen=True)
 class Population:
-    """Distributions of the finger's parameters, a sample size, a seed and a sampling method."""
+    """Distributions of the finger's parameters, a sample size, a seed and a sampling method.
+
+    ``correlations``: (name, name, Spearman rank correlation) pairs, laid on the points by a
+    Gaussian copula (:mod:`.population_correlations`). ``measured``: fixed members (SI), e.g. the
+    participants of an ``analyse`` folder (:mod:`.population_measured`), returned by
+    :meth:`sample` as they are (``distributions`` then only records their values), labelled by
+    ``labels``; ``notes`` are passed on to the result.
+    """
 
     distributions: dict[str, Distribution]
     size: int = 200
     seed: int = 0
     method: str = "sobol"
     name: str = "custom"
+    correlations: tuple[Correlation, ...] = ()
+    measured: tuple[Mapping[str, float], ...] = ()
+    labels: tuple[str, ...] = ()
+    notes: tuple[str, ...] = ()
 
     def sample(self) -> list[dict[str, float]]:
         """The members' parameters (SI), by scrambled Sobol or Latin hypercube points (seeded,
-        so the same table gives the same members)."""
+        so the same table gives the same members), or the measured members as they are."""
         from scipy.stats import qmc
 
+        if self.measured:
+            return [dict(m) for m in self.measured]
         names = list(self.distributions)
         if not names:
             return [{} for _ in range(self.size)]
@@ -144,6 +160,7 @@ class Population:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # Sobol's note on sizes that are not powers of two
             u = engine.random(self.size)
+        u = correlate(u, self.correlations, names)
         columns = {n: self.distributions[n].ppf(u[:, j]) for j, n in enumerate(names)}
         members = []
         for i in range(self.size):
@@ -182,6 +199,7 @@ def population_from_table(table: Mapping[str, Any], where: str = "[population]",
         raise FingerpadError(f"{where}: expected a table")
     body = dict(table)
     size, seed, method = body.pop("size", 200), body.pop("seed", 0), body.pop("method", "sobol")
+    correlations = body.pop("correlations", [])
     if isinstance(size, bool) or not isinstance(size, int) or size < 1:
         raise FingerpadError(f"{where} size: expected a positive integer, got {size!r}")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
@@ -238,21 +256,27 @@ def population_from_table(table: Mapping[str, Any], where: str = "[population]",
                 if k in args and math.isfinite(args[k]) and not (kind == "truncnormal" and k in ("low", "high")):
                     par.check(args[k], f"{w} {k}")
         dists[key] = Distribution(par, kind, args)
-    return Population(dists, size=size, seed=seed, method=method, name=name)
+    pairs = parse_correlations(correlations, list(dists), where)
+    return Population(dists, size=size, seed=seed, method=method, name=name, correlations=pairs)
 
 
 def load_population(source: str | Mapping[str, Any]) -> Population:
     """A population from a preset name (:data:`POPULATION_PRESETS`), a TOML file with a
-    ``[population]`` table (a study file will do), or a table."""
+    ``[population]`` table (a study file will do), a folder written by ``fingerpad analyse``
+    (:func:`~.population_measured.population_from_results`), or a table."""
     if isinstance(source, Mapping):
         return population_from_table(source)
     key = str(source).strip().lower()
     if key in POPULATION_PRESETS:
         return population_from_table(POPULATION_PRESETS[key], where=f"population {key!r}", name=key)
     path = Path(source)
+    if path.is_dir():
+        from .population_measured import population_from_results
+
+        return population_from_results(path)
     if not path.is_file():
-        raise FingerpadError(f"--population: {source!r} is neither a preset ({', '.join(POPULATION_PRESETS)}) "
-                             "nor a file")
+        raise FingerpadError(f"--population: {source!r} is neither a preset ({', '.join(POPULATION_PRESETS)}), "
+                             "a file nor a folder written by fingerpad analyse")
     import tomllib
 
     try:
@@ -369,6 +393,8 @@ class PopulationResult:
             "seed": self.population.seed,
             "method": self.population.method,
             "distributions": {k: {"distribution": d.kind, **d.args} for k, d in self.population.distributions.items()},
+            "correlations": [list(c) for c in self.population.correlations],
+            "labels": list(self.population.labels),
             "model": self.nominal.primary_model,
             "loads": self.nominal.study.loads,
             "quantiles": self.quantiles(),
@@ -385,6 +411,15 @@ class PopulationResult:
         }
 
 
+#: Why ``--population`` and ``--direction`` are refused together, and what to do instead.
+DIRECTION_REFUSED = (
+    "--population with --direction: not supported. The directional friction comes from the "
+    "deflection of the compliant features under each finger's own shear (its E_s, tau0 and alpha), so "
+    "every member would need its own directional ramps (a population of solves, not one cell); run the "
+    "population without --direction for the bands, then predict --direction for the members of interest "
+    "with their --finger-param values (population.members in the JSON)")
+
+
 def run_population(study: Study, population: Population,
                    quantiles: Sequence[float] = DEFAULT_QUANTILES) -> PopulationResult:
     """Predict every member of ``population`` on the study's texture (see the module docstring).
@@ -397,8 +432,8 @@ def run_population(study: Study, population: Population,
     Raises
     ------
     FingerpadError
-        A sliding direction (not supported with a population yet), bad quantiles, a member
-        outside its parameter's bounds.
+        A sliding direction (refused: :data:`DIRECTION_REFUSED` says why), bad quantiles, a
+        member outside its parameter's bounds.
     """
     from ..micro.hertz import hertz_cell_for
 
@@ -406,8 +441,7 @@ def run_population(study: Study, population: Population,
     if not levels or any(not (0 <= q <= 1) for q in levels):
         raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {list(quantiles)}")
     if study.direction is not None:
-        raise FingerpadError("--population with --direction is not supported yet (directional friction "
-                             "of a population); drop one of them")
+        raise FingerpadError(DIRECTION_REFUSED)
     members = population.sample()
     fingers = [member_finger(study.finger, m) for m in members]  # bounds checked before any solve
     nominal = run_study(study)
@@ -439,7 +473,7 @@ def run_population(study: Study, population: Population,
             crit.append(curve.critical_load_hertz if curve.critical_load_hertz is not None else math.nan)
             full.append(math.nan)
         states.append([centre_state(p, mcell) for p in 1.5 * curve.load / curve.ridge_area])
-    notes = []
+    notes = list(population.notes)
     if study.model == "both":
         notes.append("population: the BEM curves only (model both)")
     return PopulationResult(nominal, population, members, curves, np.asarray(crit, float), np.asarray(full, float),

@@ -36,5 +36,7 @@ POPULATION_PRESETS: dict[str, dict[str, Any]] = {
         # ASSUMED: no value in docs/model.md; 0.05-0.2 about the assumed default 0.1 (friction
         # "mostly adhesive", so the hysteresis term stays small).
         "beta": {"distribution": "uniform", "low": 0.05, "high": 0.2},
+        # no "correlations": docs/model.md (the thesis and its literature) gives no correlation
+        # between any two of these parameters, so they are drawn independently.
     },
 }
