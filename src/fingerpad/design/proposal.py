@@ -110,7 +110,7 @@ def _population_shortfall(problem: DesignProblem, goal: PopulationGoal, candidat
     parts = []
     for t, table in best.population["quantiles"].items():
         parts.append(f"{t}: {q:g} quantile {table[f'{q:g}']:.3g}, 5-95 % {table['0.05']:.3g}-{table['0.95']:.3g}")
-    params = ", ".join(f"{k} = {v:.4g}" for k, v in best.params.items())
+    params = ", ".join(f"{a.label()} {a.display(best.params[a.name]):.4g}" for a in problem.axes)
     extra = [v for v in best.violations if not v.startswith("coverage")]
     return f"{head} ({params}; {'; '.join(parts)}{'; ' + '; '.join(extra) if extra else ''})"
 
