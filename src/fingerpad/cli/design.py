@@ -189,9 +189,9 @@ def _print_population_candidates(result: Any) -> None:
         for t in problem.targets:
             qs = pop["quantiles"][str(t)]
             cells.append(f"{qs[level]:.3g} [{qs['0.05']:.3g}-{qs['0.95']:.3g}]")
+        verdict = "yes" if c.meets else "no: " + "; ".join(c.violations or ["off target"])
         table.add_row(*[f"{a.display(c.params[a.name]):.4g}" for a in problem.axes], *cells,
-                      f"{100 * pop['coverage']:.3g} %", f"{c.critical_load:.3g}",
-                      "yes" if c.meets else "no: " + "; ".join(c.violations or ["off target"]))
+                      f"{100 * pop['coverage']:.3g} %", f"{c.critical_load:.3g}", verdict)
     stdout_console(120).print(table)
 
 

@@ -84,7 +84,7 @@ class DesignResult:
         if best is not None and best.meets:
             return None
         if self.goal is not None:
-            return _population_shortfall(self.problem, self.goal, self.candidates)
+            return None if self.met else _population_shortfall(self.problem, self.goal, self.candidates)
         what = ", ".join(f"{k} = {v:.3g}" for k, v in best.values.items()) if best else "nothing valid"
         if best is not None and best.violations:
             what += f" ({'; '.join(best.violations)})"
@@ -293,13 +293,13 @@ def design_textures(
 
 
 def _population_rank(goal: PopulationGoal) -> Callable[[Candidate], Any]:
-    """Best first: for a coverage the highest coverage (then the objective), for a quantile the
-    objective; candidates without a prediction last."""
+    """Best first: those that meet the goal, then for a coverage the highest coverage (then the
+    objective), for a quantile the objective; candidates without a prediction last."""
     def key(c: Candidate) -> Any:
         obj = c.objective if math.isfinite(c.objective) else math.inf
         if goal.coverage is not None:
-            return (-c.population.get("coverage", -1.0), obj)
-        return (obj,)
+            return (not c.meets, -c.population.get("coverage", -1.0), obj)
+        return (not c.meets, obj)
 
     return key
 

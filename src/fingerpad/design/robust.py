@@ -94,12 +94,14 @@ class PopulationGoal:
         return max(1, math.ceil(round(float(self.coverage or 0) * n, 9)))
 
     def describe(self) -> str:
+        """The goal in words, e.g. ``90 % of the population (adults, 1000 fingers)``."""
+        which = f"({self.population.name}, {self.population.size} fingers)"
         if self.coverage is not None:
-            return f"{100 * self.coverage:g} % of the population ({self.population.name}, {self.population.size} fingers)"
-        return f"the {self.quantile:g} quantile of the population ({self.population.name}, " \
-               f"{self.population.size} fingers)"
+            return f"{100 * self.coverage:g} % of the population {which}"
+        return f"the {self.quantile:g} quantile of the population {which}"
 
     def as_dict(self) -> dict[str, Any]:
+        """The ``population`` entry of the design document (plain data)."""
         pop = self.population
         return {"name": pop.name, "size": pop.size, "seed": pop.seed, "method": pop.method,
                 "varied": list(pop.distributions), "coverage": self.coverage, "quantile": self.quantile,
@@ -143,7 +145,7 @@ class MemberTable:
     study
         The study whose finger and material the members vary (its loads are the targets' loads).
     members
-        The members' parameters (SI), from :meth:`Population.sample`.
+        The members' parameters (SI), from ``Population.sample()``.
 
     Raises
     ------
@@ -169,7 +171,8 @@ class MemberTable:
 
     def pressure_range(self) -> tuple[float, float]:
         """The local pressures the members produce at the loads, in units of their E1*:
-        ``[P_LOW min(F/A_fr/E), P_HIGH max(F/A_fr/E)]`` (as :func:`run_population` prepares)."""
+        ``[P_LOW min(F/A_fr/E), P_HIGH max(F/A_fr/E)]``, as
+        :func:`~fingerpad.study.population.run_population` prepares."""
         from ..study.run import P_HIGH, P_LOW
 
         p = self.loads / self.ridge / self.moduli[:, None]
@@ -187,7 +190,7 @@ class MemberTable:
         dict
             ``area_ratio``, ``mu``, ``mu_ref``, ``mu_rel``: ``(members, loads)`` arrays;
             ``critical_load``: per member (N; ``inf`` when the cell never reaches its transition,
-            NaN when no crossing lies in :data:`LOAD_GRID`).
+            NaN when no crossing lies in :data:`fingerpad.design.robust.LOAD_GRID`).
         """
         from ..friction import mu_checked
         from ..macro.pressure import disc_average
@@ -204,7 +207,7 @@ class MemberTable:
 
     def critical_loads(self, transition: np.ndarray) -> np.ndarray:
         """Per member, the load (N) at which its centre pressure first reaches ``transition[i]``
-        (Pa), by log-log interpolation on :data:`LOAD_GRID`."""
+        (Pa), by log-log interpolation on :data:`fingerpad.design.robust.LOAD_GRID`."""
         out = np.full(transition.shape, math.nan)
         out[np.isinf(transition)] = math.inf
         finite = np.isfinite(transition) & (transition > 0)
@@ -235,7 +238,7 @@ def _quantile(values: np.ndarray, q: float) -> float:
     return math.inf if out >= np.finfo(float).max / 2 else out
 
 
-def score(problem: DesignProblem, goal: PopulationGoal, cand: Candidate, values: Mapping[str, np.ndarray],
+def _score(problem: DesignProblem, goal: PopulationGoal, cand: Candidate, values: Mapping[str, np.ndarray],
           critical: np.ndarray, penalty: float) -> None:
     """Score ``cand`` from its members' values at the targets (``values[str(target)]``, one per
     member) and critical loads (N), plus the texture's own ``penalty``; see the module docstring.
@@ -318,13 +321,27 @@ class _Screen:
             return cand
         index = {float(f): i for i, f in enumerate(table.loads)}
         values = {str(t): got[t.quantity][:, index[float(t.load)]] for t in problem.targets}
-        score(problem, self.goal, cand, values, got["critical_load"], texture_limits(problem, cand, pred.texture))
+        _score(problem, self.goal, cand, values, got["critical_load"], texture_limits(problem, cand, pred.texture))
         return cand
 
 
 def screen_candidate(problem: DesignProblem, goal: PopulationGoal) -> Any:
-    """The search's cheap evaluation of a texture for ``goal``: a callable ``(problem, params)
-    -> Candidate`` for :func:`fingerpad.design.inverse.search` (see the module docstring)."""
+    """The search's cheap evaluation of a texture for ``goal`` (see the module docstring).
+
+    Parameters
+    ----------
+    problem
+        The design problem (targets, tolerance, limits; SI units).
+    goal
+        The population and its coverage or quantile.
+
+    Returns
+    -------
+    callable
+        ``(problem, params) -> Candidate`` for :func:`fingerpad.design.inverse.search`: the
+        nominal finger's direct prediction (one unit cell), then every member on that cell at
+        once; a texture that cannot exist gives a candidate with its ``reason``.
+    """
     return _Screen(goal)
 
 
@@ -355,7 +372,7 @@ def population_candidate(problem: DesignProblem, goal: PopulationGoal, params: M
     for t in problem.targets:
         i = int(np.argmin(np.abs(f - t.load)))
         values[str(t)] = res.values(_CURVE_NAME[t.quantity])[:, i]
-    score(problem, goal, cand, values, res.critical_load, texture_limits(problem, cand, res.nominal.texture))
+    _score(problem, goal, cand, values, res.critical_load, texture_limits(problem, cand, res.nominal.texture))
     if curve_loads is not None:
         keep = np.isin(f, np.asarray(curve_loads, float))
         cur = res.nominal.primary
