@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -25,22 +26,8 @@ from fingerpad.study.spec import read_study_file, study_from_dict
 
 runner = CliRunner()
 
-STUDY = """
-[texture]
-name = "caps"
-radius = "100um"
-height = "20um"
-spacing = "175um"
-lattice = "hexagonal"
-
-[material]
-modulus = "0.5GPa"
-poisson = 0.4
-
-[model]
-kind = "{kind}"
-grid = 16
-"""
+#: The example study (caps R 100 um, h 20 um, hexagonal spacing 175 um on a 0.5 GPa foil).
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "study.toml"
 
 #: A narrow population (skin modulus and tau0 spread by a few per cent): reachable coverages.
 NARROW = {"size": 32, "seed": 2,
@@ -53,15 +40,13 @@ WIDE = {"size": 32, "seed": 1,
 VARY = {"spacing": ("150um", "400um")}
 
 
-@pytest.fixture
-def cache(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    monkeypatch.setenv("FINGERPAD_CACHE", str(tmp_path / "cache"))
-    return tmp_path / "cache"
-
-
 def study_file(tmp_path: Path, kind: str = "hertz") -> Path:
+    """The example study with the model ``kind`` on a coarse grid (16 px along x)."""
+    text = EXAMPLE.read_text(encoding="utf-8")
+    text = re.sub(r'(?m)^kind = "both"', f'kind = "{kind}"\ngrid = 16', text)
+    assert f'kind = "{kind}"' in text
     path = tmp_path / f"study-{kind}.toml"
-    path.write_text(STUDY.format(kind=kind))
+    path.write_text(text, encoding="utf-8")
     return path
 
 
@@ -75,7 +60,7 @@ def direct(study: Path, spacing: float, table: dict, load: float) -> np.ndarray:
 
 
 @pytest.mark.parametrize("kind", ["hertz", "bem"])
-def test_the_search_screen_is_the_direct_population_prediction(tmp_path, cache, kind):
+def test_the_search_screen_is_the_direct_population_prediction(tmp_path, kind):
     """The vectorised screen (every member on the one cell at p E0/E_i) gives run_population's
     numbers to round-off: quantiles of the targets, critical loads, coverage, objective."""
     data = read_study_file(str(study_file(tmp_path, kind)))
@@ -96,7 +81,7 @@ def test_the_search_screen_is_the_direct_population_prediction(tmp_path, cache, 
     assert screened.objective == pytest.approx(checked.objective, rel=1e-9)
 
 
-def test_robust_design_round_trip(tmp_path, cache):
+def test_robust_design_round_trip(tmp_path):
     """The proposed texture, predicted directly for the whole population (recomputed here with
     run_population), has at least 90 % of the members within the tolerance of the target, and
     the command reports that coverage; the Python API gives the command's document."""
@@ -125,7 +110,7 @@ def test_robust_design_round_trip(tmp_path, cache):
     assert json.loads(json.dumps(api.document())) == doc
 
 
-def test_zero_spread_coverage_one_is_the_plain_design(tmp_path, cache):
+def test_zero_spread_coverage_one_is_the_plain_design(tmp_path):
     """A population whose members are all the study's finger, asked for 100 % coverage, searches
     the same objective as the plain design and proposes the same texture."""
     study = study_file(tmp_path)
@@ -142,7 +127,7 @@ def test_zero_spread_coverage_one_is_the_plain_design(tmp_path, cache):
     assert best.values[target] == pytest.approx(plain.candidates[0].values[target], rel=1e-12)
 
 
-def test_quantile_target_met_by_the_median_of_a_direct_prediction(tmp_path, cache):
+def test_quantile_target_met_by_the_median_of_a_direct_prediction(tmp_path):
     study = study_file(tmp_path)
     target_value = float(np.median(direct(study, 300e-6, WIDE, 1.0)))
     target = f"mu_rel={target_value:.6g}@1N"
@@ -156,7 +141,7 @@ def test_quantile_target_met_by_the_median_of_a_direct_prediction(tmp_path, cach
     assert best.population["coverage"] < 0.9
 
 
-def test_unreachable_coverage_reports_the_best_coverage(tmp_path, cache):
+def test_unreachable_coverage_reports_the_best_coverage(tmp_path):
     """When no texture holds 90 % of a wide population within 5 %, the command says how close the
     best gets (its coverage and quantiles), exits 0 and writes the candidates."""
     study = study_file(tmp_path)
