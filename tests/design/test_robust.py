@@ -218,3 +218,17 @@ def test_the_goal_checks_its_ranges_in_python_too():
     goal = robust.PopulationGoal(pop, coverage=0.9)
     assert goal.needed == math.ceil(0.9 * 32) and 0.5 in goal.levels
     assert robust.PopulationGoal(pop, quantile=0.3).levels == (0.05, 0.25, 0.3, 0.5, 0.75, 0.95)
+
+
+def test_the_study_files_population_table_serves_coverage_and_quantile(tmp_path):
+    """--coverage or --quantile without --population use the study file's [population] table, as
+    predict does; without either the table is ignored and the plain design runs."""
+    study = study_file(tmp_path)
+    study.write_text(study.read_text(encoding="utf-8") + "\n[population]\nsize = 8\nseed = 2\n"
+                     'skin_modulus = { distribution = "uniform", low = "0.29MPa", high = "0.31MPa" }\n',
+                     encoding="utf-8")
+    result = design_textures(study, VARY, ["mu_rel=0.4@1N"], quantile=0.5, evaluations=3, candidates=1)
+    assert result.goal is not None and result.goal.population.size == 8
+    assert result.goal.population.name == study.stem and result.candidates[0].population["size"] == 8
+    plain = design_textures(study, VARY, ["mu_rel=0.4@1N"], evaluations=3, candidates=1)
+    assert plain.goal is None and not plain.candidates[0].population

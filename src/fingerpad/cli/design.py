@@ -96,7 +96,8 @@ def design_command(
     population: Annotated[str | None, typer.Option(
         "--population", metavar="NAME|FILE", help="Design for a population of fingers: a preset (adults) or a TOML "
                                                   "file with a [population] table (docs/population.md); needs "
-                                                  "--coverage or --quantile.")] = None,
+                                                  "--coverage or --quantile, which without it use the study "
+                                                  "file's [population] table.")] = None,
     coverage: Annotated[str | None, typer.Option(
         "--coverage", metavar="C", help="With --population: at least this fraction of the fingers, in (0, 1], meets "
                                         "every target within --tolerance, e.g. 0.9.")] = None,

@@ -225,7 +225,8 @@ def design_textures(
         Design for a population of fingers (a preset name such as ``"adults"``, a TOML file
         with a ``[population]`` table, the table itself, or a
         :class:`~fingerpad.study.population.Population`); needs ``coverage`` or ``quantile``
-        (:mod:`fingerpad.design.robust`).
+        (:mod:`fingerpad.design.robust`). Without it, ``coverage`` or ``quantile`` use the
+        study's own ``[population]`` table; the table is ignored when neither is given.
     coverage
         With ``population``: least fraction of the members, in (0, 1], that must meet every
         target within ``tolerance`` (and have a critical load of at least
@@ -253,10 +254,17 @@ def design_textures(
     if isinstance(study, Mapping):
         data = {k: dict(v) for k, v in study.items() if k != "sweep"}
     else:
-        data = read_study_file(study, extra_sections=("sweep",))
+        data = read_study_file(study, extra_sections=("sweep", "population"))
         data.pop("sweep", None)
+    table = data.pop("population", None)
     base = study_from_dict(data)  # the base must be a valid study
     axes = free_axes(vary, data.get("texture", {}).get("name"))
+    if population is None and table is not None and (coverage is not None or quantile is not None):
+        # the study file's own [population] table, as predict uses it
+        from ..study.population import population_from_table
+
+        name = "study" if isinstance(study, Mapping) else os.path.splitext(os.path.basename(study))[0]
+        population = population_from_table(table, where="[population]", name=name)
     goal = population_goal(population, coverage, quantile)
     parsed = [t if isinstance(t, Target) else parse_target(t) for t in targets]
     if not parsed:

@@ -125,7 +125,7 @@ def population_goal(population: str | Mapping[str, Any] | Population | None, cov
     if population is None:
         if cov is not None or qua is not None:
             raise FingerpadError(f"{'--coverage' if cov is not None else '--quantile'} needs a population "
-                                 "(--population NAME|FILE)")
+                                 "(--population NAME|FILE, or a [population] table in the study file)")
         return None
     if cov is not None and qua is not None:
         raise FingerpadError("--coverage and --quantile exclude each other: give one")
