@@ -232,3 +232,28 @@ def test_the_study_files_population_table_serves_coverage_and_quantile(tmp_path)
     assert result.goal.population.name == study.stem and result.candidates[0].population["size"] == 8
     plain = design_textures(study, VARY, ["mu_rel=0.4@1N"], evaluations=3, candidates=1)
     assert plain.goal is None and not plain.candidates[0].population
+
+
+def test_candidates_from_a_sweep_are_screened_and_predicted_for_the_population(tmp_path, monkeypatch):
+    """--from-sweep with a population: the sweep's ranked points are screened for the population
+    and the reported ones predicted directly for it (the store and its ranking stubbed here; the
+    sweep itself is tested in test_sweep.py)."""
+    from fingerpad.design import store
+
+    class Store:
+        variables = {"spacing": None}
+
+        def load(self):
+            return self
+
+    monkeypatch.setattr(store, "open_sweep", lambda path: Store())
+    ranked = [{"params": {"spacing": s}, "score": 0.0} for s in (200e-6, 260e-6, 500e-6)]  # 500 um: out of the box
+    monkeypatch.setattr(proposal, "rank_sweep", lambda ds, targets, limit: ranked)
+    study = study_file(tmp_path)
+    result = design_textures(study, VARY, ["mu_rel=0.4@1N"], from_sweep="sweep.zarr", population=NARROW,
+                             coverage=0.5, candidates=2)
+    assert result.source == "sweep sweep.zarr"
+    assert sorted(round(c.params["spacing"] * 1e6) for c in result.candidates) == [200, 260]
+    for cand in result.candidates:
+        values = direct(study, cand.params["spacing"], NARROW, 1.0)
+        assert cand.population["coverage"] == np.mean(np.abs(values / 0.4 - 1) <= 0.05)
