@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
@@ -93,13 +93,25 @@ def design_command(
                                            help="Relative deviation within which a target is met.")] = "0.05",
     json_path: Annotated[str | None, typer.Option("--json", metavar="PATH|-",
                                                   help="Write the candidates with their curves as JSON.")] = None,
+    population: Annotated[str | None, typer.Option(
+        "--population", metavar="NAME|FILE", help="Design for a population of fingers: a preset (adults) or a TOML "
+                                                  "file with a [population] table (docs/population.md); needs "
+                                                  "--coverage or --quantile, which without it use the study "
+                                                  "file's [population] table.")] = None,
+    coverage: Annotated[str | None, typer.Option(
+        "--coverage", metavar="C", help="With --population: at least this fraction of the fingers, in (0, 1], meets "
+                                        "every target within --tolerance, e.g. 0.9.")] = None,
+    quantile: Annotated[str | None, typer.Option(
+        "--quantile", metavar="Q", help="With --population: this quantile of the fingers, in [0, 1], meets the "
+                                        "targets, e.g. 0.5 (the median finger).")] = None,
 ) -> None:
     """Find textures of a family, within bounds, that give a wanted friction (inverse design).
 
-    Every number reported for a candidate comes from a direct prediction of that texture;
-    candidates closer than the optimiser's tolerance are one design and listed once.
+    Every number reported for a candidate comes from a direct prediction of that texture (with
+    --population, a direct prediction of every finger of the population on it); candidates
+    closer than the optimiser's tolerance are one design and listed once.
     Example: fingerpad design examples/study.toml --vary spacing=100um:400um --vary height=5um:40um
-    --target mu_rel=0.5@1N --min-feature 20um
+    --target mu_rel=0.5@1N --min-feature 20um --population adults --coverage 0.9
     """
     import json
     import sys
@@ -116,13 +128,16 @@ def design_command(
             result = design_textures(study, vary, target, min_critical_load=min_critical_load,
                                      min_feature=min_feature, max_aspect=max_aspect, tolerance=tolerance,
                                      from_sweep=from_sweep, candidates=candidates, evaluations=evaluations,
-                                     progress=bar)
+                                     progress=bar, population=population, coverage=coverage, quantile=quantile)
     if json_path == "-":
         sys.stdout.write(json.dumps(result.document(), indent=2) + "\n")
     else:
         if json_path is not None:
             write_text(json_path, json.dumps(result.document(), indent=2) + "\n")
-        _print_candidates(result.candidates, result.problem.axes, result.problem.targets)
+        if result.goal is None:
+            _print_candidates(result.candidates, result.problem.axes, result.problem.targets)
+        else:
+            _print_population_candidates(result)
     shortfall = result.shortfall()
     if shortfall:
         say(err, shortfall)
@@ -143,6 +158,41 @@ def _print_candidates(best: list, axes: list, targets: list) -> None:
         table.add_row(*[f"{a.display(c.params[a.name]):.4g}" for a in axes],
                       *[f"{c.values.get(str(t), float('nan')):.4g}" for t in targets],
                       f"{c.critical_load:.3g}", "yes" if c.meets else "no: " + "; ".join(c.violations or ["off target"]))
+    stdout_console(120).print(table)
+
+
+def _print_population_candidates(result: Any) -> None:
+    """The candidates of a design for a population: per target the members' median and 5-95 %
+    band (or the quantile asked for), the coverage, the critical load, whether it meets."""
+    from rich import box
+    from rich.table import Table
+
+    goal, problem = result.goal, result.problem
+    q = goal.quantile
+    level = f"{q:g}" if q is not None else "0.5"
+    title = (f"candidates for {goal.describe()} (each a direct population prediction), best first; "
+             f"per target the {'median' if q is None else f'{q:g} quantile'} [5-95 %]")
+    table = Table(title=title, box=box.SIMPLE_HEAD)
+    for a in problem.axes:
+        table.add_column(a.label(), justify="right")
+    for t in problem.targets:
+        table.add_column(str(t), justify="right")
+    crit_level = f"{1 - goal.coverage:g}" if goal.coverage is not None else level
+    for col in ("coverage", f"F_crit q{crit_level} (N)", "meets"):
+        table.add_column(col, justify="right")
+    for c in result.candidates:
+        pop = c.population
+        if not pop:
+            table.add_row(*[f"{a.display(c.params[a.name]):.4g}" for a in problem.axes],
+                          *["-" for _ in problem.targets], "-", "-", "no: " + (c.reason or "no prediction"))
+            continue
+        cells = []
+        for t in problem.targets:
+            qs = pop["quantiles"][str(t)]
+            cells.append(f"{qs[level]:.3g} [{qs['0.05']:.3g}-{qs['0.95']:.3g}]")
+        verdict = "yes" if c.meets else "no: " + "; ".join(c.violations or ["off target"])
+        table.add_row(*[f"{a.display(c.params[a.name]):.4g}" for a in problem.axes], *cells,
+                      f"{100 * pop['coverage']:.3g} %", f"{c.critical_load:.3g}", verdict)
     stdout_console(120).print(table)
 
 

@@ -24,7 +24,8 @@ import numpy as np
 from ..errors import FingerpadError
 from .axes import Axis
 
-__all__ = ["QUANTITIES", "XATOL", "Candidate", "DesignProblem", "Target", "parse_target", "rank_sweep", "search"]
+__all__ = ["QUANTITIES", "XATOL", "Candidate", "DesignProblem", "Target", "candidate_study", "critical_penalty",
+           "parse_target", "rank_sweep", "search", "texture_limits"]
 
 #: The optimiser's parameter tolerance, in the unit box of the free parameters (log-scaled for
 #: log axes): Nelder-Mead stops refining below it, and candidates closer than it are one design
@@ -136,11 +137,17 @@ class Candidate:
     violations: list[str] = field(default_factory=list)
     curve: dict[str, list[float]] = field(default_factory=dict)
     reason: str = ""
+    #: For a design for a population of fingers: its coverage and quantiles
+    #: (:func:`fingerpad.design.robust.population_candidate`); empty otherwise.
+    population: dict[str, Any] = field(default_factory=dict)
 
     def as_dict(self) -> dict[str, Any]:
-        return {"params": self.params, "values": self.values, "critical_load": self.critical_load,
-                "feature": self.feature, "aspect": self.aspect, "objective": self.objective, "meets": self.meets,
-                "violations": self.violations, "curve": self.curve, "reason": self.reason}
+        out = {"params": self.params, "values": self.values, "critical_load": self.critical_load,
+               "feature": self.feature, "aspect": self.aspect, "objective": self.objective, "meets": self.meets,
+               "violations": self.violations, "curve": self.curve, "reason": self.reason}
+        if self.population:
+            out["population"] = self.population
+        return out
 
 
 def _study_data(problem: DesignProblem, params: Mapping[str, float]) -> dict[str, dict[str, Any]]:
@@ -150,26 +157,67 @@ def _study_data(problem: DesignProblem, params: Mapping[str, float]) -> dict[str
     return data
 
 
+def candidate_study(problem: DesignProblem, params: Mapping[str, float], loads: Sequence[float]) -> Any:
+    """The study of one texture of the box (the base with ``params``) at ``loads`` (N).
+
+    Raises
+    ------
+    FingerpadError
+        A texture that cannot exist (overlapping asperities, say).
+    """
+    from ..study.spec import study_from_dict
+
+    data = _study_data(problem, params)
+    data.setdefault("loads", {}).pop("range", None)
+    data["loads"]["values"] = [float(f) for f in loads]
+    data["loads"].pop("zones_at", None)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return study_from_dict(data)
+
+
+def critical_penalty(critical_load: float, limit: float | None) -> tuple[float, str | None]:
+    """The objective's penalty for a critical load (N) below ``limit`` (N) and the violation's
+    text; ``(0, None)`` when it is met or there is no limit (a NaN load breaks the limit)."""
+    if limit is None or critical_load >= limit:
+        return 0.0, None
+    ratio = critical_load / limit if critical_load > 0 else 0.0
+    return (1.0 - min(ratio, 1.0)) ** 2 + 0.01, f"critical load {critical_load:.3g} N below {limit:g} N"
+
+
+def texture_limits(problem: DesignProblem, cand: Candidate, texture: Any) -> float:
+    """Fill ``cand.feature`` and ``cand.aspect`` from the texture family's feature and return
+    the penalty of the manufacturing limits it breaks (each also added to ``cand.violations``)."""
+    from ..textures import registry
+
+    fam = registry().get(texture.family or "")
+    if fam is not None and fam.features is not None:
+        cand.feature, height = fam.features(texture)
+        cand.aspect = height / cand.feature if cand.feature > 0 else math.inf
+    penalty = 0.0
+    if problem.min_feature is not None and not cand.feature >= problem.min_feature:
+        cand.violations.append(f"feature {cand.feature * 1e6:.3g} um below {problem.min_feature * 1e6:g} um")
+        penalty += (1.0 - cand.feature / problem.min_feature) ** 2 + 0.01
+    if problem.max_aspect is not None and not cand.aspect <= problem.max_aspect:
+        cand.violations.append(f"aspect ratio {cand.aspect:.3g} above {problem.max_aspect:g}")
+        penalty += (cand.aspect / problem.max_aspect - 1.0) ** 2 + 0.01
+    return penalty
+
+
 def predict_candidate(problem: DesignProblem, params: Mapping[str, float], loads: Sequence[float] | None = None,
                       curve_loads: Sequence[float] | None = None) -> Candidate:
     """A direct prediction of one texture, scored against the problem (objective: the mean of
     the squared relative deviations from the targets, plus penalties for broken limits)."""
     from ..study.run import run_study
-    from ..study.spec import study_from_dict
-    from ..textures import registry
 
     cand = Candidate(params=dict(params))
     target_loads = problem.loads
     all_loads = np.unique(np.concatenate([target_loads, np.asarray(curve_loads if curve_loads is not None else [],
                                                                      float)]))
-    data = _study_data(problem, params)
-    data.setdefault("loads", {}).pop("range", None)
-    data["loads"]["values"] = [float(f) for f in all_loads]
-    data["loads"].pop("zones_at", None)
     try:
+        study = candidate_study(problem, params, all_loads)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            study = study_from_dict(data)
             pred = run_study(study)
     except FingerpadError as exc:
         cand.reason = str(exc)
@@ -187,21 +235,10 @@ def predict_candidate(problem: DesignProblem, params: Mapping[str, float], loads
     if crit is None or not math.isfinite(crit) and not math.isinf(crit):
         crit = pred.critical_load.get("hertz")
     cand.critical_load = math.nan if crit is None else float(crit)
-    fam = registry().get(pred.texture.family or "")
-    if fam is not None and fam.features is not None:
-        cand.feature, height = fam.features(pred.texture)
-        cand.aspect = height / cand.feature if cand.feature > 0 else math.inf
-    penalty = 0.0
-    if problem.min_critical_load is not None and not cand.critical_load >= problem.min_critical_load:
-        cand.violations.append(f"critical load {cand.critical_load:.3g} N below {problem.min_critical_load:g} N")
-        ratio = cand.critical_load / problem.min_critical_load if cand.critical_load > 0 else 0.0
-        penalty += (1.0 - min(ratio, 1.0)) ** 2 + 0.01
-    if problem.min_feature is not None and not cand.feature >= problem.min_feature:
-        cand.violations.append(f"feature {cand.feature * 1e6:.3g} um below {problem.min_feature * 1e6:g} um")
-        penalty += (1.0 - cand.feature / problem.min_feature) ** 2 + 0.01
-    if problem.max_aspect is not None and not cand.aspect <= problem.max_aspect:
-        cand.violations.append(f"aspect ratio {cand.aspect:.3g} above {problem.max_aspect:g}")
-        penalty += (cand.aspect / problem.max_aspect - 1.0) ** 2 + 0.01
+    penalty, violation = critical_penalty(cand.critical_load, problem.min_critical_load)
+    if violation:
+        cand.violations.append(violation)
+    penalty += texture_limits(problem, cand, pred.texture)
     cand.objective = float(np.mean(errors)) + penalty
     cand.meets = not cand.violations and all(math.sqrt(e) <= problem.tolerance for e in errors)
     if curve_loads is not None:
@@ -223,14 +260,18 @@ def _to_params(problem: DesignProblem, u: np.ndarray) -> dict[str, float]:
 
 
 def search(problem: DesignProblem, *, initial: int | None = None, max_evaluations: int = 60, seed: int = 0,
-           progress: Callable[[int, int], None] | None = None) -> list[Candidate]:
+           progress: Callable[[int, int], None] | None = None,
+           evaluate: Callable[[DesignProblem, dict[str, float]], Candidate] | None = None) -> list[Candidate]:
     """Candidates by optimisation with the BEM in the loop, best first (all evaluated points).
 
     A Latin hypercube of ``initial`` points (default: half the evaluations: a target met in a
     narrow band, next to a constraint, is found by covering the box first), then Nelder-Mead
     from the best of them in the unit box (log-scaled for log axes), up to ``max_evaluations``
-    direct predictions in all.
+    direct predictions in all. ``evaluate(problem, params)`` scores one texture (default
+    :func:`predict_candidate`; a population design passes its own, see
+    :mod:`fingerpad.design.robust`).
     """
+    score = predict_candidate if evaluate is None else evaluate
     if initial is None:
         initial = max(8, max_evaluations // 2)
     from scipy.optimize import minimize
@@ -238,13 +279,13 @@ def search(problem: DesignProblem, *, initial: int | None = None, max_evaluation
 
     evaluated: dict[tuple[float, ...], Candidate] = {}
 
-    def evaluate(u: np.ndarray) -> float:
+    def objective(u: np.ndarray) -> float:
         u = np.clip(np.asarray(u, float), 0.0, 1.0)
         key = tuple(np.round(u, 6))
         if key not in evaluated:
             if len(evaluated) >= max_evaluations:
                 return math.inf
-            evaluated[key] = predict_candidate(problem, _to_params(problem, u))
+            evaluated[key] = score(problem, _to_params(problem, u))
             if progress is not None:
                 progress(len(evaluated), max_evaluations)
         return evaluated[key].objective
@@ -252,10 +293,10 @@ def search(problem: DesignProblem, *, initial: int | None = None, max_evaluation
     n = max(1, min(initial, max_evaluations))
     start = qmc.LatinHypercube(d=len(problem.axes), seed=seed).random(n)
     for u in start:
-        evaluate(u)
+        objective(u)
     best = min(evaluated, key=lambda k: evaluated[k].objective)
     if len(evaluated) < max_evaluations and math.isfinite(evaluated[best].objective):
-        minimize(evaluate, np.array(best), method="Nelder-Mead",
+        minimize(objective, np.array(best), method="Nelder-Mead",
                  options={"maxfev": max_evaluations - len(evaluated), "xatol": XATOL, "fatol": 1e-5,
                           "initial_simplex": _simplex(np.array(best))})
     return sorted(evaluated.values(), key=lambda c: c.objective)

@@ -19,8 +19,10 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError
+from ..study.population import Population
 from .axes import Axis
 from .inverse import XATOL, Candidate, DesignProblem, Target, parse_target, predict_candidate, rank_sweep, search
+from .robust import PopulationGoal, population_candidate, population_goal, screen_candidate
 
 __all__ = ["DesignResult", "design_textures", "free_axes", "merge_close"]
 
@@ -42,11 +44,16 @@ class DesignResult:
         (``curve``); near-identical ones merged (:func:`merge_close`).
     source
         Where the candidates came from (``"sweep PATH"`` or the optimisation).
+    goal
+        For a design for a population: the population and its coverage or quantile
+        (:class:`~fingerpad.design.robust.PopulationGoal`); every candidate then carries the
+        numbers of its direct population prediction (``Candidate.population``).
     """
 
     problem: DesignProblem
     candidates: list[Candidate] = field(default_factory=list)
     source: str = ""
+    goal: PopulationGoal | None = None
 
     @property
     def met(self) -> bool:
@@ -58,24 +65,54 @@ class DesignResult:
         from ..encode import to_jsonable
 
         p = self.problem
-        return to_jsonable({
+        doc = {
             "targets": [str(t) for t in p.targets], "axes": {a.name: list(a.values) for a in p.axes},
             "min_critical_load": p.min_critical_load, "min_feature": p.min_feature,
             "max_aspect": p.max_aspect, "tolerance": p.tolerance, "source": self.source,
             "met": self.met, "candidates": [c.as_dict() for c in self.candidates],
             "units": {"params": "SI (m, Pa, rad)", "critical_load": "N", "feature": "m", "curve.load": "N"},
-        })
+        }
+        if self.goal is not None:
+            doc["population"] = self.goal.as_dict()
+            doc["units"].update({"population.coverage": "fraction of the members (0-1)",
+                                 "population.critical_load": "N", "population.bands.load": "N"})
+        return to_jsonable(doc)
 
     def shortfall(self) -> str | None:
         """One sentence when no candidate meets the targets (and how close the best gets), else None."""
         best = self.candidates[0] if self.candidates else None
         if best is not None and best.meets:
             return None
+        if self.goal is not None:
+            return None if self.met else _population_shortfall(self.problem, self.goal, self.candidates)
         what = ", ".join(f"{k} = {v:.3g}" for k, v in best.values.items()) if best else "nothing valid"
         if best is not None and best.violations:
             what += f" ({'; '.join(best.violations)})"
         return (f"no texture in the box meets the target within {100 * self.problem.tolerance:g} %; "
                 f"the closest: {what}")
+
+
+def _population_shortfall(problem: DesignProblem, goal: PopulationGoal, candidates: Sequence[Candidate]) -> str:
+    """How close a design for a population gets: the best coverage reached and its quantiles."""
+    tol = f"{100 * problem.tolerance:g} %"
+    valid = [c for c in candidates if c.population]
+    if not valid:
+        reason = candidates[0].reason if candidates and candidates[0].reason else "nothing valid"
+        return f"no texture in the box meets the target for {goal.describe()}: {reason}"
+    if goal.coverage is not None:
+        best = max(valid, key=lambda c: (c.population["coverage"], -c.objective))
+        head = (f"no texture in the box meets the target within {tol} for {goal.describe()}; the best coverage "
+                f"reached is {100 * best.population['coverage']:.3g} %")
+    else:
+        best = valid[0]
+        head = f"no texture in the box meets the target within {tol} at {goal.describe()}; the closest"
+    q = goal.quantile if goal.quantile is not None else 0.5
+    parts = []
+    for t, table in best.population["quantiles"].items():
+        parts.append(f"{t}: {q:g} quantile {table[f'{q:g}']:.3g}, 5-95 % {table['0.05']:.3g}-{table['0.95']:.3g}")
+    params = ", ".join(f"{a.label()} {a.display(best.params[a.name]):.4g}" for a in problem.axes)
+    extra = [v for v in best.violations if not v.startswith("coverage")]
+    return f"{head} ({params}; {'; '.join(parts)}{'; ' + '; '.join(extra) if extra else ''})"
 
 
 def free_axes(vary: Mapping[str, Any] | Sequence[str], family: str | None) -> list[Axis]:
@@ -154,6 +191,9 @@ def design_textures(
     candidates: int | str = 5,
     evaluations: int | str = 60,
     progress: Callable[[int, int], None] | None = None,
+    population: str | Mapping[str, Any] | Population | None = None,
+    coverage: str | float | None = None,
+    quantile: str | float | None = None,
 ) -> DesignResult:
     """Find textures of the study's family, within bounds, that give a wanted friction.
 
@@ -181,11 +221,25 @@ def design_textures(
         Direct predictions the optimisation may make (1 to :data:`MAX_EVALUATIONS`).
     progress
         Called with ``(done, total)`` after each direct prediction of the search.
+    population
+        Design for a population of fingers (a preset name such as ``"adults"``, a TOML file
+        with a ``[population]`` table, the table itself, or a
+        :class:`~fingerpad.study.population.Population`); needs ``coverage`` or ``quantile``
+        (:mod:`fingerpad.design.robust`). Without it, ``coverage`` or ``quantile`` use the
+        study's own ``[population]`` table; the table is ignored when neither is given.
+    coverage
+        With ``population``: least fraction of the members, in (0, 1], that must meet every
+        target within ``tolerance`` (and have a critical load of at least
+        ``min_critical_load``).
+    quantile
+        With ``population``: the quantile, in [0, 1], of the members' values that must meet the
+        targets (0.5: the median finger); excludes ``coverage``.
 
     Returns
     -------
     DesignResult
-        Every number of a candidate from a direct prediction of that texture.
+        Every number of a candidate from a direct prediction of that texture (with a
+        population: from :func:`~fingerpad.study.population.run_population` on it).
 
     Raises
     ------
@@ -200,10 +254,18 @@ def design_textures(
     if isinstance(study, Mapping):
         data = {k: dict(v) for k, v in study.items() if k != "sweep"}
     else:
-        data = read_study_file(study, extra_sections=("sweep",))
+        data = read_study_file(study, extra_sections=("sweep", "population"))
         data.pop("sweep", None)
-    study_from_dict(data)  # the base must be a valid study
+    table = data.pop("population", None)
+    base = study_from_dict(data)  # the base must be a valid study
     axes = free_axes(vary, data.get("texture", {}).get("name"))
+    if population is None and table is not None and (coverage is not None or quantile is not None):
+        # the study file's own [population] table, as predict uses it
+        from ..study.population import population_from_table
+
+        name = "study" if isinstance(study, Mapping) else os.path.splitext(os.path.basename(study))[0]
+        population = population_from_table(table, where="[population]", name=name)
+    goal = population_goal(population, coverage, quantile)
     parsed = [t if isinstance(t, Target) else parse_target(t) for t in targets]
     if not parsed:
         raise FingerpadError("give at least one --target QUANTITY=VALUE@LOAD")
@@ -219,21 +281,56 @@ def design_textures(
         tolerance=parse_quantity(tolerance, "none", name="--tolerance"),
     )
     curve_loads = parse_range(DEFAULT_SWEEP_LOADS, "force", log=True)
+    screen = None if goal is None else screen_candidate(problem, _checked_goal(goal, base, axes))
     if from_sweep is not None:
-        found = _from_sweep(problem, from_sweep, n_cand, progress)
+        found = _from_sweep(problem, from_sweep, n_cand, progress, screen)
         source = f"sweep {from_sweep}"
     else:
-        found = search(problem, max_evaluations=n_eval, progress=progress)
+        found = search(problem, max_evaluations=n_eval, progress=progress, evaluate=screen)
         source = "optimisation (BEM in the loop)"
     best = merge_close(problem, found)[:n_cand]
-    # the reported candidates, predicted once more over the exploration loads (their curves)
-    best = [predict_candidate(problem, c.params, curve_loads=curve_loads) for c in best]
-    best.sort(key=lambda c: c.objective)
-    return DesignResult(problem=problem, candidates=best, source=source)
+    # the reported candidates, predicted once more over the exploration loads (their curves);
+    # for a population by a direct population prediction of each
+    if goal is None:
+        best = [predict_candidate(problem, c.params, curve_loads=curve_loads) for c in best]
+        best.sort(key=lambda c: c.objective)
+    else:
+        best = [population_candidate(problem, goal, c.params, curve_loads=curve_loads) for c in best]
+        best.sort(key=_population_rank(goal))
+    return DesignResult(problem=problem, candidates=best, source=source, goal=goal)
+
+
+def _population_rank(goal: PopulationGoal) -> Callable[[Candidate], Any]:
+    """Best first: those that meet the goal, then for a coverage the highest coverage (then the
+    objective), for a quantile the objective; candidates without a prediction last."""
+    def key(c: Candidate) -> Any:
+        obj = c.objective if math.isfinite(c.objective) else math.inf
+        if goal.coverage is not None:
+            return (not c.meets, -c.population.get("coverage", -1.0), obj)
+        return (not c.meets, obj)
+
+    return key
+
+
+def _checked_goal(goal: PopulationGoal, base: Any, axes: Sequence[Axis]) -> PopulationGoal:
+    """Refuse, before any prediction, what a population cannot be designed for."""
+    from .robust import MemberTable
+
+    if base.direction is not None:
+        raise FingerpadError("--population with a sliding direction is not supported yet (directional friction "
+                             "of a population); drop one of them")
+    varied = set(goal.population.distributions)
+    for axis in axes:
+        if axis.section == "finger" and (axis.key in varied or axis.name in varied):
+            raise FingerpadError(f"--vary {axis.name}: the population varies {axis.key} from finger to finger; "
+                                 "vary it in the population or fix it")
+    MemberTable(base, goal.population.sample()[:1])  # a member the study's finger cannot take
+    return goal
 
 
 def _from_sweep(problem: DesignProblem, path: str | os.PathLike[str], n_cand: int,
-                progress: Callable[[int, int], None] | None) -> list[Candidate]:
+                progress: Callable[[int, int], None] | None,
+                screen: Callable[[DesignProblem, dict[str, float]], Candidate] | None = None) -> list[Candidate]:
     """The best points of a sweep for the targets, each predicted directly, best first."""
     from .store import open_sweep
 
@@ -247,7 +344,7 @@ def _from_sweep(problem: DesignProblem, path: str | os.PathLike[str], n_cand: in
     for i, row in enumerate(ranked):
         params = {a.name: row["params"][a.name] for a in problem.axes}
         if all(a.values[0] <= params[a.name] <= a.values[1] for a in problem.axes):
-            found.append(predict_candidate(problem, params))
+            found.append(predict_candidate(problem, params) if screen is None else screen(problem, params))
         if progress is not None:
             progress(i + 1, len(ranked))
     return sorted(found, key=lambda c: c.objective if math.isfinite(c.objective) else math.inf)

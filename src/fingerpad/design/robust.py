@@ -1,0 +1,386 @@
+"""Inverse design for a population of fingers (issue 22, "robust inverse design").
+
+Two goals (:class:`PopulationGoal`), for targets ``QUANTITY=VALUE@LOAD`` and the tolerance of
+the plain design:
+
+* **coverage** ``c`` in (0, 1]: at least the fraction ``c`` of the members meets every target
+  within the tolerance (and, with ``min_critical_load``, has its own critical load at or above
+  it). The search minimises the ``ceil(c n)``-th smallest member score, a member's score being
+  the largest squared relative deviation over the targets plus the plain design's penalty for
+  its critical load: that order statistic lies within ``tolerance**2`` exactly when the coverage
+  is reached (for a single target and no limit; the limit's penalty adds at least 0.01).
+* **quantile** ``q`` in [0, 1]: the ``q``-quantile over the members of each target quantity at
+  its load meets the target (the plain design's objective on those quantiles); a
+  ``min_critical_load`` applies to the ``q``-quantile of the members' critical loads.
+
+Cost: a candidate texture costs one unit cell, as in the plain design. psi(p) depends on p/E*
+only (docs/solver.md, "One curve for every modulus and every scale"), so member ``i`` with
+reduced modulus ``E_i`` reads the cell solved at ``E_0`` at the pressure ``p E_0 / E_i``. While
+searching, :class:`MemberTable` evaluates all members at once (one vectorised disc integral over
+members x loads, Eqs. 3.7, 3.11, and Eqs. 2.1-2.4 on arrays); every number *reported* for a
+candidate comes from :func:`fingerpad.study.population.run_population` on that texture
+(:func:`population_candidate`), the direct population prediction of ``predict --population``.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from types import SimpleNamespace
+from typing import Any
+
+import numpy as np
+
+from ..errors import FingerpadError
+from ..study.population import DEFAULT_QUANTILES, Population, load_population, member_finger, run_population
+from .inverse import (
+    Candidate,
+    DesignProblem,
+    candidate_study,
+    critical_penalty,
+    texture_limits,
+)
+
+__all__ = ["MemberTable", "PopulationGoal", "population_candidate", "population_goal", "screen_candidate"]
+
+#: Loads (N) on which each member's centre pressure 1.5 F / A_fr(F) is tabulated once, to read
+#: its critical load at any transition pressure by log-log interpolation while searching
+#: (10 per decade over the coupling's load range; exact for power-law ridge areas).
+LOAD_GRID = np.logspace(-9, 9, 181)
+#: The per-load quantities a target names, as :class:`~fingerpad.coupling.CurvePrediction` names them.
+_CURVE_NAME = {"mu_rel": "mu_normalised", "mu": "mu", "mu_ref": "mu_ref", "area_ratio": "area_ratio"}
+
+
+@dataclass(frozen=True)
+class PopulationGoal:
+    """What a design for a population asks: a coverage or a quantile (exactly one).
+
+    Attributes
+    ----------
+    population
+        The population of fingers (:class:`~fingerpad.study.population.Population`).
+    coverage
+        Least fraction of the members that must meet the targets, in (0, 1]; or ``None``.
+    quantile
+        The quantile of the members whose values must meet the targets, in [0, 1]; or ``None``.
+    """
+
+    population: Population
+    coverage: float | None = None
+    quantile: float | None = None
+
+    def __post_init__(self) -> None:
+        if (self.coverage is None) == (self.quantile is None):
+            raise FingerpadError("--population needs exactly one of --coverage C (a fraction of the fingers) or "
+                                 "--quantile Q (a quantile of the fingers)")
+        if self.coverage is not None and not (0 < self.coverage <= 1):
+            raise FingerpadError(f"--coverage {self.coverage!r}: a fraction of the population in (0, 1] "
+                                 "(0.9 is 90 %)")
+        if self.quantile is not None and not (0 <= self.quantile <= 1):
+            raise FingerpadError(f"--quantile {self.quantile!r}: a quantile in [0, 1] (0.5 is the median)")
+
+    @property
+    def levels(self) -> tuple[float, ...]:
+        """The quantiles reported: the default bands and the one asked for."""
+        extra = () if self.quantile is None else (self.quantile,)
+        return tuple(sorted({*DEFAULT_QUANTILES, *extra}))
+
+    @property
+    def needed(self) -> int:
+        """Members that must meet the targets: ``ceil(coverage n)`` (coverage goals only)."""
+        n = self.population.size
+        return max(1, math.ceil(round(float(self.coverage or 0) * n, 9)))
+
+    def describe(self) -> str:
+        """The goal in words, e.g. ``90 % of the population (adults, 1000 fingers)``."""
+        which = f"({self.population.name}, {self.population.size} fingers)"
+        if self.coverage is not None:
+            return f"{100 * self.coverage:g} % of the population {which}"
+        return f"the {self.quantile:g} quantile of the population {which}"
+
+    def as_dict(self) -> dict[str, Any]:
+        """The ``population`` entry of the design document (plain data)."""
+        pop = self.population
+        return {"name": pop.name, "size": pop.size, "seed": pop.seed, "method": pop.method,
+                "varied": list(pop.distributions), "coverage": self.coverage, "quantile": self.quantile,
+                "quantile_levels": list(self.levels)}
+
+
+def population_goal(population: str | Mapping[str, Any] | Population | None, coverage: str | float | None,
+                    quantile: str | float | None) -> PopulationGoal | None:
+    """The goal of a design for a population, its inputs checked (``None`` without one).
+
+    Raises
+    ------
+    FingerpadError
+        ``--coverage`` or ``--quantile`` without a population, both or neither with one, a value
+        outside its range, an unknown preset or unreadable file.
+    """
+    from ..units import parse_quantity
+
+    cov = None if coverage is None else parse_quantity(coverage, "none", name="--coverage")
+    qua = None if quantile is None else parse_quantity(quantile, "none", name="--quantile")
+    if population is None:
+        if cov is not None or qua is not None:
+            raise FingerpadError(f"{'--coverage' if cov is not None else '--quantile'} needs a population "
+                                 "(--population NAME|FILE, or a [population] table in the study file)")
+        return None
+    if cov is not None and qua is not None:
+        raise FingerpadError("--coverage and --quantile exclude each other: give one")
+    for name, value in (("--coverage", cov), ("--quantile", qua)):
+        if value is not None and not math.isfinite(value):
+            raise FingerpadError(f"{name} {value!r}: must be a finite number")
+    pop = population if isinstance(population, Population) else load_population(population)
+    return PopulationGoal(pop, coverage=cov, quantile=qua)
+
+
+class MemberTable:
+    """The members of a population on one finger and material, as arrays over members, for
+    evaluating all of them on a unit cell at once (the search's cheap path).
+
+    Parameters
+    ----------
+    study
+        The study whose finger and material the members vary (its loads are the targets' loads).
+    members
+        The members' parameters (SI), from ``Population.sample()``.
+
+    Raises
+    ------
+    FingerpadError
+        A member the finger cannot take (``ridge_fraction`` with another ridge model).
+    """
+
+    def __init__(self, study: Any, members: Sequence[Mapping[str, float]]) -> None:
+        fingers = [member_finger(study.finger, m) for m in members]
+        mat_nu = study.material_poisson if study.material_poisson is not None else 0.35
+        self.loads = np.asarray(study.loads, float)
+        #: Reduced micro modulus E1* of each member (Pa), Eq. 3.4.
+        self.moduli = np.array([f.micro_modulus(study.material_modulus, mat_nu) for f in fingers])
+        #: Ridge contact area of each member at each load (m^2).
+        self.ridge = np.array([np.asarray(f.areas_checked(self.loads)[1], float) for f in fingers])
+        # the friction parameters as (members, 1) columns: Eq. 2.1 of fingerpad.friction then
+        # broadcasts over members x loads with the one formula of the package
+        self.friction = SimpleNamespace(**{k: np.array([[getattr(f, k)] for f in fingers], float)
+                                           for k in ("tau0", "alpha", "beta", "radius", "modulus")})
+        # log centre pressure 1.5 F / A_fr(F) on LOAD_GRID, per member (critical loads)
+        self._log_centre = np.log(np.array([1.5 * LOAD_GRID / np.asarray(f.areas_checked(LOAD_GRID)[1], float)
+                                            for f in fingers]))
+
+    def pressure_range(self) -> tuple[float, float]:
+        """The local pressures the members produce at the loads, in units of their E1*:
+        ``[P_LOW min(F/A_fr/E), P_HIGH max(F/A_fr/E)]``, as
+        :func:`~fingerpad.study.population.run_population` prepares."""
+        from ..study.run import P_HIGH, P_LOW
+
+        p = self.loads / self.ridge / self.moduli[:, None]
+        return P_LOW * float(p.min()), P_HIGH * float(p.max())
+
+    def evaluate(self, cell: Any, modulus: float) -> dict[str, np.ndarray]:
+        """Every member on ``cell`` (solved at reduced modulus ``modulus``, Pa).
+
+        Member ``i`` reads the cell at ``p modulus / E_i`` (psi depends on p/E* only), so its
+        real area is ``A_fr`` times the disc average of psi (Eqs. 3.7, 3.11) at the centre
+        pressure ``1.5 F / A_fr * modulus / E_i``; friction by Eqs. 2.1-2.4 with its parameters.
+
+        Returns
+        -------
+        dict
+            ``area_ratio``, ``mu``, ``mu_ref``, ``mu_rel``: ``(members, loads)`` arrays;
+            ``critical_load``: per member (N; ``inf`` when the cell never reaches its transition,
+            NaN when no crossing lies in :data:`fingerpad.design.robust.LOAD_GRID`).
+        """
+        from ..friction import mu_checked
+        from ..macro.pressure import disc_average
+        from ..micro.response import check_cell, checked_psi
+
+        pt, _, breaks = check_cell(cell)
+        scale = modulus / self.moduli[:, None]
+        peak = 1.5 * self.loads / self.ridge * scale
+        ratio = disc_average(checked_psi(cell), peak.ravel(), breaks).reshape(peak.shape)
+        mu = mu_checked(self.loads, ratio * self.ridge, self.friction)  # type: ignore[arg-type]
+        mu_ref = mu_checked(self.loads, self.ridge, self.friction)  # type: ignore[arg-type]
+        return {"area_ratio": ratio, "mu": mu, "mu_ref": mu_ref, "mu_rel": mu / mu_ref,
+                "critical_load": self.critical_loads(pt * self.moduli / modulus)}
+
+    def critical_loads(self, transition: np.ndarray) -> np.ndarray:
+        """Per member, the load (N) at which its centre pressure first reaches ``transition[i]``
+        (Pa), by log-log interpolation on :data:`fingerpad.design.robust.LOAD_GRID`."""
+        out = np.full(transition.shape, math.nan)
+        out[np.isinf(transition)] = math.inf
+        finite = np.isfinite(transition) & (transition > 0)
+        lt = np.log(np.where(finite, transition, 1.0))[:, None]
+        above = self._log_centre >= lt
+        first = np.argmax(above, axis=1)
+        ok = finite & above.any(axis=1) & (first > 0)
+        rows = np.flatnonzero(ok)
+        j = first[rows]
+        lo, hi = self._log_centre[rows, j - 1], self._log_centre[rows, j]
+        x = np.log(LOAD_GRID)
+        w = (lt[rows, 0] - lo) / (hi - lo)
+        out[rows] = np.exp(x[j - 1] + w * (x[j] - x[j - 1]))
+        return out
+
+
+def _quantile(values: np.ndarray, q: float) -> float:
+    """``np.quantile`` (linear, as ``predict --population`` reports) of values that may be inf."""
+    v = np.asarray(values, float)
+    v = v[~np.isnan(v)]
+    if v.size == 0:
+        return math.nan
+    big = np.isinf(v) & (v > 0)
+    if not big.any():
+        return float(np.quantile(v, q))
+    # inf ranks last: interpolating between a finite value and inf is inf
+    out = float(np.quantile(np.where(big, np.finfo(float).max, v), q))
+    return math.inf if out >= np.finfo(float).max / 2 else out
+
+
+def _score(problem: DesignProblem, goal: PopulationGoal, cand: Candidate, values: Mapping[str, np.ndarray],
+          critical: np.ndarray, penalty: float) -> None:
+    """Score ``cand`` from its members' values at the targets (``values[str(target)]``, one per
+    member) and critical loads (N), plus the texture's own ``penalty``; see the module docstring.
+    Sets ``objective``, ``meets``, ``values``, ``critical_load``, ``violations`` and the
+    ``population`` summary (coverage, quantiles)."""
+    targets = problem.targets
+    dev = np.array([np.asarray(values[str(t)], float) / t.value - 1.0 for t in targets])  # (targets, members)
+    member_ok = np.all(np.abs(dev) <= problem.tolerance, axis=0)
+    limit = problem.min_critical_load
+    if limit is not None:
+        member_ok &= critical >= limit
+    coverage = float(np.mean(member_ok))
+    summary: dict[str, Any] = {
+        "coverage": coverage, "members_meeting": int(member_ok.sum()), "size": int(member_ok.size),
+        "quantiles": {str(t): {f"{q:g}": _quantile(values[str(t)], q) for q in goal.levels} for t in targets},
+        "critical_load": {f"{q:g}": _quantile(critical, q) for q in goal.levels},
+    }
+    if goal.coverage is not None:
+        # the critical load that the covered fraction of the members reaches or exceeds
+        cand.critical_load = _quantile(critical, 1.0 - goal.coverage)
+        member_pen = np.array([critical_penalty(float(c), limit)[0] for c in critical])
+        member_score = np.max(dev**2, axis=0) + member_pen
+        kth = float(np.sort(member_score)[goal.needed - 1])
+        cand.objective = kth + penalty
+        for t in targets:
+            cand.values[str(t)] = summary["quantiles"][str(t)]["0.5"]
+        if coverage < goal.coverage - 1e-12:
+            cand.violations.append(f"coverage {100 * coverage:.3g} % below {100 * goal.coverage:g} %")
+        cand.meets = not cand.violations
+    else:
+        q = float(goal.quantile)  # type: ignore[arg-type]
+        cand.critical_load = _quantile(critical, q)
+        errors = []
+        for t in targets:
+            got = summary["quantiles"][str(t)][f"{q:g}"]
+            cand.values[str(t)] = got
+            errors.append((got / t.value - 1.0) ** 2)
+        crit_pen, violation = critical_penalty(cand.critical_load, limit)
+        if violation:
+            cand.violations.append(f"{q:g} quantile of the {violation}")
+        cand.objective = float(np.mean(errors)) + crit_pen + penalty
+        cand.meets = not cand.violations and all(math.sqrt(e) <= problem.tolerance for e in errors)
+    cand.population = summary
+
+
+class _Screen:
+    """The search's evaluation of one texture for a population: the plain design's direct
+    prediction of the nominal finger (which solves or reads the one unit cell), then every
+    member on that cell at once (:class:`MemberTable`)."""
+
+    def __init__(self, goal: PopulationGoal) -> None:
+        self.goal = goal
+        self.members = goal.population.sample()
+        self._tables: dict[str, MemberTable] = {}
+
+    def table(self, study: Any) -> MemberTable:
+        # the members depend on the study's finger and material only (a free axis may set them)
+        key = repr((study.finger, study.material_modulus, study.material_poisson, tuple(study.loads)))
+        if key not in self._tables:
+            self._tables[key] = MemberTable(study, self.members)
+        return self._tables[key]
+
+    def __call__(self, problem: DesignProblem, params: dict[str, float]) -> Candidate:
+        from ..study.run import run_study
+
+        cand = Candidate(params=dict(params))
+        try:
+            study = candidate_study(problem, params, problem.loads)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                pred = run_study(study)
+                table = self.table(study)
+                cell, e0 = pred.primary_cell, pred.reduced_modulus
+                if pred.bem is not None and not cell.flat:
+                    lo, hi = table.pressure_range()
+                    cell.prepare(lo * cell.modulus, hi * cell.modulus)  # solves only what the members add
+                got = table.evaluate(cell, e0)
+        except FingerpadError as exc:
+            cand.reason = str(exc)
+            return cand
+        index = {float(f): i for i, f in enumerate(table.loads)}
+        values = {str(t): got[t.quantity][:, index[float(t.load)]] for t in problem.targets}
+        _score(problem, self.goal, cand, values, got["critical_load"], texture_limits(problem, cand, pred.texture))
+        return cand
+
+
+def screen_candidate(problem: DesignProblem, goal: PopulationGoal) -> Any:
+    """The search's cheap evaluation of a texture for ``goal`` (see the module docstring).
+
+    Parameters
+    ----------
+    problem
+        The design problem (targets, tolerance, limits; SI units).
+    goal
+        The population and its coverage or quantile.
+
+    Returns
+    -------
+    callable
+        ``(problem, params) -> Candidate`` for :func:`fingerpad.design.inverse.search`: the
+        nominal finger's direct prediction (one unit cell), then every member on that cell at
+        once; a texture that cannot exist gives a candidate with its ``reason``.
+    """
+    return _Screen(goal)
+
+
+def population_candidate(problem: DesignProblem, goal: PopulationGoal, params: Mapping[str, float],
+                         curve_loads: Sequence[float] | None = None) -> Candidate:
+    """A direct population prediction of one texture, scored against the problem and the goal.
+
+    :func:`~fingerpad.study.population.run_population` on the texture at the targets' loads
+    (and ``curve_loads``, N): every member predicted by :func:`~fingerpad.coupling.predict_curve`
+    on the cell at its own E1*. The candidate's ``population`` holds the coverage, the members
+    meeting the targets, the quantiles of each target quantity at its load and of the members'
+    critical loads (N), and with ``curve_loads`` the bands of ``mu_rel`` and ``mu`` per load;
+    ``curve`` is the nominal finger's, as in the plain design.
+    """
+    cand = Candidate(params=dict(params))
+    loads = np.unique(np.concatenate([problem.loads, np.asarray(curve_loads if curve_loads is not None else [],
+                                                                  float)]))
+    try:
+        study = candidate_study(problem, params, loads)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            res = run_population(study, goal.population, quantiles=goal.levels)
+    except FingerpadError as exc:
+        cand.reason = str(exc)
+        return cand
+    f = np.asarray(study.loads, float)
+    values = {}
+    for t in problem.targets:
+        i = int(np.argmin(np.abs(f - t.load)))
+        values[str(t)] = res.values(_CURVE_NAME[t.quantity])[:, i]
+    _score(problem, goal, cand, values, res.critical_load, texture_limits(problem, cand, res.nominal.texture))
+    if curve_loads is not None:
+        keep = np.isin(f, np.asarray(curve_loads, float))
+        cur = res.nominal.primary
+        cand.curve = {"load": f[keep].tolist(), "mu": np.asarray(cur.mu)[keep].tolist(),
+                      "mu_rel": np.asarray(cur.mu_normalised)[keep].tolist(),
+                      "area_ratio": np.asarray(cur.area_ratio)[keep].tolist()}
+        bands = res.quantiles()
+        cand.population["bands"] = {"load": f[keep].tolist(), **{
+            name: {level: np.asarray(v)[keep].tolist() for level, v in bands[src].items()}
+            for name, src in (("mu_rel", "mu_normalised"), ("mu", "mu"))}}
+    return cand
