@@ -99,6 +99,9 @@ class Param:
         its range is warned about (a forgotten unit).
     symbol
         The symbol of the equations (``R_fp``), for column heads; default the name.
+    needs_unit
+        A bare number is refused from user input (as sweep axes refuse one): for a length whose
+        SI reading of ``2`` (2 m) is never meant, e.g. the skin layer's thickness.
     """
 
     name: str
@@ -114,6 +117,7 @@ class Param:
     label: str | None = None
     plausible: str | None = None
     symbol: str | None = None
+    needs_unit: bool = False
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -252,7 +256,7 @@ class Param:
         if isinstance(value, bool):
             raise FingerpadError(f"{label}: expected a {self.kind}, got {value!r}")
         if self.kind in DIMENSIONAL:
-            if require_unit and _is_bare_number(value) and float(str(value).strip()) != 0:
+            if (require_unit or self.needs_unit) and _is_bare_number(value) and float(str(value).strip()) != 0:
                 units = ", ".join(u for u, (dim, _) in UNITS.items() if dim == self.dimension and u.isascii())
                 raise FingerpadError(
                     f"{label}: {value!r} has no unit; a {self.kind} needs one here, e.g. "

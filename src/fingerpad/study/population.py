@@ -427,7 +427,9 @@ def run_population(study: Study, population: Population,
     curves, crit, full, states = [], [], [], []
     for f, e in zip(fingers, moduli, strict=True):
         if bem:
-            mcell: Any = cell.at_modulus(e)
+            # a layered member with a thickness or modulus ratio of its own is a cell of its own
+            p = loads / np.asarray(f.ridge_area(loads), float)
+            mcell: Any = cell.for_skin(e, f.layer, (P_LOW * float(p.min()), P_HIGH * float(p.max())))
         else:
             mcell = hertz_cell_for(tex, e)[0]
         curve = predict_curve(loads, f, mcell)
