@@ -69,7 +69,7 @@ FINGER_PARAMS: tuple[Param, ...] = (
     Param("skin", "choice", "skin structure: half-space (homogeneous E_s) or layered (a layer on the tissue)",
           "half-space", SKINS, label="skin structure", symbol="skin"),
     Param("skin_layer_thickness", "length", "layered skin: thickness t of the outer layer (stratum corneum, "
-          "thesis ch. 1.2: 0.2-0.35 mm); needs a unit", None, low=0, low_open=True, example="300um",
+          "thesis ch. 1.2: 0.2-0.35 mm); typed with a unit", None, low=0, low_open=True, high=10e-3, example="300um",
           label="skin layer thickness t", symbol="t", needs_unit=True),
     Param("skin_layer_modulus", "pressure", "layered skin: Young's modulus E_1 of the outer layer (it is E_s)",
           None, low=0, low_open=True, example="0.4MPa", label="skin layer modulus E_1", symbol="E_1"),
