@@ -343,6 +343,15 @@ FINGER_PRESETS: dict[str, Finger] = {
         name="ridged", ridges=SinusoidalRidges(wavelength=0.45e-3, modulus=100e3, amplitude=30e-6),
         description="default pad with sinusoidal (Westergaard) fingerprint ridges, 0.45 mm, 30 um",
     ),
+    # One skin through the scales (docs/model.md 6.5): a stratum corneum of t = 0.3 mm (thesis
+    # ch. 1.2: 0.2-0.35 mm) and E_1 = E_s = 0.3 MPa on tissue of E_2 = 30.4 kPa, i.e. E_2* =
+    # 40 kPa = the pad's E_fp*. Textures up to ~0.4 mm then feel 0.3 MPa (what the thesis
+    # recovered), the pad 40 kPa (what the pad measurements give).
+    "layered": _DEFAULT.with_overrides(
+        name="layered", skin_layer_thickness=0.3e-3, skin_layer_modulus=0.3e6,
+        skin_substrate_modulus=40e3 * (1 - DEFAULT_SKIN_POISSON**2),
+        description="default pad with a layered skin: stratum corneum 0.3 mm, E_1 0.3 MPa on tissue E_2* 40 kPa",
+    ),
 }
 
 

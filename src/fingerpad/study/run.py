@@ -373,6 +373,9 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
     if study.model == "both" and not run_hertz:
         notes.append(f"Hertz (Eqs. 3.1-3.6) needs an asperity radius: texture {tex.name!r} runs the BEM only")
     hertz_cell = None
+    if run_hertz and finger.layer is not None:
+        notes.append("Hertz (Eqs. 3.1-3.6) takes the skin as the half-space of its layer (E_1): right for asperity "
+                     "contacts much smaller than the layer's thickness, the BEM cell has the layer")
     if run_hertz:
         hertz_cell, note = hertz_cell_for(tex, e1)
         if note:
