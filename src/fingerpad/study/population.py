@@ -71,8 +71,9 @@ DISTRIBUTIONS: dict[str, tuple[str, ...]] = {
 }
 _RIDGE_FRACTION = Param("ridge_fraction", "ratio", "constant-fraction ridge model's A_fr/A_g", 0.5,
                         low=0, low_open=True, high=1)
-#: The parameters a population may vary: the finger's fields and the ridge fraction.
-POPULATION_PARAMS: dict[str, Param] = {p.name: p for p in (*FINGER_PARAMS, _RIDGE_FRACTION)}
+#: The parameters a population may vary: the finger's numeric fields and the ridge fraction (not
+#: a choice such as the skin's structure: a population's members share it).
+POPULATION_PARAMS: dict[str, Param] = {p.name: p for p in (*FINGER_PARAMS, _RIDGE_FRACTION) if p.kind != "choice"}
 
 
 @dataclass(frozen=True)
