@@ -29,6 +29,7 @@ import numpy as np
 from ..contact import ContactResult, HalfSpaceSolver
 from ..contact.layered import Layer
 from ..errors import FingerpadError
+from .layered_cell import layer_key, unit_layer
 from .loadcurve import Progress, bisect_state
 
 if TYPE_CHECKING:
@@ -86,33 +87,6 @@ def unit_texture(texture: "Texture") -> "Texture":
     base = None if texture.base_level is None else float(_quantise((texture.base_level - low) / lx, step))
     aspect = float(_quantise(ly / lx, 2.0**-40))
     return replace(texture, heights=_quantise(hn, step), size=(1.0, aspect), base_level=base)
-
-
-def _round(x: float) -> float:
-    """``x`` rounded to a power of two near 2**-40 of it (a scaled copy's ratio agrees to that)."""
-    return float(_quantise(x, 2.0 ** (math.floor(math.log2(x)) - 40))) if math.isfinite(x) and x > 0 else x
-
-
-def unit_layer(layer: Layer | None, modulus: float, length: float) -> Layer | None:
-    """The layer a unit-cell solve sees: thickness over the cell length ``length`` (Lx, m), moduli
-    over the pair's reduced modulus ``modulus`` (E*, Pa), Poisson ratios and base as they are,
-    each ratio rounded like :func:`unit_texture`'s heights. A skin whose moduli and thickness
-    are all scaled with E* and Lx has the same unit layer, hence the same psi(p / E*)."""
-    if layer is None:
-        return None
-    e2 = layer.substrate_modulus if layer.rigid_base else _round(layer.substrate_modulus / modulus)
-    return Layer(_round(layer.thickness / length), _round(layer.modulus / modulus), layer.poisson, e2,
-                 layer.substrate_poisson, layer.base)
-
-
-def layer_key(layer: Layer | None) -> dict[str, Any]:
-    """The settings a unit layer (:func:`unit_layer`) adds to the cache key; none for no layer,
-    so that a half-space cell's key is the one it always had (no CACHE_VERSION change)."""
-    if layer is None:
-        return {}
-    return {"layer": {"t_over_lx": layer.thickness, "e1_over_e": layer.modulus, "nu1": layer.poisson,
-                      "e2_over_e": "rigid" if layer.rigid_base else layer.substrate_modulus,
-                      "nu2": layer.substrate_poisson, "base": layer.base}}
 
 
 def unit_cell_key(texture: "Texture", *, tol: float, max_iter: int, rtol: float, layer: Layer | None = None,
