@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from .checks import ArrayLike, as_loads, scalar_out
+from .contact.layered import Layer
 from .errors import FingerpadError
 from .macro import GROSS_MODELS, DzidekArea, GrossAreaModel, HertzArea, PowerLawArea, TwoRegimePowerLawArea
 from .macro._base import PAD_MODULUS, PAD_RADIUS
@@ -38,7 +39,6 @@ from .meso import (
     RidgeAreaModel,
     SinusoidalRidges,
 )
-from .contact.layered import Layer
 from .params import Param, check_fields
 
 #: Skin structures: the homogeneous half-space of E_s (the default) or a layer on a substrate.
