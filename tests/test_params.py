@@ -89,7 +89,8 @@ def test_finger_fields_are_declared_once():
         import dataclasses
 
         fields = {f.name for f in dataclasses.fields(model.factory) if not f.name.startswith("_")}
-        assert {p.name for p in model.params} == fields - {"topography"}, model.name
+        # not declared: a measured replica, and the finger's layered skin (the finger sets it)
+        assert {p.name for p in model.params} == fields - {"topography", "layer"}, model.name
 
 
 def test_explorer_starting_values_come_from_the_declarations():

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from .checks import ArrayLike, as_loads, scalar_out
+from .contact.layered import Layer
 from .errors import FingerpadError
 from .macro import GROSS_MODELS, DzidekArea, GrossAreaModel, HertzArea, PowerLawArea, TwoRegimePowerLawArea
 from .macro._base import PAD_MODULUS, PAD_RADIUS
@@ -39,6 +40,11 @@ from .meso import (
     SinusoidalRidges,
 )
 from .params import Param, check_fields
+
+#: Skin structures: the homogeneous half-space of E_s (the default) or a layer on a substrate.
+SKINS = ("half-space", "layered")
+#: What a layered skin's layer rests on: the elastic tissue (E_2, nu_2) or a rigid base.
+SKIN_BASES = ("elastic", "rigid", "rigid-frictionless")
 
 #: The finger's own numeric fields, declared once (kind and unit, bounds, default, meaning): the
 #: study file's ``[finger]`` keys, ``--finger-param NAME=VALUE``, the sweep axes of the finger,
@@ -57,6 +63,22 @@ FINGER_PARAMS: tuple[Param, ...] = (
           symbol="E_s"),
     Param("skin_poisson", "ratio", "skin Poisson ratio (docs/model.md: 0.48-0.5)", DEFAULT_SKIN_POISSON,
           low=-1, low_open=True, high=0.5, label="skin Poisson ratio", symbol="nu_s"),
+    # A layered skin (docs/model.md, section 6.4 and "A layered finger"): the stratum corneum as an
+    # elastic layer bonded to the tissue under it. The layer's modulus is then E_s (skin_modulus),
+    # its Poisson ratio skin_poisson.
+    Param("skin", "choice", "skin structure: half-space (homogeneous E_s) or layered (a layer on the tissue)",
+          "half-space", SKINS, label="skin structure", symbol="skin"),
+    Param("skin_layer_thickness", "length", "layered skin: thickness t of the outer layer (stratum corneum, "
+          "thesis ch. 1.2: 0.2-0.35 mm); typed with a unit", None, low=0, low_open=True, high=10e-3, example="300um",
+          label="skin layer thickness t", symbol="t", needs_unit=True),
+    Param("skin_layer_modulus", "pressure", "layered skin: Young's modulus E_1 of the outer layer (it is E_s)",
+          None, low=0, low_open=True, example="0.4MPa", label="skin layer modulus E_1", symbol="E_1"),
+    Param("skin_substrate_modulus", "pressure", "layered skin: Young's modulus E_2 of the tissue under the layer",
+          None, low=0, low_open=True, example="40kPa", label="skin substrate modulus E_2", symbol="E_2"),
+    Param("skin_substrate_poisson", "ratio", "layered skin: Poisson ratio nu_2 of the tissue (default: skin_poisson)",
+          None, low=-1, low_open=True, high=0.5, label="skin substrate Poisson ratio", symbol="nu_2"),
+    Param("skin_base", "choice", "layered skin: what the layer rests on: elastic (the tissue, E_2), rigid (bonded) "
+          "or rigid-frictionless", "elastic", SKIN_BASES, label="skin layer base", symbol="base"),
 )
 
 #: ``--finger-param ridge_fraction=X``: the constant-fraction ridge model with ``A_fr / A_g = X``
@@ -65,6 +87,8 @@ FINGER_PARAMS: tuple[Param, ...] = (
 #: for ``--finger-param`` (:mod:`fingerpad.study.overrides`) and populations.
 RIDGE_FRACTION = Param("ridge_fraction", "ratio", "constant-fraction ridge model's A_fr/A_g (model.md: 10-70 %)",
                        0.5, low=0, low_open=True, high=1, label="ridge fraction A_fr/A_g", symbol="A_fr/A_g")
+#: The fields that describe a layered skin's layer (``None`` on a half-space skin).
+LAYER_FIELDS = ("skin_layer_thickness", "skin_layer_modulus", "skin_substrate_modulus", "skin_substrate_poisson")
 
 #: Dimension of each declared finger field (derived from :data:`FINGER_PARAMS`).
 FINGER_FIELDS: dict[str, str] = {p.name: p.dimension for p in FINGER_PARAMS}
@@ -99,7 +123,17 @@ class Finger:
     skin_modulus
         Effective micro-scale skin modulus E_s, Pa (thesis: 0.2-0.5 MPa), used in Eq. 3.4.
     skin_poisson
-        Skin Poisson ratio (docs/model.md: 0.48-0.5).
+        Skin Poisson ratio (docs/model.md: 0.48-0.5); the layer's nu_1 with a layered skin.
+    skin
+        ``"half-space"`` (the homogeneous skin of E_s, the default) or ``"layered"``: an elastic
+        layer (stratum corneum) bonded to the tissue or to a rigid base (docs/model.md, 6.4).
+    skin_layer_thickness, skin_layer_modulus
+        Layered skin: the layer's thickness t (m) and Young's modulus E_1 (Pa). E_1 is the skin's
+        modulus at short wavelengths, so ``skin_modulus`` is set to it (Eq. 3.4 uses E_1).
+    skin_substrate_modulus, skin_substrate_poisson
+        Layered skin on an elastic base: the tissue's E_2 (Pa) and nu_2 (default ``skin_poisson``).
+    skin_base
+        ``"elastic"`` (the tissue), ``"rigid"`` (bonded) or ``"rigid-frictionless"``.
     name, description
         Labels.
     """
@@ -113,11 +147,18 @@ class Finger:
     alpha: float = 0.1
     skin_modulus: float = DEFAULT_SKIN_MODULUS
     skin_poisson: float = DEFAULT_SKIN_POISSON
+    skin: str = "half-space"
+    skin_layer_thickness: float | None = None
+    skin_layer_modulus: float | None = None
+    skin_substrate_modulus: float | None = None
+    skin_substrate_poisson: float | None = None
+    skin_base: str = "elastic"
     name: str = "custom"
     description: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
         check_fields(self, FINGER_PARAMS)
+        self._check_skin()
         if not isinstance(self.ridges, RidgeAreaModel):
             raise FingerpadError(f"ridges must be a ridge-area model with area(load, gross_area), got {self.ridges!r}")
         if self.gross is not None:
@@ -130,6 +171,41 @@ class Finger:
                     raise FingerpadError(
                         f"gross-area model {attr} {own:.6g} differs from the finger's {getattr(self, attr):.6g}"
                     )
+
+    def _check_skin(self) -> None:
+        """The layered skin's fields given exactly when the skin is layered; E_s := E_1; the ridge
+        model told the layer (:meth:`layer`) when it has a use for it."""
+        given = [n for n in LAYER_FIELDS if getattr(self, n) is not None]
+        if self.skin == "half-space":
+            if given or self.skin_base != "elastic":
+                names = ", ".join(given or ["skin_base"])
+                raise FingerpadError(f"{names}: a layer needs skin = layered (the skin is a half-space)")
+            return
+        rigid = self.skin_base != "elastic"
+        need = ["skin_layer_thickness", "skin_layer_modulus", *(() if rigid else ("skin_substrate_modulus",))]
+        missing = [n for n in need if getattr(self, n) is None]
+        if missing:
+            raise FingerpadError(f"a layered skin needs {', '.join(need)}: {', '.join(missing)} missing")
+        extra = [n for n in ("skin_substrate_modulus", "skin_substrate_poisson") if rigid and getattr(self, n) is not None]
+        if extra:
+            raise FingerpadError(f"{', '.join(extra)}: the layer rests on a rigid base (skin_base = {self.skin_base})")
+        # the layer is the skin's surface: its modulus is the micro scale's E_s (Eq. 3.4)
+        object.__setattr__(self, "skin_modulus", self.skin_layer_modulus)
+        with_layer = getattr(self.ridges, "with_layer", None)
+        if with_layer is not None:
+            object.__setattr__(self, "ridges", with_layer(self.layer))
+
+    @property
+    def layer(self) -> Layer | None:
+        """The layered skin as a :class:`~fingerpad.contact.layered.Layer` (E_1 = E_s, nu_1 =
+        nu_s); ``None`` for the half-space skin."""
+        if self.skin == "half-space":
+            return None
+        rigid = self.skin_base != "elastic"
+        nu2 = self.skin_substrate_poisson if self.skin_substrate_poisson is not None else self.skin_poisson
+        return Layer(float(self.skin_layer_thickness), float(self.skin_layer_modulus), self.skin_poisson,  # type: ignore[arg-type]
+                     math.inf if rigid else float(self.skin_substrate_modulus), nu2,  # type: ignore[arg-type]
+                     "frictionless" if self.skin_base == "rigid-frictionless" else "bonded")
 
     @property
     def gross_model(self) -> GrossAreaModel:
@@ -180,6 +256,7 @@ class Finger:
         for par in FINGER_PARAMS:
             if isinstance(values.get(par.name), str):
                 values[par.name] = par.parse(values[par.name], par.name)
+        self._layered_overrides(values)
         gross = values.get("gross", self.gross)
         sync = {k: values[k] for k in ("radius", "modulus") if k in values}
         if sync and "gross" not in values and gross is not None and dataclasses.is_dataclass(gross):
@@ -194,6 +271,20 @@ class Finger:
         except TypeError as exc:  # e.g. arithmetic on a wrong type inside a model
             raise FingerpadError(f"bad finger parameter: {exc}") from None
 
+    def _layered_overrides(self, values: dict[str, Any]) -> None:
+        """A layer's field given on a half-space finger makes the skin layered; on a layered skin
+        E_s is the layer's modulus, so ``skin_modulus`` sets ``skin_layer_modulus`` (one value,
+        given once)."""
+        if "skin" not in values and self.skin == "half-space" and any(values.get(n) is not None for n in LAYER_FIELDS):
+            values["skin"] = "layered"
+        layered = values.get("skin", self.skin) == "layered"
+        if layered and values.get("skin_modulus") is not None:
+            e1 = values.get("skin_layer_modulus")
+            if e1 is not None and not math.isclose(float(e1), float(values["skin_modulus"]), rel_tol=1e-12):
+                raise FingerpadError("a layered skin's E_s is its layer's modulus: give skin_layer_modulus or "
+                                     "skin_modulus, not both")
+            values["skin_layer_modulus"] = values["skin_modulus"]
+
     def as_dict(self) -> dict[str, Any]:
         """Flat description of the parameters (for file attributes)."""
         return {
@@ -207,6 +298,10 @@ class Finger:
             "alpha": self.alpha,
             "skin_modulus": self.skin_modulus,
             "skin_poisson": self.skin_poisson,
+            # the layer's keys only with a layer: a half-space finger's description is as it was
+            **({} if self.skin == "half-space" else {
+                "skin": self.skin, "skin_base": self.skin_base,
+                **{n: getattr(self, n) for n in LAYER_FIELDS if getattr(self, n) is not None}}),
         }
 
 
@@ -254,6 +349,15 @@ FINGER_PRESETS: dict[str, Finger] = {
         name="ridged", ridges=SinusoidalRidges(wavelength=0.45e-3, modulus=100e3, amplitude=30e-6),
         description="default pad with sinusoidal (Westergaard) fingerprint ridges, 0.45 mm, 30 um",
     ),
+    # One skin through the scales (docs/model.md 6.5): a stratum corneum of t = 0.3 mm (thesis
+    # ch. 1.2: 0.2-0.35 mm) and E_1 = E_s = 0.3 MPa on tissue of E_2 = 30.4 kPa, i.e. E_2* =
+    # 40 kPa = the pad's E_fp*. Textures up to ~0.4 mm then feel 0.3 MPa (what the thesis
+    # recovered), the pad 40 kPa (what the pad measurements give).
+    "layered": _DEFAULT.with_overrides(
+        name="layered", skin_layer_thickness=0.3e-3, skin_layer_modulus=0.3e6,
+        skin_substrate_modulus=40e3 * (1 - DEFAULT_SKIN_POISSON**2),
+        description="default pad with a layered skin: stratum corneum 0.3 mm, E_1 0.3 MPa on tissue E_2* 40 kPa",
+    ),
 }
 
 
@@ -291,6 +395,8 @@ __all__ = [
     "FingerprintBEMRidges",
     "GrossAreaModel",
     "HertzArea",
+    "LAYER_FIELDS",
+    "Layer",
     "PowerLawArea",
     "PowerLawRidges",
     "RidgeAreaModel",

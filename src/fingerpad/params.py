@@ -99,6 +99,10 @@ class Param:
         its range is warned about (a forgotten unit).
     symbol
         The symbol of the equations (``R_fp``), for column heads; default the name.
+    needs_unit
+        A number typed as text without a unit (the command line, a quoted study-file value) is
+        refused, as sweep axes refuse one: for a length whose SI reading of ``2`` (2 m) is never
+        meant, e.g. the skin layer's thickness. Numbers (TOML, Python) stay SI.
     """
 
     name: str
@@ -114,6 +118,7 @@ class Param:
     label: str | None = None
     plausible: str | None = None
     symbol: str | None = None
+    needs_unit: bool = False
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -207,6 +212,8 @@ class Param:
             Naming ``where`` (default: the label or name).
         """
         label = where or self.label or self.name
+        if value is None and self.default is None:
+            return None  # not given (a default of None: chosen automatically, or not used)
         if self.kind == "choice":
             text = str(value).strip().lower() if isinstance(value, str) else None
             if text not in self.choices:
@@ -252,7 +259,10 @@ class Param:
         if isinstance(value, bool):
             raise FingerpadError(f"{label}: expected a {self.kind}, got {value!r}")
         if self.kind in DIMENSIONAL:
-            if require_unit and _is_bare_number(value) and float(str(value).strip()) != 0:
+            # needs_unit: text typed without a unit (a number from TOML or Python is SI, as a
+            # sweep axis passes its values)
+            typed = self.needs_unit and isinstance(value, str)
+            if (require_unit or typed) and _is_bare_number(value) and float(str(value).strip()) != 0:
                 units = ", ".join(u for u, (dim, _) in UNITS.items() if dim == self.dimension and u.isascii())
                 raise FingerpadError(
                     f"{label}: {value!r} has no unit; a {self.kind} needs one here, e.g. "

@@ -56,7 +56,8 @@ def test_homogeneous_outputs_keep_their_keys() -> None:
     (LAYER[:4], "--skin-substrate-modulus missing"),
     ([*LAYER, "--modulus", "1MPa"], "either --modulus"),
     ([*LAYER, "--skin-modulus", "1MPa"], "either --skin-modulus"),
-    ([*LAYER[:1], "-2um", *LAYER[2:]], "--skin-layer-thickness must be a positive length"),
+    ([*LAYER[:1], "-2um", *LAYER[2:]], "--skin-layer-thickness: must lie in (0 m, 10 mm]"),
+    ([*LAYER[:1], "2", *LAYER[2:]], "has no unit"),
     ([*LAYER[:5], "soft"], "--skin-substrate-modulus"),
 ])
 def test_layered_option_mistakes_are_one_line(extra: list[str], message: str) -> None:

@@ -18,22 +18,34 @@ def fingers_command() -> None:
     from rich.markup import escape
     from rich.table import Table
 
-    from ..finger import FINGER_PARAMS, FINGER_PRESETS, RIDGE_FRACTION
+    from ..finger import FINGER_PARAMS, FINGER_PRESETS, LAYER_FIELDS, RIDGE_FRACTION
     from ..macro import GROSS_MODELS
     from ..meso import RIDGE_MODELS
 
     def head(p: object) -> str:
         return f"{p.symbol or p.name}"  # type: ignore[attr-defined]
 
+    # the layer's fields are shown in the skin column (a half-space skin has none)
+    shown = [p for p in FINGER_PARAMS if p.name not in (*LAYER_FIELDS, "skin_base")]
+    by_name = {p.name: p for p in FINGER_PARAMS}
+
+    def cell(f: object, p: object) -> str:
+        value = getattr(f, p.name)  # type: ignore[attr-defined]
+        if p.name != "skin" or value != "layered":  # type: ignore[attr-defined]
+            return p.format(value)  # type: ignore[attr-defined]
+        parts = [f"{by_name[n].symbol} {by_name[n].format(getattr(f, n))}" for n in LAYER_FIELDS
+                 if getattr(f, n) is not None]
+        return "layered: " + ", ".join(parts) + ("" if f.skin_base == "elastic" else f", {f.skin_base} base")  # type: ignore[attr-defined]
+
     table = Table(title="finger presets: fingerpad predict --finger NAME [--finger-param NAME=VALUE]",
                   show_lines=True)
     table.add_column("preset")
-    for p in FINGER_PARAMS:
-        table.add_column(head(p), no_wrap=True)
+    for p in shown:
+        table.add_column(head(p), no_wrap=p.name != "skin")
     table.add_column("gross area", overflow="fold")
     table.add_column("ridge area", overflow="fold")
     for name, f in FINGER_PRESETS.items():
-        table.add_row(f"{name}\n{f.description}", *(p.format(getattr(f, p.name)) for p in FINGER_PARAMS),
+        table.add_row(f"{name}\n{f.description}", *(cell(f, p) for p in shown),
                       escape(repr(f.gross_model)), escape(repr(f.ridges)))
     console = stdout_console(160)
     if console.width >= 130:
@@ -41,7 +53,7 @@ def fingers_command() -> None:
     else:  # a narrow terminal: one block per preset
         for name, f in FINGER_PRESETS.items():
             say(console, f"{name}: {f.description}")
-            say(console, "  " + ", ".join(f"{head(p)} {p.format(getattr(f, p.name))}" for p in FINGER_PARAMS))
+            say(console, "  " + ", ".join(f"{head(p)} {cell(f, p)}" for p in shown))
             say(console, f"  gross area: {f.gross_model!r}")
             say(console, f"  ridge area: {f.ridges!r}")
     say(console, "")

@@ -33,7 +33,7 @@ import numpy as np
 from ..errors import FingerpadError
 from ..materials import DEFAULT_SKIN_POISSON, check_modulus, check_poisson
 
-__all__ = ["Layer", "layer_factor", "spectral_factor"]
+__all__ = ["Layer", "effective_modulus", "layer_factor", "spectral_factor"]
 
 BASES = ("bonded", "frictionless")
 
@@ -185,3 +185,17 @@ def spectral_factor(layer: Layer | None, q: np.ndarray, modulus: float) -> np.nd
             "the pair's modulus is the layer's combined with the counter-surface's (Eq. 3.4)")
     w = min(w, 1.0)
     return 1.0 + w * (layer_factor(np.asarray(q, dtype=np.float64) * layer.thickness, layer) - 1.0)
+
+
+def effective_modulus(layer: Layer, k: np.ndarray | float) -> np.ndarray:
+    """The reduced modulus of the homogeneous half-space as stiff as ``layer`` at wavenumber ``k``.
+
+    ``E*_eff(k) = E1* / K(|k| t)`` (Pa), ``k`` in rad/m: a sinusoidal pressure of wavenumber k
+    deflects the layered body as much as it deflects this half-space (docs/model.md, section 6.4,
+    "Westergaard generalised"). It runs from the substrate's E2* (``k t -> 0``) to the layer's
+    E1* (``k t -> inf``); 0 at ``k = 0`` on a rigid base is returned as ``inf``.
+    """
+    k = np.abs(np.asarray(k, dtype=np.float64))
+    factor = layer_factor(k * layer.thickness, layer)
+    with np.errstate(divide="ignore"):
+        return layer.reduced_modulus / factor

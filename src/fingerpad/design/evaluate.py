@@ -62,7 +62,7 @@ def cell_key(data: Mapping[str, Any]) -> str | None:
     for a point that cannot exist or runs no BEM cell. Neither the moduli nor the texture's scale
     enter: the cell is stored in p/E* and lengths over the cell length
     (:func:`fingerpad.micro.bem.unit_cell_key`), so points that differ only in them share it."""
-    from ..micro.bem import DEFAULT_RTOL, unit_cell_key
+    from ..micro.bem import DEFAULT_RTOL, unit_cell_key, unit_layer
 
     try:
         with warnings.catch_warnings():
@@ -73,8 +73,10 @@ def cell_key(data: Mapping[str, Any]) -> str | None:
             tex = study.build_texture()
         if not tex.periodic:
             return None
+        # a layered skin's cell is one per thickness over Lx and moduli over E* (a half-space: none)
+        layer = unit_layer(study.finger.layer, study.reduced_modulus, float(tex.size[0]))
         return unit_cell_key(tex, tol=study.tol, max_iter=study.max_iter, rtol=DEFAULT_RTOL, grid=study.grid,
-                             accuracy=study.accuracy)
+                             accuracy=study.accuracy, layer=layer)
     except FingerpadError:
         return None
 

@@ -52,6 +52,12 @@ FINGER_LABELS = {
     "alpha": "pressure coefficient alpha",
     "skin_modulus": "skin modulus E_s",
     "skin_poisson": "skin Poisson ratio",
+    "skin": "skin structure (half-space, layered)",
+    "skin_layer_thickness": "skin layer thickness t",
+    "skin_layer_modulus": "skin layer modulus E_1",
+    "skin_substrate_modulus": "skin substrate modulus E_2",
+    "skin_substrate_poisson": "skin substrate Poisson ratio",
+    "skin_base": "skin layer base",
 }
 
 #: Labels of the other fields: (section, key) -> label.

@@ -3,14 +3,19 @@ profile models' common part (a helper module: it declares no model)."""
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from dataclasses import dataclass
-from typing import ClassVar, Literal, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, ClassVar, Literal, Protocol, runtime_checkable
 
 import numpy as np
 
 from ..checks import ArrayLike, as_loads, scalar_out
 from ..macro.pressure import disc_average
 from ..params import Param, check_fields
+
+if TYPE_CHECKING:
+    from ..contact.layered import Layer
 
 __all__ = ["PROFILE_PARAMS", "PressureDistribution", "ProfileRidges", "RidgeAreaModel", "load_and_gross"]
 
@@ -76,6 +81,18 @@ class ProfileRidges:
 
     def local_fraction(self, pressure: ArrayLike) -> float | np.ndarray:  # pragma: no cover
         raise NotImplementedError
+
+    def with_layer(self, layer: "Layer") -> "ProfileRidges":
+        """The model on a layered skin (docs/model.md, "A layered finger through the scales").
+
+        The ridges' modulus becomes the layered skin's effective modulus at the ridge wavenumber,
+        ``E*_eff(2 pi / lambda_r) = E1* / K(2 pi t / lambda_r)`` (Pa): exact for the full-contact
+        pressure of a sinusoid (the deflection is one harmonic), an approximation below it, where
+        the contact patches excite shorter wavelengths too (stiffer for a stiff layer).
+        """
+        from ..contact.layered import effective_modulus
+
+        return dataclasses.replace(self, modulus=float(effective_modulus(layer, 2.0 * math.pi / self.wavelength)))
 
     def area(self, load: ArrayLike, gross_area: ArrayLike) -> float | np.ndarray:
         """Ridge contact area A_fr (m^2) under the chosen gross pressure distribution."""

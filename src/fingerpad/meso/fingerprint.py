@@ -25,6 +25,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..contact import ContactResult, HalfSpaceSolver
+from ..contact.layered import Layer
 from ..checks import as_loads, scalar_out
 from ..errors import FingerpadError
 from ..params import Model, Param, check_fields
@@ -110,6 +111,11 @@ class FingerprintBEMRidges:
         Resolution of the ridges.
     topography
         A measured replica instead of the synthetic pattern (see :meth:`from_surface`).
+    layer
+        A layered skin (:class:`~fingerpad.contact.layered.Layer`): the solve uses the layered
+        padded kernel and ``modulus`` is the layer's E1* (the plate is rigid). A layered
+        :class:`~fingerpad.finger.Finger` sets it (:meth:`with_layer`): its ridges, 0.4-0.5 mm,
+        are the size of the stratum corneum's thickness, so they feel layer and tissue both.
 
     From a study file: ``[finger] ridges = { model = "fingerprint_bem", height = "30um" }``; the
     pad radius is the finger's and ``max_load`` the study's largest load unless given.
@@ -146,15 +152,30 @@ class FingerprintBEMRidges:
     points_per_wavelength: int = 10
     tol: float = 1e-6
     topography: Texture | None = field(default=None, repr=False)
+    layer: Layer | None = None
     _cache: dict[float, ContactResult] = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         check_fields(self, self.PARAMS)
+        # whether the patch is the synthetic one (sized by the moduli), not a measured replica
+        object.__setattr__(self, "_synthetic_patch", self.topography is None)
         if self.topography is None:
             object.__setattr__(self, "topography", self._synthetic())
         elif self.topography.periodic:
             raise FingerpadError("a fingerprint topography must be a finite (non-periodic) patch")
-        object.__setattr__(self, "_solver", HalfSpaceSolver(self.topography, self.modulus, tol=self.tol))
+        object.__setattr__(self, "_solver", HalfSpaceSolver(self.topography, self.modulus, layer=self.layer,
+                                                            tol=self.tol))
+
+    def with_layer(self, layer: Layer) -> "FingerprintBEMRidges":
+        """The model solved on the layered skin ``layer`` (modulus: the layer's E1*, a rigid plate);
+        ``self`` when it is already."""
+        if self.layer == layer:
+            return self
+        import dataclasses
+
+        # a fresh solve cache: the copy's solutions are another body's
+        topography = None if getattr(self, "_synthetic_patch", False) else self.topography  # re-sized
+        return dataclasses.replace(self, layer=layer, modulus=layer.reduced_modulus, topography=topography, _cache={})
 
     @classmethod
     def from_surface(cls, texture: Texture, *, modulus: float = 100e3, invert: bool = False, **kw: Any) -> "FingerprintBEMRidges":
@@ -164,7 +185,10 @@ class FingerprintBEMRidges:
         return cls(modulus=modulus, topography=tex, **kw)
 
     def _synthetic(self) -> Texture:
-        a = (3 * self.max_load * self.pad_radius / (4 * self.modulus)) ** (1 / 3)
+        # the patch holds the Hertz contact of the softest modulus the pad can show: on a layered
+        # skin the substrate's at long wavelengths, if softer than the layer
+        e = self.modulus if self.layer is None else min(self.modulus, self.layer.substrate_reduced_modulus)
+        a = (3 * self.max_load * self.pad_radius / (4 * e)) ** (1 / 3)
         extent = min(2.6 * a, 1.9 * self.pad_radius)
         grid = int(math.ceil(extent / self.wavelength * self.points_per_wavelength / 2) * 2)
         return fingerprint_topography(

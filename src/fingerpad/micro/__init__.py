@@ -7,7 +7,8 @@ pressures of the transition (the skin touches the texture's base) and of full co
 * :mod:`.bem` - the numerical cell, :class:`BEMUnitCell`, from the FFT-BEM of :mod:`fingerpad.contact`;
 * :mod:`.hertz` - the analytic per-asperity Hertz cell, :class:`HertzUnitCell` (Eqs. 3.1-3.6);
 * :mod:`.loadcurve` - load curves and bracketed state pressures of a cell;
-* :mod:`.cache` - the on-disk cache of computed curves.
+* :mod:`.cache` - the on-disk cache of computed curves;
+* :mod:`.layered_cell` - the dimensionless layer of a layered skin's cell and its cache-key settings.
 """
 
 from .bem import BEMUnitCell, ScaledResponse

@@ -11,6 +11,11 @@ depends on p/E* only, and a texture scaled uniformly in all its lengths has the 
 So the cell solved and stored is the *unit cell*: the heights divided by the cell's length Lx,
 at unit modulus, with pressures in units of E* and lengths in units of Lx. Its key holds
 neither E* nor Lx.
+
+A layered skin (:class:`~fingerpad.contact.layered.Layer`) keeps both scalings when they are
+applied to the layer too: psi is then a function of p/E* at fixed t/Lx, E_1/E*, E_2/E* and
+Poisson ratios (docs/solver.md, "A layered cell"). The unit cell's layer (:func:`unit_layer`)
+holds those numbers and joins the key; a half-space cell's key is as it always was.
 """
 
 from __future__ import annotations
@@ -22,14 +27,16 @@ from typing import TYPE_CHECKING, Any, Callable
 import numpy as np
 
 from ..contact import ContactResult, HalfSpaceSolver
+from ..contact.layered import Layer
 from ..errors import FingerpadError
+from .layered_cell import layer_key, unit_layer
 from .loadcurve import Progress, bisect_state
 
 if TYPE_CHECKING:
     from ..textures import Texture
     from .cache import CurveCache
 
-__all__ = ["BEMUnitCell", "ScaledResponse", "unit_cell_key", "unit_texture"]
+__all__ = ["BEMUnitCell", "ScaledResponse", "layer_key", "unit_cell_key", "unit_layer", "unit_texture"]
 
 
 # --------------------------------------------------------------------------------------------
@@ -82,15 +89,17 @@ def unit_texture(texture: "Texture") -> "Texture":
     return replace(texture, heights=_quantise(hn, step), size=(1.0, aspect), base_level=base)
 
 
-def unit_cell_key(texture: "Texture", *, tol: float, max_iter: int, rtol: float, **extra: Any) -> str:
+def unit_cell_key(texture: "Texture", *, tol: float, max_iter: int, rtol: float, layer: Layer | None = None,
+                  **extra: Any) -> str:
     """Cache key of the unit cell of ``texture`` (:func:`unit_texture`) and the solver settings:
-    no modulus, no absolute length. ``extra`` settings join the key (the sweep adds its grid
+    no modulus, no absolute length. ``layer`` is the *unit* layer (:func:`unit_layer`), whose
+    dimensionless numbers join the key. ``extra`` settings join the key (the sweep adds its grid
     choice)."""
     from .cache import content_key
 
     unit = unit_texture(texture)  # idempotent: a unit texture is its own
     return content_key(unit.heights, cell="unit", size=unit.size, base_level=unit.base_level, tol=tol,
-                       max_iter=max_iter, ppd=POINTS_PER_DECADE, rtol=rtol, **extra)
+                       max_iter=max_iter, ppd=POINTS_PER_DECADE, rtol=rtol, **layer_key(layer), **extra)
 
 
 class BEMUnitCell:
@@ -121,6 +130,10 @@ class BEMUnitCell:
         A :class:`~fingerpad.micro.cache.CurveCache`, ``None`` for the default folder, ``False`` for none.
     rtol
         Relative width of the transition and full-contact pressure brackets.
+    layer
+        A layered skin (:class:`~fingerpad.contact.layered.Layer`, SI); ``modulus`` is then the
+        pair's E* at short wavelengths (the layer's E1* with a rigid texture, Eq. 3.4).
+        ``None``: the homogeneous half-space.
     """
 
     def __init__(
@@ -132,6 +145,7 @@ class BEMUnitCell:
         max_iter: int = 5000,
         cache: "CurveCache | None | bool" = None,
         rtol: float = DEFAULT_RTOL,
+        layer: Layer | None = None,
     ) -> None:
         from ..materials import check_modulus
         from .cache import CurveCache
@@ -143,11 +157,17 @@ class BEMUnitCell:
         #: The cell's length Lx (m): the unit of the stored lengths.
         self.length = float(texture.size[0])
         self.unit = unit_texture(texture)
+        if layer is not None and not isinstance(layer, Layer):
+            raise FingerpadError("layer must be a fingerpad.contact.layered.Layer or None")
+        self.layer = layer
+        #: The layer of the unit cell: thickness over Lx, moduli over E* (None: a half-space).
+        self.unit_layer = unit_layer(layer, self.modulus, self.length)
         #: The solver of the unit cell (unit modulus, lengths over Lx): its pressures are p / E*.
-        self.solver = HalfSpaceSolver(self.unit, 1.0, tol=tol, max_iter=max_iter)
+        self.solver = HalfSpaceSolver(self.unit, 1.0, layer=self.unit_layer, tol=tol, max_iter=max_iter)
         self.rtol = rtol
+        self.tol, self.max_iter = tol, max_iter
         self.cache = CurveCache() if cache is None else (cache or None)
-        self.key = unit_cell_key(self.unit, tol=tol, max_iter=max_iter, rtol=rtol)
+        self.key = unit_cell_key(self.unit, tol=tol, max_iter=max_iter, rtol=rtol, layer=self.unit_layer)
         # the unit cell's nodes (p / E* -> row in units of E* and Lx) and state brackets (p / E*)
         self._unit_points: dict[float, dict[str, Any]] = {}
         self._transition: tuple[float, float] | None = None
@@ -447,10 +467,30 @@ class BEMUnitCell:
         return worst
 
     def at_modulus(self, modulus: float) -> "ScaledResponse":
-        """psi(p) of this cell at reduced modulus ``modulus`` (Pa), by p/E* scaling (no solves)."""
+        """psi(p) of this cell at reduced modulus ``modulus`` (Pa), by p/E* scaling (no solves).
+
+        With a layer, the layer's moduli are taken scaled by the same factor (the scaling holds
+        for the whole body); :meth:`for_skin` checks that and solves another cell when not."""
         if not (math.isfinite(modulus) and modulus > 0):
             raise FingerpadError(f"modulus must be positive, got {modulus!r}")
         return ScaledResponse(self, modulus / self.modulus)
+
+    def for_skin(self, modulus: float, layer: Layer | None,
+                 p_range: tuple[float, float] | None = None) -> "ScaledResponse | BEMUnitCell":
+        """psi(p) of this texture cell for another skin: reduced modulus ``modulus`` (Pa) and
+        ``layer``. The same unit cell (same unit layer) is read at the new modulus without a
+        solve (:meth:`at_modulus`); another unit layer (a thickness or modulus ratio of its own)
+        is another cell, made with this one's settings and cache and prepared over ``p_range``
+        (Pa) when given."""
+        if layer is None and self.layer is None:
+            return self.at_modulus(modulus)
+        if layer is not None and unit_layer(layer, modulus, self.length) == self.unit_layer:
+            return self.at_modulus(modulus)
+        cell = BEMUnitCell(self.texture, modulus, tol=self.tol, max_iter=self.max_iter, cache=self.cache if self.cache is not None else False,
+                           rtol=self.rtol, layer=layer)
+        if p_range is not None:
+            cell.prepare(*p_range)
+        return cell
 
     def curve(self) -> dict[str, np.ndarray]:
         """The computed nodes: pressure (Pa), contact_fraction, mean_gap (m), max_pressure (Pa)."""

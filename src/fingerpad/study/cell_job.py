@@ -115,9 +115,10 @@ def parse_materials(
         spec = parse_materials(None, skin_layer_modulus, skin_poisson, material_modulus, material_poisson)
         from ..contact import Layer
 
-        t = parse_quantity(skin_layer_thickness, "length", name="--skin-layer-thickness")
-        if not (math.isfinite(t) and t > 0):
-            raise FingerpadError(f"--skin-layer-thickness must be a positive length, got {skin_layer_thickness!r}")
+        from ..finger import finger_param
+
+        # the finger's declaration: a unit is required (a bare 2 would be 2 m), positive
+        t = finger_param("skin_layer_thickness").parse(skin_layer_thickness, "--skin-layer-thickness")
         rigid = skin_substrate_modulus.strip().lower() in ("rigid", "inf", "infinity")
         e2 = math.inf if rigid else parse_quantity(skin_substrate_modulus, "pressure", name="--skin-substrate-modulus")
         if not rigid:

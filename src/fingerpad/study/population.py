@@ -73,9 +73,10 @@ DISTRIBUTIONS: dict[str, tuple[str, ...]] = {
     "truncnormal": ("mean", "sd", "low", "high"),
     "values": ("values",),
 }
-#: The parameters a population may vary: the finger's fields and the ridge fraction (all of them
-#: ``--finger-param`` names).
-POPULATION_PARAMS: dict[str, Param] = {p.name: p for p in (*FINGER_PARAMS, RIDGE_FRACTION)}
+#: The parameters a population may vary: the finger's numeric fields and the ridge fraction (all
+#: of them ``--finger-param`` names; not a choice such as the skin's structure: a population's
+#: members share it).
+POPULATION_PARAMS: dict[str, Param] = {p.name: p for p in (*FINGER_PARAMS, RIDGE_FRACTION) if p.kind != "choice"}
 
 
 @dataclass(frozen=True)
@@ -461,7 +462,9 @@ def run_population(study: Study, population: Population,
     curves, crit, full, states = [], [], [], []
     for f, e in zip(fingers, moduli, strict=True):
         if bem:
-            mcell: Any = cell.at_modulus(e)
+            # a layered member with a thickness or modulus ratio of its own is a cell of its own
+            p = loads / np.asarray(f.ridge_area(loads), float)
+            mcell: Any = cell.for_skin(e, f.layer, (P_LOW * float(p.min()), P_HIGH * float(p.max())))
         else:
             mcell = hertz_cell_for(tex, e)[0]
         curve = predict_curve(loads, f, mcell)

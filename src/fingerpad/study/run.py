@@ -26,7 +26,7 @@ from ..micro.hertz import HertzUnitCell, hertz_cell_for, supports_hertz
 from ..textures import Texture
 from .spec import Study
 
-__all__ = ["P_HIGH", "P_LOW", "Prediction", "centre_state", "run_study"]
+__all__ = ["P_HIGH", "P_LOW", "Prediction", "centre_state", "pad_layer_note", "run_study"]
 
 #: Local pressures solved on the BEM cell: [P_LOW * min(F/A_fr), P_HIGH * max(F/A_fr)]. The pad
 #: pressure (Eq. 3.7) runs from 0 at the disc edge to 1.5 F/A_fr at the centre; below the lowest
@@ -157,6 +157,35 @@ def load_at_centre_pressure(finger: Finger, pressure: float) -> float:
         return math.nan
 
 
+#: A layered finger's pad modulus E_fp* and its skin's effective modulus at the pad's contact
+#: scale may differ by this factor before a note says so.
+PAD_LAYER_TOLERANCE = 1.5
+
+
+def pad_layer_note(finger: Finger, load: float) -> str | None:
+    """A note when a layered finger's pad modulus E_fp* disagrees with its skin.
+
+    The pad (Hertz, Eq. 2.5) keeps E_fp*: its contact radius a (millimetres) is many layer
+    thicknesses, so it feels the tissue under the stratum corneum. The layered skin's effective
+    modulus at the pad's scale, ``E1* / K(t / a)`` (docs/model.md, "A layered finger through the
+    scales"), should then be about E_fp*; ``None`` when it is within :data:`PAD_LAYER_TOLERANCE`
+    or the skin is a half-space.
+    """
+    from ..contact.layered import effective_modulus
+
+    layer = finger.layer
+    if layer is None:
+        return None
+    a = float(np.sqrt(np.asarray(finger.gross_area(load), float) / math.pi))
+    e_pad = float(effective_modulus(layer, 1.0 / a))
+    ratio = e_pad / finger.modulus
+    if 1 / PAD_LAYER_TOLERANCE <= ratio <= PAD_LAYER_TOLERANCE:
+        return None
+    return (f"layered skin: its effective modulus at the pad's contact radius ({a * 1e3:.3g} mm at {load:g} N) is "
+            f"{e_pad / 1e3:.3g} kPa, the pad's E_fp* is {finger.modulus / 1e3:.3g} kPa: the pad (Eq. 2.5) keeps "
+            "E_fp*; set the finger's modulus to the skin's for one skin through the scales")
+
+
 def _zones(study: Study, cell: Any, hertz_cell: Any) -> dict[str, Any]:
     """Zone radii of the ridge-contact disc at the zone load (primary cell; Hertz radius too)."""
     from ..coupling import couple
@@ -195,7 +224,8 @@ def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, 
     return choose_grid(
         make, tex, e1, p_range, lambda cell: couple(loads, ridge, cell).area_ratio,
         target=None if study.grid is not None or make is None else study.accuracy,
-        cell_options={"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache()},
+        cell_options={"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache(),
+                      "layer": study.finger.layer},
         progress=progress,
     )
 
@@ -336,10 +366,16 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
     p_range = (P_LOW * float(p_mean.min()), P_HIGH * float(p_mean.max()))
     notes: list[str] = []
 
+    note = pad_layer_note(finger, float(np.max(loads)))
+    if note:
+        notes.append(note)
     run_hertz = study.model in ("hertz", "both") and supports_hertz(tex)
     if study.model == "both" and not run_hertz:
         notes.append(f"Hertz (Eqs. 3.1-3.6) needs an asperity radius: texture {tex.name!r} runs the BEM only")
     hertz_cell = None
+    if run_hertz and finger.layer is not None:
+        notes.append("Hertz (Eqs. 3.1-3.6) takes the skin as the half-space of its layer (E_1): right for asperity "
+                     "contacts much smaller than the layer's thickness, the BEM cell has the layer")
     if run_hertz:
         hertz_cell, note = hertz_cell_for(tex, e1)
         if note:
