@@ -70,6 +70,8 @@ def _jsonable(value: Any) -> Any:
     if isinstance(value, (list, tuple)):
         return [_jsonable(v) for v in value]
     if isinstance(value, np.ndarray):
+        if value.dtype.kind == "f" and np.all(np.isfinite(value)):
+            return value.tolist()  # already JSON numbers: no walk over every element
         return _jsonable(value.tolist())
     if isinstance(value, (bool, np.bool_)):
         return bool(value)

@@ -37,13 +37,14 @@ from typing import Any
 
 import numpy as np
 
-from ..coupling import CurvePrediction, predict_curve
+from ..coupling import CurvePrediction
 from ..errors import FingerpadError
 from ..finger import FINGER_PARAMS, Finger
 from ..meso import ConstantFractionRidges
 from ..params import Param, _is_bare_number
+from .members import member_full_contact_loads, predict_members
 from .population_presets import POPULATION_PRESETS
-from .run import P_HIGH, P_LOW, Prediction, centre_state, load_at_centre_pressure, run_study
+from .run import P_HIGH, P_LOW, Prediction, centre_state, run_study
 from .spec import Study
 
 __all__ = [
@@ -391,8 +392,10 @@ def run_population(study: Study, population: Population,
 
     The nominal prediction (the study's finger) is run first; the BEM cell is then prepared over
     the union of the members' pressures in units of E* (no solve when that lies inside what is
-    cached) and each member's curve is :func:`~fingerpad.coupling.predict_curve` on the cell at
-    the member's E1*. With the Hertz model each member gets its own per-asperity cell (no solve).
+    cached) and every member's curve is that of :func:`~fingerpad.coupling.predict_curve` on the
+    cell at the member's E1*, all of them in one vectorised coupling
+    (:func:`~fingerpad.study.members.predict_members`). With the Hertz model each member gets its
+    own per-asperity cell (no solve).
 
     Raises
     ------
@@ -424,21 +427,21 @@ def run_population(study: Study, population: Population,
             p = loads / np.asarray(f.ridge_area(loads), float)
             lo, hi = min(lo, P_LOW * float(p.min()) / e), max(hi, P_HIGH * float(p.max()) / e)
         cell.prepare(lo * cell.modulus, hi * cell.modulus)
-    curves, crit, full, states = [], [], [], []
-    for f, e in zip(fingers, moduli, strict=True):
-        if bem:
-            mcell: Any = cell.at_modulus(e)
-        else:
-            mcell = hertz_cell_for(tex, e)[0]
-        curve = predict_curve(loads, f, mcell)
-        curves.append(curve)
-        if bem:
-            crit.append(curve.critical_load)
-            full.append(0.0 if cell.flat else load_at_centre_pressure(f, mcell.full_contact_pressure))
-        else:
-            crit.append(curve.critical_load_hertz if curve.critical_load_hertz is not None else math.nan)
-            full.append(math.nan)
-        states.append([centre_state(p, mcell) for p in 1.5 * curve.load / curve.ridge_area])
+    # every member's curves in one vectorised coupling (fingerpad.study.members), the same numbers
+    # as a predict_curve per member
+    if bem:
+        mcells: list[Any] = [cell.at_modulus(e) for e in moduli]
+        curves = predict_members(loads, fingers, cell, moduli)
+        crit = [c.critical_load for c in curves]
+        full = [0.0] * len(fingers) if cell.flat else \
+            list(member_full_contact_loads(fingers, [c.full_contact_pressure for c in mcells]))
+    else:
+        mcells = [hertz_cell_for(tex, e)[0] for e in moduli]
+        curves = predict_members(loads, fingers, mcells)
+        crit = [c.critical_load_hertz if c.critical_load_hertz is not None else math.nan for c in curves]
+        full = [math.nan] * len(fingers)
+    states = [[centre_state(p, mcell) for p in 1.5 * curve.load / curve.ridge_area]
+              for curve, mcell in zip(curves, mcells, strict=True)]
     notes = []
     if study.model == "both":
         notes.append("population: the BEM curves only (model both)")
