@@ -32,9 +32,9 @@ from ..finger import Finger
 from ..friction import mu_checked
 from ..macro.pressure import disc_nodes
 from ..micro.response import check_cell
-from .run import load_at_centre_pressure
+from .run import P_HIGH, P_LOW, Prediction, centre_state, load_at_centre_pressure
 
-__all__ = ["member_full_contact_loads", "predict_members"]
+__all__ = ["member_full_contact_loads", "predict_fingers", "predict_members"]
 
 #: Members per NumPy block: about 50 k pressures per member at 40 loads; larger blocks fall out of
 #: the CPU caches and run slower (CPU time measured: 1-4 members per block alike, 16 and 48 slower).
@@ -189,3 +189,48 @@ def member_full_contact_loads(fingers: Sequence[Finger], pressures: Sequence[flo
     with the finger's area law called directly (``inf`` for an infinite pressure, NaN if none)."""
     return np.array([load_at_centre_pressure(finger, float(p), ridge_area=_area_of(finger))
                      for finger, p in zip(fingers, pressures, strict=True)], dtype=float)
+
+
+def predict_fingers(nominal: Prediction, fingers: Sequence[Finger]) -> tuple[
+        list[CurvePrediction], np.ndarray, np.ndarray, list[list[str]]]:
+    """Every finger on the texture of a study already predicted (``nominal``, its cell reused).
+
+    The BEM cell is prepared over the union of the fingers' pressures in units of E* (no solve
+    when that lies inside what is cached: psi depends on p/E* only) and read at each finger's E1*
+    (Eq. 3.4); with the Hertz model each finger gets its own per-asperity cell (no solve).
+
+    Returns
+    -------
+    curves, critical_load, full_contact_load, states
+        Per finger: its :class:`~fingerpad.coupling.CurvePrediction`, its critical and
+        full-contact loads (N; ``inf`` if never reached, full contact NaN for Hertz) and the
+        contact state at the pad centre at each load.
+    """
+    from ..micro.hertz import hertz_cell_for
+
+    study = nominal.study
+    mat_nu = study.material_poisson if study.material_poisson is not None else 0.35
+    moduli = [f.micro_modulus(study.material_modulus, mat_nu) for f in fingers]
+    loads = study.loads
+    cell = nominal.cell
+    if nominal.bem is not None:
+        if not cell.flat:
+            # the pressures every finger asks for, in units of E*: one prepare covers them all
+            lo, hi = math.inf, 0.0
+            for f, e in zip(fingers, moduli, strict=True):
+                p = loads / np.asarray(f.ridge_area(loads), float)
+                lo, hi = min(lo, P_LOW * float(p.min()) / e), max(hi, P_HIGH * float(p.max()) / e)
+            cell.prepare(lo * cell.modulus, hi * cell.modulus)
+        cells: list[Any] = [cell.at_modulus(e) for e in moduli]
+        curves = predict_members(loads, fingers, cell, moduli)
+        crit = [c.critical_load for c in curves]
+        full = np.zeros(len(fingers)) if cell.flat else \
+            member_full_contact_loads(fingers, [c.full_contact_pressure for c in cells])
+    else:
+        cells = [hertz_cell_for(nominal.texture, e)[0] for e in moduli]
+        curves = predict_members(loads, fingers, cells)
+        crit = [c.critical_load_hertz if c.critical_load_hertz is not None else math.nan for c in curves]
+        full = np.full(len(fingers), math.nan)
+    states = [[centre_state(p, c) for p in 1.5 * curve.load / curve.ridge_area]
+              for curve, c in zip(curves, cells, strict=True)]
+    return curves, np.asarray(crit, float), np.asarray(full, float), states

@@ -323,7 +323,7 @@ def write_outputs(
         Further files: ``predict.json``'s content and the per-load table (``None``: none; the
         JSON path ``"-"`` is stdout, written by the caller).
     extra
-        More figures for the folder: file name -> ``Figure``.
+        More figures for the folder: file name -> ``Figure``, or -> ``str`` for a text file.
     population
         A :class:`~fingerpad.study.population.PopulationResult` of which ``pred`` is the nominal:
         the JSON gets its ``population`` entry, the NetCDF its ``member`` dimension.
@@ -375,8 +375,9 @@ def write_outputs(
             figures = dict(zip(OUTPUT_FILES[2:], (figure_areas(pred), figure_friction(pred), figure_zones(pred)),
                                strict=True))
             figures.update(extra or {})
-            for name, fig in figures.items():
-                folder.write(name, lambda tmp, fig=fig: fig.savefig(tmp, format="png", dpi=dpi))
+            for name, fig in figures.items():  # a str is a text file's content (e.g. a CSV table)
+                folder.write(name, lambda tmp, fig=fig: fio.write_text(tmp, fig) if isinstance(fig, str)
+                             else fig.savefig(tmp, format="png", dpi=dpi))
             written += [folder.final_path(name) for name in names]
         staging.commit()
         if folder is not None:

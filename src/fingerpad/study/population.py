@@ -42,9 +42,9 @@ from ..errors import FingerpadError
 from ..finger import FINGER_PARAMS, Finger
 from ..meso import ConstantFractionRidges
 from ..params import Param, _is_bare_number
-from .members import member_full_contact_loads, predict_members
+from .members import predict_fingers
 from .population_presets import POPULATION_PRESETS
-from .run import P_HIGH, P_LOW, Prediction, centre_state, run_study
+from .run import Prediction, run_study
 from .spec import Study
 
 __all__ = [
@@ -296,6 +296,9 @@ class PopulationResult:
         Per member, the contact state at the pad centre at each load.
     quantile_levels
         The quantiles reported.
+    sensitivity
+        Sobol indices of mu/mu_ref and the critical load
+        (:class:`~fingerpad.study.sensitivity.SensitivityResult`), when asked for.
     """
 
     nominal: Prediction
@@ -307,6 +310,7 @@ class PopulationResult:
     states: list[list[str]]
     quantile_levels: tuple[float, ...]
     notes: list[str] = field(default_factory=list)
+    sensitivity: Any = None
 
     def values(self, quantity: str) -> np.ndarray:
         """``(members, loads)`` array of a per-load quantity."""
@@ -383,11 +387,12 @@ class PopulationResult:
                                          strict=True)
             ],
             "notes": self.notes,
+            **({"sensitivity": self.sensitivity.as_dict()} if self.sensitivity is not None else {}),
         }
 
 
 def run_population(study: Study, population: Population,
-                   quantiles: Sequence[float] = DEFAULT_QUANTILES) -> PopulationResult:
+                   quantiles: Sequence[float] = DEFAULT_QUANTILES, sensitivity: int | None = None) -> PopulationResult:
     """Predict every member of ``population`` on the study's texture (see the module docstring).
 
     The nominal prediction (the study's finger) is run first; the BEM cell is then prepared over
@@ -395,7 +400,9 @@ def run_population(study: Study, population: Population,
     cached) and every member's curve is that of :func:`~fingerpad.coupling.predict_curve` on the
     cell at the member's E1*, all of them in one vectorised coupling
     (:func:`~fingerpad.study.members.predict_members`). With the Hertz model each member gets its
-    own per-asperity cell (no solve).
+    own per-asperity cell (no solve). ``sensitivity``: the base samples N of the Sobol indices
+    (:func:`~fingerpad.study.sensitivity.population_sensitivity`, N (d + 2) more fingers), or
+    ``None`` for none.
 
     Raises
     ------
@@ -403,8 +410,6 @@ def run_population(study: Study, population: Population,
         A sliding direction (not supported with a population yet), bad quantiles, a member
         outside its parameter's bounds.
     """
-    from ..micro.hertz import hertz_cell_for
-
     levels = tuple(float(q) for q in quantiles)
     if not levels or any(not (0 <= q <= 1) for q in levels):
         raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {list(quantiles)}")
@@ -414,36 +419,13 @@ def run_population(study: Study, population: Population,
     members = population.sample()
     fingers = [member_finger(study.finger, m) for m in members]  # bounds checked before any solve
     nominal = run_study(study)
-    tex = nominal.texture
-    mat_nu = study.material_poisson if study.material_poisson is not None else 0.35
-    moduli = [f.micro_modulus(study.material_modulus, mat_nu) for f in fingers]
-    loads = study.loads
-    cell = nominal.cell
-    bem = nominal.bem is not None
-    if bem and not cell.flat:
-        # the pressures every member asks for, in units of E*: one prepare covers them all
-        lo, hi = math.inf, 0.0
-        for f, e in zip(fingers, moduli, strict=True):
-            p = loads / np.asarray(f.ridge_area(loads), float)
-            lo, hi = min(lo, P_LOW * float(p.min()) / e), max(hi, P_HIGH * float(p.max()) / e)
-        cell.prepare(lo * cell.modulus, hi * cell.modulus)
-    # every member's curves in one vectorised coupling (fingerpad.study.members), the same numbers
-    # as a predict_curve per member
-    if bem:
-        mcells: list[Any] = [cell.at_modulus(e) for e in moduli]
-        curves = predict_members(loads, fingers, cell, moduli)
-        crit = [c.critical_load for c in curves]
-        full = [0.0] * len(fingers) if cell.flat else \
-            list(member_full_contact_loads(fingers, [c.full_contact_pressure for c in mcells]))
-    else:
-        mcells = [hertz_cell_for(tex, e)[0] for e in moduli]
-        curves = predict_members(loads, fingers, mcells)
-        crit = [c.critical_load_hertz if c.critical_load_hertz is not None else math.nan for c in curves]
-        full = [math.nan] * len(fingers)
-    states = [[centre_state(p, mcell) for p in 1.5 * curve.load / curve.ridge_area]
-              for curve, mcell in zip(curves, mcells, strict=True)]
+    curves, crit, full, states = predict_fingers(nominal, fingers)
     notes = []
     if study.model == "both":
         notes.append("population: the BEM curves only (model both)")
-    return PopulationResult(nominal, population, members, curves, np.asarray(crit, float), np.asarray(full, float),
-                            states, levels, notes)
+    sens = None
+    if sensitivity is not None:
+        from .sensitivity import population_sensitivity
+
+        sens = population_sensitivity(nominal, population, sensitivity)
+    return PopulationResult(nominal, population, members, curves, crit, full, states, levels, notes, sens)
