@@ -137,7 +137,8 @@ class SensitivityResult:
     Attributes
     ----------
     parameters
-        The parameters with a spread, in the design's column order.
+        The parameters with a spread, in the design's column order, then those listed without
+        one (their indices 0: a fixed parameter explains no variance).
     loads
         The loads (N) of the per-load quantities.
     indices
@@ -166,7 +167,7 @@ class SensitivityResult:
             "design": "Saltelli pick-and-freeze: matrices A, B (N x d) from a scrambled Sobol sequence of "
                       "dimension 2d, and A with column i from B for each i",
             "first_order": "Saltelli et al. 2010", "total": "Jansen 1999",
-            "base_samples": self.base_samples, "parameters": len(self.parameters),
+            "base_samples": self.base_samples, "parameters_varied": self.evaluations // self.base_samples - 2,
             "evaluations": self.evaluations, "seed": self.seed,
             "confidence_interval": f"bootstrap over the N rows, {self.bootstrap} resamples; half-width "
                                    f"z sd at {self.confidence:g}",
@@ -284,7 +285,12 @@ def population_sensitivity(
             res = sobol_indices(y[:n], y[n:2 * n], ab, bootstrap=bootstrap, confidence=confidence, seed=seed)
         indices[quantity] = {p: {k: (float(v[i]) if v.ndim == 1 else v[i]) for k, v in res.items()}
                              for i, p in enumerate(names)}
-    return SensitivityResult(names, np.asarray(nominal.study.loads, float), indices, n, n * (d + 2), seed,
+        # a listed parameter without spread explains no variance: its indices are 0 by definition
+        zero = np.zeros(np.shape(y)[1:]) if y.ndim > 1 else 0.0
+        for p in population.distributions:
+            if p not in names:
+                indices[quantity][p] = {k: zero for k in ("first", "total", "first_conf", "total_conf")}
+    return SensitivityResult(names + [p for p in population.distributions if p not in names], np.asarray(nominal.study.loads, float), indices, n, n * (d + 2), seed,
                              int(bootstrap), float(confidence), notes)
 
 
