@@ -337,6 +337,35 @@ class PopulationResult:
         return {name: np.std(self.values(name), axis=0, ddof=1) / math.sqrt(n) if n > 1 else
                 np.zeros(len(self.nominal.study.loads)) for name in QUANTITIES}
 
+    def quantile_error(self, confidence: float = 0.95) -> dict[str, dict[str, Any]]:
+        """Monte Carlo error of each reported quantile: the half-width of its distribution-free
+        confidence interval ``[X_(l), X_(u)]`` between order statistics of the members,
+        ``l, u = nq -+ z sqrt(n q (1 - q))`` (normal approximation of the binomial count below
+        the quantile; 1-based, rounded outward, clipped to 1..n). Exact in coverage for
+        independent members; the quasi-random sample converges at least as fast, so it is an
+        upper estimate. Keyed as :meth:`quantiles`; the same units."""
+        from scipy.stats import norm
+
+        z = float(norm.ppf(0.5 + confidence / 2))
+
+        def half_width(sorted_values: np.ndarray, q: float) -> Any:
+            n = sorted_values.shape[0]
+            if n == 0:
+                return math.nan
+            spread = z * math.sqrt(n * q * (1 - q))
+            lo = min(max(math.floor(n * q - spread), 1), n) - 1
+            hi = min(max(math.ceil(n * q + spread), 1), n) - 1
+            return 0.5 * (sorted_values[hi] - sorted_values[lo])
+
+        out: dict[str, dict[str, Any]] = {}
+        tables = {name: np.sort(self.values(name), axis=0) for name in QUANTITIES}
+        for name, arr in (("critical_load", self.critical_load), ("full_contact_load", self.full_contact_load)):
+            tables[name] = np.sort(arr[~np.isnan(arr)])  # the members quantiles() takes
+        for name, table in tables.items():
+            out[name] = {f"{level:g}": (float(half_width(table, level)) if table.ndim == 1 else half_width(table, level))
+                         for level in self.quantile_levels}
+        return out
+
     def state_probability(self) -> dict[str, np.ndarray]:
         """Per state, the fraction of members whose pad centre is in it, at each load."""
         states = np.array(self.states)
@@ -378,6 +407,7 @@ class PopulationResult:
             "loads": self.nominal.study.loads,
             "quantiles": self.quantiles(),
             "monte_carlo_error": self.monte_carlo_error(),
+            "quantile_error": self.quantile_error(),
             "state_probability": self.state_probability(),
             "members": self.members,
             "member_results": [
