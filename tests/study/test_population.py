@@ -149,3 +149,16 @@ def test_quantile_error_is_reported_shrinks_with_size_and_covers():
     doc = large.as_dict()
     assert set(doc["quantile_error"]["mu"]) == {"0.05", "0.25", "0.5", "0.75", "0.95"}
     assert len(doc["quantile_error"]["mu"]["0.5"]) == len(study.loads)
+
+
+def test_population_json_text_is_the_same_json_one_member_per_line():
+    import json
+
+    from fingerpad.encode import json_text, to_jsonable
+
+    doc = to_jsonable({"population": run_population(_study(), population_from_table(TABLE)).as_dict()})
+    text = json_text(doc)
+    assert json.loads(text) == json.loads(json.dumps(doc, indent=2))
+    lines = text.splitlines()
+    assert sum(line.lstrip().startswith('{"area_ratio"') for line in lines) == 16  # member_results
+    assert sum(line.lstrip().startswith('{"skin_modulus"') for line in lines) == 16  # members

@@ -6,7 +6,6 @@ lets :func:`fingerpad.study.spec.study_from_dict` check everything once, runs th
 
 from __future__ import annotations
 
-import json
 import sys
 from collections.abc import Mapping, Sequence
 from typing import Annotated, Any
@@ -267,7 +266,7 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
     """
     import warnings
 
-    from ..encode import to_jsonable
+    from ..encode import json_text, to_jsonable
     from ..study.outputs import FOLDER_FILES, check_outputs, prediction_json, write_outputs
     from ..study.run import run_study
 
@@ -303,7 +302,7 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
         payload["population"] = to_jsonable(result.as_dict())
         pred.notes.extend(result.notes)
     if json_path == "-":
-        sys.stdout.write(json.dumps(payload, indent=2) + "\n")
+        sys.stdout.write(json_text(payload))
         sys.stdout.flush()
     elif result is not None:
         _print_population(payload)

@@ -334,7 +334,6 @@ def write_outputs(
         The files written.
     """
     import csv
-    import json
 
     from .. import io as fio
     from .. import netcdf
@@ -343,12 +342,12 @@ def write_outputs(
     names = [*OUTPUT_FILES, *(extra or {})]
     replaceable = sorted({*FOLDER_FILES, *names})
     check_outputs(out_dir, json_path, csv_path, replaceable)
-    from ..encode import to_jsonable
+    from ..encode import json_text, to_jsonable
 
     doc = prediction_json(pred)
     if population is not None:
         doc["population"] = to_jsonable(population.as_dict())
-    text = json.dumps(doc, indent=2) + "\n"
+    text = json_text(doc)  # members one per line: the pure-Python indenting of 1000 of them was slow
     staging = fio.Staging()
     folder = fio.OutputFolder(out_dir, replaceable) if out_dir is not None else None
     written: list[Path] = []
