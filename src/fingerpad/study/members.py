@@ -1,20 +1,23 @@
-"""Many fingers on one texture at once: the coupling of every member of a population in one NumPy
-evaluation (issue 22, "a population must not cost a population of BEM solves").
+"""Many fingers on one texture at once: the coupling of every member of a population, vectorised
+over blocks of members (issue 22, "a population must not cost a population of BEM solves").
 
 :func:`predict_members` gives, for each finger, the :class:`~fingerpad.coupling.CurvePrediction`
 that :func:`~fingerpad.coupling.predict_curve` gives for that finger on ``cell.at_modulus(E1*)``
 (the one unit cell read at the member's modulus by p/E* scaling), to the bit: the same
 pad pressures (Eq. 3.7), the same quadrature nodes per disc, the same psi interpolant, the same
-friction (Eqs. 2.1-2.4) and the same root finder for the critical load. What it saves is the
-Python around them: the psi of a block of members is one interpolation over ``members x loads x
-nodes`` pressures instead of one per member, and the critical and full-contact loads are found
-with each finger's area law called directly (the checks of the public ``Finger.ridge_area`` are
-done once, on the loads).
+friction (Eqs. 2.1-2.4) and the same root finder for the critical load. The psi of a block of
+members is one interpolation over ``members x loads x nodes`` pressures (only the nodes of
+non-zero weight, as :func:`~fingerpad.macro.pressure.disc_average` does), and the critical and
+full-contact loads are found with each finger's area law built once
+(:meth:`~fingerpad.finger.Finger.ridge_area_law`). Measured (docs/population.md, "Cost"): the
+work per member is in the psi interpolation and the quadrature arrays, not in Python calls, so
+the blocks are small (:data:`BLOCK`).
 
-:func:`member_full_contact_loads` gives each member's full-contact load the same way. Both are
-used by :func:`fingerpad.study.population.run_population` and may be used by any caller that
-predicts many fingers on one BEM cell (sweeps over a population, robust design).
-SI units (m, N, Pa).
+:func:`predict_fingers` runs a study's fingers on its already-solved cell (the cell prepared
+once over their pressures), :func:`member_full_contact_loads` their full-contact loads. They
+are used by :func:`fingerpad.study.population.run_population` and
+:func:`fingerpad.study.sensitivity.population_sensitivity`, and may be used by any caller that
+predicts many fingers on one cell (sweeps over a population, robust design). SI units (m, N, Pa).
 """
 
 from __future__ import annotations
