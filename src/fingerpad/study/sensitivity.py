@@ -23,7 +23,9 @@ is unchanged by it). Confidence: a bootstrap over the N rows
 (``bootstrap`` resamples, seeded), reported as the half-width ``z_{(1+c)/2} sd`` of the
 bootstrap estimates at confidence ``c`` (0.95), as SALib reports it.
 
-The parameters are taken as independent (the indices of correlated inputs are not these).
+The parameters are taken as independent (the indices of correlated inputs are not these): a
+population's correlations are left out of the design, with a note; a population of measured
+members (an ``analyse`` folder) has no distributions and is refused.
 An output with zero variance (e.g. mu/mu_ref where no parameter acts) has no indices (NaN).
 """
 
@@ -261,6 +263,11 @@ def population_sensitivity(
     """
     if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
         raise FingerpadError(f"--sensitivity-samples: expected an integer of at least 2, got {samples!r}")
+    if getattr(population, "measured", ()):
+        # a panel of measured people: the members are the people, not draws of independent
+        # parameters, so there is no design to sample
+        raise FingerpadError("--sensitivity: a population of measured members (an analyse folder) has no "
+                             "distributions to vary; give a [population] table of distributions")
     names = [k for k, d in population.distributions.items() if d.spread]
     if not names:
         raise FingerpadError("--sensitivity: no parameter of the population has a spread")
@@ -271,6 +278,9 @@ def population_sensitivity(
     outputs = (evaluate or _evaluate)(nominal, fingers)
     n, d = samples, len(names)
     notes: list[str] = []
+    if getattr(population, "correlations", ()):
+        notes.append("the population's correlations are not used here: Sobol indices are defined for "
+                     "independent parameters, and these are the indices of the parameters drawn independently")
     indices: dict[str, dict[str, dict[str, Any]]] = {}
     for quantity in SENSITIVITY_QUANTITIES:
         y = np.asarray(outputs[quantity], dtype=float)
