@@ -163,3 +163,20 @@ def test_cli_refusals(tmp_path: Path, args, words):
     lines = [line for line in res.stderr.splitlines() if line.strip()]
     assert len(lines) == 1 and lines[0].startswith("error: ") and words in lines[0], res.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_measured_populations_refused_and_correlations_noted():
+    """A measured panel (pop-sources' Population.measured) has no design; correlations (its
+    Population.correlations) are left out with a note. Stand-ins carry just those fields."""
+    from types import SimpleNamespace
+
+    study = _hertz_study()
+    pop = population_from_table({"skin_modulus": {"distribution": "uniform", "low": "0.2MPa", "high": "0.5MPa"},
+                                 "radius": {"distribution": "uniform", "low": "7mm", "high": "11mm"}})
+    measured = SimpleNamespace(distributions=pop.distributions, seed=0, measured=({"skin_modulus": 3e5},))
+    with pytest.raises(FingerpadError, match="measured members"):
+        population_sensitivity(run_study(study), measured, 16)
+    correlated = SimpleNamespace(distributions=pop.distributions, seed=0, correlations=(("skin_modulus", "radius",
+                                                                                          0.5),))
+    res = population_sensitivity(run_study(study), correlated, 16)
+    assert any("correlations are not used" in n for n in res.notes)
