@@ -428,7 +428,7 @@ def run_population(study: Study, population: Population,
     The nominal prediction (the study's finger) is run first; the BEM cell is then prepared over
     the union of the members' pressures in units of E* (no solve when that lies inside what is
     cached) and every member's curve is that of :func:`~fingerpad.coupling.predict_curve` on the
-    cell at the member's E1*, all of them in one vectorised coupling
+    cell at the member's E1*, the members coupled together in small blocks
     (:func:`~fingerpad.study.members.predict_members`). With the Hertz model each member gets its
     own per-asperity cell (no solve). ``sensitivity``: the base samples N of the Sobol indices
     (:func:`~fingerpad.study.sensitivity.population_sensitivity`, N (d + 2) more fingers), or
