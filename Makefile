@@ -30,6 +30,7 @@ bench: $(STAMP)
 	$(PY) -m pip install --quiet --disable-pip-version-check -e ".[bench]"
 	$(PY) benchmarks/bench_solver.py --grids 1024,2048 --memory 4096
 	$(PY) benchmarks/bench_predict.py
+	$(PY) benchmarks/bench_population.py
 	$(PY) benchmarks/bench_startup.py
 	$(PY) benchmarks/bench_sweep.py
 	$(PY) benchmarks/bench_analyse.py

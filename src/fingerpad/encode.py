@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["flatten_attrs", "to_jsonable"]
+__all__ = ["flatten_attrs", "json_text", "to_jsonable"]
 
 
 _BAD_KEY = re.compile(r"[^A-Za-z0-9_]+")
@@ -70,6 +70,8 @@ def _jsonable(value: Any) -> Any:
     if isinstance(value, (list, tuple)):
         return [_jsonable(v) for v in value]
     if isinstance(value, np.ndarray):
+        if value.dtype.kind == "f" and np.all(np.isfinite(value)):
+            return value.tolist()  # already JSON numbers: no walk over every element
         return _jsonable(value.tolist())
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
@@ -88,6 +90,41 @@ def _jsonable(value: Any) -> Any:
 def to_jsonable(value: Any) -> Any:
     """Public alias of the JSON conversion used by the command line (NaN/inf -> None)."""
     return _jsonable(value)
+
+
+#: Keys whose lists :func:`json_text` writes one compact item per line (a population's members).
+ROW_LISTS = ("members", "member_results")
+
+
+def json_text(doc: Any, rows: tuple[str, ...] = ROW_LISTS) -> str:
+    """``json.dumps(doc, indent=2)`` plus a newline, except that a list under one of the keys
+    ``rows`` is written one compact item per line (a member's parameters or curves on one
+    line). The same JSON value; the indented form is written by Python's pure-Python encoder,
+    which took 0.16 s for the 6 MB of 1000 members, the compact items by its C encoder.
+    ``doc`` must already be JSON-ready (:func:`to_jsonable`)."""
+    parts: dict[str, str] = {}
+
+    def swap(value: Any, depth: int) -> Any:
+        if isinstance(value, dict):
+            out = {}
+            for k, v in value.items():
+                if k in rows and isinstance(v, list) and v:
+                    mark = f"\x00row-list-{len(parts)}\x00"
+                    pad = "  " * (depth + 1)
+                    parts[json.dumps(mark)] = ("[\n" + ",\n".join(pad + "  " + json.dumps(item) for item in v)
+                                               + "\n" + pad + "]")
+                    out[k] = mark
+                else:
+                    out[k] = swap(v, depth + 1)
+            return out
+        if isinstance(value, list):
+            return [swap(v, depth + 1) for v in value]
+        return value
+
+    text = json.dumps(swap(doc, 0), indent=2)
+    for mark, body in parts.items():
+        text = text.replace(mark, body, 1)
+    return text + "\n"
 
 
 def flatten_attrs(attrs: Mapping[str, Any] | None, prefix: str = "") -> dict[str, Any]:

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -228,6 +228,19 @@ class Finger:
         gross = _model_area(self.gross_model, load)
         f, ag = np.broadcast_arrays(load, gross)
         return gross, _model_area(self.ridges, f, ag)
+
+    def ridge_area_law(self) -> Callable[[Any], np.ndarray]:
+        """``F -> A_fr(F)`` (m^2) on loads already checked, with the gross-area model built once:
+        the numbers of :meth:`areas_checked`, for root finders that call it many times (the
+        critical load of every member of a population)."""
+        gross_model, ridges = self.gross_model, self.ridges
+
+        def area(load: Any) -> np.ndarray:
+            f = np.asarray(load, dtype=float)
+            ff, ag = np.broadcast_arrays(f, _model_area(gross_model, f))
+            return _model_area(ridges, ff, ag)
+
+        return area
 
     def ridge_radius(self, load: ArrayLike) -> float | np.ndarray:
         """Radius of the ridge contact disc ``a_fr = sqrt(A_fr/pi)``, Eq. 3.7, m."""

@@ -6,7 +6,6 @@ lets :func:`fingerpad.study.spec.study_from_dict` check everything once, runs th
 
 from __future__ import annotations
 
-import json
 import sys
 from collections.abc import Mapping, Sequence
 from typing import Annotated, Any
@@ -28,6 +27,7 @@ from .common import (
     user_errors,
     warnings_to,
 )
+from ._sensitivity import sensitivity_samples_asked
 from .solve import _HELP
 
 _SURFACE, _MATERIALS, _FINGER, _LOADS, _NUMERICS, _OUTPUT = "Surface", "Materials", "Finger", "Loads", "Numerics", "Output"
@@ -83,6 +83,9 @@ _PREDICT_HELP = {
                     "table, or a folder written by fingerpad analyse (one member per participant, its fitted "
                     "E_s; docs/population.md); a study file's own [population] table is used without it.",
     "--quantiles": "Quantiles of the population bands, comma-separated (default 0.05,0.25,0.5,0.75,0.95).",
+    "--sensitivity": "With a population: Sobol indices (first-order and total) of mu/mu_ref and the critical load "
+                     "per parameter; N (d + 2) more fingers (docs/population.md).",
+    "--sensitivity-samples": "Base samples N of the sensitivity design (default 256; a power of two).",
 }
 
 
@@ -262,20 +265,23 @@ def _print_population(payload: Mapping[str, Any]) -> None:
 
 def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path: str | None = None,
                    extra: Mapping[str, Any] | None = None, population: Any = None,
-                   quantiles: Sequence[float] | None = None) -> int:
+                   quantiles: Sequence[float] | None = None, sensitivity: int | None = None) -> int:
     """Run ``study``, write its outputs (all or none), report. Returns the exit code.
 
     ``out``: the output folder (replaced as a whole), or ``None`` for none; ``extra``: more
     figures for it (name -> callable returning a Figure); ``population``: a
-    :class:`~fingerpad.study.population.Population` to predict as well (``quantiles``: its bands).
+    :class:`~fingerpad.study.population.Population` to predict as well (``quantiles``: its bands;
+    ``sensitivity``: the base samples of its Sobol indices, or ``None``).
     """
     import warnings
 
-    from ..encode import to_jsonable
+    from ..encode import json_text, to_jsonable
     from ..study.outputs import FOLDER_FILES, POPULATION_CSV, check_outputs, prediction_json, write_outputs
     from ..study.run import run_study
 
     pop_files = dict.fromkeys(("population.png", *POPULATION_CSV)) if population is not None else {}
+    if population is not None and sensitivity is not None:
+        pop_files.update({"sensitivity.png": None, "sensitivity.csv": None})
     check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {}), *pop_files}))  # before solving
     err = stderr_console()
     with warnings_to(err):
@@ -284,7 +290,7 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
         if population is not None:
             from ..study.population import DEFAULT_QUANTILES, run_population
 
-            result = run_population(study, population, quantiles or DEFAULT_QUANTILES)
+            result = run_population(study, population, quantiles or DEFAULT_QUANTILES, sensitivity=sensitivity)
             pred = result.nominal
         else:
             with ProgressBar(err, "unit cell ψ(p)") as bar:
@@ -294,16 +300,25 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
             from ..plotting.population import figure_population
 
             figures["population.png"] = figure_population(result)
+            if result.sensitivity is not None:
+                from ..plotting.sensitivity import figure_sensitivity
+
+                figures["sensitivity.png"] = figure_sensitivity(result.sensitivity)
+                figures["sensitivity.csv"] = result.sensitivity.csv_text()
         paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures, population=result)
     payload = to_jsonable(prediction_json(pred))
     if result is not None:
         payload["population"] = to_jsonable(result.as_dict())
         pred.notes.extend(result.notes)
     if json_path == "-":
-        sys.stdout.write(json.dumps(payload, indent=2) + "\n")
+        sys.stdout.write(json_text(payload))
         sys.stdout.flush()
     elif result is not None:
         _print_population(payload)
+        if result.sensitivity is not None:
+            from ._sensitivity import print_sensitivity
+
+            print_sensitivity(payload["population"]["sensitivity"])
     else:
         _print_prediction(payload)
     for note in pred.notes:
@@ -362,6 +377,8 @@ def predict(
     json_path: Annotated[str | None, _popt("--json", panel=_OUTPUT, metavar="PATH|-")] = None,
     population: Annotated[str | None, _popt("--population", panel=_FINGER, metavar="NAME|FILE|DIR")] = None,
     quantiles: Annotated[str | None, _popt("--quantiles", panel=_OUTPUT, metavar="Q,Q,...")] = None,
+    sensitivity: Annotated[bool, _popt("--sensitivity", panel=_FINGER)] = False,
+    sensitivity_samples: Annotated[str | None, _popt("--sensitivity-samples", panel=_FINGER, metavar="N")] = None,
 ) -> None:
     """Predict contact areas, contact zones and friction of a finger on a texture against load.
 
@@ -395,9 +412,11 @@ def predict(
             study = build_study(ctx_args=list(ctx.args), flags=flags, finger_param=finger_param or [],
                                 options=command_options(ctx), extra_sections=sections)
             pop, levels = _population(population, sections["population"], quantiles)
+        samples = sensitivity_samples_asked(sensitivity, sensitivity_samples, pop)
         if out is None and json_path != "-":
             out = "out"  # files only where asked: with --json - and no --out, none
-        code = run_prediction(study, out, json_path, csv_path, population=pop, quantiles=levels)
+        code = run_prediction(study, out, json_path, csv_path, population=pop, quantiles=levels,
+                              sensitivity=samples)
     if code:
         raise typer.Exit(code)
 

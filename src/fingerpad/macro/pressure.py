@@ -12,13 +12,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
 from ..checks import ArrayLike, nonnegative, positive, scalar_out
 from ..errors import FingerpadError
 
-__all__ = ["disc_average", "pad_pressure"]
+__all__ = ["disc_average", "disc_nodes", "pad_pressure"]
 
 
 def pad_pressure(r: ArrayLike, load: float, ridge_area: float) -> float | np.ndarray:
@@ -68,10 +69,42 @@ def _graded_rule(n_nodes: int, levels: int, ratio: float = 0.25) -> tuple[np.nda
     return nodes, weights
 
 
+def disc_nodes(
+    peak_pressure: ArrayLike,
+    breakpoints: Sequence[float] | np.ndarray = (),
+    *,
+    n_nodes: int = 16,
+    levels: int = 12,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The quadrature of :func:`disc_average`: ``(peak, s, weights)``, the peak pressures (1-D,
+    Pa) and per disc the nodes ``s`` in [0, 1] and their weights (2-D, one row per disc).
+
+    ``breakpoints`` as for :func:`disc_average`. A piece between a breakpoint outside the disc
+    and the edge has zero width: its nodes sit at its end and weigh exactly 0.
+    """
+    peak = np.atleast_1d(np.asarray(peak_pressure, dtype=float)).ravel()
+    if isinstance(breakpoints, np.ndarray) and breakpoints.ndim == 2:
+        if breakpoints.shape[0] != peak.size:
+            raise FingerpadError(f"{breakpoints.shape[0]} rows of breakpoints for {peak.size} discs")
+        bps: Sequence[Any] = list(breakpoints.T)  # per-disc breakpoints, column by column
+    else:
+        bps = sorted({float(b) for b in breakpoints if math.isfinite(b) and b > 0})
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cuts = [np.where(peak > 0, np.clip(b / peak, 0.0, 1.0), 1.0) for b in bps]
+    edges = [np.zeros_like(peak), *cuts, np.ones_like(peak)]
+    x, w = _graded_rule(int(n_nodes), int(levels))
+    s_parts, w_parts = [], []
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        width = (hi - lo)[:, None]  # zero-width pieces (breakpoint outside the disc) weigh 0
+        s_parts.append(lo[:, None] + width * x[None, :])
+        w_parts.append(width * w[None, :])
+    return peak, np.concatenate(s_parts, axis=1), np.concatenate(w_parts, axis=1)
+
+
 def disc_average(
     func: Callable[[np.ndarray], np.ndarray],
     peak_pressure: ArrayLike,
-    breakpoints: Sequence[float] = (),
+    breakpoints: Sequence[float] | np.ndarray = (),
     *,
     n_nodes: int = 16,
     levels: int = 12,
@@ -82,6 +115,9 @@ def disc_average(
     ``2 int_0^1 func(p_peak s) s ds``. The s-interval is split where ``p_peak s`` crosses one of
     ``breakpoints`` (pressures where ``func`` has a kink) and each piece gets the graded
     Gauss-Legendre rule of :func:`_graded_rule` (``(2 levels + 1) n_nodes`` nodes per piece).
+    ``func`` is evaluated only at the nodes of pieces of non-zero width (a breakpoint beyond
+    the centre pressure leaves an empty piece, whose nodes weigh exactly 0): the same sum, at
+    a half to a third of the evaluations when the kinks lie outside most discs.
 
     Accuracy: for ``func`` analytic between breakpoints, also with algebraic end behaviour such
     as ``p^m`` (m > -1) at zero pressure or ``sqrt`` saturation, the relative error is below
@@ -90,31 +126,24 @@ def disc_average(
     Parameters
     ----------
     func
-        Vectorised function of pressure (Pa) -> ndarray of the same shape.
+        Vectorised, element-wise function of pressure (Pa) -> finite ndarray of the same shape
+        (each value depends on its own pressure only; it is called on the 1-D array of the
+        pressures that carry weight).
     peak_pressure
         Peak (centre) pressure ``1.5 p_mean`` per load, Pa.
     breakpoints
         Pressures (Pa) where ``func`` has kinks; non-finite or non-positive ones are ignored.
+        Or a 2-D array, one row of breakpoints per entry of ``peak_pressure`` (finite, positive,
+        ascending, the same count in every row): discs whose ``func`` kinks at different
+        pressures; each row's result is the one its own 1-D call gives, to the bit.
 
     Returns
     -------
     ndarray
         Mean of ``func`` over the disc, one value per entry of ``peak_pressure`` (1-D).
     """
-    peak = np.atleast_1d(np.asarray(peak_pressure, dtype=float)).ravel()
-    bps = sorted({float(b) for b in breakpoints if math.isfinite(b) and b > 0})
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cuts = [np.where(peak > 0, np.clip(b / peak, 0.0, 1.0), 1.0) for b in bps]
-    edges = [np.zeros_like(peak), *cuts, np.ones_like(peak)]
-    x, w = _graded_rule(int(n_nodes), int(levels))
-    s_parts, w_parts = [], []
-    for lo, hi in zip(edges[:-1], edges[1:]):
-        width = (hi - lo)[:, None]  # zero-width pieces (breakpoint outside the disc) weigh 0
-        s_parts.append(lo[:, None] + width * x[None, :])
-        w_parts.append(width * w[None, :])
-    s = np.concatenate(s_parts, axis=1)
-    wt = np.concatenate(w_parts, axis=1)
-    values = np.asarray(func(peak[:, None] * s), dtype=float)
-    if values.shape != s.shape:
-        values = np.broadcast_to(values, s.shape)
+    peak, s, wt = disc_nodes(peak_pressure, breakpoints, n_nodes=n_nodes, levels=levels)
+    live = wt != 0
+    values = np.zeros_like(s)
+    values[live] = np.asarray(func((peak[:, None] * s)[live]), dtype=float)
     return 2.0 * np.sum(wt * s * values, axis=1)

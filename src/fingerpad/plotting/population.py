@@ -22,7 +22,10 @@ def figure_population(result: "PopulationResult") -> Any:
 
     loads = np.asarray(result.nominal.study.loads, float)
     levels = sorted(result.quantile_levels)
-    fig = Figure(figsize=(11, 3.6), layout="constrained")
+    # fixed margins, not the constrained layout: its text-extent passes over the log axes' tick
+    # labels took two thirds of the figure's time (0.2 s of a population prediction)
+    fig = Figure(figsize=(11, 3.6))
+    fig.subplots_adjust(left=0.06, right=0.99, bottom=0.14, top=0.86, wspace=0.28)
     axes = fig.subplots(1, 3)
     for ax, name, label in ((axes[0], "area_ratio", "A_re / A_fr"), (axes[1], "mu_normalised", "μ / μ_ref")):
         values = result.values(name)

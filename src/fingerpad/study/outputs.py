@@ -336,7 +336,7 @@ def write_outputs(
         Further files: ``predict.json``'s content and the per-load table (``None``: none; the
         JSON path ``"-"`` is stdout, written by the caller).
     extra
-        More figures for the folder: file name -> ``Figure``.
+        More figures for the folder: file name -> ``Figure``, or -> ``str`` for a text file.
     population
         A :class:`~fingerpad.study.population.PopulationResult` of which ``pred`` is the nominal:
         the JSON gets its ``population`` entry, the NetCDF its ``member`` dimension, the folder
@@ -348,7 +348,6 @@ def write_outputs(
         The files written.
     """
     import csv
-    import json
 
     from .. import io as fio
     from .. import netcdf
@@ -357,12 +356,12 @@ def write_outputs(
     names = [*OUTPUT_FILES, *(extra or {}), *(POPULATION_CSV if population is not None else ())]
     replaceable = sorted({*FOLDER_FILES, *names})
     check_outputs(out_dir, json_path, csv_path, replaceable)
-    from ..encode import to_jsonable
+    from ..encode import json_text, to_jsonable
 
     doc = prediction_json(pred)
     if population is not None:
         doc["population"] = to_jsonable(population.as_dict())
-    text = json.dumps(doc, indent=2) + "\n"
+    text = json_text(doc)  # members one per line: the pure-Python indenting of 1000 of them was slow
     staging = fio.Staging()
     folder = fio.OutputFolder(out_dir, replaceable) if out_dir is not None else None
     written: list[Path] = []
@@ -395,8 +394,9 @@ def write_outputs(
             figures = dict(zip(OUTPUT_FILES[2:], (figure_areas(pred), figure_friction(pred), figure_zones(pred)),
                                strict=True))
             figures.update(extra or {})
-            for name, fig in figures.items():
-                folder.write(name, lambda tmp, fig=fig: fig.savefig(tmp, format="png", dpi=dpi))
+            for name, fig in figures.items():  # a str is a text file's content (e.g. a CSV table)
+                folder.write(name, lambda tmp, fig=fig: fio.write_text(tmp, fig) if isinstance(fig, str)
+                             else fig.savefig(tmp, format="png", dpi=dpi))
             written += [folder.final_path(name) for name in names]
         staging.commit()
         if folder is not None:

@@ -40,14 +40,15 @@ from typing import Any
 
 import numpy as np
 
-from ..coupling import CurvePrediction, predict_curve
+from ..coupling import CurvePrediction
 from ..errors import FingerpadError
 from ..finger import FINGER_PARAMS, RIDGE_FRACTION, Finger
 from ..meso import ConstantFractionRidges
 from ..params import Param, _is_bare_number
 from .population_correlations import Correlation, correlate, parse_correlations
+from .members import predict_fingers
 from .population_presets import POPULATION_PRESETS
-from .run import P_HIGH, P_LOW, Prediction, centre_state, load_at_centre_pressure, run_study
+from .run import Prediction, run_study
 from .spec import Study
 
 __all__ = [
@@ -320,6 +321,9 @@ class PopulationResult:
         Per member, the contact state at the pad centre at each load.
     quantile_levels
         The quantiles reported.
+    sensitivity
+        Sobol indices of mu/mu_ref and the critical load
+        (:class:`~fingerpad.study.sensitivity.SensitivityResult`), when asked for.
     """
 
     nominal: Prediction
@@ -331,6 +335,7 @@ class PopulationResult:
     states: list[list[str]]
     quantile_levels: tuple[float, ...]
     notes: list[str] = field(default_factory=list)
+    sensitivity: Any = None
 
     def values(self, quantity: str) -> np.ndarray:
         """``(members, loads)`` array of a per-load quantity."""
@@ -356,6 +361,35 @@ class PopulationResult:
         n = len(self.curves)
         return {name: np.std(self.values(name), axis=0, ddof=1) / math.sqrt(n) if n > 1 else
                 np.zeros(len(self.nominal.study.loads)) for name in QUANTITIES}
+
+    def quantile_error(self, confidence: float = 0.95) -> dict[str, dict[str, Any]]:
+        """Monte Carlo error of each reported quantile: the half-width of its distribution-free
+        confidence interval ``[X_(l), X_(u)]`` between order statistics of the members,
+        ``l, u = nq -+ z sqrt(n q (1 - q))`` (normal approximation of the binomial count below
+        the quantile; 1-based, rounded outward, clipped to 1..n). Exact in coverage for
+        independent members; the quasi-random sample converges at least as fast, so it is an
+        upper estimate. Keyed as :meth:`quantiles`; the same units."""
+        from scipy.stats import norm
+
+        z = float(norm.ppf(0.5 + confidence / 2))
+
+        def half_width(sorted_values: np.ndarray, q: float) -> Any:
+            n = sorted_values.shape[0]
+            if n == 0:
+                return math.nan
+            spread = z * math.sqrt(n * q * (1 - q))
+            lo = min(max(math.floor(n * q - spread), 1), n) - 1
+            hi = min(max(math.ceil(n * q + spread), 1), n) - 1
+            return 0.5 * (sorted_values[hi] - sorted_values[lo])
+
+        out: dict[str, dict[str, Any]] = {}
+        tables = {name: np.sort(self.values(name), axis=0) for name in QUANTITIES}
+        for name, arr in (("critical_load", self.critical_load), ("full_contact_load", self.full_contact_load)):
+            tables[name] = np.sort(arr[~np.isnan(arr)])  # the members quantiles() takes
+        for name, table in tables.items():
+            out[name] = {f"{level:g}": (float(half_width(table, level)) if table.ndim == 1 else half_width(table, level))
+                         for level in self.quantile_levels}
+        return out
 
     def state_probability(self) -> dict[str, np.ndarray]:
         """Per state, the fraction of members whose pad centre is in it, at each load."""
@@ -400,6 +434,7 @@ class PopulationResult:
             "loads": self.nominal.study.loads,
             "quantiles": self.quantiles(),
             "monte_carlo_error": self.monte_carlo_error(),
+            "quantile_error": self.quantile_error(),
             "state_probability": self.state_probability(),
             "members": self.members,
             "member_results": [
@@ -409,6 +444,7 @@ class PopulationResult:
                                          strict=True)
             ],
             "notes": self.notes,
+            **({"sensitivity": self.sensitivity.as_dict()} if self.sensitivity is not None else {}),
         }
 
 
@@ -422,13 +458,17 @@ DIRECTION_REFUSED = (
 
 
 def run_population(study: Study, population: Population,
-                   quantiles: Sequence[float] = DEFAULT_QUANTILES) -> PopulationResult:
+                   quantiles: Sequence[float] = DEFAULT_QUANTILES, sensitivity: int | None = None) -> PopulationResult:
     """Predict every member of ``population`` on the study's texture (see the module docstring).
 
     The nominal prediction (the study's finger) is run first; the BEM cell is then prepared over
     the union of the members' pressures in units of E* (no solve when that lies inside what is
-    cached) and each member's curve is :func:`~fingerpad.coupling.predict_curve` on the cell at
-    the member's E1*. With the Hertz model each member gets its own per-asperity cell (no solve).
+    cached) and every member's curve is that of :func:`~fingerpad.coupling.predict_curve` on the
+    cell at the member's E1*, the members coupled together in small blocks
+    (:func:`~fingerpad.study.members.predict_members`). With the Hertz model each member gets its
+    own per-asperity cell (no solve). ``sensitivity``: the base samples N of the Sobol indices
+    (:func:`~fingerpad.study.sensitivity.population_sensitivity`, N (d + 2) more fingers), or
+    ``None`` for none.
 
     Raises
     ------
@@ -436,8 +476,6 @@ def run_population(study: Study, population: Population,
         A sliding direction (refused: :data:`DIRECTION_REFUSED` says why), bad quantiles, a
         member outside its parameter's bounds.
     """
-    from ..micro.hertz import hertz_cell_for
-
     levels = tuple(float(q) for q in quantiles)
     if not levels or any(not (0 <= q <= 1) for q in levels):
         raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {list(quantiles)}")
@@ -446,38 +484,13 @@ def run_population(study: Study, population: Population,
     members = population.sample()
     fingers = [member_finger(study.finger, m) for m in members]  # bounds checked before any solve
     nominal = run_study(study)
-    tex = nominal.texture
-    mat_nu = study.material_poisson if study.material_poisson is not None else 0.35
-    moduli = [f.micro_modulus(study.material_modulus, mat_nu) for f in fingers]
-    loads = study.loads
-    cell = nominal.cell
-    bem = nominal.bem is not None
-    if bem and not cell.flat:
-        # the pressures every member asks for, in units of E*: one prepare covers them all
-        lo, hi = math.inf, 0.0
-        for f, e in zip(fingers, moduli, strict=True):
-            p = loads / np.asarray(f.ridge_area(loads), float)
-            lo, hi = min(lo, P_LOW * float(p.min()) / e), max(hi, P_HIGH * float(p.max()) / e)
-        cell.prepare(lo * cell.modulus, hi * cell.modulus)
-    curves, crit, full, states = [], [], [], []
-    for f, e in zip(fingers, moduli, strict=True):
-        if bem:
-            # a layered member with a thickness or modulus ratio of its own is a cell of its own
-            p = loads / np.asarray(f.ridge_area(loads), float)
-            mcell: Any = cell.for_skin(e, f.layer, (P_LOW * float(p.min()), P_HIGH * float(p.max())))
-        else:
-            mcell = hertz_cell_for(tex, e)[0]
-        curve = predict_curve(loads, f, mcell)
-        curves.append(curve)
-        if bem:
-            crit.append(curve.critical_load)
-            full.append(0.0 if cell.flat else load_at_centre_pressure(f, mcell.full_contact_pressure))
-        else:
-            crit.append(curve.critical_load_hertz if curve.critical_load_hertz is not None else math.nan)
-            full.append(math.nan)
-        states.append([centre_state(p, mcell) for p in 1.5 * curve.load / curve.ridge_area])
+    curves, crit, full, states = predict_fingers(nominal, fingers)
     notes = list(population.notes)
     if study.model == "both":
         notes.append("population: the BEM curves only (model both)")
-    return PopulationResult(nominal, population, members, curves, np.asarray(crit, float), np.asarray(full, float),
-                            states, levels, notes)
+    sens = None
+    if sensitivity is not None:
+        from .sensitivity import population_sensitivity
+
+        sens = population_sensitivity(nominal, population, sensitivity)
+    return PopulationResult(nominal, population, members, curves, crit, full, states, levels, notes, sens)

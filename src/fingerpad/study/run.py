@@ -133,9 +133,12 @@ def centre_state(peak_pressure: float, cell: Any) -> str:
 FINGER_LOAD_LIMIT = 100.0
 
 
-def load_at_centre_pressure(finger: Finger, pressure: float) -> float:
+def load_at_centre_pressure(finger: Finger, pressure: float,
+                            ridge_area: Callable[[float], Any] | None = None) -> float:
     """Load (N) at which the centre pressure ``1.5 F / A_fr(F)`` equals ``pressure`` (Pa);
-    ``inf`` for an infinite pressure, NaN if none in the searched load range."""
+    ``inf`` for an infinite pressure, NaN if none in the searched load range. ``ridge_area``:
+    the finger's ``F -> A_fr`` (m^2) if a leaner one than ``finger.ridge_area`` is at hand (a
+    population calls this once per member)."""
     from scipy.optimize import brentq
 
     from ..micro.response import DEFAULT_LOAD_RANGE
@@ -146,8 +149,10 @@ def load_at_centre_pressure(finger: Finger, pressure: float) -> float:
         return math.nan
     lo, hi = DEFAULT_LOAD_RANGE
 
+    area = finger.ridge_area if ridge_area is None else ridge_area
+
     def g(f: float) -> float:
-        return 1.5 * f / float(finger.ridge_area(f)) - pressure
+        return 1.5 * f / float(area(f)) - pressure
 
     try:
         if np.sign(g(lo)) == np.sign(g(hi)):

@@ -1,0 +1,69 @@
+"""The sensitivity part of ``fingerpad predict --population ... --sensitivity``: its flags checked
+and its table printed (the indices are computed by :mod:`fingerpad.study.sensitivity`)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from ..errors import FingerpadError
+from .common import say, stdout_console
+
+__all__ = ["print_sensitivity", "sensitivity_samples_asked"]
+
+
+def sensitivity_samples_asked(flag: bool, samples: str | None, population: Any) -> int | None:
+    """The base samples of the sensitivity analysis (``None``: not asked for), checked."""
+    if not flag:
+        if samples is not None:
+            raise FingerpadError("--sensitivity-samples needs --sensitivity")
+        return None
+    if population is None:
+        raise FingerpadError("--sensitivity needs a population (--population or a [population] table)")
+    if not any(d.spread for d in population.distributions.values()):
+        raise FingerpadError("--sensitivity: no parameter of the population has a spread")
+    if samples is None:
+        from ..study.sensitivity import DEFAULT_SAMPLES
+
+        return DEFAULT_SAMPLES
+    try:
+        n = int(samples)
+    except ValueError:
+        raise FingerpadError(f"--sensitivity-samples: expected an integer of at least 2, got {samples!r}") from None
+    if n < 2:
+        raise FingerpadError(f"--sensitivity-samples: expected an integer of at least 2, got {samples!r}")
+    return n
+
+
+def print_sensitivity(sens: Mapping[str, Any]) -> None:
+    """The Sobol indices, first-order / total, per parameter (80 columns)."""
+    from rich import box
+    from rich.table import Table
+
+    from ..plotting.sensitivity import shown_loads  # the loads the figure shows (no matplotlib import)
+
+    console = stdout_console(80)
+    plan = sens["plan"]
+    loads = sens["loads"]
+    picks = shown_loads(loads)
+    table = Table(title=f"Sobol indices, first-order/total (N = {plan['base_samples']}, "
+                        f"{plan['evaluations']} fingers)", box=box.SIMPLE_HEAD,
+                  pad_edge=False)
+    table.add_column("parameter", no_wrap=True)
+    for j in picks:
+        table.add_column(f"μ/μ_ref {loads[j]:.3g} N", justify="right", no_wrap=True)
+    table.add_column("log F_crit", justify="right", no_wrap=True)
+
+    def cell(entry: Mapping[str, Any], j: int | None) -> str:
+        first, total = (entry[k] if j is None else entry[k][j] for k in ("first", "total"))
+        return "-" if first is None or total is None else f"{first:.2f}/{total:.2f}"
+
+    for name, entry in sens["mu_normalised"].items():
+        table.add_row(name, *(cell(entry, j) for j in picks), cell(sens["log10_critical_load"][name], None))
+    console.print(table)
+    widths = [e["first_conf"][j] for e in sens["mu_normalised"].values() for j in picks
+              if e["first_conf"][j] is not None]
+    if widths:
+        say(console, f"(95 % half-widths up to {max(widths):.2f}; all loads, intervals: JSON, sensitivity.csv)")
+    for note in sens.get("notes", []):
+        say(console, f"note: {note}")

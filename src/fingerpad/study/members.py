@@ -1,0 +1,256 @@
+"""Many fingers on one texture at once: the coupling of every member of a population, vectorised
+over blocks of members (issue 22, "a population must not cost a population of BEM solves").
+
+:func:`predict_members` gives, for each finger, the :class:`~fingerpad.coupling.CurvePrediction`
+that :func:`~fingerpad.coupling.predict_curve` gives for that finger on ``cell.at_modulus(E1*)``
+(the one unit cell read at the member's modulus by p/E* scaling), to the bit: the same
+pad pressures (Eq. 3.7), the same quadrature nodes per disc, the same psi interpolant, the same
+friction (Eqs. 2.1-2.4) and the same root finder for the critical load. The psi of a block of
+members is one interpolation over ``members x loads x nodes`` pressures (only the nodes of
+non-zero weight, as :func:`~fingerpad.macro.pressure.disc_average` does), and the critical and
+full-contact loads are found with each finger's area law built once
+(:meth:`~fingerpad.finger.Finger.ridge_area_law`). Measured (docs/population.md, "Cost"): the
+work per member is in the psi interpolation and the quadrature arrays, not in Python calls, so
+the blocks are small (:data:`BLOCK`).
+
+:func:`predict_fingers` runs a study's fingers on its already-solved cell (the cell prepared
+once over their pressures), :func:`member_full_contact_loads` their full-contact loads. They
+are used by :func:`fingerpad.study.population.run_population` and
+:func:`fingerpad.study.sensitivity.population_sensitivity`, and may be used by any caller that
+predicts many fingers on one cell (sweeps over a population, robust design). SI units (m, N, Pa).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from ..checks import ArrayLike, as_loads
+from ..coupling import CurvePrediction, critical_load, predict_curve
+from ..errors import FingerpadError
+from ..finger import Finger
+from ..friction import mu_checked
+from ..macro.pressure import disc_nodes
+from ..micro.bem import BEMUnitCell
+from ..micro.response import check_cell
+from .run import P_HIGH, P_LOW, Prediction, centre_state, load_at_centre_pressure
+
+__all__ = ["member_full_contact_loads", "predict_fingers", "predict_members"]
+
+#: Members per NumPy block: about 50 k pressures per member at 40 loads; larger blocks fall out of
+#: the CPU caches and run slower (CPU time measured: 1-4 members per block alike, 16 and 48 slower).
+BLOCK = 4
+
+
+def _area_of(finger: Finger) -> Callable[[float], Any]:
+    """``F -> A_fr(F)`` for a root finder: :meth:`Finger.ridge_area_law`, the numbers of
+    :meth:`Finger.ridge_area` without its per-call checks and model construction (the root finder
+    stays inside positive loads; :func:`fingerpad.micro.response.area_function` checks each area)."""
+    return finger.ridge_area_law()
+
+
+def _psi_rows(base: Any, p: np.ndarray, factors: np.ndarray) -> np.ndarray:
+    """psi of one BEM cell at pressures ``p`` (Pa), each read at its own modulus: ``p / factor``
+    on the base cell, as :class:`~fingerpad.micro.bem.ScaledResponse` reads it, so each value
+    equals that member's own psi to the bit; with the checks of
+    :func:`fingerpad.micro.response.checked_psi`."""
+    out = np.asarray(base.contact_fraction(p / factors), dtype=float)
+    if out.shape != p.shape or not np.all(np.isfinite(out)):
+        raise FingerpadError(f"{type(base).__name__}.contact_fraction returned a bad array")
+    if np.any(out < -1e-9) or np.any(out > 1.0 + 1e-9):
+        raise FingerpadError(f"{type(base).__name__}.contact_fraction returned values outside [0, 1]")
+    return np.clip(out, 0.0, 1.0)
+
+
+def _zone_radius(a: np.ndarray, peak: np.ndarray, p_zone: np.ndarray) -> np.ndarray:
+    """Per row, the radius inside which the pad pressure exceeds that row's ``p_zone`` (0 where
+    ``p_zone`` is infinite); :func:`fingerpad.coupling._zone_radius` row by row."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(peak > 0, p_zone / peak, np.inf)
+    radius = a * np.sqrt(np.clip(1.0 - ratio**2, 0.0, None))
+    return np.where(np.isfinite(p_zone), radius, 0.0)
+
+
+def _block(f: np.ndarray, fingers: Sequence[Finger], cells: Sequence[Any], base: Any, factors: np.ndarray,
+           reference: bool, n_rings: int) -> list[CurvePrediction]:
+    """The curves of one block of members whose cells have the same number of kinks."""
+    n, m = len(fingers), f.size
+    areas = [finger.areas_checked(f) for finger in fingers]
+    gross = np.array([g for g, _ in areas])
+    ridge = np.array([r for _, r in areas])
+    if np.any(ridge <= 0):
+        raise FingerpadError("the finger's ridge contact area must be positive at every load")
+    states = [check_cell(c) for c in cells]
+    pt = np.repeat([s[0] for s in states], m)
+    pf = np.repeat([s[1] for s in states], m)
+    kinks = np.repeat(np.array([sorted({b for b in s[2] if math.isfinite(b) and b > 0}) for s in states],
+                               dtype=float).reshape(n, -1), m, axis=0)
+    ff = np.tile(f, n)
+    ar = ridge.ravel()
+    p_mean = ff / ar
+    peak = 1.5 * p_mean
+    a = np.sqrt(ar / math.pi)
+    # disc_average's sum, with each node's pressure read at its member's modulus
+    peak, s, wt = disc_nodes(peak, kinks, n_nodes=int(n_rings))
+    live = wt != 0
+    values = np.zeros_like(s)
+    values[live] = _psi_rows(base, (peak[:, None] * s)[live],
+                             np.broadcast_to(np.repeat(factors, m)[:, None], s.shape)[live])
+    ratio = 2.0 * np.sum(wt * s * values, axis=1)
+    real = ratio * ar
+    with np.errstate(divide="ignore"):
+        p_re = np.where(real > 0, ff / np.where(real > 0, real, 1.0), np.inf)
+    t_radius, f_radius = _zone_radius(a, peak, pt), _zone_radius(a, peak, pf)
+    out = []
+    for i, (finger, cell) in enumerate(zip(fingers, cells, strict=True)):
+        rows = slice(i * m, (i + 1) * m)
+        real_i = real[rows]
+        mu = mu_checked(f, real_i, finger)
+        mu_ref = mu_norm = None
+        if reference:
+            mu_ref = mu_checked(f, ridge[i], finger)
+            mu_norm = mu / mu_ref
+        if math.isinf(float(cell.transition_pressure)):
+            f_crit = math.inf
+        else:
+            try:
+                f_crit = critical_load(cell, _area_of(finger))
+            except FingerpadError:
+                f_crit = math.nan
+        out.append(CurvePrediction(
+            load=f, gross_area=gross[i], ridge_area=ridge[i], real_area=real_i, area_ratio=ratio[rows],
+            real_pressure=p_re[rows], ridge_radius=a[rows], transition_radius=t_radius[rows],
+            full_contact_radius=f_radius[rows], centre_past_transition=peak[rows] >= pt[rows], mu=mu,
+            mu_ref=mu_ref, mu_normalised=mu_norm, critical_load=f_crit, critical_load_hertz=None,
+        ))
+    return out
+
+
+def predict_members(
+    loads: ArrayLike, fingers: Sequence[Finger], cell: Any, moduli: Sequence[float] | None = None, *,
+    reference: bool = True, n_rings: int = 16,
+) -> list[CurvePrediction]:
+    """Areas and friction of many fingers on one texture (see the module docstring).
+
+    Parameters
+    ----------
+    loads
+        Normal loads, N (positive; flattened to 1-D), the same for every finger.
+    fingers
+        The members' :class:`~fingerpad.finger.Finger`.
+    cell
+        A :class:`~fingerpad.micro.bem.BEMUnitCell` prepared over the members' pressures (read at
+        each member's modulus), or any unit-cell response (then the same cell for every finger,
+        ``moduli`` not given), or a sequence of responses, one per finger (e.g. per-member
+        :class:`~fingerpad.micro.hertz.HertzUnitCell`); the last two run
+        :func:`~fingerpad.coupling.predict_curve` per finger.
+    moduli
+        Each member's E1*, Pa (Eq. 3.4), with a BEM ``cell``.
+    reference, n_rings
+        As for :func:`~fingerpad.coupling.predict_curve`.
+
+    Returns
+    -------
+    list of CurvePrediction
+        One per finger, equal to ``predict_curve(loads, finger, cell.at_modulus(E1*))``, bit for
+        bit (``tests/study/test_members.py``).
+    """
+    if moduli is None or not hasattr(cell, "at_modulus"):
+        cells = list(cell) if isinstance(cell, Sequence) else [cell] * len(fingers)
+        if len(cells) != len(fingers):
+            raise FingerpadError(f"{len(cells)} unit cells for {len(fingers)} fingers")
+        return [predict_curve(loads, finger, c, reference=reference, n_rings=n_rings)
+                for finger, c in zip(fingers, cells, strict=True)]
+    if len(moduli) != len(fingers):
+        raise FingerpadError(f"{len(moduli)} moduli for {len(fingers)} fingers")
+    f = as_loads(loads, "loads", strict=True).ravel()
+    if f.size == 0:
+        raise FingerpadError("no loads given")
+    if int(n_rings) < 2:
+        raise FingerpadError(f"n_rings must be at least 2, got {n_rings!r}")
+    cells = [cell.at_modulus(float(e)) for e in moduli]
+    factors = np.array([c.factor for c in cells], dtype=float)
+    # members whose cells have as many finite kinks form blocks (one quadrature layout each)
+    counts = [len({b for b in check_cell(c)[2] if math.isfinite(b) and b > 0}) for c in cells]
+    curves: list[CurvePrediction | None] = [None] * len(fingers)
+    for count in sorted(set(counts)):
+        idx = [i for i, c in enumerate(counts) if c == count]
+        for start in range(0, len(idx), BLOCK):
+            part = idx[start:start + BLOCK]
+            done = _block(f, [fingers[i] for i in part], [cells[i] for i in part], cell, factors[part],
+                          reference, int(n_rings))
+            for i, curve in zip(part, done, strict=True):
+                curves[i] = curve
+    return curves  # type: ignore[return-value]
+
+
+def member_full_contact_loads(fingers: Sequence[Finger], pressures: Sequence[float]) -> np.ndarray:
+    """Per finger, the load (N) at which its pad-centre pressure ``1.5 F / A_fr(F)`` reaches its
+    cell's full-contact pressure ``pressures[i]`` (Pa): :func:`~fingerpad.study.run.load_at_centre_pressure`
+    with the finger's area law called directly (``inf`` for an infinite pressure, NaN if none)."""
+    return np.array([load_at_centre_pressure(finger, float(p), ridge_area=_area_of(finger))
+                     for finger, p in zip(fingers, pressures, strict=True)], dtype=float)
+
+
+def predict_fingers(nominal: Prediction, fingers: Sequence[Finger]) -> tuple[
+        list[CurvePrediction], np.ndarray, np.ndarray, list[list[str]]]:
+    """Every finger on the texture of a study already predicted (``nominal``, its cell reused).
+
+    The BEM cell is prepared over the union of the fingers' pressures in units of E* (no solve
+    when that lies inside what is cached: psi depends on p/E* only) and read at each finger's E1*
+    (Eq. 3.4); with the Hertz model each finger gets its own per-asperity cell (no solve).
+
+    Returns
+    -------
+    curves, critical_load, full_contact_load, states
+        Per finger: its :class:`~fingerpad.coupling.CurvePrediction`, its critical and
+        full-contact loads (N; ``inf`` if never reached, full contact NaN for Hertz) and the
+        contact state at the pad centre at each load.
+    """
+    from ..micro.hertz import hertz_cell_for
+
+    study = nominal.study
+    mat_nu = study.material_poisson if study.material_poisson is not None else 0.35
+    moduli = [f.micro_modulus(study.material_modulus, mat_nu) for f in fingers]
+    loads = study.loads
+    cell = nominal.cell
+    if nominal.bem is not None:
+        if not cell.flat:
+            # the pressures every finger asks for, in units of E*: one prepare covers them all
+            lo, hi = math.inf, 0.0
+            for f, e in zip(fingers, moduli, strict=True):
+                p = loads / np.asarray(f.ridge_area(loads), float)
+                lo, hi = min(lo, P_LOW * float(p.min()) / e), max(hi, P_HIGH * float(p.max()) / e)
+            cell.prepare(lo * cell.modulus, hi * cell.modulus)
+        # a layered finger whose thickness or moduli ratio differ from the study's (another unit
+        # layer) is a cell of its own (BEMUnitCell.for_skin); the others read the shared cell
+        cells: list[Any] = []
+        for f, e in zip(fingers, moduli, strict=True):
+            if f.layer is None and cell.layer is None:
+                cells.append(cell.at_modulus(e))
+                continue
+            p = loads / np.asarray(f.ridge_area(loads), float)
+            cells.append(cell.for_skin(e, f.layer, (P_LOW * float(p.min()), P_HIGH * float(p.max()))))
+        own = {i for i, c in enumerate(cells) if isinstance(c, BEMUnitCell)}
+        shared = [i for i in range(len(fingers)) if i not in own]
+        curves = [None] * len(fingers)
+        if shared:
+            done = predict_members(loads, [fingers[i] for i in shared], cell, [moduli[i] for i in shared])
+            for i, curve in zip(shared, done, strict=True):
+                curves[i] = curve
+        for i in sorted(own):
+            curves[i] = predict_curve(loads, fingers[i], cells[i])
+        crit = [c.critical_load for c in curves]
+        full = np.zeros(len(fingers)) if cell.flat else \
+            member_full_contact_loads(fingers, [c.full_contact_pressure for c in cells])
+    else:
+        cells = [hertz_cell_for(nominal.texture, e)[0] for e in moduli]
+        curves = predict_members(loads, fingers, cells)
+        crit = [c.critical_load_hertz if c.critical_load_hertz is not None else math.nan for c in curves]
+        full = np.full(len(fingers), math.nan)
+    states = [[centre_state(p, c) for p in 1.5 * curve.load / curve.ridge_area]
+              for curve, c in zip(curves, cells, strict=True)]
+    return curves, np.asarray(crit, float), np.asarray(full, float), states
