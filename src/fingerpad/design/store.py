@@ -30,7 +30,8 @@ from ..errors import FingerpadError
 from .evaluate import POPULATION_BANDS, POPULATION_LOAD_BANDS, STATE_CODES
 from .spec import SweepSpec
 
-__all__ = ["StoreDamage", "SweepStore", "check_store", "check_store_path", "chunk_slices", "open_sweep",
+__all__ = ["StoreDamage", "SweepStore", "check_store", "check_store_path", "check_store_population", "chunk_slices",
+           "open_sweep",
            "points_done", "pressure_grid"]
 
 _FLOAT_VARS = {
@@ -509,6 +510,33 @@ def _stored_population_text(attrs: dict[str, Any]) -> str:
         return f"population {pop['name']!r} ({pop['size']} members, seed {pop['seed']}, {pop['method']})"
     except (ValueError, KeyError, TypeError):
         return "a population"
+
+
+def check_store_population(ds: Any, path: str | Path, source: str) -> None:
+    """Refuse a store that does not hold the population ``source`` (a preset name or a file):
+    the design map of one population must not be drawn from another's bands.
+
+    Raises
+    ------
+    FingerpadError
+        The store holds no population, or another one (other distributions, size, seed or
+        method); a bad ``source``.
+    """
+    from ..study.population import DEFAULT_QUANTILES, load_population
+    from .spec import SweepSpec
+
+    pop = load_population(source)
+    if "population" not in ds.attrs:
+        raise FingerpadError(f"{path}: holds no population; run fingerpad sweep STUDY.toml --population {source} "
+                             f"--out {path} to add one")
+    stored = json.loads(ds.attrs["population"])
+    probe = SweepSpec(base={}, design="grid", axes=[], loads=np.zeros(0), population=pop,
+                      quantiles=tuple(stored.get("quantiles", DEFAULT_QUANTILES)))
+    mine = probe.population_description() or {}
+    if {k: v for k, v in mine.items() if k != "name"} != {k: v for k, v in stored.items() if k != "name"}:
+        raise FingerpadError(f"{path}: holds {_stored_population_text(dict(ds.attrs))}, not {probe.population_text()} "
+                             "(other distributions, size, seed or method); draw it with the population it was swept "
+                             "with")
 
 
 def points_done(path: str | Path) -> int | None:
