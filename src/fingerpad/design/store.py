@@ -502,7 +502,7 @@ def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite:
 
 
 def _stored_population_text(attrs: dict[str, Any]) -> str:
-    """The population a store holds, in a few words (as :meth:`SweepSpec.population_text`)."""
+    """The population a store holds, in a few words (as :meth:`fingerpad.design.spec.SweepSpec.population_text`)."""
     if "population" not in attrs:
         return "no population"
     try:

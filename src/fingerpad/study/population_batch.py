@@ -61,7 +61,7 @@ class MemberValues:
         ``(members, loads)``: A_re/A_fr, mu (Eq. 2.1), mu on the flat reference, mu/mu_ref.
     critical_load, full_contact_load
         ``(members,)``, N: the load at which the pad centre reaches the member's transition and
-        full contact (``inf`` never; NaN none in :data:`DEFAULT_LOAD_RANGE`; full contact NaN
+        full contact (``inf`` never; NaN none in :data:`~fingerpad.micro.response.DEFAULT_LOAD_RANGE`; full contact NaN
         with the Hertz cell, 0 on a flat texture).
     states
         ``(members, loads)`` int8 codes of :data:`STATES` at the pad centre.
@@ -84,7 +84,7 @@ def evaluate_members(nominal: Any, fingers: Sequence[Finger], moduli: Sequence[f
     nominal
         The study's :class:`~fingerpad.study.run.Prediction`; its primary cell (BEM if it ran,
         else Hertz) is read at each member's modulus. A BEM cell must already be prepared over
-        the members' pressures (``cell.prepare``, as :func:`run_population` does).
+        the members' pressures (``cell.prepare``, as :func:`~fingerpad.study.population.run_population` does).
     fingers
         The members' fingers.
     moduli
@@ -193,7 +193,7 @@ def _area_ratio_scaled(cell: Any, psi: Any, peak: np.ndarray, k: np.ndarray, bre
 def _centre_pressure_loads(fingers: Sequence[Finger], targets: np.ndarray) -> np.ndarray:
     """Loads (N) at which ``1.5 F / A_fr(F)`` of each finger reaches each of its ``targets``
     (Pa, ``(fingers, n)``): ``inf`` for an infinite target, NaN for a target that is not
-    positive or not crossed in :data:`DEFAULT_LOAD_RANGE` (as Brent's method in
+    positive or not crossed in :data:`~fingerpad.micro.response.DEFAULT_LOAD_RANGE` (as Brent's method in
     :func:`~fingerpad.coupling.critical_load` and :func:`~fingerpad.study.run.load_at_centre_pressure`).
 
     Each finger's A_fr is tabulated on a log grid (one call), the first sign change brackets
