@@ -17,6 +17,8 @@ from fingerpad.design.spec import sweep_from_dict
 from fingerpad.study.population import load_population, run_population
 from fingerpad.study.spec import study_from_dict
 
+from .test_sweep import STUDY as SWEEP_STUDY
+
 runner = CliRunner()
 
 BASE = {
@@ -181,32 +183,13 @@ def test_the_map_contours_of_10_and_90_percent_bracket_the_median(tmp_path):
     assert any("10 % finger" in t and "(N)" in t for t in labels) and any(">= 90 % of fingers" in t for t in labels)
 
 
-STUDY = """
-[texture]
-name = "caps"
-radius = "100um"
-height = "20um"
-spacing = "175um"
-
-[material]
-modulus = "0.5GPa"
-poisson = 0.4
-
-[model]
-kind = "both"
-grid = 16
-
-[sweep]
-loads = "0.1N:4N:4"
-chunk = 2
-[sweep.axes]
-spacing = ["130um", "200um"]
-height = ["8um", "20um"]
-
+POPULATION = """
 [population]
 size = 8
 skin_modulus = { distribution = "uniform", low = "0.2MPa", high = "0.5MPa" }
 """
+#: test_sweep.py's small sweep (2 x 2 points here) with a population of 8 fingers.
+STUDY = SWEEP_STUDY.format(spacing="130um:200um:2", height='["8um", "20um"]') + POPULATION
 
 
 @pytest.mark.slow
@@ -216,7 +199,7 @@ def test_sweep_and_map_from_the_command_line(tmp_path):
     study = tmp_path / "study.toml"
     study.write_text(STUDY)
     pop = tmp_path / "pop.toml"
-    pop.write_text("[population]\n" + STUDY.split("[population]\n")[1])
+    pop.write_text(POPULATION)
     store = tmp_path / "r.zarr"
     res = runner.invoke(app, ["sweep", str(study), "--out", str(store), "--workers", "1"])
     assert res.exit_code == 0, res.output
