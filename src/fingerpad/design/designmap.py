@@ -133,7 +133,7 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
                                  "--population)")
         band = f"band_{quantity}"
         if band not in ds.variables:
-            raise FingerpadError(f"--quantity {quantity}: the population's bands hold area_ratio, mu, mu_ref and "
+            raise FingerpadError(f"--quantity {quantity}: the population is banded in area_ratio, mu and "
                                  "mu_rel only")
         names += ["band_critical_load", "asperity_over_range"]
         colour = ds[band].sel(quantile=0.5)
