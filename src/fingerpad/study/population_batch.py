@@ -106,8 +106,8 @@ def evaluate_members(nominal: Any, fingers: Sequence[Finger], moduli: Sequence[f
     # identical members once; the study's own finger at the study's modulus is the nominal itself
     groups: dict[Any, list[int]] = {}
     for i, (f, e) in enumerate(zip(fingers, moduli, strict=True)):
-        groups.setdefault((f, float(e)), []).append(i)
-    nominal_key = (nominal.study.finger, e0)
+        groups.setdefault(_key(f, float(e), i), []).append(i)
+    nominal_key = _key(nominal.study.finger, e0, -1)
     todo = [key for key in groups if key != nominal_key]
     pt0, pf0, breaks0 = check_cell(cell)
     if nominal_key in groups:
@@ -124,8 +124,8 @@ def evaluate_members(nominal: Any, fingers: Sequence[Finger], moduli: Sequence[f
         out.states[rows] = _state_codes(peak[None, :], np.array([pt0]), np.array([pf0]))
     if not todo:
         return out
-    fs = [key[0] for key in todo]
-    k = np.array([key[1] for key in todo]) / e0  # E*_member / E*_nominal
+    fs = [fingers[groups[key][0]] for key in todo]
+    k = np.array([float(moduli[groups[key][0]]) for key in todo]) / e0  # E*_member / E*_nominal
     areas = [f.areas_checked(loads) for f in fs]
     ridge = np.array([a[1] for a in areas], float)
     peak = 1.5 * loads[None, :] / ridge
@@ -147,6 +147,16 @@ def evaluate_members(nominal: Any, fingers: Sequence[Finger], moduli: Sequence[f
         out.critical_load[rows], out.full_contact_load[rows] = crit[j], full[j]
         out.states[rows] = states[j]
     return out
+
+
+def _key(finger: Finger, modulus: float, index: int) -> Any:
+    """What makes two members the same: their finger and modulus; a finger whose models cannot
+    be hashed (a ridge model holding arrays) is its own (``index``)."""
+    try:
+        hash(finger)
+    except TypeError:
+        return ("unhashable", index)
+    return (finger, modulus)
 
 
 def _state_codes(peak: np.ndarray, pt: np.ndarray, pf: np.ndarray) -> np.ndarray:
