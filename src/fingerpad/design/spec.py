@@ -122,10 +122,14 @@ class SweepSpec:
         if self.population is None:
             return None
         pop = self.population
+        # the members themselves count (a digest of their values, SI): whatever shaped them
+        # (correlations, measured members, a later way of drawing them) tells two populations apart
+        digest = hashlib.sha256(json.dumps(self.members, sort_keys=True, default=repr).encode()).hexdigest()
         return _jsonable({"name": pop.name, "size": pop.size, "seed": pop.seed, "method": pop.method,
                           "distributions": {k: {"distribution": d.kind, **d.args}
                                             for k, d in pop.distributions.items()},
-                          "quantiles": list(self.quantiles)})
+                          "correlations": list(getattr(pop, "correlations", ()) or ()),
+                          "quantiles": list(self.quantiles), "members_sha256": digest})
 
     def population_payload(self) -> dict[str, Any] | None:
         """What every point needs of the population (plain data for the Dask workers): the
@@ -146,7 +150,7 @@ class SweepSpec:
         It depends on the study's content only: not on the path by which the study file was
         named (relative, absolute, a copy elsewhere), nor on the cache folder; a measured surface
         counts by the content of its file, not by its path. A population (its distributions,
-        size, seed, method and quantiles) is part of it; ``population=False`` gives the
+        size, seed, method, quantiles and its members' values) is part of it; ``population=False`` gives the
         signature of the same sweep without it (that of a sweep without a population, so that
         stores written before populations existed still resume).
         """

@@ -519,8 +519,8 @@ def check_store_population(ds: Any, path: str | Path, source: str) -> None:
     Raises
     ------
     FingerpadError
-        The store holds no population, or another one (other distributions, size, seed or
-        method); a bad ``source``.
+        The store holds no population, or another one (other distributions, size, seed, method
+        or members); a bad ``source``.
     """
     from ..study.population import DEFAULT_QUANTILES, load_population
     from .spec import SweepSpec
@@ -530,12 +530,12 @@ def check_store_population(ds: Any, path: str | Path, source: str) -> None:
         raise FingerpadError(f"{path}: holds no population; run fingerpad sweep STUDY.toml --population {source} "
                              f"--out {path} to add one")
     stored = json.loads(ds.attrs["population"])
-    probe = SweepSpec(base={}, design="grid", axes=[], loads=np.zeros(0), population=pop,
+    probe = SweepSpec(base={}, design="grid", axes=[], loads=np.zeros(0), population=pop, members=pop.sample(),
                       quantiles=tuple(stored.get("quantiles", DEFAULT_QUANTILES)))
     mine = probe.population_description() or {}
     if {k: v for k, v in mine.items() if k != "name"} != {k: v for k, v in stored.items() if k != "name"}:
         raise FingerpadError(f"{path}: holds {_stored_population_text(dict(ds.attrs))}, not {probe.population_text()} "
-                             "(other distributions, size, seed or method); draw it with the population it was swept "
+                             "(other distributions, size, seed, method or members); draw it with the population it was swept "
                              "with")
 
 
