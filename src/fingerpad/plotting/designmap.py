@@ -229,8 +229,12 @@ def _population_legend(fig: Any, axes: Any, data: Any) -> None:
     colour = "white" if data.attrs["design"] == "grid" else "k"
     handles = [Line2D([], [], color=colour, linestyle=style, label=f"critical load (N), {q} % finger")
                for q, style in zip((10, 50, 90), POPULATION_STYLES.values(), strict=True)]
-    handles.append(Patch(facecolor="none", edgecolor="k", hatch="xx",
-                         label=f"asperity contact over {lo:g}-{hi:g} N for >= {share:g} % of fingers"))
+    region = f"asperity contact over {lo:g}-{hi:g} N for >= {share:g} % of fingers"
+    if data.attrs["design"] == "grid":
+        handles.append(Patch(facecolor="none", edgecolor="k", hatch="xx", label=region))
+    else:  # scattered points: ringed in black
+        handles.append(Line2D([], [], linestyle="none", marker="o", markerfacecolor="0.8", markeredgecolor="k",
+                              label=region))
     axes[0].legend(handles=handles, loc="lower right", fontsize="x-small", facecolor="0.6", framealpha=0.8)
     fig.suptitle(f"Design map for a population, {data.attrs['population']}: median "
                  f"{data.attrs.get('quantity_label', 'μ/μ_ref')} at {data.attrs['at']:g} N (colour), critical loads "
