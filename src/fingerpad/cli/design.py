@@ -46,7 +46,8 @@ def design_map_command(
     from .. import netcdf
     from ..encode import flatten_attrs
     from ..design.designmap import map_data
-    from ..design.store import check_store_population, open_sweep
+    from ..design.store import open_sweep
+    from ..design.store_population import check_store_population
     from ..plotting.designmap import figure_design_map
     from ..units import parse_positive
 

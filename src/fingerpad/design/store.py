@@ -27,11 +27,17 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import FingerpadError
-from .evaluate import POPULATION_BANDS, POPULATION_LOAD_BANDS, STATE_CODES
+from .evaluate import STATE_CODES
 from .spec import SweepSpec
+from .store_population import (
+    POP_LOAD_VARS,
+    POP_QUANTILE_VARS,
+    POPULATION_LAYOUT,
+    population_template,
+    stored_population_text,
+)
 
-__all__ = ["StoreDamage", "SweepStore", "check_store", "check_store_path", "check_store_population", "chunk_slices",
-           "open_sweep",
+__all__ = ["StoreDamage", "SweepStore", "check_store", "check_store_path", "chunk_slices", "open_sweep",
            "points_done", "pressure_grid"]
 
 _FLOAT_VARS = {
@@ -51,26 +57,6 @@ _LOAD_VARS = {
     "mu_rel": ("1", "mu / mu_ref"),
     "mu_perp_over_par": ("1", "mu sliding across the asperities' long axis / along it (with a direction)"),
 }
-
-
-#: Population variables (a sweep with ``--population``): name -> (units, long name).
-_POP_LOAD_VARS = {
-    "band_area_ratio": ("1", "quantiles over the population of A_re / A_fr"),
-    "band_mu": ("1", "quantiles over the population of mu"),
-    "band_mu_ref": ("1", "quantiles over the population of mu on the flat reference"),
-    "band_mu_rel": ("1", "quantiles over the population of mu / mu_ref"),
-}
-_POP_QUANTILE_VARS = {
-    "band_critical_load": ("N", "quantiles over the population of the critical load (members that reach "
-                                "none left out)"),
-    "band_full_contact_load": ("N", "quantiles over the population of the full-contact load (members that "
-                                    "reach none left out)"),
-}
-assert set(_POP_LOAD_VARS) == set(POPULATION_BANDS) and set(_POP_QUANTILE_VARS) == set(POPULATION_LOAD_BANDS)
-#: Version of the population variables' layout (attribute ``fingerpad_sweep_population``). The
-#: store's own ``fingerpad_sweep`` stays 1: the population adds variables and changes none, so
-#: readers of stores without a population read these stores unchanged.
-POPULATION_LAYOUT = 1
 
 
 def pressure_grid(p_min: float, p_max: float, per_decade: int = 12) -> np.ndarray:
@@ -138,7 +124,7 @@ class SweepStore:
         data["reason"] = xr.Variable(dims, np.full(shape, "", dtype="<U200"), {"long_name": "why a point is invalid"})
         data["done"] = xr.Variable(dims, np.zeros(shape, bool), {"long_name": "the point has been computed"})
         if spec.population is not None:
-            self._population_template(coords, data)
+            population_template(spec, coords, data)
         attrs = {
             "fingerpad_sweep": 1,
             "title": "fingerpad sweep: design-map quantities of textures",
@@ -160,36 +146,6 @@ class SweepStore:
                           "population_name": spec.population.name, "population_size": spec.population.size})
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
-    def _population_template(self, coords: dict[str, Any], data: dict[str, Any]) -> None:
-        """The population's coordinates and variables (docs/sweeps.md, "With a population")."""
-        import xarray as xr
-
-        spec = self.spec
-        shape, dims = spec.shape, spec.dims
-        nl, nq = spec.loads.size, len(spec.quantiles)
-        coords["quantile"] = xr.Variable("quantile", np.asarray(spec.quantiles, float),
-                                         {"units": "1", "long_name": "quantile over the population's members"})
-        coords["state"] = xr.Variable("state", np.asarray(list(STATE_CODES), dtype="<U10"),
-                                      {"long_name": "contact state at the pad centre"})
-        coords["member"] = xr.Variable("member", np.arange(len(spec.members)), {"long_name": "population member"})
-        for name, (unit, long) in _POP_LOAD_VARS.items():
-            data[name] = xr.Variable((*dims, "quantile", "load"), np.full((*shape, nq, nl), np.nan),
-                                     {"units": unit, "long_name": long})
-        for name, (unit, long) in _POP_QUANTILE_VARS.items():
-            data[name] = xr.Variable((*dims, "quantile"), np.full((*shape, nq), np.nan),
-                                     {"units": unit, "long_name": long})
-        data["state_probability"] = xr.Variable(
-            (*dims, "state", "load"), np.full((*shape, len(STATE_CODES), nl), np.nan),
-            {"units": "1", "long_name": "fraction of the population's members whose pad centre is in each state"})
-        data["asperity_over_range"] = xr.Variable(
-            dims, np.full(shape, np.nan),
-            {"units": "1", "long_name": "fraction of the population's members in asperity contact at the pad "
-                                        "centre at every exploration load"})
-        for pname, dist in spec.population.distributions.items():
-            data[f"member_{pname}"] = xr.Variable(
-                "member", np.array([m[pname] for m in spec.members], float),
-                {"units": dist.param.unit or "1", "long_name": f"member's {dist.param.doc}"})
-
     def encoding(self) -> dict[str, Any]:
         spec = self.spec
         lead = tuple(1 for _ in spec.shape[:-1]) + (min(spec.chunk, spec.shape[-1]),)
@@ -201,9 +157,9 @@ class SweepStore:
         enc["psi"] = {"chunks": (*lead, self.pressures.size)}
         if spec.population is not None:
             nq = len(spec.quantiles)
-            for name in _POP_LOAD_VARS:
+            for name in POP_LOAD_VARS:
                 enc[name] = {"chunks": (*lead, nq, spec.loads.size)}
-            for name in _POP_QUANTILE_VARS:
+            for name in POP_QUANTILE_VARS:
                 enc[name] = {"chunks": (*lead, nq)}
             enc["state_probability"] = {"chunks": (*lead, len(STATE_CODES), spec.loads.size)}
             enc["asperity_over_range"] = {"chunks": lead}
@@ -304,8 +260,8 @@ class SweepStore:
         pop = self.spec.population is not None
         if pop:
             nq = len(self.spec.quantiles)
-            block.update({n: np.full((*shape, nq, nl), np.nan) for n in _POP_LOAD_VARS})
-            block.update({n: np.full((*shape, nq), np.nan) for n in _POP_QUANTILE_VARS})
+            block.update({n: np.full((*shape, nq, nl), np.nan) for n in POP_LOAD_VARS})
+            block.update({n: np.full((*shape, nq), np.nan) for n in POP_QUANTILE_VARS})
             block["state_probability"] = np.full((*shape, len(STATE_CODES), nl), np.nan)
             block["asperity_over_range"] = np.full(shape, np.nan)
         done = np.zeros(shape, bool)
@@ -319,7 +275,7 @@ class SweepStore:
             block["converged"][local] = res["converged"]
             block["reason"][local] = str(res["reason"])[:200]
             if pop:
-                for name in (*_POP_LOAD_VARS, *_POP_QUANTILE_VARS, "state_probability", "asperity_over_range"):
+                for name in (*POP_LOAD_VARS, *POP_QUANTILE_VARS, "state_probability", "asperity_over_range"):
                     block[name][local] = res[name]
             done[local] = True
         for name, values in block.items():
@@ -333,7 +289,7 @@ class SweepStore:
 
 #: The variables a sweep computes (the others are its inputs: axis values, loads, pressures).
 _RESULT_VARS = {*_FLOAT_VARS, *_LOAD_VARS, "contact_state", "psi", "valid", "converged", "reason", "done",
-                *_POP_LOAD_VARS, *_POP_QUANTILE_VARS, "state_probability", "asperity_over_range"}
+                *POP_LOAD_VARS, *POP_QUANTILE_VARS, "state_probability", "asperity_over_range"}
 
 
 @dataclass
@@ -493,50 +449,12 @@ def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite:
             existing.get("sweep_signature"), existing.get("signature")):
         # this sweep, with another population (or with one where the store has none, or none
         # where it has one): the bands of two populations must not mix in one store
-        raise FingerpadError(f"{p}: holds this sweep with {_stored_population_text(existing)}, and this run asks for "
+        raise FingerpadError(f"{p}: holds this sweep with {stored_population_text(existing)}, and this run asks for "
                              f"{spec.population_text()}; give --overwrite to replace it, or another --out")
     if spec is not None and not overwrite:
         raise FingerpadError(f"{p}: holds another sweep (other study or [sweep] table); "
                              "give --overwrite to replace it, or another --out")
     return "replace"
-
-
-def _stored_population_text(attrs: dict[str, Any]) -> str:
-    """The population a store holds, in a few words (as :meth:`fingerpad.design.spec.SweepSpec.population_text`)."""
-    if "population" not in attrs:
-        return "no population"
-    try:
-        pop = json.loads(attrs["population"])
-        return f"population {pop['name']!r} ({pop['size']} members, seed {pop['seed']}, {pop['method']})"
-    except (ValueError, KeyError, TypeError):
-        return "a population"
-
-
-def check_store_population(ds: Any, path: str | Path, source: str) -> None:
-    """Refuse a store that does not hold the population ``source`` (a preset name or a file):
-    the design map of one population must not be drawn from another's bands.
-
-    Raises
-    ------
-    FingerpadError
-        The store holds no population, or another one (other distributions, size, seed, method
-        or members); a bad ``source``.
-    """
-    from ..study.population import DEFAULT_QUANTILES, load_population
-    from .spec import SweepSpec
-
-    pop = load_population(source)
-    if "population" not in ds.attrs:
-        raise FingerpadError(f"{path}: holds no population; run fingerpad sweep STUDY.toml --population {source} "
-                             f"--out {path} to add one")
-    stored = json.loads(ds.attrs["population"])
-    probe = SweepSpec(base={}, design="grid", axes=[], loads=np.zeros(0), population=pop, members=pop.sample(),
-                      quantiles=tuple(stored.get("quantiles", DEFAULT_QUANTILES)))
-    mine = probe.population_description() or {}
-    if {k: v for k, v in mine.items() if k != "name"} != {k: v for k, v in stored.items() if k != "name"}:
-        raise FingerpadError(f"{path}: holds {_stored_population_text(dict(ds.attrs))}, not {probe.population_text()} "
-                             "(other distributions, size, seed, method or members); draw it with the population it was swept "
-                             "with")
 
 
 def points_done(path: str | Path) -> int | None:
