@@ -275,3 +275,19 @@ def test_an_axis_the_population_varies_is_refused():
 
     with pytest.raises(FingerpadError, match="varies skin_modulus itself"):
         sweep_from_dict({**BASE, "sweep": {"axes": {"skin_modulus": ["0.2MPa", "0.4MPa"]}}}, population=SPREAD)
+
+
+def test_a_map_of_a_population_the_store_lacks_is_refused(tmp_path):
+    """design-map --population on a store swept without one: one error line, exit 2, no folder."""
+    from fingerpad.design.spec import read_sweep_file
+    from fingerpad.design.store import SweepStore
+
+    plain = write_study(tmp_path, population=False)
+    store = tmp_path / "r.zarr"
+    SweepStore(store, sweep_from_dict(read_sweep_file(str(plain))), np.array([1e3, 1e4])).create()
+    res = runner.invoke(app, ["design-map", str(store), "--x", "spacing", "--y", "height", "--population", "adults",
+                              "--out", str(tmp_path / "map")])
+    assert res.exit_code == 2, res.output
+    lines = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("error:") and "holds no population" in lines[0], res.output
+    assert not (tmp_path / "map").exists()

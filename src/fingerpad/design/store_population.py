@@ -95,8 +95,8 @@ def check_store_population(ds: Any, path: str | Path, source: str) -> None:
 
     pop = load_population(source)
     if "population" not in ds.attrs:
-        raise FingerpadError(f"{path}: holds no population; run fingerpad sweep STUDY.toml --population {source} "
-                             f"--out {path} to add one")
+        raise FingerpadError(f"{path}: holds no population; sweep one with fingerpad sweep STUDY.toml --population "
+                             f"{source} --out ANOTHER.zarr (or --overwrite to replace this store)")
     stored = json.loads(ds.attrs["population"])
     probe = SweepSpec(base={}, design="grid", axes=[], loads=np.zeros(0), population=pop, members=pop.sample(),
                       quantiles=tuple(stored.get("quantiles", DEFAULT_QUANTILES)))
