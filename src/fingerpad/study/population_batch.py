@@ -122,6 +122,19 @@ def evaluate_members(nominal: Any, fingers: Sequence[Finger], moduli: Sequence[f
         out.full_contact_load[rows] = math.nan if full is None else full
         peak = 1.5 * loads / curve.ridge_area
         out.states[rows] = _state_codes(peak[None, :], np.array([pt0]), np.array([pf0]))
+    if bem and not flat and hasattr(cell, "for_skin"):
+        # a member whose skin is not this cell's at another modulus (a layered skin with a
+        # thickness or modulus ratio of its own) is a cell of its own: member by member, as
+        # run_population does
+        own = {}
+        for key in todo:
+            i = groups[key][0]
+            mcell = _member_cell(cell, fingers[i], moduli[i], loads)
+            if mcell is not None:
+                own[key] = mcell
+        for key, mcell in own.items():
+            _one_member(out, groups[key], fingers[groups[key][0]], mcell, loads)
+        todo = [key for key in todo if key not in own]
     if not todo:
         return out
     fs = [fingers[groups[key][0]] for key in todo]
@@ -147,6 +160,35 @@ def evaluate_members(nominal: Any, fingers: Sequence[Finger], moduli: Sequence[f
         out.critical_load[rows], out.full_contact_load[rows] = crit[j], full[j]
         out.states[rows] = states[j]
     return out
+
+
+def _member_cell(cell: Any, finger: Finger, modulus: float, loads: np.ndarray) -> Any:
+    """The member's own cell when its skin is not the nominal cell's read at another modulus
+    (``cell.for_skin``, a layered skin of other proportions), else ``None``."""
+    from .run import P_HIGH, P_LOW
+
+    layer = getattr(finger, "layer", None)
+    if layer is None and getattr(cell, "layer", None) is None:
+        return None
+    p = loads / np.asarray(finger.ridge_area(loads), float)
+    mcell = cell.for_skin(modulus, layer, (P_LOW * float(p.min()), P_HIGH * float(p.max())))
+    return None if getattr(mcell, "base", None) is cell else mcell
+
+
+def _one_member(out: MemberValues, rows: list[int], finger: Finger, mcell: Any, loads: np.ndarray) -> None:
+    """One member on a cell of its own, as :func:`~fingerpad.study.population.run_population`
+    computes it (BEM): its curve, critical and full-contact loads and centre states."""
+    from ..coupling import predict_curve
+    from .run import load_at_centre_pressure
+
+    curve = predict_curve(loads, finger, mcell)
+    out.area_ratio[rows], out.mu[rows], out.mu_ref[rows] = curve.area_ratio, curve.mu, curve.mu_ref
+    out.mu_normalised[rows] = curve.mu_normalised
+    out.critical_load[rows] = curve.critical_load
+    out.full_contact_load[rows] = load_at_centre_pressure(finger, mcell.full_contact_pressure)
+    peak = 1.5 * curve.load / curve.ridge_area
+    out.states[rows] = _state_codes(peak[None, :], np.array([float(mcell.transition_pressure)]),
+                                    np.array([float(mcell.full_contact_pressure)]))
 
 
 def _key(finger: Finger, modulus: float, index: int) -> Any:
