@@ -33,6 +33,7 @@ bench: $(STAMP)
 	$(PY) benchmarks/bench_population.py
 	$(PY) benchmarks/bench_startup.py
 	$(PY) benchmarks/bench_sweep.py
+	$(PY) benchmarks/bench_population_sweep.py
 	$(PY) benchmarks/bench_analyse.py
 	$(PY) benchmarks/bench_deflection.py
 

@@ -29,18 +29,25 @@ def design_map_command(
     quantity: Annotated[str, typer.Option("--quantity", metavar="NAME",
                                           help="Colour: mu_rel (default), mu_perp_over_par (directional sweeps), "
                                                "mu or area_ratio.")] = "mu_rel",
+    population: Annotated[str | None, typer.Option(
+        "--population", metavar="NAME|FILE",
+        help="Draw the population the sweep ran (fingerpad sweep --population NAME|FILE, the same one): median "
+             "colour, critical loads of the 10/50/90 % fingers, the region in asperity contact over the range "
+             "for >= 90 % of fingers.")] = None,
 ) -> None:
     """Draw the design map of a sweep: critical-load contours, mu/mu_ref, contact-state regions.
 
     Writes DIR/design_map.png and .svg, and the data behind them as design_map.nc and
     design_map.csv. Literature markers: spacing 160 um (felt smooth below), the fingerprint
     ridge wavelength 0.4-0.5 mm, ridge heights 33.5 um and 105 um (interlocking).
+    With --population (docs/sweeps.md): the colour is the median over the fingers.
     """
     from .. import io as fio
     from .. import netcdf
     from ..encode import flatten_attrs
     from ..design.designmap import map_data
     from ..design.store import open_sweep
+    from ..design.store_population import check_store_population
     from ..plotting.designmap import figure_design_map
     from ..units import parse_positive
 
@@ -56,7 +63,9 @@ def design_map_command(
         fio.OutputFolder.check(out, MAP_FILES)
         with warnings_to(err):
             ds = open_sweep(store).load()
-            data = map_data(ds, x, y, at=at_v, select=sel, quantity=quantity)
+            if population is not None:
+                check_store_population(ds, store, population)
+            data = map_data(ds, x, y, at=at_v, select=sel, quantity=quantity, population=population is not None)
             fig = figure_design_map(data)
         with fio.OutputFolder(out, MAP_FILES) as folder:  # errors name the user's path
             fig.savefig(folder.path("design_map.png"), format="png", dpi=120)

@@ -14,6 +14,11 @@ _HELP = {
     "--workers": "Worker processes of the local Dask cluster (default: one per core), one thread each.",
     "--scheduler": "Address of an existing Dask scheduler (tcp://HOST:PORT) instead of a local cluster.",
     "--overwrite": "Replace a sweep store that holds another sweep (anything else at --out is never replaced).",
+    "--population": "Predict a population of fingers at every point: a preset (adults) or a TOML file with a "
+                    "[population] table (docs/population.md); the study file's own [population] table is used "
+                    "without it. Stores quantile bands per point (docs/sweeps.md).",
+    "--quantiles": "Quantiles of the population bands, comma-separated (default 0.05,0.25,0.5,0.75,0.95; "
+                   "0.1, 0.5 and 0.9 are always stored for the design map).",
     "--repair": "Mend a damaged store of this sweep: its unreadable chunks are computed again and its "
                 "metadata rewritten (a damaged store is refused without it).",
 }
@@ -28,13 +33,18 @@ def sweep_command(
                                                   help=_HELP["--scheduler"])] = None,
     overwrite: Annotated[bool, typer.Option("--overwrite", help=_HELP["--overwrite"])] = False,
     repair: Annotated[bool, typer.Option("--repair", help=_HELP["--repair"])] = False,
+    population: Annotated[str | None, typer.Option("--population", metavar="NAME|FILE",
+                                                   help=_HELP["--population"])] = None,
+    quantiles: Annotated[str | None, typer.Option("--quantiles", metavar="Q,Q,...", help=_HELP["--quantiles"])] = None,
 ) -> None:
     """Sweep texture, material or finger values of a study on Dask; results in a Zarr store.
 
     The study file is a predict study plus [sweep] (see docs/sweeps.md): a grid of axes
     (lists or START:STOP:COUNT ranges), a Latin hypercube (lhs) or explicit points. Per point:
     critical loads, full-contact load, the cell's state pressures, psi(p), and at the
-    exploration loads the contact state, A_re/A_fr, mu, mu_ref and mu/mu_ref.
+    exploration loads the contact state, A_re/A_fr, mu, mu_ref and mu/mu_ref. With a population
+    (--population or a [population] table), also their quantiles over the fingers, those of the
+    critical and full-contact loads, and the probability of each contact state.
     """
     from pathlib import Path
 
@@ -43,6 +53,7 @@ def sweep_command(
     from ..io import check_output_location
     from ..design.spec import read_sweep_file, sweep_from_dict
     from ..units import parse_int
+    from .predict import _population
 
     with user_errors():
         err = stderr_console()
@@ -50,12 +61,15 @@ def sweep_command(
             raise_error("give --workers (a local cluster) or --scheduler (an existing one), not both")
         n = parse_int(workers, "--workers") if workers is not None else None
         with warnings_to(err):
-            spec = sweep_from_dict(read_sweep_file(study))
+            data = read_sweep_file(study)
+            pop, levels = _population(population, data.get("population"), quantiles)
+            spec = sweep_from_dict(data, population=pop, quantiles=levels)
         store = out if out is not None else str(Path(study).with_suffix(".zarr"))
         where = str(check_output_location(store, "--out"))  # before any work; a link is written through
         check_store_path(store, spec, overwrite)  # only a sweep store is ever replaced
         bar = _Progress(err, spec.size,
-                        f"sweep: {spec.size} points ({spec.design}: {', '.join(a.name for a in spec.axes)}) into {store}")
+                        f"sweep: {spec.size} points ({spec.design}: {', '.join(a.name for a in spec.axes)}) into {store}"
+                        + (f"; {spec.population_text()} at every point" if spec.population is not None else ""))
         try:
             report = run_sweep(spec, where, workers=n, scheduler=scheduler, overwrite=overwrite, repair=repair,
                                progress=bar, notice=bar.notice)

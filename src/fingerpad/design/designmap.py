@@ -25,7 +25,11 @@ import numpy as np
 
 from ..errors import FingerpadError
 
-__all__ = ["MARKERS", "REGIONS", "map_data", "swept_axes"]
+__all__ = ["MARKERS", "POPULATION_COVERAGE", "REGIONS", "map_data", "swept_axes"]
+
+#: The share of a population for which the design map marks "asperity contact over the whole
+#: range" (and whose complement's quantiles give the contours: 10 % and 90 % fingers).
+POPULATION_COVERAGE = 0.9
 
 #: The contact-state regions (the ``region`` variable's ``flag_meanings``, in this order).
 REGIONS = {0: "transition below the range", 1: "transition inside the range", 2: "asperity contact over the range"}
@@ -51,7 +55,7 @@ COLOUR_QUANTITIES = {"mu_rel": "μ/μ_ref", "mu_perp_over_par": "μ⊥/μ∥", "
 
 
 def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[str, Any] | None = None,
-             quantity: str = "mu_rel") -> Any:
+             quantity: str = "mu_rel", population: bool = False) -> Any:
     """The data behind a design map: ``critical_load`` (N), ``mu_rel`` (at load ``at``) and
     ``region`` (see the module docstring) on the axes ``x`` and ``y``, with the literature
     markers (:data:`MARKERS`, JSON) in the attribute ``markers``.
@@ -71,6 +75,15 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
     quantity
         The colour: ``mu_rel`` (default), ``mu_perp_over_par`` (directional sweeps), ``mu`` or
         ``area_ratio``; stored as the variable ``mu_rel`` of the result with its name in ``attrs``.
+    population
+        Draw the population of a sweep run with ``--population``: ``mu_rel`` is then the median
+        over the members (of ``quantity``, at ``at``), and the result gains
+        ``critical_load_q10``, ``critical_load_q50``, ``critical_load_q90`` (N: the critical
+        loads of the 10 %, 50 % and 90 % fingers, quantiles over the members),
+        ``asperity_over_range`` (the fraction of members in asperity contact at the pad centre at
+        every exploration load) and ``robust_asperity`` (1 where that fraction is at least
+        :data:`POPULATION_COVERAGE`, else 0). ``critical_load`` and ``region`` stay the
+        nominal finger's.
 
     Returns
     -------
@@ -113,7 +126,20 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
                              + (" (give the study a [model] direction or sweep a direction axis)"
                                 if quantity == "mu_perp_over_par" else ""))
     design = ds.attrs.get("design", "grid")
-    data = ds[["critical_load_bem", "critical_load_hertz", "valid", "done"]].assign(mu_rel=ds[quantity])
+    names = ["critical_load_bem", "critical_load_hertz", "valid", "done"]
+    if population:
+        if "band_mu_rel" not in ds.variables:
+            raise FingerpadError("--population: this sweep store holds no population (run fingerpad sweep with "
+                                 "--population)")
+        band = f"band_{quantity}"
+        if band not in ds.variables:
+            raise FingerpadError(f"--quantity {quantity}: the population is banded in area_ratio, mu and "
+                                 "mu_rel only")
+        names += ["band_critical_load", "asperity_over_range"]
+        colour = ds[band].sel(quantile=0.5)
+    else:
+        colour = ds[quantity]
+    data = ds[names].assign(mu_rel=colour)
     if design == "grid":
         for name, value in sel.items():
             kind = ds[name].attrs.get("kind")
@@ -145,6 +171,22 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
         "region": region.assign_attrs(units="1", long_name="contact-state region over the exploration loads",
                                       flag_values="0 1 2", flag_meanings="; ".join(REGIONS.values())),
     })
+    ok = data["valid"] & data["done"]
+    if population:
+        if quantity == "mu_rel":
+            out["mu_rel"].attrs["long_name"] = f"median over the population of mu/mu_ref at {at:g} N"
+        for q in (0.1, 0.5, 0.9):
+            out[f"critical_load_q{round(100 * q)}"] = data["band_critical_load"].sel(quantile=q).drop_vars(
+                "quantile").where(ok).assign_attrs(units="N", long_name=f"critical load of the {100 * q:g} % finger "
+                                                                        f"(quantile over the population)")
+        frac = data["asperity_over_range"].where(ok)
+        out["asperity_over_range"] = frac.assign_attrs(
+            units="1", long_name=f"fraction of fingers in asperity contact over {lo:g}-{hi:g} N")
+        out["robust_asperity"] = xr.where(frac >= POPULATION_COVERAGE, 1.0, 0.0).where(ok).assign_attrs(
+            units="1", long_name=f"asperity contact over {lo:g}-{hi:g} N for >= {100 * POPULATION_COVERAGE:g} % "
+                                 "of fingers (1) or not (0)")
+        if "quantile" in out.coords:
+            out = out.drop_vars("quantile")
     if design != "grid":
         out[x] = ds[x]
         out[y] = ds[y]
@@ -155,6 +197,13 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
                  "at": float(at), "load_min": lo, "load_max": hi, "design": design,
                  "x_kind": ds[x].attrs.get("kind", ""), "y_kind": ds[y].attrs.get("kind", ""),
                  "quantity": quantity, "quantity_label": COLOUR_QUANTITIES[quantity],
+                 "population": _population_name(ds) if population else "",
+                 "coverage": POPULATION_COVERAGE,
                  # the literature markers travel with the data (plotting draws them, knows none)
                  "markers": json.dumps(MARKERS)}
     return out
+
+
+def _population_name(ds: Any) -> str:
+    """The population of a store, in a few words (its name and size)."""
+    return f"{ds.attrs.get('population_name', 'population')} ({ds.attrs.get('population_size', '?')} fingers)"

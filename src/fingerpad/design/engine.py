@@ -271,12 +271,17 @@ def run_sweep(
             chunk_items.append((region, items, keys))
         report.cells = len(first_of)
         loads, ps = spec.loads.tolist(), pressures.tolist()
-        cell_futures = {key: client.submit(prepare_cell, data, loads, ps, pure=False, key=f"cell-{key[:16]}")
+        # the members (the same at every point), sent to each worker once
+        population = spec.population_payload()
+        if population is not None:
+            population = client.scatter([population], broadcast=True)[0]  # a list: a dict would be keys
+        cell_futures = {key: client.submit(prepare_cell, data, loads, ps, population, pure=False,
+                                           key=f"cell-{key[:16]}")
                         for key, data in first_of.items()}
         futures = {}
         for region, items, keys in chunk_items:
             deps = [cell_futures[k] for k in sorted(keys)]
-            fut = client.submit(_after, deps, items, loads, ps, pure=False)
+            fut = client.submit(_after, deps, items, loads, ps, population, pure=False)
             futures[fut] = region
         pending_cells = dict(cell_futures)
         for fut in as_completed(list(futures), loop=client.loop):
@@ -333,9 +338,10 @@ def _limit_worker_threads() -> None:
     limit_threads()
 
 
-def _after(deps: list[Any], items: list[Any], loads: list[float], pressures: list[float]) -> list[Any]:
+def _after(deps: list[Any], items: list[Any], loads: list[float], pressures: list[float],
+           population: dict[str, Any] | None = None) -> list[Any]:
     """A chunk's points, run once the cells they use are in the cache (``deps`` are their results)."""
-    return evaluate_chunk(items, loads, pressures)
+    return evaluate_chunk(items, loads, pressures, population)
 
 
 def _region_text(region: tuple[slice, ...]) -> str:

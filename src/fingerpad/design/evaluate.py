@@ -4,7 +4,12 @@ numbers a design map needs. Functions here run in Dask workers: plain data in, p
 Per point (docs/model.md, design map): critical loads (BEM, Hertz where it applies), the
 full-contact load, the cell's transition and full-contact pressures, psi on the sweep's common
 pressure grid, and at each exploration load the contact state at the pad centre, A_re/A_fr,
-mu, mu_ref and mu/mu_ref. A point that cannot exist (overlapping asperities, a grid too small)
+mu, mu_ref and mu/mu_ref. With a population of fingers (``population``: the members and the
+quantile levels), also per point the quantiles of the members' A_re/A_fr, mu, mu_ref and
+mu/mu_ref at each load and of their critical and full-contact loads, the probability of each
+contact state at the pad centre, and the fraction of members in asperity contact over the whole
+range (:func:`fingerpad.study.population_batch.evaluate_members`: one cell, every member at its
+own E*). A point that cannot exist (overlapping asperities, a grid too small)
 is returned invalid with its reason; an unconverged cell is flagged; neither raises.
 """
 
@@ -36,6 +41,11 @@ STATE_CODES = {"asperity": 0, "transition": 1, "full": 2}
 _SCALARS = ("critical_load_bem", "critical_load_hertz", "full_contact_load", "transition_pressure",
             "full_contact_pressure", "grid_error", "grid", "seconds")
 _PER_LOAD = ("area_ratio", "mu", "mu_ref", "mu_rel", "mu_perp_over_par")
+#: Per-load member quantities banded per point (store name: MemberValues attribute).
+POPULATION_BANDS = {"band_area_ratio": "area_ratio", "band_mu": "mu", "band_mu_ref": "mu_ref",
+                    "band_mu_rel": "mu_normalised"}
+#: Member loads banded per point.
+POPULATION_LOAD_BANDS = {"band_critical_load": "critical_load", "band_full_contact_load": "full_contact_load"}
 
 
 def limit_threads() -> None:
@@ -81,7 +91,8 @@ def cell_key(data: Mapping[str, Any]) -> str | None:
         return None
 
 
-def prepare_cell(data: Mapping[str, Any], loads: Sequence[float], pressures: Sequence[float]) -> dict[str, Any]:
+def prepare_cell(data: Mapping[str, Any], loads: Sequence[float], pressures: Sequence[float],
+                 population: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Solve (or find in the cache) the unit cell of one point, by predicting that point.
 
     Run once per distinct cell before the other points that share it, so that a sweep solves
@@ -89,15 +100,19 @@ def prepare_cell(data: Mapping[str, Any], loads: Sequence[float], pressures: Seq
     of solves (0: the cache had the cell) and the seconds.
     """
     limit_threads()
-    result = evaluate_point(data, loads, pressures)
+    result = evaluate_point(data, loads, pressures, population)
     return {"solves": result["solves"], "seconds": result["seconds"], "valid": result["valid"]}
 
 
-def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: Sequence[float]) -> dict[str, Any]:
+def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: Sequence[float],
+                   population: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """The design-map numbers of one point (see the module docstring); never raises for a
     point that cannot exist: ``valid`` is False and ``reason`` says why. A
     :class:`~fingerpad.errors.SetupError` (a bad FFT setting on this worker, say) is raised: it
-    says nothing about the point."""
+    says nothing about the point.
+
+    ``population``: ``{"members": [{name: value (SI)}, ...], "quantiles": [levels]}`` (what
+    :meth:`~fingerpad.design.spec.SweepSpec.population_payload` gives), or ``None``."""
     from ..study.run import run_study
 
     loads = np.asarray(loads, float)
@@ -106,6 +121,12 @@ def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: S
     out.update({k: np.full(loads.size, np.nan) for k in _PER_LOAD})
     out.update(valid=False, reason="", converged=False, solves=0, psi=np.full(pressures.size, np.nan),
                contact_state=np.full(loads.size, -1, dtype=np.int8))
+    if population is not None:
+        nq = len(population["quantiles"])
+        out.update({k: np.full((nq, loads.size), np.nan) for k in POPULATION_BANDS})
+        out.update({k: np.full(nq, np.nan) for k in POPULATION_LOAD_BANDS})
+        out.update(state_probability=np.full((len(STATE_CODES), loads.size), np.nan),
+                   asperity_over_range=math.nan)
     t0 = time.perf_counter()
     try:
         with warnings.catch_warnings():
@@ -146,7 +167,35 @@ def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: S
         out["grid_error"] = _num(pred.resolution.get("area_ratio_error"))
         out["grid"] = float(pred.resolution["grid"][0])
         out["solves"] = int(pred.resolution.get("solves", 0))
+    if population is not None:
+        try:
+            bands = _population_bands(pred, population)
+            out["solves"] = int(out["solves"]) + bands.pop("solves_population")
+            out.update(bands)
+        except FingerpadError as exc:  # a member this point's finger cannot take
+            out.update(valid=False, reason=one_line(f"population: {exc}")[:500])
     out["seconds"] = time.perf_counter() - t0
+    return out
+
+
+def _population_bands(pred: Any, population: Mapping[str, Any]) -> dict[str, Any]:
+    """The population's numbers at one point (see the module docstring); the extra unit-cell
+    solves the members' wider p/E* range needs are counted in ``solves``."""
+    from ..study.population_batch import evaluate_members, member_quantiles, population_fingers
+
+    levels = [float(q) for q in population["quantiles"]]
+    cell = pred.cell
+    before = int(getattr(cell, "solves", 0) or 0) if cell is not None else 0
+    fingers, moduli = population_fingers(pred, population["members"])
+    values = evaluate_members(pred, fingers, moduli)
+    after = int(getattr(cell, "solves", 0) or 0) if cell is not None else 0
+    out: dict[str, Any] = {name: member_quantiles(getattr(values, attr), levels)
+                           for name, attr in POPULATION_BANDS.items()}
+    out.update({name: member_quantiles(getattr(values, attr), levels, drop_nan=True)
+                for name, attr in POPULATION_LOAD_BANDS.items()})
+    out["state_probability"] = np.array([np.mean(values.states == code, axis=0) for code in STATE_CODES.values()])
+    out["asperity_over_range"] = float(np.mean(np.all(values.states == STATE_CODES["asperity"], axis=1)))
+    out["solves_population"] = after - before
     return out
 
 
@@ -175,10 +224,11 @@ def _check_resolved(study: Any) -> None:
 
 
 def evaluate_chunk(items: Sequence[tuple[tuple[int, ...], dict[str, Any]]], loads: Sequence[float],
-                   pressures: Sequence[float]) -> list[tuple[tuple[int, ...], dict[str, Any]]]:
+                   pressures: Sequence[float], population: Mapping[str, Any] | None = None,
+                   ) -> list[tuple[tuple[int, ...], dict[str, Any]]]:
     """:func:`evaluate_point` for the points of one chunk, ``[(index, study data), ...]``."""
     limit_threads()
-    return [(index, evaluate_point(data, loads, pressures)) for index, data in items]
+    return [(index, evaluate_point(data, loads, pressures, population)) for index, data in items]
 
 
 def _num(value: Any) -> float:

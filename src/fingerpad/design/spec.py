@@ -28,7 +28,7 @@ import copy
 import hashlib
 import json
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -80,6 +80,11 @@ class SweepSpec:
     chunk: int = 8
     raw: dict[str, Any] = field(default_factory=dict)
     source: str | None = None
+    #: A population of fingers (:class:`fingerpad.study.population.Population`) predicted at
+    #: every point, or ``None``; its members (SI) and the quantile levels stored.
+    population: Any = None
+    members: list[dict[str, float]] = field(default_factory=list)
+    quantiles: tuple[float, ...] = ()
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -112,19 +117,53 @@ class SweepSpec:
             section[axis.key] = axis.study_value(assignment[axis.name])
         return data
 
-    def signature(self) -> str:
+    def population_description(self) -> dict[str, Any] | None:
+        """The population as the store records it (SI; JSON-able), ``None`` without one."""
+        if self.population is None:
+            return None
+        pop = self.population
+        # the members themselves count (a digest of their values, SI): whatever shaped them
+        # (correlations, measured members, a later way of drawing them) tells two populations apart
+        digest = hashlib.sha256(json.dumps(self.members, sort_keys=True, default=repr).encode()).hexdigest()
+        return _jsonable({"name": pop.name, "size": pop.size, "seed": pop.seed, "method": pop.method,
+                          "distributions": {k: {"distribution": d.kind, **d.args}
+                                            for k, d in pop.distributions.items()},
+                          "correlations": list(getattr(pop, "correlations", ()) or ()),
+                          "quantiles": list(self.quantiles), "members_sha256": digest})
+
+    def population_payload(self) -> dict[str, Any] | None:
+        """What every point needs of the population (plain data for the Dask workers): the
+        members' parameters (SI) and the quantile levels; ``None`` without a population."""
+        if self.population is None:
+            return None
+        return {"members": [dict(m) for m in self.members], "quantiles": list(self.quantiles)}
+
+    def population_text(self) -> str:
+        """The population in a few words, for messages."""
+        pop = self.population
+        return "no population" if pop is None else \
+            f"population {pop.name!r} ({pop.size} members, seed {pop.seed}, {pop.method})"
+
+    def signature(self, population: bool = True) -> str:
         """Hash of everything that determines the results (a store of another sweep is refused).
 
         It depends on the study's content only: not on the path by which the study file was
         named (relative, absolute, a copy elsewhere), nor on the cache folder; a measured surface
-        counts by the content of its file, not by its path.
+        counts by the content of its file, not by its path. A population (its distributions,
+        size, seed, method, quantiles and its members' values) is part of it; ``population=False`` gives the
+        signature of the same sweep without it (that of a sweep without a population, so that
+        stores written before populations existed still resume).
         """
         base = {k: dict(v) for k, v in self.base.items() if k != "_source"}
         base.get("model", {}).pop("cache", None)
         surface = base.get("texture", {}).get("surface")
         if isinstance(surface, str):
             base["texture"]["surface"] = _file_digest(surface)
-        payload = json.dumps({"base": base, "sweep": self.raw, "version": __version__}, sort_keys=True, default=repr)
+        content: dict[str, Any] = {"base": base, "sweep": self.raw, "version": __version__}
+        if population and self.population is not None:
+            # what the members are, not what the population is called (a file or a table of the same)
+            content["population"] = {k: v for k, v in (self.population_description() or {}).items() if k != "name"}
+        payload = json.dumps(content, sort_keys=True, default=repr)
         return hashlib.sha256(payload.encode()).hexdigest()
 
 
@@ -144,7 +183,7 @@ def read_sweep_file(path: str) -> dict[str, Any]:
     """The sections of a sweep study file (a ``predict`` study file with a ``[sweep]`` table)."""
     from ..study.spec import read_study_file
 
-    data = read_study_file(path, extra_sections=("sweep",))
+    data = read_study_file(path, extra_sections=("sweep", "population"))
     if "sweep" not in data:
         raise FingerpadError(f"study file {Path(path).name!r} has no [sweep] table: nothing to sweep "
                              "(see docs/sweeps.md)")
@@ -222,13 +261,20 @@ def _axis_values(axis: Axis, spec: Any, design: str, where: str,
     return values, log
 
 
-def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = None) -> SweepSpec:
+def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = None, population: Any = None,
+                    quantiles: Sequence[float] | None = None) -> SweepSpec:
     """Build and check a :class:`SweepSpec` from the sections of a sweep study file.
 
     ``require_units``: whether a length, pressure or force of an axis must carry a unit (a bare
     number is refused, naming the axis). ``None`` (default): required for the sections of a study
     file (:func:`read_sweep_file`, as ``fingerpad sweep`` reads them), not for a dict built in
     Python, whose bare numbers are SI.
+
+    ``population``: a :class:`~fingerpad.study.population.Population` (or a preset name or
+    file, :func:`~fingerpad.study.population.load_population`) predicted at every point; without
+    it, the study's ``[population]`` table if it has one. ``quantiles``: the levels of its
+    bands (default 5/25/50/75/95 %); the store always holds 10, 50 and 90 % as well, which the
+    design map draws.
 
     The base study (every point's study, before the axis values) is checked once here by
     :func:`fingerpad.study.spec.study_from_dict`; each point is checked again when it runs, and
@@ -238,7 +284,7 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
     from ..units import parse_range
 
     sweep = dict(data.get("sweep") or {})
-    base = {k: dict(v) for k, v in data.items() if k not in ("sweep", "_source")}
+    base = {k: dict(v) for k, v in data.items() if k not in ("sweep", "_source", "population")}
     source = (data.get("_source") or {}).get("file")
     if "_source" in data:
         base["_source"] = dict(data["_source"])
@@ -320,8 +366,62 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
         raise FingerpadError(f"[sweep]: {size} points is more than the {MAX_POINTS} allowed")
     spec = SweepSpec(base=base, design=design, axes=axes, loads=loads, point_values=point_values, chunk=chunk,
                      raw=_jsonable(sweep), source=source)
+    if population is None and data.get("population") is not None:
+        population = data["population"]
+    if population is not None:
+        _add_population(spec, base_study, population, quantiles)
+    elif quantiles is not None:
+        raise FingerpadError("--quantiles needs a population (--population or a [population] table)")
     del base_study
     return spec
+
+
+#: Quantile levels a population sweep always stores: the design map draws the critical loads of
+#: the 10 % and 90 % fingers and colours by the median.
+MAP_QUANTILES = (0.1, 0.5, 0.9)
+
+
+def _add_population(spec: SweepSpec, base_study: Any, population: Any, quantiles: Sequence[float] | None) -> None:
+    """Attach a population to ``spec``: sampled once here (every point predicts the same
+    members), checked against the axes and the study before anything runs."""
+    from ..study.population import (
+        DEFAULT_QUANTILES,
+        POPULATION_PARAMS,
+        Population,
+        load_population,
+        member_finger,
+        population_from_table,
+    )
+
+    if isinstance(population, Population):
+        pop = population
+    elif isinstance(population, Mapping):
+        pop = population_from_table(population)
+    else:
+        pop = load_population(str(population))
+    levels = tuple(float(q) for q in (DEFAULT_QUANTILES if quantiles is None else quantiles))
+    if not levels or any(not (0 <= q <= 1) for q in levels):
+        raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {list(levels)}")
+    for axis in spec.axes:
+        name = axis.key if axis.section == "finger" else axis.name
+        if axis.section == "finger" and name in pop.distributions:
+            raise FingerpadError(f"[sweep.axes] {axis.name}: the population {pop.name!r} varies {name} itself; "
+                                 "sweep it or let the population spread it, not both")
+        if axis.name == "direction":
+            raise FingerpadError("[sweep.axes] direction: a population with a sliding direction is not supported "
+                                 "yet (directional friction of a population)")
+    if base_study.direction is not None:
+        raise FingerpadError("[model] direction: a population with a sliding direction is not supported yet "
+                             "(directional friction of a population); drop one of them")
+    members = pop.sample()  # bounds checked here, before any point runs
+    for m in members[:1]:
+        member_finger(base_study.finger, m)  # ridge_fraction needs the constant-fraction model
+    unknown = sorted(set().union(*members) - set(POPULATION_PARAMS)) if members else []
+    if unknown:  # pragma: no cover - population_from_table refuses them first
+        raise FingerpadError(f"population: unknown parameter(s) {', '.join(unknown)}")
+    spec.population = pop
+    spec.members = members
+    spec.quantiles = tuple(sorted(set(levels) | set(MAP_QUANTILES)))
 
 
 def _jsonable(value: Any) -> Any:

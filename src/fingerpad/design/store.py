@@ -29,6 +29,13 @@ from .._version import __version__
 from ..errors import FingerpadError
 from .evaluate import STATE_CODES
 from .spec import SweepSpec
+from .store_population import (
+    POP_LOAD_VARS,
+    POP_QUANTILE_VARS,
+    POPULATION_LAYOUT,
+    population_template,
+    stored_population_text,
+)
 
 __all__ = ["StoreDamage", "SweepStore", "check_store", "check_store_path", "chunk_slices", "open_sweep",
            "points_done", "pressure_grid"]
@@ -116,6 +123,8 @@ class SweepStore:
         data["converged"] = xr.Variable(dims, np.zeros(shape, bool), {"long_name": "every cell solve converged"})
         data["reason"] = xr.Variable(dims, np.full(shape, "", dtype="<U200"), {"long_name": "why a point is invalid"})
         data["done"] = xr.Variable(dims, np.zeros(shape, bool), {"long_name": "the point has been computed"})
+        if spec.population is not None:
+            population_template(spec, coords, data)
         attrs = {
             "fingerpad_sweep": 1,
             "title": "fingerpad sweep: design-map quantities of textures",
@@ -128,7 +137,13 @@ class SweepStore:
             "chunk": spec.chunk,
             "units_system": "SI",
             "fingerpad_version": __version__,
+            # the same sweep without a population: a resume with another population is told apart
+            "sweep_signature": spec.signature(population=False),
         }
+        if spec.population is not None:
+            attrs.update({"fingerpad_sweep_population": POPULATION_LAYOUT,
+                          "population": json.dumps(spec.population_description()),
+                          "population_name": spec.population.name, "population_size": spec.population.size})
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
     def encoding(self) -> dict[str, Any]:
@@ -140,6 +155,14 @@ class SweepStore:
         for name in [*_LOAD_VARS, "contact_state"]:
             enc[name] = {"chunks": (*lead, spec.loads.size)}
         enc["psi"] = {"chunks": (*lead, self.pressures.size)}
+        if spec.population is not None:
+            nq = len(spec.quantiles)
+            for name in POP_LOAD_VARS:
+                enc[name] = {"chunks": (*lead, nq, spec.loads.size)}
+            for name in POP_QUANTILE_VARS:
+                enc[name] = {"chunks": (*lead, nq)}
+            enc["state_probability"] = {"chunks": (*lead, len(STATE_CODES), spec.loads.size)}
+            enc["asperity_over_range"] = {"chunks": lead}
         return enc
 
     def check_existing(self, overwrite: bool = False) -> str:
@@ -234,6 +257,13 @@ class SweepStore:
         block["valid"] = np.zeros(shape, bool)
         block["converged"] = np.zeros(shape, bool)
         block["reason"] = np.full(shape, "", dtype="<U200")
+        pop = self.spec.population is not None
+        if pop:
+            nq = len(self.spec.quantiles)
+            block.update({n: np.full((*shape, nq, nl), np.nan) for n in POP_LOAD_VARS})
+            block.update({n: np.full((*shape, nq), np.nan) for n in POP_QUANTILE_VARS})
+            block["state_probability"] = np.full((*shape, len(STATE_CODES), nl), np.nan)
+            block["asperity_over_range"] = np.full(shape, np.nan)
         done = np.zeros(shape, bool)
         for index, res in results:
             local = tuple(i - s for i, s in zip(index, starts, strict=True))
@@ -244,6 +274,9 @@ class SweepStore:
             block["valid"][local] = res["valid"]
             block["converged"][local] = res["converged"]
             block["reason"][local] = str(res["reason"])[:200]
+            if pop:
+                for name in (*POP_LOAD_VARS, *POP_QUANTILE_VARS, "state_probability", "asperity_over_range"):
+                    block[name][local] = res[name]
             done[local] = True
         for name, values in block.items():
             group[name][region] = values
@@ -255,7 +288,8 @@ class SweepStore:
 
 
 #: The variables a sweep computes (the others are its inputs: axis values, loads, pressures).
-_RESULT_VARS = {*_FLOAT_VARS, *_LOAD_VARS, "contact_state", "psi", "valid", "converged", "reason", "done"}
+_RESULT_VARS = {*_FLOAT_VARS, *_LOAD_VARS, "contact_state", "psi", "valid", "converged", "reason", "done",
+                *POP_LOAD_VARS, *POP_QUANTILE_VARS, "state_probability", "asperity_over_range"}
 
 
 @dataclass
@@ -411,6 +445,12 @@ def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite:
         raise FingerpadError(f"{p}: exists and is not a fingerpad sweep store; it is left alone (name another --out)")
     if spec is not None and existing.get("signature") == spec.signature():
         return "resume"
+    if spec is not None and not overwrite and spec.signature(population=False) in (
+            existing.get("sweep_signature"), existing.get("signature")):
+        # this sweep, with another population (or with one where the store has none, or none
+        # where it has one): the bands of two populations must not mix in one store
+        raise FingerpadError(f"{p}: holds this sweep with {stored_population_text(existing)}, and this run asks for "
+                             f"{spec.population_text()}; give --overwrite to replace it, or another --out")
     if spec is not None and not overwrite:
         raise FingerpadError(f"{p}: holds another sweep (other study or [sweep] table); "
                              "give --overwrite to replace it, or another --out")

@@ -14,10 +14,13 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["CRITICAL_CONTOURS", "figure_design_map"]
+__all__ = ["CRITICAL_CONTOURS", "POPULATION_STYLES", "figure_design_map"]
 
 #: Contour levels of the critical load drawn on the map, N (those inside the data's range).
 CRITICAL_CONTOURS = (0.1, 0.5, 1.0, 2.0, 4.0)
+
+#: Line styles of the critical-load contours of a population map: the 10 %, 50 % and 90 % fingers.
+POPULATION_STYLES = {"critical_load_q10": "dashed", "critical_load_q50": "solid", "critical_load_q90": "dotted"}
 
 _SCALE = {"length": (1e6, "µm"), "pressure": (1e-3, "kPa"), "angle": (180 / math.pi, "deg")}
 
@@ -37,6 +40,7 @@ def figure_design_map(data: Any) -> Any:
     markers = json.loads(data.attrs["markers"]) if data.attrs.get("markers") else {"lines": [], "bands": []}
 
     x, y, design = data.attrs["x"], data.attrs["y"], data.attrs["design"]
+    population = bool(data.attrs.get("population"))
     panels: list[tuple[str, Any]] = [("", data)]
     if design == "grid":
         others = [d for d in data["mu_rel"].dims if d not in (x, y)]
@@ -66,10 +70,12 @@ def figure_design_map(data: Any) -> Any:
             region = panel["region"].transpose(y, x).values
             ax.set_facecolor("0.85")  # points that cannot exist (overlapping asperities) stay grey
             mesh = ax.pcolormesh(xv, yv, mu, shading="nearest", cmap="viridis", vmin=vmin, vmax=vmax)
-            if np.isfinite(region).sum() >= 4 and len(xv) > 1 and len(yv) > 1:
+            if population:
+                _population_grid(ax, xv, yv, panel, x, y)
+            elif np.isfinite(region).sum() >= 4 and len(xv) > 1 and len(yv) > 1:
                 ax.contourf(xv, yv, np.where(np.isfinite(region), region, np.nan), levels=[-0.5, 0.5, 1.5, 2.5],
                             colors="none", hatches=["//", "", ".."])
-            good = np.isfinite(crit) & (crit > 0)
+            good = np.isfinite(crit) & (crit > 0) & (not population)
             if good.sum() >= 4 and len(xv) > 1 and len(yv) > 1:
                 levels = [c for c in CRITICAL_CONTOURS if np.nanmin(crit[good]) < c < np.nanmax(crit[good])]
                 if levels:
@@ -83,9 +89,12 @@ def figure_design_map(data: Any) -> Any:
             crit = panel["critical_load"].values
             region = panel["region"].values
             ok = np.isfinite(mu)
+            ring = (panel["robust_asperity"].values[ok] == 1) if population else (region[ok] == 1)
             mesh = ax.scatter(xv[ok], yv[ok], c=mu[ok], cmap="viridis", vmin=vmin, vmax=vmax, s=36,
-                              edgecolors=np.where(region[ok] == 1, "k", "none"))
-            good = np.isfinite(crit) & (crit > 0)
+                              edgecolors=np.where(ring, "k", "none"))
+            if population:
+                _population_scatter(ax, xv, yv, panel)
+            good = np.isfinite(crit) & (crit > 0) & (not population)
             if good.sum() >= 6:
                 levels = [c for c in CRITICAL_CONTOURS if np.nanmin(crit[good]) < c < np.nanmax(crit[good])]
                 if levels:
@@ -118,7 +127,11 @@ def figure_design_map(data: Any) -> Any:
         cbar = fig.colorbar(mesh, ax=list(axes[:n]), shrink=0.9)
         what = data.attrs.get("quantity_label", "μ/μ_ref")
         extra = " (friction against the flat reference)" if what == "μ/μ_ref" else ""
-        cbar.set_label(f"{what} at {data.attrs['at']:g} N{extra}")
+        median = "median over the population of " if population else ""
+        cbar.set_label(f"{median}{what} at {data.attrs['at']:g} N{extra}")
+    if population:
+        _population_legend(fig, axes[:n], data)
+        return fig
     legend = "; ".join(f"{'hatched' if k == 0 else 'dotted' if k == 2 else 'plain'}: {v}" for k, v in regions.items())
     fig.suptitle(f"Design map: critical load (white contours), {data.attrs.get('quantity_label', 'μ/μ_ref')} at "
                  f"{data.attrs['at']:g} N (colour), "
@@ -160,3 +173,70 @@ def _annotate(ax: Any, vertical: bool, value: float, label: str) -> None:
     else:
         ax.annotate(label, (0.0, value), xycoords=("axes fraction", "data"), va="bottom", ha="left",
                     fontsize="x-small", color="0.2")
+
+
+def _levels(crits: list[np.ndarray]) -> list[float]:
+    """The :data:`CRITICAL_CONTOURS` inside the range of any of ``crits`` (N)."""
+    good = np.concatenate([c[np.isfinite(c) & (c > 0)] for c in crits])
+    if good.size == 0:
+        return []
+    return [c for c in CRITICAL_CONTOURS if good.min() < c < good.max()]
+
+
+def _population_grid(ax: Any, xv: np.ndarray, yv: np.ndarray, panel: Any, x: str, y: str) -> None:
+    """A population on a grid: the critical-load contours of the 10/50/90 % fingers and the
+    region where >= 90 % stay in asperity contact over the range (hatched, outlined)."""
+    if len(xv) < 2 or len(yv) < 2:
+        return
+    robust = panel["robust_asperity"].transpose(y, x).values
+    if np.isfinite(robust).sum() >= 4 and np.nanmax(robust) == 1:
+        ax.contourf(xv, yv, np.where(np.isfinite(robust), robust, np.nan), levels=[0.5, 1.5], colors="none",
+                    hatches=["xx"])
+        ax.contour(xv, yv, np.where(np.isfinite(robust), robust, 0.0), levels=[0.5], colors="k", linewidths=1.6)
+    crits = {name: panel[name].transpose(y, x).values for name in POPULATION_STYLES}
+    levels = _levels(list(crits.values()))
+    for name, style in POPULATION_STYLES.items():
+        crit = crits[name]
+        good = np.isfinite(crit) & (crit > 0)
+        if good.sum() >= 4 and levels:
+            cs = ax.contour(xv, yv, np.log10(np.where(good, crit, np.nan)), levels=np.log10(levels), colors="white",
+                            linewidths=1.2, linestyles=style)
+            if style == "solid":
+                ax.clabel(cs, fmt={np.log10(c): f"{c:g} N" for c in levels}, fontsize="small")
+
+
+def _population_scatter(ax: Any, xv: np.ndarray, yv: np.ndarray, panel: Any) -> None:
+    """A population on scattered points: the 10/50/90 % critical-load contours."""
+    crits = {name: panel[name].values for name in POPULATION_STYLES}
+    levels = _levels(list(crits.values()))
+    for name, style in POPULATION_STYLES.items():
+        crit = crits[name]
+        good = np.isfinite(crit) & (crit > 0)
+        if good.sum() >= 6 and levels:
+            cs = ax.tricontour(xv[good], yv[good], np.log10(crit[good]), levels=np.log10(levels), colors="k",
+                               linewidths=1.0, linestyles=style)
+            if style == "solid":
+                ax.clabel(cs, fmt={np.log10(c): f"{c:g} N" for c in levels}, fontsize="small")
+
+
+def _population_legend(fig: Any, axes: Any, data: Any) -> None:
+    """Legend and title of a population map (units in every label)."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    lo, hi = data.attrs["load_min"], data.attrs["load_max"]
+    share = 100 * float(data.attrs.get("coverage", 0.9))
+    colour = "white" if data.attrs["design"] == "grid" else "k"
+    handles = [Line2D([], [], color=colour, linestyle=style, label=f"critical load (N), {q} % finger")
+               for q, style in zip((10, 50, 90), POPULATION_STYLES.values(), strict=True)]
+    region = f"asperity contact over {lo:g}-{hi:g} N for >= {share:g} % of fingers"
+    if data.attrs["design"] == "grid":
+        handles.append(Patch(facecolor="none", edgecolor="k", hatch="xx", label=region))
+    else:  # scattered points: ringed in black
+        handles.append(Line2D([], [], linestyle="none", marker="o", markerfacecolor="0.8", markeredgecolor="k",
+                              label=region))
+    axes[0].legend(handles=handles, loc="lower right", fontsize="x-small", facecolor="0.6", framealpha=0.8)
+    fig.suptitle(f"Design map for a population, {data.attrs['population']}: median "
+                 f"{data.attrs.get('quantity_label', 'μ/μ_ref')} at {data.attrs['at']:g} N (colour), critical loads "
+                 f"of the 10/50/90 % fingers (contours, N), exploration loads {lo:g}-{hi:g} N; "
+                 f"grey: texture not possible", fontsize="small", wrap=True)

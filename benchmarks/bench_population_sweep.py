@@ -1,0 +1,80 @@
+"""The per-point population work of a sweep (issue 22): a point with a population against the
+same point without one, and the members computed together against member by member.
+
+One texture (the default study's caps at a fixed grid, its cell cached first), 40 exploration
+loads. Timed in this one process, alternating the sides, median of ``--repeat`` runs:
+
+* ``point``: :func:`fingerpad.design.evaluate.evaluate_point` without a population (the nominal);
+* ``point+population``: the same with the population's members (the sweep's path);
+* ``run_population``: :func:`fingerpad.study.population.run_population` (member by member);
+* ``batch``: :func:`fingerpad.study.population_batch.evaluate_members` (what the sweep runs).
+
+    python benchmarks/bench_population_sweep.py [--population adults] [--grid 32] [--repeat 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import tempfile
+import time
+import warnings
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--population", default="adults")
+    parser.add_argument("--grid", type=int, default=32)
+    parser.add_argument("--repeat", type=int, default=5)
+    args = parser.parse_args()
+    os.environ.setdefault("FINGERPAD_CACHE", tempfile.mkdtemp(prefix="fingerpad-bench-pop-"))
+    warnings.simplefilter("ignore")
+
+    from fingerpad.design.spec import sweep_from_dict
+    from fingerpad.design.evaluate import evaluate_point
+    from fingerpad.study.population import run_population
+    from fingerpad.study.population_batch import evaluate_members, population_fingers
+    from fingerpad.study.run import run_study
+    from fingerpad.study.spec import study_from_dict
+
+    base = {"texture": {"name": "caps", "radius": "100um", "height": "20um", "spacing": "175um",
+                        "lattice": "hexagonal"},
+            "material": {"modulus": "0.5GPa", "poisson": 0.4}, "model": {"kind": "bem", "grid": args.grid}}
+    spec = sweep_from_dict({**base, "sweep": {"loads": "0.1N:4N:40", "axes": {"height": ["20um"]}}},
+                           population=args.population)
+    data = spec.study_data(spec.assignment((0,)))
+    pressures = [1e3, 1e4]
+    payload = spec.population_payload()
+    study_data = {**data, "loads": {"values": [float(f) for f in spec.loads]}}
+    study = study_from_dict(study_data)
+    run_population(study, spec.population)  # the cell, over every member's p/E*, into the cache
+
+    def batch() -> None:
+        nominal = run_study(study)
+        fingers, moduli = population_fingers(nominal, spec.members)
+        evaluate_members(nominal, fingers, moduli)
+
+    sides = {
+        "point": lambda: evaluate_point(data, spec.loads, pressures),
+        "point+population": lambda: evaluate_point(data, spec.loads, pressures, payload),
+        "run_population": lambda: run_population(study, spec.population),
+        "batch": batch,
+    }
+    times: dict[str, list[float]] = {k: [] for k in sides}
+    for _ in range(args.repeat):
+        for name, fn in sides.items():
+            t0 = time.perf_counter()
+            fn()
+            times[name].append(time.perf_counter() - t0)
+    med = {k: statistics.median(v) for k, v in times.items()}
+    print(f"population {spec.population.name!r}: {len(spec.members)} members, 40 loads, grid {args.grid} "
+          f"(load average {os.getloadavg()[0]:.2f})")
+    for name, t in med.items():
+        print(f"  {name:18s} {t * 1e3:9.1f} ms")
+    print(f"  point+population / point: {med['point+population'] / med['point']:.1f}x; "
+          f"run_population / batch: {med['run_population'] / med['batch']:.1f}x")
+
+
+if __name__ == "__main__":
+    main()

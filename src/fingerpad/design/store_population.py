@@ -1,0 +1,107 @@
+"""The population part of a sweep store (``fingerpad sweep --population``, docs/sweeps.md "With
+a population of fingers"): its variables along ``quantile``, ``state`` and ``member``, the
+version of their layout, and the checks that a store holds the population asked for."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import FingerpadError
+from .evaluate import POPULATION_BANDS, POPULATION_LOAD_BANDS, STATE_CODES
+from .spec import SweepSpec
+
+__all__ = ["POPULATION_LAYOUT", "POP_LOAD_VARS", "POP_QUANTILE_VARS", "check_store_population",
+           "population_template", "stored_population_text"]
+
+#: Population variables (a sweep with ``--population``): name -> (units, long name).
+POP_LOAD_VARS = {
+    "band_area_ratio": ("1", "quantiles over the population of A_re / A_fr"),
+    "band_mu": ("1", "quantiles over the population of mu"),
+    "band_mu_ref": ("1", "quantiles over the population of mu on the flat reference"),
+    "band_mu_rel": ("1", "quantiles over the population of mu / mu_ref"),
+}
+POP_QUANTILE_VARS = {
+    "band_critical_load": ("N", "quantiles over the population of the critical load (members that reach "
+                                "none left out)"),
+    "band_full_contact_load": ("N", "quantiles over the population of the full-contact load (members that "
+                                    "reach none left out)"),
+}
+assert set(POP_LOAD_VARS) == set(POPULATION_BANDS) and set(POP_QUANTILE_VARS) == set(POPULATION_LOAD_BANDS)
+#: Version of the population variables' layout (attribute ``fingerpad_sweep_population``). The
+#: store's own ``fingerpad_sweep`` stays 1: the population adds variables and changes none, so
+#: readers of stores without a population read these stores unchanged.
+POPULATION_LAYOUT = 1
+
+
+def population_template(spec: SweepSpec, coords: dict[str, Any], data: dict[str, Any]) -> None:
+    """Add the population's coordinates and variables of a sweep store to ``coords`` and
+    ``data`` (docs/sweeps.md, "With a population of fingers")."""
+    import xarray as xr
+
+    shape, dims = spec.shape, spec.dims
+    nl, nq = spec.loads.size, len(spec.quantiles)
+    coords["quantile"] = xr.Variable("quantile", np.asarray(spec.quantiles, float),
+                                     {"units": "1", "long_name": "quantile over the population's members"})
+    coords["state"] = xr.Variable("state", np.asarray(list(STATE_CODES), dtype="<U10"),
+                                  {"long_name": "contact state at the pad centre"})
+    coords["member"] = xr.Variable("member", np.arange(len(spec.members)), {"long_name": "population member"})
+    for name, (unit, long) in POP_LOAD_VARS.items():
+        data[name] = xr.Variable((*dims, "quantile", "load"), np.full((*shape, nq, nl), np.nan),
+                                 {"units": unit, "long_name": long})
+    for name, (unit, long) in POP_QUANTILE_VARS.items():
+        data[name] = xr.Variable((*dims, "quantile"), np.full((*shape, nq), np.nan),
+                                 {"units": unit, "long_name": long})
+    data["state_probability"] = xr.Variable(
+        (*dims, "state", "load"), np.full((*shape, len(STATE_CODES), nl), np.nan),
+        {"units": "1", "long_name": "fraction of the population's members whose pad centre is in each state"})
+    data["asperity_over_range"] = xr.Variable(
+        dims, np.full(shape, np.nan),
+        {"units": "1", "long_name": "fraction of the population's members in asperity contact at the pad "
+                                    "centre at every exploration load"})
+    for pname, dist in spec.population.distributions.items():
+        data[f"member_{pname}"] = xr.Variable(
+            "member", np.array([m[pname] for m in spec.members], float),
+            {"units": dist.param.unit or "1", "long_name": f"member's {dist.param.doc}"})
+
+
+def stored_population_text(attrs: dict[str, Any]) -> str:
+    """The population a store holds, in a few words (as
+    :meth:`fingerpad.design.spec.SweepSpec.population_text`)."""
+    if "population" not in attrs:
+        return "no population"
+    try:
+        pop = json.loads(attrs["population"])
+        return f"population {pop['name']!r} ({pop['size']} members, seed {pop['seed']}, {pop['method']})"
+    except (ValueError, KeyError, TypeError):
+        return "a population"
+
+
+def check_store_population(ds: Any, path: str | Path, source: str) -> None:
+    """Refuse a store that does not hold the population ``source`` (a preset name or a file):
+    the design map of one population must not be drawn from another's bands.
+
+    Raises
+    ------
+    FingerpadError
+        The store holds no population, or another one (other distributions, size, seed, method
+        or members); a bad ``source``.
+    """
+    from ..study.population import DEFAULT_QUANTILES, load_population
+    from .spec import SweepSpec
+
+    pop = load_population(source)
+    if "population" not in ds.attrs:
+        raise FingerpadError(f"{path}: holds no population; sweep one with fingerpad sweep STUDY.toml --population "
+                             f"{source} --out ANOTHER.zarr (or --overwrite to replace this store)")
+    stored = json.loads(ds.attrs["population"])
+    probe = SweepSpec(base={}, design="grid", axes=[], loads=np.zeros(0), population=pop, members=pop.sample(),
+                      quantiles=tuple(stored.get("quantiles", DEFAULT_QUANTILES)))
+    mine = probe.population_description() or {}
+    if {k: v for k, v in mine.items() if k != "name"} != {k: v for k, v in stored.items() if k != "name"}:
+        raise FingerpadError(f"{path}: holds {stored_population_text(dict(ds.attrs))}, not "
+                             f"{probe.population_text()} (other distributions, size, seed, method or members); "
+                             "draw it with the population it was swept with")
