@@ -10,11 +10,13 @@ import typer
 
 from ..materials import DEFAULT_SKIN_MODULUS, DEFAULT_SKIN_POISSON
 from .common import (
+    DEVICE_HELP,
     EXIT_UNCONVERGED,
     EXTRA_ARGS,
     ProgressBar,
     check_texture_options,
     command_options,
+    device_option,
     flag_pair,
     option,
     say,
@@ -61,6 +63,7 @@ _HELP = {
     "--plot": "Write pressure map, contact map and psi(p) to an image (.png, .svg or .pdf).",
     "--csv": "Write the per-pressure results to a CSV table (SI units in the headers).",
     "--plot-at": "Pressure whose maps --plot shows (the nearest solved one; default: the last given).",
+    "--device": DEVICE_HELP,
     "--critical": "Also bracket the critical (transition) pressure, where the skin first touches the texture's "
                   "lowest level, to this relative width, e.g. 1e-3.",
 }
@@ -104,6 +107,7 @@ def solve(
     csv_path: Annotated[str | None, _opt("--csv", panel=_OUTPUT, metavar="PATH.csv")] = None,
     plot_at: Annotated[str | None, _opt("--plot-at", panel=_OUTPUT, metavar="P")] = None,
     critical: Annotated[str | None, _opt("--critical", panel=_LOADS, metavar="RTOL")] = None,
+    device: Annotated[str | None, _opt("--device", panel=_NUMERICS, metavar="cpu|cupy|torch")] = None,
 ) -> None:
     """Solve the skin contact on one texture cell at one or more mean pressures.
 
@@ -116,7 +120,7 @@ def solve(
     from ..study.overrides import split_texture_options
     from ..study.cell_job import build_solve_job
 
-    with user_errors():
+    with user_errors(), device_option(device):
         check_texture_options(split_texture_options(ctx.args), texture, command_options(ctx))
         with warnings_to(stderr_console()):
             job = build_solve_job(

@@ -6,7 +6,8 @@ from typing import Annotated, Any
 
 import typer
 
-from .common import EXIT_INTERRUPTED, report_interrupt, say, stderr_console, user_errors, warnings_to
+from .common import (DEVICE_HELP, EXIT_INTERRUPTED, device_option, report_interrupt, say, stderr_console,
+                     user_errors, warnings_to)
 
 _HELP = {
     "--out": "Zarr store of the results (default: the study file's name with .zarr). Rerunning the same sweep "
@@ -14,6 +15,8 @@ _HELP = {
     "--workers": "Worker processes of the local Dask cluster (default: one per core), one thread each.",
     "--scheduler": "Address of an existing Dask scheduler (tcp://HOST:PORT) instead of a local cluster.",
     "--overwrite": "Replace a sweep store that holds another sweep (anything else at --out is never replaced).",
+    "--device": DEVICE_HELP + " The workers of a local cluster inherit it; those of an existing scheduler "
+                "use their own FINGERPAD_DEVICE.",
     "--repair": "Mend a damaged store of this sweep: its unreadable chunks are computed again and its "
                 "metadata rewritten (a damaged store is refused without it).",
 }
@@ -28,6 +31,7 @@ def sweep_command(
                                                   help=_HELP["--scheduler"])] = None,
     overwrite: Annotated[bool, typer.Option("--overwrite", help=_HELP["--overwrite"])] = False,
     repair: Annotated[bool, typer.Option("--repair", help=_HELP["--repair"])] = False,
+    device: Annotated[str | None, typer.Option("--device", metavar="cpu|cupy|torch", help=_HELP["--device"])] = None,
 ) -> None:
     """Sweep texture, material or finger values of a study on Dask; results in a Zarr store.
 
@@ -44,7 +48,7 @@ def sweep_command(
     from ..design.spec import read_sweep_file, sweep_from_dict
     from ..units import parse_int
 
-    with user_errors():
+    with user_errors(), device_option(device):
         err = stderr_console()
         if workers is not None and scheduler is not None:
             raise_error("give --workers (a local cluster) or --scheduler (an existing one), not both")

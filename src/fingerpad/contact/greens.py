@@ -101,11 +101,18 @@ class Backend:
     variables). Both are threaded pocketfft descendants and agree to rounding; ducc0 measured
     20-35 % faster solves on 1024^2-2048^2 cells and imports in ~5 ms where ``scipy.fft`` takes
     ~0.15-0.25 s (benchmarks/bench_solver.py, bench_startup.py), which the whole
-    ``fingerpad solve`` command pays on every start. Other namespaces use their own ``fft``.
+    ``fingerpad solve`` command pays on every start. Other namespaces use their own ``fft``;
+    without ``xp``, the environment variable ``FINGERPAD_DEVICE`` chooses the namespace
+    (:func:`fingerpad.contact.device.device_namespace`; NumPy by default).
     ``self.fft`` names the engine in use. The inverse transform may overwrite its input.
     """
 
     def __init__(self, xp: Any = None, workers: int | None = None, fft: str | None = None) -> None:
+        if xp is None:
+            # FINGERPAD_DEVICE (set by the commands' --device) may ask for a GPU namespace
+            from .device import device_namespace  # noqa: PLC0415
+
+            xp = device_namespace()
         if xp is None:
             # NumPy 2 implements the array API in its main namespace; the array_api_compat
             # wrapper (for CuPy, PyTorch, ...) is not needed on the CPU and costs ~0.1 s to import.
