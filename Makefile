@@ -42,6 +42,8 @@ bench: $(STAMP) bytecode
 	$(PY) benchmarks/bench_sweep.py
 	$(PY) benchmarks/bench_analyse.py
 	$(PY) benchmarks/bench_deflection.py
+	test ! -f benchmarks/bench_explorer.py || $(PY) benchmarks/bench_explorer.py
+	$(PY) benchmarks/report.py
 
 clean:
 	rm -rf $(VENV) out .pytest_cache build/docs build/jupyter_execute docs/api/generated
