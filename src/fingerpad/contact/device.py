@@ -20,7 +20,7 @@ from typing import Any
 
 from ..errors import SetupError
 
-__all__ = ["DEVICES", "device_namespace", "device_setting"]
+__all__ = ["DEVICES", "choice_setting", "device_namespace", "device_setting"]
 
 #: Device names, in the order they are listed to users.
 DEVICES = ("cpu", "cupy", "torch")
@@ -35,12 +35,25 @@ def device_setting(device: str | None = None) -> tuple[str, str]:
     SetupError
         A name that is not one of :data:`DEVICES`.
     """
-    source = "--device"
-    if device is None:
-        device, source = os.environ.get("FINGERPAD_DEVICE", "") or "cpu", "FINGERPAD_DEVICE"
-    name = str(device).strip().lower()
-    if name not in DEVICES:
-        raise SetupError(f"unknown device {device!r} ({source}): choose one of {', '.join(DEVICES)}")
+    return choice_setting(device, "--device", "FINGERPAD_DEVICE", DEVICES, "device")
+
+
+def choice_setting(value: str | None, option: str, variable: str, choices: tuple[str, ...],
+                   what: str) -> tuple[str, str]:
+    """``value`` (from ``option``), else the environment ``variable``, else ``choices[0]``:
+    lower-cased and checked against ``choices``; returned with where it came from.
+
+    Raises
+    ------
+    SetupError
+        ``unknown {what} ...`` naming the value, its source and the choices.
+    """
+    source = option
+    if value is None:
+        value, source = os.environ.get(variable, "") or choices[0], variable
+    name = str(value).strip().lower()
+    if name not in choices:
+        raise SetupError(f"unknown {what} {value!r} ({source}): choose one of {', '.join(choices)}")
     return name, source
 
 
