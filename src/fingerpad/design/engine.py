@@ -186,11 +186,15 @@ def _worker_start() -> Iterator[None]:
     with the prediction modules imported here first. Measured for issue 23 (2 workers, 2 cores,
     load average 12): start 3.3-3.9 s -> 0.5-0.9 s, closing 1.2-1.7 s -> 0.03-0.1 s, the
     workers' first imports 0.7-1.2 s -> 0.01 s. Elsewhere (macOS, Windows: fork is unsafe or
-    absent there) Dask's default, spawn, stays. A worker the nanny restarts later spawns.
+    absent there) Dask's default, spawn, stays; so it does with a GPU device
+    (``FINGERPAD_DEVICE``): this process has initialised CUDA, which a forked child cannot use.
+    A worker the nanny restarts later spawns.
     """
     import sys
 
-    if not sys.platform.startswith("linux"):
+    from ..contact.device import device_setting
+
+    if not sys.platform.startswith("linux") or device_setting()[0] != "cpu":
         yield
         return
     import warnings
