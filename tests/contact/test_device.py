@@ -135,3 +135,19 @@ def test_solve_on_a_gpu_agrees_with_the_cpu(no_device_env, name):
     for rc, rg in zip(cpu, json.loads(res.stdout)["results"], strict=True):
         assert rg["contact_fraction"] == pytest.approx(rc["contact_fraction"], abs=2 / 32**2)
         assert rg["max_pressure"] == pytest.approx(rc["max_pressure"], rel=1e-6)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="workers are forked on Linux only")
+def test_local_sweep_workers_are_forked_on_the_cpu_and_spawned_for_a_gpu(monkeypatch, no_device_env):
+    import dask
+    import distributed  # noqa: F401 - its configuration defaults
+
+    from fingerpad.design.engine import _worker_start
+
+    key = "distributed.worker.multiprocessing-method"
+    with _worker_start():
+        assert dask.config.get(key) == "fork"
+    assert dask.config.get(key) == "spawn"  # only for the cluster's start
+    monkeypatch.setenv("FINGERPAD_DEVICE", "cupy")  # its CUDA, initialised here, would not survive a fork
+    with _worker_start():
+        assert dask.config.get(key) == "spawn"
