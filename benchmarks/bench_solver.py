@@ -526,6 +526,28 @@ def markdown(rep: dict[str, Any]) -> str:
     return "\n".join(L)
 
 
+#: Issue 23's figure for the whole command against tamaas at 1024^2 (the code before it).
+TODAY_TAMAAS_RATIO = 15.9
+
+
+def issue23_rows(rep: dict[str, Any]) -> list[dict[str, Any]]:
+    """The rows of issue 23's table this benchmark measures (read by ``benchmarks/report.py``):
+    the whole command against tamaas in the same run, 1024^2."""
+    rows = []
+    for r in rep.get("command", []):
+        t = r.get("tamaas")
+        if r["grid"] != 1024 or not t:
+            continue
+        ratio = t["seconds"] / r["command_wall"]
+        rows.append({"row": f"whole `solve` command, 1024² one-cap cell ({r['load']}), against tamaas 2.9 in the same run",
+                     "script": "bench_solver.py", "today": f"{TODAY_TAMAAS_RATIO:g}x",
+                     "now": f"{ratio:.1f}x (command {r['command_wall']:.2f} s, solver {r['solver_seconds']:.2f} s, "
+                            f"tamaas {t['seconds']:.1f} s)",
+                     "ratio": ratio, "ratio_of": "tamaas seconds / command seconds, same run", "goal": ">= 25x",
+                     "met": ratio >= 25, "load": rep["meta"]["loadavg"]})
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--sections", default="command,sweep,curve,maps,memory")
@@ -577,6 +599,7 @@ def main(argv: list[str] | None = None) -> int:
     for name in ("command", "sweep", "curve", "maps"):
         if name in sections:
             globals()[f"section_{name}"](args, report)
+    report["issue23"] = issue23_rows(report)
     text = markdown(report)
     print(text)
     args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -168,12 +168,20 @@ def test_netcdf_round_trip(tmp_path):
 
 @needs_generators
 def test_long_solve_shows_iterations(monkeypatch):
-    """Large grids show the solver's grid, iteration and residual while they run (on stderr)."""
+    """Large grids show the solver's grid, iteration and residual while they run (on stderr, when
+    it is a terminal: piped, the bar would be drawn once at its end)."""
+    import sys
+
+    from rich.console import Console
+
     import fingerpad.cli.solve as cli_solve
 
     shown: list[str] = []
     monkeypatch.setattr(cli_solve, "_ITERATION_PROGRESS_POINTS", 64 * 64)
     monkeypatch.setattr(cli_solve.ProgressBar, "detail", lambda self, text: shown.append(text))
+    assert invoke("solve", *CAPS[:-1], "128", "--pressure", "15kPa", "--json", "-").exit_code == 0
+    assert not shown  # stderr is not a terminal here
+    monkeypatch.setattr(cli_solve, "stderr_console", lambda: Console(file=sys.stderr, force_terminal=True))
     result = invoke("solve", *CAPS[:-1], "128", "--pressure", "15kPa", "--json", "-")
     assert result.exit_code == 0, result.output
     assert shown and shown[-1].startswith("grid 128x224  iteration ")  # hexagonal cell: 1 x sqrt(3)

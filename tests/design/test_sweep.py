@@ -46,9 +46,10 @@ height = {height}
 """
 
 
-def write_study(folder: Path, spacing: str = "130um:300um:3", height: str = '["6um", "12um", "20um"]') -> Path:
+def write_study(folder: Path, spacing: str = "130um:300um:3", height: str = '["6um", "12um", "20um"]',
+                grid: int = 16) -> Path:
     path = folder / "study.toml"
-    path.write_text(STUDY.format(spacing=spacing, height=height))
+    path.write_text(STUDY.format(spacing=spacing, height=height).replace("grid = 16", f"grid = {grid}"))
     return path
 
 
@@ -147,7 +148,9 @@ def test_design_map_files(swept, tmp_path):
 
 def test_resume_after_kill(tmp_path):
     """kill -9 in the middle: finished points unchanged and not recomputed, the rest done."""
-    study = write_study(tmp_path, spacing="120um:360um:6")
+    # grid 48: long enough (several seconds) to be caught half-way on a fast machine too; since
+    # issue 23's sweep speed-ups the grid-16 sweep finished in under 2 s, before the first poll
+    study = write_study(tmp_path, spacing="120um:360um:6", grid=48)
     store = tmp_path / "r.zarr"
     env = {**os.environ, "FINGERPAD_CACHE": str(tmp_path / "cache")}
     proc = subprocess.Popen([*fingerpad_cmd(), "sweep", str(study), "--out", str(store), "--workers", "1"],
@@ -155,7 +158,7 @@ def test_resume_after_kill(tmp_path):
     deadline = time.monotonic() + 180
     done = None
     while time.monotonic() < deadline:
-        time.sleep(0.5)
+        time.sleep(0.1)
         if store.exists():
             import zarr
 

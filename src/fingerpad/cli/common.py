@@ -54,6 +54,34 @@ def user_errors() -> Iterator[None]:
         raise typer.Exit(EXIT_USER_ERROR) from None
 
 
+#: Help of ``--device`` (solve, predict, sweep).
+DEVICE_HELP = ("Where the contact solves run: cpu (NumPy, the default), cupy or torch (a CUDA GPU, with that "
+               "library installed). Default: $FINGERPAD_DEVICE, else cpu.")
+
+
+@contextlib.contextmanager
+def device_option(device: str | None) -> Iterator[None]:
+    """``--device`` (or ``FINGERPAD_DEVICE``) checked at once and set as ``FINGERPAD_DEVICE`` for
+    the command's duration, so that every solver it builds, and the workers of a local sweep
+    cluster (which inherit the environment), run there. A device that is absent is a
+    :class:`~fingerpad.errors.SetupError` (one ``error:`` line inside :func:`user_errors`)."""
+    import os
+
+    from ..contact.device import device_namespace, device_setting
+
+    name, _ = device_setting(device)
+    device_namespace(device)  # the library and a GPU are there, or the command stops here
+    before = os.environ.get("FINGERPAD_DEVICE")
+    os.environ["FINGERPAD_DEVICE"] = name
+    try:
+        yield
+    finally:
+        if before is None:
+            os.environ.pop("FINGERPAD_DEVICE", None)
+        else:
+            os.environ["FINGERPAD_DEVICE"] = before
+
+
 def stderr_console() -> Any:
     """A Rich console on stderr (progress, notes, warnings)."""
     from rich.console import Console

@@ -14,11 +14,13 @@ import typer
 
 from ..errors import FingerpadError
 from .common import (
+    DEVICE_HELP,
     EXIT_UNCONVERGED,
     EXTRA_ARGS,
     ProgressBar,
     check_texture_options,
     command_options,
+    device_option,
     flag_pair,
     option,
     say,
@@ -73,6 +75,7 @@ _PREDICT_HELP = {
     "--accuracy": "Target of the estimated relative error of A_re/A_fr when the grid is automatic (default 0.02).",
     "--tol": "Relative residual at which a unit-cell solve stops (default 1e-8).",
     "--max-iter": "Iteration cap per unit-cell solve (default 5000).",
+    "--device": DEVICE_HELP,
     "--cache": "Folder of cached unit-cell curves (default $FINGERPAD_CACHE or ~/.cache/fingerpad).",
     "--zones-at": "Load of the zone map zones.png (default: the largest load).",
     "--out": "Output folder for predict.json, predict.nc, areas.png, friction.png, zones.png; replaced as a "
@@ -379,6 +382,7 @@ def predict(
     quantiles: Annotated[str | None, _popt("--quantiles", panel=_OUTPUT, metavar="Q,Q,...")] = None,
     sensitivity: Annotated[bool, _popt("--sensitivity", panel=_FINGER)] = False,
     sensitivity_samples: Annotated[str | None, _popt("--sensitivity-samples", panel=_FINGER, metavar="N")] = None,
+    device: Annotated[str | None, _popt("--device", panel=_NUMERICS, metavar="cpu|cupy|torch")] = None,
 ) -> None:
     """Predict contact areas, contact zones and friction of a finger on a texture against load.
 
@@ -404,7 +408,7 @@ def predict(
         "--accuracy": accuracy, "--direction": direction,
         "--tol": tol, "--max-iter": max_iter, "--cache": cache,
     }
-    with user_errors():
+    with user_errors(), device_option(device):
         flags["--periodic"] = flag_pair(periodic, no_periodic, "--periodic", "--no-periodic")
         flags["--log"] = flag_pair(log, linear, "--log", "--linear")
         sections: dict[str, Any] = {"population": None}

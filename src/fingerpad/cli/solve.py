@@ -10,11 +10,13 @@ import typer
 
 from ..materials import DEFAULT_SKIN_MODULUS, DEFAULT_SKIN_POISSON
 from .common import (
+    DEVICE_HELP,
     EXIT_UNCONVERGED,
     EXTRA_ARGS,
     ProgressBar,
     check_texture_options,
     command_options,
+    device_option,
     flag_pair,
     option,
     say,
@@ -61,6 +63,7 @@ _HELP = {
     "--plot": "Write pressure map, contact map and psi(p) to an image (.png, .svg or .pdf).",
     "--csv": "Write the per-pressure results to a CSV table (SI units in the headers).",
     "--plot-at": "Pressure whose maps --plot shows (the nearest solved one; default: the last given).",
+    "--device": DEVICE_HELP,
     "--critical": "Also bracket the critical (transition) pressure, where the skin first touches the texture's "
                   "lowest level, to this relative width, e.g. 1e-3.",
 }
@@ -104,6 +107,7 @@ def solve(
     csv_path: Annotated[str | None, _opt("--csv", panel=_OUTPUT, metavar="PATH.csv")] = None,
     plot_at: Annotated[str | None, _opt("--plot-at", panel=_OUTPUT, metavar="P")] = None,
     critical: Annotated[str | None, _opt("--critical", panel=_LOADS, metavar="RTOL")] = None,
+    device: Annotated[str | None, _opt("--device", panel=_NUMERICS, metavar="cpu|cupy|torch")] = None,
 ) -> None:
     """Solve the skin contact on one texture cell at one or more mean pressures.
 
@@ -116,7 +120,7 @@ def solve(
     from ..study.overrides import split_texture_options
     from ..study.cell_job import build_solve_job
 
-    with user_errors():
+    with user_errors(), device_option(device):
         check_texture_options(split_texture_options(ctx.args), texture, command_options(ctx))
         with warnings_to(stderr_console()):
             job = build_solve_job(
@@ -193,7 +197,9 @@ def run_job(job: Any) -> int:
     n = len(job.pressures)
     with warnings_to(err), ProgressBar(err, "solving", total=n) as bar:
         iterations = None
-        if job.texture.heights.size >= _ITERATION_PROGRESS_POINTS:
+        # Only on a terminal: piped, the bar is drawn once, at its end, which tells nothing the
+        # results do not, and starting and stopping it cost ~0.05-0.1 s of a 1024^2 command.
+        if job.texture.heights.size >= _ITERATION_PROGRESS_POINTS and err.is_terminal:
             # A 2048^2 solve takes seconds, 4096^2 tens of seconds: show that it moves.
             def iterations(shape: tuple[int, int], it: int, residual: float) -> None:
                 bar.detail(f"grid {shape[0]}x{shape[1]}  iteration {it}  residual {residual:.1e} (tol {job.tol:.0e})")

@@ -6,7 +6,8 @@ from typing import Annotated, Any
 
 import typer
 
-from .common import EXIT_INTERRUPTED, report_interrupt, say, stderr_console, user_errors, warnings_to
+from .common import (DEVICE_HELP, EXIT_INTERRUPTED, device_option, report_interrupt, say, stderr_console,
+                     user_errors, warnings_to)
 
 _HELP = {
     "--out": "Zarr store of the results (default: the study file's name with .zarr). Rerunning the same sweep "
@@ -19,6 +20,8 @@ _HELP = {
                     "without it. Stores quantile bands per point (docs/sweeps.md).",
     "--quantiles": "Quantiles of the population bands, comma-separated (default 0.05,0.25,0.5,0.75,0.95; "
                    "0.1, 0.5 and 0.9 are always stored for the design map).",
+    "--device": DEVICE_HELP + " The workers of a local cluster inherit it; those of an existing scheduler "
+                "use their own FINGERPAD_DEVICE.",
     "--repair": "Mend a damaged store of this sweep: its unreadable chunks are computed again and its "
                 "metadata rewritten (a damaged store is refused without it).",
 }
@@ -36,6 +39,7 @@ def sweep_command(
     population: Annotated[str | None, typer.Option("--population", metavar="NAME|FILE",
                                                    help=_HELP["--population"])] = None,
     quantiles: Annotated[str | None, typer.Option("--quantiles", metavar="Q,Q,...", help=_HELP["--quantiles"])] = None,
+    device: Annotated[str | None, typer.Option("--device", metavar="cpu|cupy|torch", help=_HELP["--device"])] = None,
 ) -> None:
     """Sweep texture, material or finger values of a study on Dask; results in a Zarr store.
 
@@ -55,7 +59,7 @@ def sweep_command(
     from ..units import parse_int
     from .predict import _population
 
-    with user_errors():
+    with user_errors(), device_option(device):
         err = stderr_console()
         if workers is not None and scheduler is not None:
             raise_error("give --workers (a local cluster) or --scheduler (an existing one), not both")

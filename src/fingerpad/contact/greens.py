@@ -24,6 +24,7 @@ import numpy as np
 
 from ..errors import SetupError
 from ..textures import Texture
+from .device import choice_setting, device_namespace
 from .layered import Layer, spectral_factor
 
 __all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "fft_settings", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
@@ -42,12 +43,7 @@ def fft_settings(fft: str | None = None, workers: int | None = None) -> tuple[st
     is imported): commands call it before they start long work, so that a bad setting stops them
     at once instead of failing every solve.
     """
-    source = "fft"
-    if fft is None:
-        fft, source = os.environ.get("FINGERPAD_FFT", "") or "auto", "FINGERPAD_FFT"
-    engine = str(fft).strip().lower()
-    if engine not in FFT_ENGINES:
-        raise SetupError(f"unknown FFT engine {fft!r} ({source}): choose one of {', '.join(FFT_ENGINES)}")
+    engine, _ = choice_setting(fft, "fft", "FINGERPAD_FFT", FFT_ENGINES, "FFT engine")
     if workers is None:
         raw = os.environ.get("FINGERPAD_FFT_WORKERS", "").strip()
         try:
@@ -101,11 +97,16 @@ class Backend:
     variables). Both are threaded pocketfft descendants and agree to rounding; ducc0 measured
     20-35 % faster solves on 1024^2-2048^2 cells and imports in ~5 ms where ``scipy.fft`` takes
     ~0.15-0.25 s (benchmarks/bench_solver.py, bench_startup.py), which the whole
-    ``fingerpad solve`` command pays on every start. Other namespaces use their own ``fft``.
+    ``fingerpad solve`` command pays on every start. Other namespaces use their own ``fft``;
+    without ``xp``, the environment variable ``FINGERPAD_DEVICE`` chooses the namespace
+    (:func:`fingerpad.contact.device.device_namespace`; NumPy by default).
     ``self.fft`` names the engine in use. The inverse transform may overwrite its input.
     """
 
     def __init__(self, xp: Any = None, workers: int | None = None, fft: str | None = None) -> None:
+        if xp is None:
+            # FINGERPAD_DEVICE (set by the commands' --device) may ask for a GPU namespace
+            xp = device_namespace()
         if xp is None:
             # NumPy 2 implements the array API in its main namespace; the array_api_compat
             # wrapper (for CuPy, PyTorch, ...) is not needed on the CPU and costs ~0.1 s to import.

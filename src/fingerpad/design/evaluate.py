@@ -92,16 +92,19 @@ def cell_key(data: Mapping[str, Any]) -> str | None:
 
 
 def prepare_cell(data: Mapping[str, Any], loads: Sequence[float], pressures: Sequence[float],
-                 population: Mapping[str, Any] | None = None) -> dict[str, Any]:
+                 population: Mapping[str, Any] | None = None,
+                 index: tuple[int, ...] | None = None) -> dict[str, Any]:
     """Solve (or find in the cache) the unit cell of one point, by predicting that point.
 
     Run once per distinct cell before the other points that share it, so that a sweep solves
     each cell once (they then read it from the on-disk cache of ``predict``). Returns the number
-    of solves (0: the cache had the cell) and the seconds.
+    of solves (0: the cache had the cell), the seconds, and the point's own result with its
+    ``index``: its chunk takes that result instead of predicting the point a second time.
     """
     limit_threads()
     result = evaluate_point(data, loads, pressures, population)
-    return {"solves": result["solves"], "seconds": result["seconds"], "valid": result["valid"]}
+    return {"solves": result["solves"], "seconds": result["seconds"], "valid": result["valid"],
+            "index": None if index is None else tuple(index), "result": result}
 
 
 def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: Sequence[float],
@@ -225,10 +228,20 @@ def _check_resolved(study: Any) -> None:
 
 def evaluate_chunk(items: Sequence[tuple[tuple[int, ...], dict[str, Any]]], loads: Sequence[float],
                    pressures: Sequence[float], population: Mapping[str, Any] | None = None,
+                   known: Mapping[tuple[int, ...], dict[str, Any]] | None = None,
                    ) -> list[tuple[tuple[int, ...], dict[str, Any]]]:
-    """:func:`evaluate_point` for the points of one chunk, ``[(index, study data), ...]``."""
+    """:func:`evaluate_point` for the points of one chunk, ``[(index, study data), ...]``.
+
+    ``known`` maps indices already predicted (by :func:`prepare_cell`) to their results: those
+    are taken as they are, with ``solves`` 0 (the cell task counted them)."""
     limit_threads()
-    return [(index, evaluate_point(data, loads, pressures, population)) for index, data in items]
+    known = known or {}
+    out = []
+    for index, data in items:
+        done = known.get(tuple(index))
+        out.append((index, {**done, "solves": 0} if done is not None else
+                    evaluate_point(data, loads, pressures, population)))
+    return out
 
 
 def _num(value: Any) -> float:

@@ -29,9 +29,15 @@ from .geometry import (
 def _cap_profile(radius: float, height: float) -> Callable[[np.ndarray, np.ndarray], np.ndarray]:
     def profile(x: np.ndarray, y: np.ndarray) -> np.ndarray:
         r2 = x * x + y * y
-        # h - (R - sqrt(R^2 - r^2)) without cancellation; exactly h at r = 0.
-        z = height - r2 / (radius + np.sqrt(np.maximum(radius * radius - r2, 0.0)))
-        return np.maximum(z, 0.0)
+        # h - (R - sqrt(R^2 - r^2)) without cancellation; exactly h at r = 0. The same operations
+        # in place, in one scratch field (a 1024^2 cell: 8 MB fewer allocations per step).
+        z = np.subtract(radius * radius, r2)
+        np.maximum(z, 0.0, out=z)
+        np.sqrt(z, out=z)
+        np.add(radius, z, out=z)
+        np.divide(r2, z, out=z)
+        np.subtract(height, z, out=z)
+        return np.maximum(z, 0.0, out=z)
 
     return profile
 
