@@ -177,6 +177,11 @@ class Job:
         return self.finished
 
     @property
+    def elapsed(self) -> float:
+        """Seconds since the job started (its duration once finished)."""
+        return self.seconds or time.monotonic() - self.started
+
+    @property
     def fraction(self) -> float:
         return min(1.0, self.done / self.total) if self.total else 0.0
 

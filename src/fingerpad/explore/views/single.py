@@ -313,7 +313,7 @@ class SingleView:
             if not job.cancelling:
                 self.progress.value = int(100 * job.fraction)
                 self.job_status.object = (f'<span class="fp-job-running">BEM unit cell: {job.done} / {job.total} '
-                                          f"solves, {job.seconds or 0:.0f} s</span>" if job.total else
+                                          f"solves, {job.elapsed:.0f} s</span>" if job.total else
                                           '<span class="fp-job-running">BEM unit cell: preparing...</span>')
             await asyncio.sleep(0.25)
         if job is None or job is not self.job:
