@@ -275,3 +275,51 @@ def test_map_click_opens_the_clicked_texture(page, screenshot_dir):
     # the opened design is the sweep's: its inputs validate and run as the study TOML
     assert num(page, "critical_load_hertz") > 0
     page.screenshot(path=str(screenshot_dir / "texture-view-from-map.png"), full_page=False)
+
+
+def test_population_bands_and_critical_loads(page, explorer, tmp_path, screenshot_dir):
+    """The preset population on the design shown: the page's numbers and band data are
+    ``run_population`` of the exported study; a forged choice (a file on the server) reads nothing."""
+    import tomllib
+
+    from playwright.sync_api import expect
+
+    from fingerpad.study.population import load_population, run_population
+    from fingerpad.study.spec import study_from_dict
+
+    page.locator(".bk-tab", has_text="Texture").click()
+    page.locator(f"{css('model.kind')} select").select_option("hertz")
+    expect(page.locator(".fp-current")).to_contain_text("hertz")
+    page.locator(".fp-population select").select_option("adults")
+    expect(page.locator(".fp-population-done")).to_be_visible(timeout=180_000)
+    expect(page.locator(".fp-plot-population-normalised")).to_be_visible()
+    page.screenshot(path=str(screenshot_dir / "texture-view-population.png"), full_page=True)
+    study = study_from_dict(tomllib.loads(download(page, "fp-export-toml").decode()))
+    result = run_population(study, load_population("adults"))
+    table = result.quantiles()
+    assert num(page, "population_members") == len(result.members) == 1000
+    for level in ("0.05", "0.5", "0.95"):
+        assert same(table["critical_load"][level], num(page, f"population_critical_load_{level}"))
+    bands = json.loads(download(page, "fp-dl-population-normalised-json"))["bands"]
+    assert bands[0]["name"] == "5-95 % of fingers"
+    assert bands[0]["lower"] == pytest.approx(list(table["mu_normalised"]["0.05"]), rel=1e-12)
+    assert bands[0]["upper"] == pytest.approx(list(table["mu_normalised"]["0.95"]), rel=1e-12)
+    # a file on the server holding a valid population, forged as the choice: nothing is read
+    secret = tmp_path / "population.toml"
+    secret.write_text('[population]\nsize = 3\nskin_modulus = { values = ["0.25MPa"] }\n')
+    page.locator(".fp-population select").select_option("none")
+    expect(page.locator(".fp-population-section")).to_be_hidden()
+    for forged in (str(secret), "/etc/passwd"):
+        assert page.evaluate("""([value]) => {
+            for (const doc of Bokeh.documents)
+                for (const m of doc.all_models)
+                    if ((m.css_classes ?? []).includes("fp-population") && 'value' in m.properties) {
+                        m.value = value;
+                        return true;
+                    }
+            return false;
+        }""", [forged])
+    page.wait_for_timeout(1000)
+    expect(page.locator(".fp-population-section")).to_be_hidden()
+    assert explorer.proc.poll() is None
+    page.locator(".fp-population select").select_option("none")

@@ -178,3 +178,55 @@ def test_only_preset_names_are_read(tmp_path, population):
         with pytest.raises(FingerpadError, match="population: choose one of none, adults"):
             run_preset(data, forged)
     assert population_choices()[0] == "none" and "adults" in population_choices()
+
+
+def _drain():
+    import asyncio
+
+    async def drain() -> None:
+        me = asyncio.current_task()
+        while pending := [t for t in asyncio.all_tasks() if t is not me and not t.done()]:
+            await asyncio.wait(pending)
+
+    return drain()
+
+
+def test_the_page_runs_its_background_work(tmp_path, population, monkeypatch):
+    """In a page (no server): a population choice computes in the background and shows its bands
+    (with the study shown), and a contact-map pressure typed in gives maps at that pressure."""
+    pytest.importorskip("panel")
+    import asyncio
+
+    from fingerpad.explore.app import ExplorerApp, ServerState
+    from fingerpad.explore.views import population as popview
+
+    calls = []
+
+    def fake(data, name):  # the fixture's result: the wiring is tested here, the numbers above
+        calls.append((data, name))
+        return population[1]
+
+    monkeypatch.setattr(popview, "run_preset", fake)
+
+    async def main() -> None:
+        app = ExplorerApp(ServerState(upload_dir=str(tmp_path)))
+        view = app.single
+        {f.fid: f for f in view.form.all_fields()}["model.kind"].widget.value = "hertz"
+        await _drain()
+        view.population.choice.value = "adults"
+        await _drain()
+        assert calls == [(view.shown_data, "adults")]
+        assert view.population.result is population[1]
+        assert view.population.cards["population-normalised"].spec.fills
+        assert 'data-key="population_critical_load_0.5"' in view.population.summary.object
+        view.population.choice.value = "none"
+        view.population.choice.value = "adults"  # remembered: no second run
+        await _drain()
+        assert len(calls) == 1 and view.population.result is population[1]
+        view.pressure.widget.value = "5kPa"
+        await _drain()
+        assert view.cards["pressure-map"].spec.meta["mean_pressure_Pa"] == pytest.approx(5e3)
+        marks = [v.x for v in view.cards["psi"].spec.vlines if v.label.startswith("contact map")]
+        assert marks == [pytest.approx(5e3)]
+
+    asyncio.run(main())

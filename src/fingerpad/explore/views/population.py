@@ -18,6 +18,7 @@ import asyncio
 import html
 import warnings
 from concurrent.futures import ThreadPoolExecutor
+from functools import partial
 from typing import Any
 
 import lazy_loader
@@ -73,7 +74,7 @@ class PopulationPanel:
     def __init__(self, view: Any) -> None:
         self.view = view
         self.cache = view.app.populations
-        self.choice = pn.widgets.Select(name="population of fingers", options=population_choices(), value=NONE,
+        self.choice = pn.widgets.Select(label="population of fingers", options=population_choices(), value=NONE,
                                         css_classes=["fp-population"], width=300)
         self.help = pn.pane.HTML(
             "<div style='font-size:11px;color:#555'>the fingers of a built-in population (docs/population.md): "
@@ -121,7 +122,7 @@ class PopulationPanel:
             self._show(hit)
             return
         self._say(f"population {name}: computing its fingers...", "fp-population-running")
-        pn.state.execute(lambda: self._compute(token, key, data, name))
+        pn.state.execute(partial(self._compute, token, key, data, name))  # a coroutine function: awaited
 
     async def _compute(self, token: object, key: tuple[str, str], data: dict[str, Any], name: str) -> None:
         def work() -> tuple[Any, str | None]:

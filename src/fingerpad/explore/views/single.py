@@ -171,7 +171,7 @@ class SingleView:
         self.upload.panel.visible = False
         self._watch_fields(fl for fl in self.form.all_fields() if fl is not self.form.family)
         self._watch_fields(self.form.measured.values())
-        self.pressure.widget.param.watch(lambda e: pn.state.execute(lambda: self._update_contact(True)), "value")
+        self.pressure.widget.param.watch(lambda e: pn.state.execute(partial(self._update_contact, True)), "value")
 
     # ------------------------------------------------------------------ inputs
 
