@@ -169,7 +169,7 @@ def population_specs(result: Any) -> list[PlotSpec]:
         ("population-area-ratio", "real-to-ridge area A_re / A_fr", "A_re / A_fr", "area_ratio"),
         ("population-normalised", "normalised friction μ / μ_ref", "μ / μ_ref", "mu_normalised"),
     ):
-        spec = PlotSpec(key=key, title=f"{title}: population {result.population.name}, {len(result.members)} fingers",
+        spec = PlotSpec(key=key, title=f"{title}, {len(result.members)} fingers ({result.population.name})",
                         x=x, y=Axis(name, limits=(0.0, None)), legend="upper right", meta=meta)
         bands = table[quantity]
         for depth in range(len(levels) // 2):
@@ -187,8 +187,7 @@ def population_specs(result: Any) -> list[PlotSpec]:
     reached = np.sort(crit[np.isfinite(crit) & (crit > 0)])
     never = crit.size - reached.size
     spec = PlotSpec(key="population-critical-load",
-                    title=f"critical loads of the population: {never} of {crit.size} fingers never reach the "
-                          "transition",
+                    title=f"critical loads: {never} of {crit.size} fingers never reach the transition",
                     x=Axis("critical load F_crit", "N", log=bool(reached.size and reached[-1] / reached[0] > 5)),
                     y=Axis("fingers past the transition at F (share)", limits=(0.0, 1.02)), legend="upper left",
                     meta={**meta, "never_reaching": int(never)})

@@ -88,7 +88,7 @@ class PopulationPanel:
         self.inputs = pn.Column(self.choice, self.message, self.help, sizing_mode="stretch_width")
         self.panel = pn.Column(
             pn.pane.HTML("<h4 style='margin:6px 0'>Population of fingers</h4>"), self.status, self.summary,
-            pn.GridBox(*(c.panel for c in self.cards.values()), ncols=3, sizing_mode="stretch_width"),
+            pn.GridBox(*(c.panel for c in self.cards.values()), ncols=2, sizing_mode="stretch_width"),
             sizing_mode="stretch_width", visible=False, css_classes=["fp-population-section"])
         self.choice.param.watch(lambda e: self.update(), "value")
 
