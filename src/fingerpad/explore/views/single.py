@@ -11,10 +11,7 @@ from __future__ import annotations
 
 import asyncio
 import copy
-import csv
 import html
-import io
-import json
 from functools import partial
 from typing import Any
 
@@ -24,8 +21,9 @@ pn = lazy_loader.load("panel")
 
 from ...errors import FingerpadError, one_line
 from .. import builders
-from ..inputs import data_key, study_data, to_toml, validate
+from ..inputs import data_key, study_data, validate
 from ..jobs import Job, contact_at, run_data
+from . import exports
 from .common import PlotCard, download, html_table, num_span, set_cards
 from .fields import MEASURED, Field, Form
 from .population import PopulationPanel
@@ -93,9 +91,9 @@ class SingleView:
             ("pressure-map", 360), ("contact-map", 360), ("zones", 330), ("zone-profile", 330))}
         self.exports = pn.Row(
             pn.pane.HTML("<b style='font-size:12px'>export:</b>", margin=(6, 4)),
-            download("study TOML", "fingerpad-study.toml", self.export_toml, "fp-export-toml"),
-            download("results JSON", "fingerpad-predict.json", self.export_json, "fp-export-json"),
-            download("results CSV", "fingerpad-predict.csv", self.export_csv, "fp-export-csv"),
+            download("study TOML", "fingerpad-study.toml", partial(exports.study_toml, self), "fp-export-toml"),
+            download("results JSON", "fingerpad-predict.json", partial(exports.results_json, self), "fp-export-json"),
+            download("results CSV", "fingerpad-predict.csv", partial(exports.results_csv, self), "fp-export-csv"),
         )
         for w in self.exports.objects[1:]:
             w.width = 120
@@ -481,44 +479,3 @@ class SingleView:
     def pin(self) -> None:
         if self.pred is not None and self.shown_data is not None:
             self.app.pin(self.shown_data, self.pred)
-
-    def export_toml(self) -> str:
-        data = self.shown_data if self.shown_data is not None else self.data  # the inputs, if not computed yet
-        if data is None:
-            return "# nothing to export: the inputs are not valid\n"
-        header = None
-        tex = data.get("texture", {})
-        if "surface" in tex:
-            data = copy.deepcopy(data)
-            data["texture"]["surface"] = self.upload.original_name or "map"
-            header = (f"the measured map was uploaded as {self.upload.original_name!r}: "
-                      "put that file beside this study file")
-        return to_toml(data, header=header)
-
-    def export_json(self) -> str:
-        from ...study.outputs import prediction_json
-
-        if self.pred is None:
-            return "{}\n"
-        return json.dumps(self._scrub(prediction_json(self.pred)), indent=2) + "\n"
-
-    def _scrub(self, value: Any) -> Any:
-        """``value`` with every text in the page's words (no server path of an upload)."""
-        if isinstance(value, str):
-            return self._words(value)
-        if isinstance(value, dict):
-            return {k: self._scrub(v) for k, v in value.items()}
-        if isinstance(value, list):
-            return [self._scrub(v) for v in value]
-        return value
-
-    def export_csv(self) -> str:
-        from ...study.outputs import CSV_COLUMNS, prediction_rows
-
-        if self.pred is None:
-            return ""
-        out = io.StringIO()
-        writer = csv.DictWriter(out, fieldnames=[h for _, h in CSV_COLUMNS], lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(prediction_rows(self.pred))
-        return out.getvalue()
