@@ -297,7 +297,7 @@ def test_population_bands_and_critical_loads(page, explorer, tmp_path, screensho
     study = study_from_dict(tomllib.loads(download(page, "fp-export-toml").decode()))
     result = run_population(study, load_population("adults"))
     table = result.quantiles()
-    assert num(page, "population_members") == len(result.members) == 1000
+    assert num(page, "population_members") == len(result.members) == load_population("adults").size
     for level in ("0.05", "0.5", "0.95"):
         assert same(table["critical_load"][level], num(page, f"population_critical_load_{level}"))
     bands = json.loads(download(page, "fp-dl-population-normalised-json"))["bands"]
