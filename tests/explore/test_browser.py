@@ -70,6 +70,32 @@ def wait_changed(page, key: str, old: float) -> float:
     return num(page, key)
 
 
+def record_job_status(page) -> None:
+    """Record in the page every text the BEM job's status takes (BokehJS applies each change the
+    server sends, in order). A state shown for milliseconds cannot be caught by polling the page:
+    on a loaded machine the browser applies the server's changes seconds late, and a short run's
+    progress messages then arrive together, just before the message that it is done."""
+    found = page.evaluate("""() => {
+        window.fpJobStatus = [];
+        let n = 0;
+        for (const doc of Bokeh.documents) {
+            for (const m of doc.all_models) {
+                if ((m.css_classes ?? []).includes("fp-job-status") && !m.fpRecorded) {
+                    m.fpRecorded = true;
+                    m.property("text").change.connect(() => window.fpJobStatus.push(m.text));
+                }
+                n += (m.css_classes ?? []).includes("fp-job-status") ? 1 : 0;
+            }
+        }
+        return n;
+    }""")
+    assert found == 1
+
+
+def job_status_texts(page) -> list[str]:
+    return page.evaluate("() => window.fpJobStatus")
+
+
 def same(a: float | None, b: str | float | None) -> bool:
     if a is None or b in (None, ""):
         return a is None and b in (None, "")
@@ -151,9 +177,11 @@ def test_bem_run_shows_progress_finishes_and_reproduces(page, explorer, tmp_path
     set_field(page, "texture.spacing", "177um")  # a cell no other test computes: not in the cache
     set_field(page, "model.grid", "128")  # a given grid: the fine cell reports progress for seconds
     expect(page.locator(".fp-pending")).to_be_visible()
+    record_job_status(page)
     page.locator(".fp-run-bem button").click()
-    expect(page.locator(".fp-job-running").first).to_contain_text(re.compile(r"[1-9]\d* / \d+ solves"))
     expect(page.locator(".fp-job-done")).to_be_visible(timeout=180_000)
+    shown = job_status_texts(page)  # every text the status took, in order: the progress was shown
+    assert any(re.search(r"[1-9]\d* / \d+ solves", t) for t in shown), shown
     expect(page.locator(".fp-current")).to_contain_text("bem")
     crit = num(page, "critical_load_bem")
     rows = table(page)
@@ -247,3 +275,51 @@ def test_map_click_opens_the_clicked_texture(page, screenshot_dir):
     # the opened design is the sweep's: its inputs validate and run as the study TOML
     assert num(page, "critical_load_hertz") > 0
     page.screenshot(path=str(screenshot_dir / "texture-view-from-map.png"), full_page=False)
+
+
+def test_population_bands_and_critical_loads(page, explorer, tmp_path, screenshot_dir):
+    """The preset population on the design shown: the page's numbers and band data are
+    ``run_population`` of the exported study; a forged choice (a file on the server) reads nothing."""
+    import tomllib
+
+    from playwright.sync_api import expect
+
+    from fingerpad.study.population import load_population, run_population
+    from fingerpad.study.spec import study_from_dict
+
+    page.locator(".bk-tab", has_text="Texture").click()
+    page.locator(f"{css('model.kind')} select").select_option("hertz")
+    expect(page.locator(".fp-current")).to_contain_text("hertz")
+    page.locator(".fp-population select").select_option("adults")
+    expect(page.locator(".fp-population-done")).to_be_visible(timeout=180_000)
+    expect(page.locator(".fp-plot-population-normalised")).to_be_visible()
+    page.screenshot(path=str(screenshot_dir / "texture-view-population.png"), full_page=True)
+    study = study_from_dict(tomllib.loads(download(page, "fp-export-toml").decode()))
+    result = run_population(study, load_population("adults"))
+    table = result.quantiles()
+    assert num(page, "population_members") == len(result.members) == load_population("adults").size
+    for level in ("0.05", "0.5", "0.95"):
+        assert same(table["critical_load"][level], num(page, f"population_critical_load_{level}"))
+    bands = json.loads(download(page, "fp-dl-population-normalised-json"))["bands"]
+    assert bands[0]["name"] == "5-95 % of fingers"
+    assert bands[0]["lower"] == pytest.approx(list(table["mu_normalised"]["0.05"]), rel=1e-12)
+    assert bands[0]["upper"] == pytest.approx(list(table["mu_normalised"]["0.95"]), rel=1e-12)
+    # a file on the server holding a valid population, forged as the choice: nothing is read
+    secret = tmp_path / "population.toml"
+    secret.write_text('[population]\nsize = 3\nskin_modulus = { values = ["0.25MPa"] }\n')
+    page.locator(".fp-population select").select_option("none")
+    expect(page.locator(".fp-population-section")).to_be_hidden()
+    for forged in (str(secret), "/etc/passwd"):
+        assert page.evaluate("""([value]) => {
+            for (const doc of Bokeh.documents)
+                for (const m of doc.all_models)
+                    if ((m.css_classes ?? []).includes("fp-population") && 'value' in m.properties) {
+                        m.value = value;
+                        return true;
+                    }
+            return false;
+        }""", [forged])
+    page.wait_for_timeout(1000)
+    expect(page.locator(".fp-population-section")).to_be_hidden()
+    assert explorer.proc.poll() is None
+    page.locator(".fp-population select").select_option("none")

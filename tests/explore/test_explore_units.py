@@ -386,7 +386,8 @@ def test_switching_families_watches_each_field_once(tmp_path, monkeypatch):
     from fingerpad.explore.views.single import MEASURED, SingleView
 
     monkeypatch.setattr(SingleView, "refresh", lambda self, *a, **k: None)  # no predictions here
-    view = SingleView(SimpleNamespace(upload_dir=tmp_path, max_upload_bytes=1 << 20, memo=None, state=None))
+    view = SingleView(SimpleNamespace(upload_dir=tmp_path, max_upload_bytes=1 << 20, memo=None, state=None,
+                                      populations=None))
     def counts() -> list[int]:
         return [len(f.widget.param.watchers.get("value", {}).get("value", [])) for f in view.form.measured.values()]
 

@@ -10,7 +10,7 @@ import lazy_loader
 
 pn = lazy_loader.load("panel")
 
-from .jobs import Memo
+from .jobs import LRU, Memo
 from .methods import METHODS_MARKDOWN
 
 __all__ = ["ExplorerApp", "ServerState"]
@@ -18,13 +18,21 @@ __all__ = ["ExplorerApp", "ServerState"]
 
 @dataclass
 class ServerState:
-    """What the sessions of one server share: remembered predictions, the sweep, the upload folder."""
+    """What the sessions of one server share: remembered predictions and unit-cell contacts, the
+    sweep, the upload folder."""
 
     upload_dir: str
     max_upload_bytes: int = 20 * 2**20
     sweep: Any = None
     sweep_path: str | None = None
     memo: Memo = field(default_factory=Memo)
+    # contact maps of designs seen (a map of a large measured surface holds megabytes: a few only)
+    contacts: LRU = field(default_factory=lambda: LRU(12))
+    # what the page shows of a prediction (its JSON payload, its figures' specs) by (prediction, what):
+    # going back to a design computed before costs neither the payload's error estimates nor the specs
+    derived: LRU = field(default_factory=lambda: LRU(96))
+    # population results by (design, preset): a thousand fingers' curves, kilobytes each
+    populations: LRU = field(default_factory=lambda: LRU(8))
 
 
 class ExplorerApp:
@@ -36,6 +44,9 @@ class ExplorerApp:
 
         self.state = state
         self.memo = state.memo
+        self.contacts = state.contacts
+        self.populations = state.populations
+        self.derived = state.derived
         self.upload_dir = state.upload_dir
         self.max_upload_bytes = state.max_upload_bytes
         self.pins: list[dict[str, Any]] = []

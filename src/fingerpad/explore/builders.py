@@ -3,7 +3,7 @@
 The prediction's figures (areas, friction, zones) are the ones ``fingerpad predict`` draws,
 defined once in :mod:`fingerpad.plotting.prediction_specs`: :func:`prediction_panels` takes their
 panels. The plots only the explorer has (the unit cell's height map, psi(p), the contact maps at
-one pressure, the comparison of pinned designs) are defined here, on the same
+one pressure, the comparison of pinned designs, the bands of a population) are defined here, on the same
 :mod:`fingerpad.plotting.specs`. Every value is held in SI; the axes say how it is shown (lengths
 of the cell in um, of the pad in mm, areas in mm², pressures in kPa).
 """
@@ -17,12 +17,13 @@ from typing import Any
 import numpy as np
 
 from ..plotting.prediction_specs import RED, areas_figure, friction_figure, load_axis, zones_figure
-from ..plotting.specs import DESIGN_COLOURS, Axis, Image, Line, PlotSpec, VLine
+from ..plotting.specs import DESIGN_COLOURS, Axis, Fill, Image, Line, PlotSpec, VLine
 
 __all__ = [
     "compare_specs",
     "contact_specs",
     "height_map_spec",
+    "population_specs",
     "prediction_panels",
     "psi_spec",
 ]
@@ -139,4 +140,63 @@ def compare_specs(designs: Sequence[tuple[str, Any]]) -> list[PlotSpec]:
             if _finite(f) and float(cur.load.min()) <= f <= float(cur.load.max()):
                 spec.vlines.append(VLine(float(f), f"F_crit {short} = {f:.4g} N", colour, "dashed", width=1.3))
         out.append(spec)
+    return out
+
+
+POPULATION_COLOUR = "#1f77b4"
+
+
+def population_specs(result: Any) -> list[PlotSpec]:
+    """A population's bands against load and its critical loads (a
+    :class:`~fingerpad.study.population.PopulationResult`).
+
+    ``population-area-ratio`` and ``population-normalised``: A_re/A_fr and mu/mu_ref, the median
+    and the bands between the outer and inner pairs of the reported quantiles (5-95 % and
+    25-75 % by default: the values of ``result.quantiles()``, as ``predict --population``
+    reports them), the study's own finger dashed. ``population-critical-load``: the share of the
+    fingers whose pad centre has left asperity contact at a load, i.e. the empirical distribution
+    of the members' critical loads (N), their 5/50/95 % quantiles marked.
+    """
+    nominal = result.nominal
+    loads = np.asarray(nominal.primary.load, float)
+    x = load_axis(loads)
+    levels = sorted(result.quantile_levels)
+    table = result.quantiles()
+    meta = {"population": result.population.name, "members": len(result.members), "model": nominal.primary_model,
+            "texture": nominal.texture.name, "quantiles": [float(q) for q in levels]}
+    out = []
+    for key, title, name, quantity in (
+        ("population-area-ratio", "real-to-ridge area A_re / A_fr", "A_re / A_fr", "area_ratio"),
+        ("population-normalised", "normalised friction μ / μ_ref", "μ / μ_ref", "mu_normalised"),
+    ):
+        spec = PlotSpec(key=key, title=f"{title}, {len(result.members)} fingers ({result.population.name})",
+                        x=x, y=Axis(name, limits=(0.0, None)), legend="upper right", meta=meta)
+        bands = table[quantity]
+        for depth in range(len(levels) // 2):
+            lo, hi = levels[depth], levels[-1 - depth]
+            spec.fills.append(Fill(f"{100 * lo:g}-{100 * hi:g} % of fingers", loads, np.asarray(bands[f"{lo:g}"]),
+                                   np.asarray(bands[f"{hi:g}"]), POPULATION_COLOUR, alpha=0.2 + 0.15 * depth))
+        if 0.5 in levels:
+            spec.lines.append(Line("median", loads, np.asarray(bands["0.5"], float), POPULATION_COLOUR, width=2.0))
+        own = getattr(nominal.primary, quantity)
+        if own is not None:
+            spec.lines.append(Line(f"the study's finger ({nominal.primary_model})", loads, np.asarray(own, float),
+                                   "black", dash="dashed"))
+        out.append(spec)
+    crit = np.asarray(result.critical_load, float)
+    reached = np.sort(crit[np.isfinite(crit) & (crit > 0)])
+    never = crit.size - reached.size
+    spec = PlotSpec(key="population-critical-load",
+                    title=f"critical loads: {never} of {crit.size} fingers never reach the transition",
+                    x=Axis("critical load F_crit", "N", log=bool(reached.size and reached[-1] / reached[0] > 5)),
+                    y=Axis("fingers past the transition at F (share)", limits=(0.0, 1.02)), legend="upper left",
+                    meta={**meta, "never_reaching": int(never)})
+    if reached.size:
+        share = np.arange(1, reached.size + 1) / crit.size  # of all fingers: those never reaching count as not past
+        spec.lines.append(Line("share of fingers with F_crit <= F", reached, share, POPULATION_COLOUR, width=2.0))
+        for level, dash in ((levels[0], "dashed"), (0.5, "solid"), (levels[-1], "dashed")):
+            f = table["critical_load"].get(f"{level:g}")
+            if _finite(f):
+                spec.vlines.append(VLine(float(f), f"{100 * level:g} % quantile = {f:.3g} N", "black", dash))
+    out.append(spec)
     return out

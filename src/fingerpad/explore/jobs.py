@@ -10,22 +10,26 @@ A prediction is always :func:`fingerpad.study.run.run_study` on a study that
   curves go through the on-disk cache of unit cells (:mod:`fingerpad.micro.cache`), so a revisited
   design runs no solve; :class:`Memo` also remembers the last predictions in memory.
 * :func:`contact_at` solves the contact on the unit cell at one mean pressure
-  (:class:`fingerpad.contact.HalfSpaceSolver`).
+  (:class:`fingerpad.contact.HalfSpaceSolver`), remembered in an :class:`LRU` by the texture's
+  heights, the modulus and the pressure.
 """
 
 from __future__ import annotations
 
+import hashlib
 import threading
 import time
 import warnings
 from collections import OrderedDict
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Hashable, Mapping
 from typing import Any
+
+import numpy as np
 
 from ..errors import FingerpadError, one_line
 from .inputs import data_key, labels_for
 
-__all__ = ["Job", "JobCancelled", "Memo", "contact_at", "run_data"]
+__all__ = ["LRU", "Job", "JobCancelled", "Memo", "contact_at", "run_data", "texture_key"]
 
 
 class JobCancelled(Exception):
@@ -57,29 +61,49 @@ def run_data(data: Mapping[str, Mapping[str, Any]], progress: Callable[[int, int
     return pred
 
 
-class Memo:
-    """The last ``size`` predictions by their study (in memory, per server)."""
+class LRU:
+    """The last ``size`` values by a hashable key (in memory, per server; thread-safe: jobs put
+    from their threads)."""
 
     def __init__(self, size: int = 24) -> None:
         self.size = size
-        self._items: OrderedDict[str, Any] = OrderedDict()
+        self._items: OrderedDict[Hashable, Any] = OrderedDict()
         self._lock = threading.Lock()
 
-    def get(self, data: Mapping[str, Any]) -> Any:
-        key = data_key(data)
+    def get_key(self, key: Hashable) -> Any:
         with self._lock:
             if key in self._items:
                 self._items.move_to_end(key)
                 return self._items[key]
         return None
 
-    def put(self, data: Mapping[str, Any], pred: Any) -> None:
-        key = data_key(data)
+    def put_key(self, key: Hashable, value: Any) -> None:
         with self._lock:
-            self._items[key] = pred
+            self._items[key] = value
             self._items.move_to_end(key)
             while len(self._items) > self.size:
                 self._items.popitem(last=False)
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+
+class Memo(LRU):
+    """The last ``size`` predictions by their study (in memory, per server)."""
+
+    def get(self, data: Mapping[str, Any]) -> Any:
+        return self.get_key(data_key(data))
+
+    def put(self, data: Mapping[str, Any], pred: Any) -> None:
+        self.put_key(data_key(data), pred)
+
+
+def texture_key(texture: Any) -> tuple[Any, ...]:
+    """What a unit cell's contact depends on of its texture: the heights (a digest), the grid,
+    the size, periodicity."""
+    heights = np.ascontiguousarray(np.asarray(texture.heights, dtype=float))
+    digest = hashlib.blake2b(heights.tobytes(), digest_size=16).hexdigest()
+    return (digest, heights.shape, tuple(float(v) for v in texture.size), bool(texture.periodic))
 
 
 class Job:
@@ -153,16 +177,35 @@ class Job:
         return self.finished
 
     @property
+    def elapsed(self) -> float:
+        """Seconds since the job started (its duration once finished)."""
+        return self.seconds or time.monotonic() - self.started
+
+    @property
     def fraction(self) -> float:
         return min(1.0, self.done / self.total) if self.total else 0.0
 
 
-def contact_at(texture: Any, modulus: float, pressure: float, *, tol: float = 1e-8, max_iter: int = 5000) -> Any:
+def contact_at(texture: Any, modulus: float, pressure: float, *, tol: float = 1e-8, max_iter: int = 5000,
+               cache: LRU | None = None) -> Any:
     """The contact of the skin on the unit cell at mean nominal pressure ``pressure`` (Pa):
     a :class:`~fingerpad.contact.ContactResult` of :class:`~fingerpad.contact.HalfSpaceSolver`
-    with the reduced modulus E1* (Eq. 3.4)."""
+    with the reduced modulus E1* (Eq. 3.4).
+
+    With ``cache``, a contact solved before (same heights, grid, size, modulus, pressure, tolerance
+    and iteration cap) is returned without a solve: a design seen before costs nothing.
+    """
     from ..contact import HalfSpaceSolver
 
+    key = (texture_key(texture), float(modulus), float(pressure), float(tol), int(max_iter)) \
+        if cache is not None else None
+    if key is not None:
+        hit = cache.get_key(key)
+        if hit is not None:
+            return hit
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return HalfSpaceSolver(texture, modulus, tol=tol, max_iter=max_iter).solve_pressure(pressure)
+        res = HalfSpaceSolver(texture, modulus, tol=tol, max_iter=max_iter).solve_pressure(pressure)
+    if key is not None:
+        cache.put_key(key, res)
+    return res

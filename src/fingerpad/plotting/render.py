@@ -66,6 +66,9 @@ def draw_panel(fig: Any, ax: Any, spec: PlotSpec, colorbar_at: tuple[float, floa
         seen.add(band.state)
         ax.axvspan(band.x0 * fx, band.x1 * fx, color=STATE_FILL.get(band.state, "#eeeeee"), alpha=0.8, lw=0,
                    zorder=0, label=label)
+    for f in spec.fills:  # quantile bands, under the lines
+        ax.fill_between(np.asarray(f.x, float) * fx, spec.y.show(f.lower), spec.y.show(f.upper), color=f.color,
+                        alpha=f.alpha, lw=0, label=f.name)
     for im in spec.images:
         extent = (im.x0 * fx, im.x1 * fx, im.y0 * fy, im.y1 * fy)
         art = ax.imshow(im.value.show(im.z), origin="lower", extent=extent, interpolation="nearest", aspect="equal",
@@ -110,8 +113,8 @@ def draw_panel(fig: Any, ax: Any, spec: PlotSpec, colorbar_at: tuple[float, floa
         ax.set_yscale("log")
     if spec.x.limits is not None:
         _limits(ax, "x", spec.x.limits, fx)
-    elif spec.lines and not spec.images and not spec.discs:  # the data's x range (a single x: a window)
-        xs = np.concatenate([np.asarray(ln.x, float) for ln in spec.lines]) * fx
+    elif (spec.lines or spec.fills) and not spec.images and not spec.discs:  # the data's x range (one x: a window)
+        xs = np.concatenate([np.asarray(ln.x, float) for ln in (*spec.lines, *spec.fills)]) * fx
         xs = xs[np.isfinite(xs)]
         if xs.size:
             lo, hi = float(xs.min()), float(xs.max())

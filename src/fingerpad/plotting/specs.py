@@ -30,6 +30,7 @@ __all__ = [
     "Band",
     "Disc",
     "FigureSpec",
+    "Fill",
     "HLine",
     "Image",
     "Label",
@@ -104,6 +105,22 @@ class Line:
     axis: str = "left"  # left | right (secondary y axis)
     legend: bool = True  # an entry in the legend
     tooltips: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+@dataclass
+class Fill:
+    """A shaded band between two curves over ``x`` (SI): a quantile band of a population.
+
+    ``name`` is its legend entry; in the data it gives two series, ``name lower`` and
+    ``name upper``.
+    """
+
+    name: str
+    x: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    color: str = "#1f77b4"
+    alpha: float = 0.25
 
 
 @dataclass
@@ -185,8 +202,8 @@ class PlotSpec:
         The panel's title.
     x, y, y2
         The axes (``y2``: a secondary y axis on the right, for lines with ``axis="right"``).
-    lines, vlines, hlines, bands, images, discs, labels
-        The content.
+    lines, fills, vlines, hlines, bands, images, discs, labels
+        The content (``fills``: shaded bands between two curves, drawn under the lines).
     legend
         Where the legend goes (matplotlib's words: ``best``, ``lower right``, ...).
     grid
@@ -205,6 +222,7 @@ class PlotSpec:
     y: Axis
     y2: Axis | None = None
     lines: list[Line] = field(default_factory=list)
+    fills: list[Fill] = field(default_factory=list)
     vlines: list[VLine] = field(default_factory=list)
     hlines: list[HLine] = field(default_factory=list)
     bands: list[Band] = field(default_factory=list)
@@ -219,7 +237,7 @@ class PlotSpec:
 
     @property
     def empty(self) -> bool:
-        return not (self.lines or self.images or self.discs)
+        return not (self.lines or self.fills or self.images or self.discs)
 
     def axis_of(self, line: Line) -> Axis:
         """The y axis a line is drawn on."""
@@ -282,6 +300,8 @@ def spec_json(spec: PlotSpec) -> str:
                 for k, t in ln.tooltips.items()}}
             for ln in spec.lines
         ],
+        "bands": [{"name": f.name, "unit": spec.y.unit, "x": _list(f.x), "lower": _list(f.lower),
+                   "upper": _list(f.upper)} for f in spec.fills],
         "reference_lines": [{"x": _num(v.x), "label": v.label} for v in spec.vlines],
         "state_bands": [{"from": _num(b.x0), "to": _num(b.x1), "state": b.state} for b in spec.bands],
         "images": [
@@ -308,9 +328,9 @@ def _shared_x(lines: list[Line]) -> bool:
 def spec_csv(spec: PlotSpec) -> str:
     """The panel's data as CSV text, in SI with the unit in every header.
 
-    Lines sharing one x: one column per series (``x, name1 [y], name2 [y], ...``); otherwise
-    long form (``series, x, y``). Images: ``x, y, value`` (and ``contact``) per pixel; zone
-    discs: ``zone, outer radius``.
+    Lines (and the two edges of each band) sharing one x: one column per series
+    (``x, name1 [y], name2 [y], ...``); otherwise long form (``series, x, y``). Images:
+    ``x, y, value`` (and ``contact``) per pixel; zone discs: ``zone, outer radius``.
     """
     out = io.StringIO()
     w = csv.writer(out, lineterminator="\n")
@@ -319,17 +339,21 @@ def spec_csv(spec: PlotSpec) -> str:
         v = _num(v)
         return "" if v is None else repr(v) if isinstance(v, float) else v
 
-    if spec.lines:
-        if _shared_x(spec.lines):
+    # the bands' edges are series of the y axis, after the lines
+    edges = [Line(f"{f.name} {edge}", f.x, y) for f in spec.fills for edge, y in (("lower", f.lower),
+                                                                                 ("upper", f.upper))]
+    series = [*spec.lines, *edges]
+    if series:
+        if _shared_x(series):
             extra = {k: t for ln in spec.lines for k, t in ln.tooltips.items()}
-            w.writerow([spec.x.si_label] + [f"{ln.name} [{spec.axis_of(ln).si_label}]" for ln in spec.lines]
+            w.writerow([spec.x.si_label] + [f"{ln.name} [{spec.axis_of(ln).si_label}]" for ln in series]
                        + list(extra))
-            for i, x in enumerate(np.asarray(spec.lines[0].x).tolist()):
-                w.writerow([cell(x)] + [cell(np.asarray(ln.y)[i]) for ln in spec.lines]
+            for i, x in enumerate(np.asarray(series[0].x).tolist()):
+                w.writerow([cell(x)] + [cell(np.asarray(ln.y)[i]) for ln in series]
                            + [cell(np.asarray(t)[i]) for t in extra.values()])
         else:
             w.writerow(["series", spec.x.si_label, "y", "unit of y"])
-            for ln in spec.lines:
+            for ln in series:
                 unit = spec.axis_of(ln).unit
                 for x, y in zip(np.asarray(ln.x).tolist(), np.asarray(ln.y).tolist(), strict=True):
                     w.writerow([ln.name, cell(x), cell(y), unit])

@@ -6,7 +6,8 @@ from __future__ import annotations
 import html
 import io
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
+from contextlib import ExitStack
 from functools import partial
 from typing import Any
 
@@ -16,7 +17,7 @@ pn = lazy_loader.load("panel")
 
 from ...plotting.specs import PlotSpec, spec_csv, spec_json
 
-__all__ = ["PlotCard", "download", "fmt", "html_table", "num_span"]
+__all__ = ["PlotCard", "download", "fmt", "html_table", "num_span", "set_cards"]
 
 FORMATS = ("csv", "json", "png", "svg")
 
@@ -76,7 +77,15 @@ def download(label: str, filename: str, make: Callable[[], bytes | str], css: st
 
 
 class PlotCard:
-    """A plot of the explorer: its Bokeh figure and downloads of its data and image."""
+    """A plot of the explorer: its Bokeh figure and downloads of its data and image.
+
+    A new spec goes into the figure shown (its data, legend, title and ranges replaced in place:
+    :func:`..render_bokeh.update_figure`); the figure is rebuilt only when its frame changes (the
+    axes' quantities or scales). ``in_place = False`` rebuilds it on every change, as the explorer
+    did before issue 23 (``benchmarks/bench_explorer.py`` measures both).
+    """
+
+    in_place = True
 
     def __init__(self, key: str, height: int = 330, width: int | None = None) -> None:
         self.key = key
@@ -119,7 +128,7 @@ class PlotCard:
             self.downloads.visible = False
         else:
             with pn.io.unlocked():  # changes the figure's models directly (Panel dispatches them)
-                updated = self.drawn is not None and update_figure(self.drawn, self.spec)
+                updated = self.in_place and self.drawn is not None and update_figure(self.drawn, self.spec)
             if not updated:
                 self.drawn = bokeh_figure(self.spec, height=self.height, width=self.width)
                 self.pane.object = self.drawn.figure
@@ -128,3 +137,22 @@ class PlotCard:
         self.note.object = html.escape(note) if note else ""
         self.note.visible = bool(note)
         self.panel.visible = self.spec is not None or bool(note)  # nothing to say: no empty card
+
+
+def set_cards(updates: Iterable[tuple[PlotCard, PlotSpec | None, str | None]]) -> None:
+    """``card.set(spec, note)`` for each update, with Bokeh's walk over the document's models
+    done once for all of them where figures gain models (a new series, a new figure) and not at
+    all where only data change: every figure that gains a model would walk it once more (tenths
+    of a second each on a full page)."""
+    from ..render_bokeh import adds_models
+
+    todo = list(updates)
+    grows = [card for card, spec, _ in todo if spec is not None and not spec.empty
+             and (not card.in_place or adds_models(card.drawn, spec))]
+    docs = {id(d): d for card in grows if card.drawn is not None
+            and (d := card.drawn.figure.document) is not None}
+    with ExitStack() as stack:
+        for doc in docs.values():
+            stack.enter_context(doc.models.freeze())
+        for card, spec, note in todo:
+            card.set(spec, note)

@@ -11,10 +11,8 @@ from __future__ import annotations
 
 import asyncio
 import copy
-import csv
 import html
-import io
-import json
+from functools import partial
 from typing import Any
 
 import lazy_loader
@@ -23,10 +21,12 @@ pn = lazy_loader.load("panel")
 
 from ...errors import FingerpadError, one_line
 from .. import builders
-from ..inputs import data_key, study_data, to_toml, validate
+from ..inputs import data_key, study_data, validate
 from ..jobs import Job, contact_at, run_data
-from .common import PlotCard, download, html_table, num_span
+from . import exports
+from .common import PlotCard, download, html_table, num_span, set_cards
 from .fields import MEASURED, Field, Form
+from .population import PopulationPanel
 from ..uploads import StoredUpload, page_message
 from .upload import Upload
 
@@ -91,12 +91,13 @@ class SingleView:
             ("pressure-map", 360), ("contact-map", 360), ("zones", 330), ("zone-profile", 330))}
         self.exports = pn.Row(
             pn.pane.HTML("<b style='font-size:12px'>export:</b>", margin=(6, 4)),
-            download("study TOML", "fingerpad-study.toml", self.export_toml, "fp-export-toml"),
-            download("results JSON", "fingerpad-predict.json", self.export_json, "fp-export-json"),
-            download("results CSV", "fingerpad-predict.csv", self.export_csv, "fp-export-csv"),
+            download("study TOML", "fingerpad-study.toml", partial(exports.study_toml, self), "fp-export-toml"),
+            download("results JSON", "fingerpad-predict.json", partial(exports.results_json, self), "fp-export-json"),
+            download("results CSV", "fingerpad-predict.csv", partial(exports.results_csv, self), "fp-export-csv"),
         )
         for w in self.exports.objects[1:]:
             w.width = 120
+        self.population = PopulationPanel(self)
         self._watch_form()
         self.panel = self._layout()
         self.refresh()
@@ -116,6 +117,7 @@ class SingleView:
             self._card("Finger", f.preset.panel, *(x.panel for x in f.finger.values())),
             self._card("Loads", *(x.panel for x in f.loads.values())),
             self._card("Model", *(x.panel for x in f.model.values())),
+            self._card("Population", self.population.inputs),
             width=340, css_classes=["fp-inputs"], styles={"overflow-y": "auto"}, margin=(0, 8, 0, 0),
         )
         bem = pn.Row(self.run_button, self.cancel_button, self.progress, self.job_status, self.auto_bem,
@@ -126,6 +128,7 @@ class SingleView:
             pn.GridBox(c["areas"].panel, c["friction"].panel, c["friction-normalised"].panel, c["psi"].panel,
                        ncols=2, sizing_mode="stretch_width"),
             c["friction-directional"].panel,
+            self.population.panel,
             pn.pane.HTML("<h4 style='margin:6px 0'>Unit cell</h4>"),
             pn.Row(self.pressure.panel, width=340),
             pn.GridBox(c["height-map"].panel, c["pressure-map"].panel, c["contact-map"].panel, ncols=3,
@@ -166,7 +169,7 @@ class SingleView:
         self.upload.panel.visible = False
         self._watch_fields(fl for fl in self.form.all_fields() if fl is not self.form.family)
         self._watch_fields(self.form.measured.values())
-        self.pressure.widget.param.watch(lambda e: pn.state.execute(self._update_contact), "value")
+        self.pressure.widget.param.watch(lambda e: pn.state.execute(partial(self._update_contact, True)), "value")
 
     # ------------------------------------------------------------------ inputs
 
@@ -308,7 +311,7 @@ class SingleView:
             if not job.cancelling:
                 self.progress.value = int(100 * job.fraction)
                 self.job_status.object = (f'<span class="fp-job-running">BEM unit cell: {job.done} / {job.total} '
-                                          f"solves, {job.seconds or 0:.0f} s</span>" if job.total else
+                                          f"solves, {job.elapsed:.0f} s</span>" if job.total else
                                           '<span class="fp-job-running">BEM unit cell: preparing...</span>')
             await asyncio.sleep(0.25)
         if job is None or job is not self.job:
@@ -353,27 +356,42 @@ class SingleView:
                                   f"model {html.escape(pred.primary_model if pred else kind)} for the inputs on the "
                                   "left</div>")
         self.pin_button.disabled = pred is None
-        self.cards["height-map"].set(builders.height_map_spec(pred.texture if pred is not None and pred.cell
-                                                              is not None else self.texture))
+        c = self.cards
+        updates = [(c["height-map"], builders.height_map_spec(pred.texture if pred is not None and pred.cell
+                                                              is not None else self.texture), None)]
         if pred is None:
-            for key in ("areas", "friction", "friction-normalised", "psi", "zones", "zone-profile"):
-                self.cards[key].set(None, "run the BEM to see this plot")
-            self.cards["friction-directional"].set(None)
+            updates += [(c[key], None, "run the BEM to see this plot")
+                        for key in ("areas", "friction", "friction-normalised", "psi", "zones", "zone-profile")]
+            updates.append((c["friction-directional"], None, None))
             self.summary.object = ""
             self.table.object = ""
             self.notes.object = ""
         else:
-            panels = builders.prediction_panels(pred)  # predict's figures, panel by panel
-            for key in ("areas", "friction", "friction-normalised", "friction-directional", "zones", "zone-profile"):
-                self.cards[key].set(panels.get(key))
-            self.cards["psi"].set(builders.psi_spec(pred, self._contact_pressure()))
+            panels = self._derived(pred, "panels", lambda: builders.prediction_panels(pred))  # predict's figures
+            updates += [(c[key], panels.get(key), None) for key in ("areas", "friction", "friction-normalised",
+                                                                    "friction-directional", "zones", "zone-profile")]
+            mark = self._contact_pressure()
+            updates.append((c["psi"], self._derived(pred, ("psi", mark), lambda: builders.psi_spec(pred, mark)), None))
             self._show_numbers(pred)
-        pn.state.execute(self._update_contact)
+        set_cards(updates)
+        self.population.update()
+        pn.state.execute(self._update_contact)  # psi was drawn above with the contact map's pressure
+
+    def _derived(self, pred: Any, what: Any, make: Any) -> Any:
+        """``make()``, remembered per prediction (the server's, shared by its sessions): what the
+        page shows of a prediction does not change."""
+        key = (id(pred), what)
+        hit = self.app.derived.get_key(key)
+        if hit is not None and hit[0] is pred:  # the id of a prediction still held, not a reused one
+            return hit[1]
+        value = make()
+        self.app.derived.put_key(key, (pred, value))
+        return value
 
     def _show_numbers(self, pred: Any) -> None:
         from ...study.outputs import prediction_json
 
-        payload = prediction_json(pred)
+        payload = self._derived(pred, "json", lambda: prediction_json(pred))
         crit, full = payload["critical_load"], payload["full_contact_load"]
         parts = [f"<b>shown model:</b> {html.escape(payload['model'])}",
                  f"E1* = {num_span('reduced_modulus', payload['inputs']['reduced_modulus'], 'Pa')}"]
@@ -414,7 +432,9 @@ class SingleView:
             return float(self.pred.zones["peak_pressure"])
         return None
 
-    async def _update_contact(self) -> None:
+    async def _update_contact(self, mark_psi: bool = False) -> None:
+        """The contact and pressure maps at the contact-map pressure (one solve in a worker thread,
+        none for a contact seen before); ``mark_psi``: the pressure changed, mark it on psi(p)."""
         token = object()
         self._contact_token = token
         pred = self.pred
@@ -431,10 +451,11 @@ class SingleView:
         if texture is None or study is None or not texture.periodic:
             return
         e1 = study.reduced_modulus
+        cache = self.app.contacts
+        solve = partial(contact_at, texture, e1, pressure, tol=study.tol, max_iter=study.max_iter, cache=cache)
         loop = asyncio.get_running_loop()
         try:
-            res = await loop.run_in_executor(None, lambda: contact_at(texture, e1, pressure, tol=study.tol,
-                                                                      max_iter=study.max_iter))
+            res = await loop.run_in_executor(None, solve)
         except FingerpadError as exc:
             if self._contact_token is token:
                 self.pressure.show(one_line(str(exc)))
@@ -446,10 +467,10 @@ class SingleView:
             if self._contact_token is not token:
                 return
             pmap, cmap = builders.contact_specs(res)
-            self.cards["pressure-map"].set(pmap)
-            self.cards["contact-map"].set(cmap)
-            if self.pred is not None:
-                self.cards["psi"].set(builders.psi_spec(self.pred, pressure))
+            updates = [(self.cards["pressure-map"], pmap, None), (self.cards["contact-map"], cmap, None)]
+            if mark_psi and self.pred is not None:
+                updates.append((self.cards["psi"], builders.psi_spec(self.pred, pressure), None))
+            set_cards(updates)
 
         self._locked(apply)
 
@@ -458,44 +479,3 @@ class SingleView:
     def pin(self) -> None:
         if self.pred is not None and self.shown_data is not None:
             self.app.pin(self.shown_data, self.pred)
-
-    def export_toml(self) -> str:
-        data = self.shown_data if self.shown_data is not None else self.data  # the inputs, if not computed yet
-        if data is None:
-            return "# nothing to export: the inputs are not valid\n"
-        header = None
-        tex = data.get("texture", {})
-        if "surface" in tex:
-            data = copy.deepcopy(data)
-            data["texture"]["surface"] = self.upload.original_name or "map"
-            header = (f"the measured map was uploaded as {self.upload.original_name!r}: "
-                      "put that file beside this study file")
-        return to_toml(data, header=header)
-
-    def export_json(self) -> str:
-        from ...study.outputs import prediction_json
-
-        if self.pred is None:
-            return "{}\n"
-        return json.dumps(self._scrub(prediction_json(self.pred)), indent=2) + "\n"
-
-    def _scrub(self, value: Any) -> Any:
-        """``value`` with every text in the page's words (no server path of an upload)."""
-        if isinstance(value, str):
-            return self._words(value)
-        if isinstance(value, dict):
-            return {k: self._scrub(v) for k, v in value.items()}
-        if isinstance(value, list):
-            return [self._scrub(v) for v in value]
-        return value
-
-    def export_csv(self) -> str:
-        from ...study.outputs import CSV_COLUMNS, prediction_rows
-
-        if self.pred is None:
-            return ""
-        out = io.StringIO()
-        writer = csv.DictWriter(out, fieldnames=[h for _, h in CSV_COLUMNS], lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(prediction_rows(self.pred))
-        return out.getvalue()

@@ -1,0 +1,189 @@
+"""Benchmark of the explorer's response to a parameter change (issue 23; ``make bench``).
+
+The time from a widget's change on the server to the page's new data: the view's callbacks
+(validate the inputs, predict or remember, put the results into the figures and the tables) and
+the serialisation of the document patch the server sends to the browser (Bokeh's ``PATCH-DOC``
+message). Measured in-process on a Panel page attached to a Bokeh document (what the server
+holds per browser session), inside an asyncio loop as on the server, so the background work a
+change starts (the contact maps of the unit cell) runs as it does there; "all" includes it.
+
+Both paths are measured in the same run, change for change:
+
+* **in place** (today): each figure's data, legend, title and ranges are replaced in place
+  (:func:`fingerpad.explore.render_bokeh.update_figure`), and contact maps solved before are
+  remembered;
+* **rebuild** (before issue 23): every figure built anew on every change
+  (``PlotCard.in_place = False``), every contact map solved again.
+
+Cases: a new Hertz design (a texture parameter never seen), going back to a Hertz design
+already computed, and going back to a BEM design already computed (the BEM runs once, before
+the timing). ``--busy N`` runs N processes that keep a core each busy during the timings
+(both paths under the same load). A warm-up page runs first (imports, the BEM cells into the
+disk cache). Numbers are printed with the load average; "max" of the BEM case is the first time
+the page shows a BEM design (its figures gain the BEM's series: Bokeh walks the document once).
+
+Usage: ``.venv/bin/python benchmarks/bench_explorer.py [--repeats 6] [--busy 0]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+GOALS = {"new Hertz design": 0.5, "back to a computed Hertz design": 0.3, "back to a computed BEM design": 0.3}
+
+
+def _page(cache: str) -> tuple[Any, Any, list[Any]]:
+    """An explorer page on a Bokeh document, the view, and the list the document's changes go to."""
+    import panel as pn
+    from bokeh.document import Document
+
+    from fingerpad.explore.app import ExplorerApp, ServerState
+
+    upload = tempfile.mkdtemp(prefix="fingerpad-bench-upload-", dir=cache)
+    state = ServerState(upload_dir=upload)
+    doc = Document()
+    app = ExplorerApp(state)
+    app.page.server_doc(doc)
+    events: list[Any] = []
+    doc.on_change(lambda event: events.append(event))
+    pn.state.curdoc = None  # the view's async work runs on the loop, not on a session's ticks
+    return app, doc, events
+
+
+def _patch_bytes(events: list[Any]) -> int:
+    """Serialise the changes as the server's PATCH-DOC message; its size in bytes."""
+    from bokeh.protocol import Protocol
+
+    events = [e for e in events if hasattr(e, "to_serializable")]
+    if not events:
+        return 0
+    msg = Protocol().create("PATCH-DOC", events)
+    return len(msg.content_json) + sum(len(b) for b in getattr(msg, "buffers", []) for b in ([b[1]]
+                                       if isinstance(b, tuple) else [b.data if hasattr(b, "data") else b]))
+
+
+async def _drain() -> None:
+    """Wait for the background work the change started (contact maps)."""
+    me = asyncio.current_task()
+    while True:
+        pending = [t for t in asyncio.all_tasks() if t is not me and not t.done()]
+        if not pending:
+            return
+        await asyncio.wait(pending)
+
+
+async def _change(view: Any, events: list[Any], fid: str, value: str) -> dict[str, float]:
+    field = {f.fid: f for f in view.form.all_fields()}[fid]
+    events.clear()
+    c0, t0 = time.process_time(), time.perf_counter()
+    field.widget.value = value  # the watchers run now, as in the server's callback
+    size = _patch_bytes(list(events))
+    numbers = time.perf_counter() - t0
+    events.clear()
+    await _drain()
+    _patch_bytes(list(events))
+    return {"numbers_s": numbers, "all_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0,
+            "patch_bytes": size}
+
+
+async def _case(view: Any, events: list[Any], values: list[str], repeats: int) -> list[dict[str, float]]:
+    out = []
+    for k in range(repeats):
+        out.append(await _change(view, events, "texture.spacing", values[k % len(values)]))
+    return out
+
+
+def _summary(rows: list[dict[str, float]]) -> dict[str, float]:
+    return {k: statistics.median(r[k] for r in rows) for k in rows[0]} | {
+        "numbers_s_max": max(r["numbers_s"] for r in rows)}
+
+
+async def _run(path: str, cache: str, repeats: int) -> dict[str, dict[str, float]]:
+    from fingerpad.explore.jobs import run_data
+    from fingerpad.explore.views.common import PlotCard
+
+    PlotCard.in_place = path == "in place"
+    app, _doc, events = _page(cache)
+    if path != "in place":
+        from fingerpad.explore.jobs import LRU
+
+        app.contacts = app.state.contacts = LRU(0)  # no contact remembered: solved on every change
+    view = app.single
+    await _drain()
+    results = {}
+    kind = {f.fid: f for f in view.form.all_fields()}["model.kind"]
+    kind.widget.value = "hertz"
+    await _drain()
+    # a Hertz design never seen: a new spacing each time (each path its own values)
+    base = 150 if path == "in place" else 200
+    results["new Hertz design"] = _summary(await _case(view, events, [f"{base + k}um" for k in range(repeats)],
+                                                       repeats))
+    results["back to a computed Hertz design"] = _summary(await _case(view, events, ["170um", "172um"], repeats + 2))
+    kind.widget.value = "both"
+    await _drain()
+    for value in ("175um", "180um"):  # the BEM of both designs, computed once (as a finished run would)
+        await _change(view, events, "texture.spacing", value)
+        if app.memo.get(view.data) is None:
+            app.memo.put(view.data, run_data(view.data))
+    results["back to a computed BEM design"] = _summary(await _case(view, events, ["175um", "180um"], repeats + 2))
+    PlotCard.in_place = True
+    return results
+
+
+def _burn(n: int) -> list[subprocess.Popen]:
+    return [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(n)]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=6, help="changes per case")
+    ap.add_argument("--busy", type=int, default=0, help="processes keeping a core busy during the timings")
+    ap.add_argument("--out", default="out/bench/explorer.json")
+    args = ap.parse_args()
+
+    cache = tempfile.mkdtemp(prefix="fingerpad-bench-explorer-")
+    os.environ["FINGERPAD_CACHE"] = os.path.join(cache, "cells")
+    os.environ.setdefault("BOKEH_RESOURCES", "server")
+    burners = _burn(args.busy)
+    try:
+        load0 = os.getloadavg()
+        asyncio.run(_run("rebuild", cache, 1))  # warm-up: imports, and the BEM cells into the disk cache
+        rebuild = asyncio.run(_run("rebuild", cache, args.repeats))
+        in_place = asyncio.run(_run("in place", cache, args.repeats))
+        load1 = os.getloadavg()
+    finally:
+        for p in burners:
+            p.kill()
+            p.wait()
+        shutil.rmtree(cache, ignore_errors=True)
+
+    print(f"cores: {os.cpu_count()}, load average {load0[0]:.2f} before, {load1[0]:.2f} after"
+          f"{f', {args.busy} busy processes' if args.busy else ''}; medians of {args.repeats}+ changes")
+    print("| change | in place: numbers (s) | rebuild: numbers (s) | ratio | in place: all (s) | rebuild: all (s) "
+          "| CPU in place / rebuild (s) | goal (s) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for case, goal in GOALS.items():
+        a, b = in_place[case], rebuild[case]
+        print(f"| {case} | {a['numbers_s']:.3f} (max {a['numbers_s_max']:.3f}) | {b['numbers_s']:.3f} | "
+              f"{b['numbers_s'] / a['numbers_s']:.1f}x | {a['all_s']:.3f} | {b['all_s']:.3f} | "
+              f"{a['cpu_s']:.3f} / {b['cpu_s']:.3f} | <= {goal} |")
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps({"cpu_count": os.cpu_count(), "loadavg_before": load0, "loadavg_after": load1,
+                               "busy_processes": args.busy, "repeats": args.repeats, "goals_s": GOALS,
+                               "in_place": in_place, "rebuild": rebuild}, indent=1) + "\n")
+
+
+if __name__ == "__main__":
+    main()

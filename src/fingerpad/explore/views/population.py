@@ -1,0 +1,179 @@
+"""The population part of the single-texture view (issue 22): a population of fingers chosen by
+preset name, its bands of A_re/A_fr and mu/mu_ref against load and its critical loads.
+
+The population is :func:`fingerpad.study.population.run_population` on the study of the design
+shown (the library computes everything; the unit cell is solved once for every finger). It runs
+in one worker thread per server, the latest request of a session first (a request whose design
+is no longer shown is skipped), and the results are remembered per design and population, so a
+design seen before shows its bands at once.
+
+Only the names of the built-in presets are accepted from the page:
+:func:`~fingerpad.study.population.load_population` also reads files, and a page must never name
+a file on the server.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import html
+import warnings
+from concurrent.futures import ThreadPoolExecutor
+from functools import partial
+from typing import Any
+
+import lazy_loader
+
+pn = lazy_loader.load("panel")
+
+from ...errors import FingerpadError, one_line
+from .. import builders
+from ..inputs import data_key, labels_for
+from .common import PlotCard, num_span, set_cards
+
+__all__ = ["NONE", "PopulationPanel", "population_choices", "run_preset"]
+
+#: The choice that shows no population.
+NONE = "none"
+_KEYS = ("population-area-ratio", "population-normalised", "population-critical-load")
+_POOL: ThreadPoolExecutor | None = None
+
+
+def population_choices() -> list[str]:
+    """The choices of the page: none and the built-in presets (never a path)."""
+    from ...study.population_presets import POPULATION_PRESETS
+
+    return [NONE, *POPULATION_PRESETS]
+
+
+def run_preset(data: dict[str, Any], name: str) -> Any:
+    """The :class:`~fingerpad.study.population.PopulationResult` of preset ``name`` on the study
+    of ``data``; a name that is not a preset is refused (never read as a file)."""
+    from ...study.population import load_population, run_population
+    from ...study.population_presets import POPULATION_PRESETS
+    from ...study.spec import study_from_dict
+
+    if name not in POPULATION_PRESETS:
+        raise FingerpadError(f"population: choose one of {', '.join(population_choices())}")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return run_population(study_from_dict(data, labels_for(data)), load_population(name))
+
+
+def _pool() -> ThreadPoolExecutor:
+    """One worker for the populations of the server: a population costs a second of the CPU, and
+    queued requests of designs no longer shown are skipped."""
+    global _POOL
+    if _POOL is None:
+        _POOL = ThreadPoolExecutor(max_workers=1, thread_name_prefix="fingerpad-explore-population")
+    return _POOL
+
+
+class PopulationPanel:
+    """The population choice (an input) and its results (a section of the results)."""
+
+    def __init__(self, view: Any) -> None:
+        self.view = view
+        self.cache = view.app.populations
+        self.choice = pn.widgets.Select(label="population of fingers", options=population_choices(), value=NONE,
+                                        css_classes=["fp-population"], width=300)
+        self.help = pn.pane.HTML(
+            "<div style='font-size:11px;color:#555'>the fingers of a built-in population (docs/population.md): "
+            "bands of the results over the population, the critical loads' distribution</div>")
+        self.message = pn.pane.HTML("", css_classes=["fp-population-msg"], sizing_mode="stretch_width")
+        self.status = pn.pane.HTML("", css_classes=["fp-population-status"], sizing_mode="stretch_width")
+        self.summary = pn.pane.HTML("", css_classes=["fp-population-summary"], sizing_mode="stretch_width")
+        self.cards = {k: PlotCard(k, height=330) for k in _KEYS}
+        self.result: Any = None
+        self._token: object | None = None
+        self.inputs = pn.Column(self.choice, self.message, self.help, sizing_mode="stretch_width")
+        self.panel = pn.Column(
+            pn.pane.HTML("<h4 style='margin:6px 0'>Population of fingers</h4>"), self.status, self.summary,
+            pn.GridBox(*(c.panel for c in self.cards.values()), ncols=2, sizing_mode="stretch_width"),
+            sizing_mode="stretch_width", visible=False, css_classes=["fp-population-section"])
+        self.choice.param.watch(lambda e: self.update(), "value")
+
+    def _say(self, text: str, css: str, colour: str = "#555") -> None:
+        self.status.object = f'<div class="{css}" style="font-size:12px;color:{colour}">{html.escape(text)}</div>'
+
+    def update(self) -> None:
+        """Show the chosen population for the design shown (from memory, else computed in the
+        background); called on a new choice and on every new design shown."""
+        name = self.choice.value
+        self._token = token = object()
+        if name == NONE:
+            self.panel.visible = False
+            self.result = None
+            return
+        self.panel.visible = True
+        if name not in population_choices():  # a forged choice: nothing is read, the choice is reset
+            self.message.object = (f'<div class="fp-error" style="font-size:12px;color:#b00020">population: choose '
+                                   f"one of {html.escape(', '.join(population_choices()))}</div>")
+            self.choice.value = NONE
+            return
+        self.message.object = ""
+        data, pred = self.view.shown_data, self.view.pred
+        if data is None or pred is None:
+            self._clear()
+            self._say("population: shown once the design has a prediction", "fp-population-pending")
+            return
+        key = (data_key(data), name)
+        hit = self.cache.get_key(key)
+        if hit is not None:
+            self._show(hit)
+            return
+        self._say(f"population {name}: computing its fingers...", "fp-population-running")
+        pn.state.execute(partial(self._compute, token, key, data, name))  # a coroutine function: awaited
+
+    async def _compute(self, token: object, key: tuple[str, str], data: dict[str, Any], name: str) -> None:
+        def work() -> tuple[Any, str | None]:
+            if self._token is not token:  # a newer request of this session: skip
+                return None, None
+            hit = self.cache.get_key(key)
+            if hit is not None:
+                return hit, None
+            try:
+                result = run_preset(data, name)
+            except FingerpadError as exc:
+                return None, one_line(str(exc))
+            self.cache.put_key(key, result)
+            return result, None
+
+        result, error = await asyncio.get_running_loop().run_in_executor(_pool(), work)
+
+        def apply() -> None:
+            if self._token is not token:
+                return
+            if error is not None:
+                self._clear()
+                self._say(f"population {name}: {self.view._words(error)}", "fp-population-error", "#b00020")
+            elif result is not None:
+                self._show(result)
+
+        self.view._locked(apply)
+
+    def _clear(self) -> None:
+        self.result = None
+        self.summary.object = ""
+        for card in self.cards.values():
+            card.set(None)
+
+    def _show(self, result: Any) -> None:
+        self.result = result
+        set_cards((card, spec, None) for card, spec in zip(self.cards.values(), builders.population_specs(result),
+                                                           strict=True))
+        q = result.quantiles()["critical_load"]
+        levels = sorted(result.quantile_levels)
+        lo, hi = levels[0], levels[-1]
+        crit = result.critical_load
+        never = int((~(crit < float("inf"))).sum())
+        parts = [f"<b>population {html.escape(result.population.name)}:</b> "
+                 f"{num_span('population_members', len(result.members), '', 6)} fingers, model "
+                 f"{html.escape(result.nominal.primary_model)}",
+                 f"critical load median {num_span('population_critical_load_0.5', q.get('0.5'), 'N')}, "
+                 f"{100 * lo:g}-{100 * hi:g} %: {num_span(f'population_critical_load_{lo:g}', q.get(f'{lo:g}'), 'N')}"
+                 f" to {num_span(f'population_critical_load_{hi:g}', q.get(f'{hi:g}'), 'N')}",
+                 f"{num_span('population_never', never, '', 6)} never reach the transition"]
+        self.summary.object = '<div style="font-size:13px;line-height:1.6">' + " &middot; ".join(parts) + "</div>"
+        notes = "; ".join(result.notes)
+        self._say(f"population {result.population.name}: the study shown, {len(result.members)} fingers"
+                  + (f" ({notes})" if notes else ""), "fp-population-done")
