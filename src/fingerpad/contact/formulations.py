@@ -9,25 +9,54 @@ formulation, nested starts and fallbacks :class:`.solver.HalfSpaceSolver`'s).
   the stiffness ``S = K^-1``; the gradient is the pressure, the q = 0 mode of which is the load.
 
 Split out of :mod:`.solver` (which passed 500 lines with the layered skin): these functions take
-the solver, whose fields (operators, heights, tolerance, kernels) they read and never change.
+the solver (:class:`SolverFields`: operators, heights, tolerance, kernels), read it and never change it.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable
+from typing import Any, Protocol
 
 import numpy as np
 
 from .ccg import CCGResult, constrained_cg
+from .greens import Backend
 from .result import ContactResult, contact_state
 
-if TYPE_CHECKING:
-    from .solver import HalfSpaceSolver
-
-__all__ = ["finish", "gap_guess", "gap_scale", "run_formulation"]
+__all__ = ["SolverFields", "finish", "gap_guess", "gap_scale", "run_formulation"]
 
 
-def run_formulation(s: HalfSpaceSolver, form: str, mode: str, value: float, seed: Any,
+class SolverFields(Protocol):
+    """What these functions read of a :class:`fingerpad.contact.solver.HalfSpaceSolver` (named
+    here so that this module does not import the solver back): the texture and its heights (m),
+    the modulus E* (Pa), the operators, tolerance and kernels."""
+
+    texture: Any
+    modulus: float
+    tol: float
+    max_iter: int
+    backend: Backend
+    h: Any
+    h_max: float
+    h_mean: float
+    pv: float
+    base: Any
+    _xp: Any
+    _kern: Any
+    _K: Any
+
+    @property
+    def _S(self) -> Any: ...
+
+    @property
+    def _Sh(self) -> Any: ...
+
+    def _precond(self, form: str) -> Any: ...
+
+    def _callback(self) -> Callable[[int, float], None] | None: ...
+
+
+def run_formulation(s: SolverFields, form: str, mode: str, value: float, seed: Any,
                     stall: int | None = None) -> CCGResult:
     """One constrained conjugate-gradient run of ``form`` (``"primal"``: pressure unknowns,
     compliance operator; ``"dual"``: gap unknowns, stiffness operator) at a mean pressure
@@ -76,21 +105,21 @@ def run_formulation(s: HalfSpaceSolver, form: str, mode: str, value: float, seed
                           max_iter=s.max_iter, stall=stall, precond=pre, own=True, callback=s._callback())
 
 
-def gap_scale(s: HalfSpaceSolver, pressure: float) -> float:
+def gap_scale(s: SolverFields, pressure: float) -> float:
     """Length that makes the primal residual relative: the texture's peak-to-valley height,
     but at least 1e-3 of the displacement the mean pressure gives the patch, so that a flat
     (or nearly flat) map, a flat punch, converges instead of dividing by zero."""
     return max(s.pv, 1e-3 * pressure * max(s.texture.size) / s.modulus)
 
 
-def gap_guess(s: HalfSpaceSolver) -> Any:
+def gap_guess(s: SolverFields) -> Any:
     """The dual's starting gap (m) on cells too small for a coarse-to-fine start: the skin plane
     at the texture's mid-height, gaps where it does not reach."""
     xp = s._xp
     return xp.maximum(s.h_max - s.h - 0.5 * s.pv, 0.0)
 
 
-def finish(s: HalfSpaceSolver, form: str, mode: str, value: float, raw: CCGResult, seconds: float) -> ContactResult:
+def finish(s: SolverFields, form: str, mode: str, value: float, raw: CCGResult, seconds: float) -> ContactResult:
     """The :class:`ContactResult` of a run: pressure (Pa), gap and displacement (m) recovered from
     the formulation's unknown, the approach (m) from the multiplier of the fixed mean (load
     control) or as given, and the contact fraction and state."""
