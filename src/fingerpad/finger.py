@@ -91,6 +91,25 @@ RIDGE_FRACTION = Param("ridge_fraction", "ratio", "constant-fraction ridge model
 LAYER_FIELDS = ("skin_layer_thickness", "skin_layer_modulus", "skin_substrate_modulus", "skin_substrate_poisson")
 
 
+def describe_skin(values: Mapping[str, Any]) -> str:
+    """One line naming a layered skin from its fields in SI (``values``: a finger's
+    :meth:`Finger.as_dict`, or solve's materials), e.g. ``"skin: layered, t 300 um, E_1 400 kPa
+    on E_2 40 kPa"``; ``""`` for a half-space skin (tables stay as they were)."""
+    if values.get("skin") != "layered":
+        return ""
+    by_name = {p.name: p for p in FINGER_PARAMS}
+
+    def show(name: str) -> str:
+        value = values.get(name)
+        if value is None or isinstance(value, str):
+            return str(value)
+        return by_name[name].format(value)
+
+    base = values.get("skin_base", "elastic")
+    under = f"E_2 {show('skin_substrate_modulus')}" if base == "elastic" else f"a {base} base"
+    return f"skin: layered, t {show('skin_layer_thickness')}, E_1 {show('skin_layer_modulus')} on {under}"
+
+
 def skin_units() -> dict[str, str]:
     """The SI units of a layered skin's fields as outputs record them (``{"skin_layer_thickness":
     "m", "skin_layer_modulus": "Pa", ...}``), read from their declarations; outputs of a
@@ -434,6 +453,7 @@ __all__ = [
     "GrossAreaModel",
     "HertzArea",
     "LAYER_FIELDS",
+    "describe_skin",
     "skin_units",
     "Layer",
     "PowerLawArea",

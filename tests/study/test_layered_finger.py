@@ -268,6 +268,7 @@ def test_outputs_name_the_layer_with_units(tmp_path, monkeypatch):
                  "--skin-layer-modulus", "0.4MPa", "--skin-substrate-modulus", "40kPa",
                  "--json", str(tmp_path / "s.json"), "--save", str(tmp_path / "s.nc"))
     assert res.exit_code == 0, res.output
+    assert "skin: layered, t 30 um, E_1 400 kPa on E_2 40 kPa" in res.stdout  # the table says so too
     mat = json.loads((tmp_path / "s.json").read_text())["inputs"]["materials"]
     assert mat["skin"] == "layered" and mat["skin_layer_thickness"] == pytest.approx(30e-6)
     assert mat["units"]["skin_layer_thickness"] == "m" and mat["units"]["skin_substrate_modulus"] == "Pa"
