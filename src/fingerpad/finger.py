@@ -90,6 +90,33 @@ RIDGE_FRACTION = Param("ridge_fraction", "ratio", "constant-fraction ridge model
 #: The fields that describe a layered skin's layer (``None`` on a half-space skin).
 LAYER_FIELDS = ("skin_layer_thickness", "skin_layer_modulus", "skin_substrate_modulus", "skin_substrate_poisson")
 
+
+def describe_skin(values: Mapping[str, Any]) -> str:
+    """One line naming a layered skin from its fields in SI (``values``: a finger's
+    :meth:`Finger.as_dict`, or solve's materials), e.g. ``"skin: layered, t 300 um, E_1 400 kPa
+    on E_2 40 kPa"``; ``""`` for a half-space skin (tables stay as they were)."""
+    if values.get("skin") != "layered":
+        return ""
+    by_name = {p.name: p for p in FINGER_PARAMS}
+
+    def show(name: str) -> str:
+        value = values.get(name)
+        if value is None or isinstance(value, str):
+            return str(value)
+        return by_name[name].format(value)
+
+    base = values.get("skin_base", "elastic")
+    under = f"E_2 {show('skin_substrate_modulus')}" if base == "elastic" else f"a {base} base"
+    return f"skin: layered, t {show('skin_layer_thickness')}, E_1 {show('skin_layer_modulus')} on {under}"
+
+
+def skin_units() -> dict[str, str]:
+    """The SI units of a layered skin's fields as outputs record them (``{"skin_layer_thickness":
+    "m", "skin_layer_modulus": "Pa", ...}``), read from their declarations; outputs of a
+    half-space skin do not carry them (their files stay as they were)."""
+    by_name = {p.name: p for p in FINGER_PARAMS}
+    return {n: by_name[n].unit for n in ("skin_modulus", "skin_poisson", *LAYER_FIELDS)}
+
 #: Dimension of each declared finger field (derived from :data:`FINGER_PARAMS`).
 FINGER_FIELDS: dict[str, str] = {p.name: p.dimension for p in FINGER_PARAMS}
 
@@ -290,6 +317,8 @@ class Finger:
         given once)."""
         if "skin" not in values and self.skin == "half-space" and any(values.get(n) is not None for n in LAYER_FIELDS):
             values["skin"] = "layered"
+        if values.get("skin") == "half-space" and self.skin == "layered":
+            self._back_to_half_space(values)
         layered = values.get("skin", self.skin) == "layered"
         if layered and values.get("skin_modulus") is not None:
             e1 = values.get("skin_layer_modulus")
@@ -297,6 +326,21 @@ class Finger:
                 raise FingerpadError("a layered skin's E_s is its layer's modulus: give skin_layer_modulus or "
                                      "skin_modulus, not both")
             values["skin_layer_modulus"] = values["skin_modulus"]
+
+    def _back_to_half_space(self, values: dict[str, Any]) -> None:
+        """``skin = half-space`` on a layered finger: its layer's fields are cleared (the skin is
+        then the homogeneous half-space of the layer's modulus, ``skin_modulus`` = E_1, unless
+        given); a layer field given in the same call is still refused by :meth:`_check_skin`.
+        A ridge model that took its modulus from the layer (:meth:`with_layer`) cannot be turned
+        back (its own modulus is gone): refused unless a ridge model is given with it."""
+        for n in LAYER_FIELDS:
+            values.setdefault(n, None)
+        values.setdefault("skin_base", "elastic")
+        if "ridges" not in values and hasattr(self.ridges, "with_layer"):
+            raise FingerpadError(
+                f"skin = half-space: the ridge model ({type(self.ridges).__name__}) of this layered finger "
+                "took its modulus from the layer; give the ridge model again ([finger.ridges]) or start "
+                "from a half-space preset")
 
     def as_dict(self) -> dict[str, Any]:
         """Flat description of the parameters (for file attributes)."""
@@ -409,6 +453,8 @@ __all__ = [
     "GrossAreaModel",
     "HertzArea",
     "LAYER_FIELDS",
+    "describe_skin",
+    "skin_units",
     "Layer",
     "PowerLawArea",
     "PowerLawRidges",

@@ -333,6 +333,28 @@ def test_layered_grid_convergence() -> None:
     assert np.all(diffs[1:] < diffs[:-1] / 2.5), diffs
 
 
+def test_layered_unit_cell_grid_convergence() -> None:
+    """psi(p) of a periodic cap cell on a stiff layer (t = spacing/5, E1 = 10 E2) converges as the
+    homogeneous cell's does (tests/test_slow.py): against a 512^2 reference the error falls at
+    every refinement from 64^2 (measured: 1.2e-3/8.3e-3/3.4e-3 at 64, 3.0e-4/2.0e-3/2.1e-3 at
+    128, 1.3e-4/1.2e-3/4.3e-4 at 256, at 2/20/100 kPa)."""
+    from fingerpad.textures import spherical_caps
+
+    layer = Layer(30e-6, 1e6 * (1 - 0.49**2), 0.49, 1e5 * (1 - 0.49**2), 0.49)
+    pressures = (2e3, 2e4, 1e5)
+    psi = {}
+    for n in (64, 128, 256, 512):
+        tex = spherical_caps(radius=50e-6, height=10e-6, spacing=150e-6, grid=n)
+        solver = HalfSpaceSolver(tex, layer.reduced_modulus, layer=layer)
+        psi[n] = np.array([solver.solve_pressure(p).contact_fraction for p in pressures])
+    err = [np.abs(psi[n] - psi[512]) for n in (64, 128, 256)]
+    assert np.all(err[1] < err[0]) and np.all(err[2] < err[1]), err
+    assert err[2].max() < 0.002
+    # the layer matters at this scale: the homogeneous cell of the layer differs by far more
+    homog = HalfSpaceSolver(spherical_caps(radius=50e-6, height=10e-6, spacing=150e-6, grid=256), layer.reduced_modulus)
+    assert abs(homog.solve_pressure(2e4).contact_fraction - psi[256][1]) > 20 * err[2].max()
+
+
 # --------------------------------------------------------------------------- preconditioner
 
 

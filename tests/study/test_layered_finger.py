@@ -211,3 +211,77 @@ def test_sweep_over_the_layer_thickness(tmp_path, monkeypatch):
             "model": {"kind": "bem", "grid": 16, "cache": False}}))
         assert value == pytest.approx(single.critical_load["bem"], rel=1e-9)
     assert crit[0] < crit[1]
+
+
+# ------------------------------------------------------------------ back to the half-space
+
+
+def test_skin_half_space_on_a_layered_finger_clears_its_layer():
+    """`skin = half-space` on the preset `layered` is the half-space of the layer's modulus: its
+    layer fields are cleared (not refused), so it describes itself as the default finger does."""
+    back = FINGER_PRESETS["layered"].with_overrides(skin="half-space")
+    assert back.skin == "half-space" and back.layer is None
+    assert all(getattr(back, n) is None for n in ("skin_layer_thickness", "skin_substrate_modulus"))
+    assert back.skin_modulus == FINGER_PRESETS["layered"].skin_layer_modulus
+    default = FINGER_PRESETS["default"].as_dict()
+    assert {**back.as_dict(), "name": "default"} == default  # the preset is the default finger plus its layer
+    # the study file's way
+    spec = study({"preset": "layered", "skin": "half-space"})
+    assert spec.finger.layer is None
+    # a layer field in the same breath still contradicts it
+    with pytest.raises(FingerpadError, match="needs skin = layered"):
+        FINGER_PRESETS["layered"].with_overrides(skin="half-space", skin_layer_thickness="20um")
+
+
+def test_skin_half_space_refused_where_the_ridges_took_the_layers_modulus():
+    f = FINGER_PRESETS["ridged"].with_overrides(**LAYER)
+    with pytest.raises(FingerpadError, match="ridge model .* took its modulus from the layer"):
+        f.with_overrides(skin="half-space")
+    # with the ridge model given again, it is the half-space finger with those ridges
+    back = f.with_overrides(skin="half-space", ridges=FINGER_PRESETS["ridged"].ridges)
+    assert back.layer is None and back.ridges == FINGER_PRESETS["ridged"].ridges
+
+
+def test_sweeping_the_skin_choice_with_layer_keys():
+    """A `skin` axis next to layer keys: its half-space points drop the layer (valid, the same at
+    every layer value), its layered points keep it."""
+    from fingerpad.design.spec import sweep_from_dict
+    import tomllib
+
+    data = tomllib.loads(SWEEP.replace("[sweep.axes]", '[sweep.axes]\nskin = ["half-space", "layered"]'))
+    spec = sweep_from_dict(data)
+    for t in ("20um", "300um"):
+        half = study_from_dict(spec.study_data({"skin": "half-space", "skin_layer_thickness": t}))
+        layered = study_from_dict(spec.study_data({"skin": "layered", "skin_layer_thickness": t}))
+        assert half.finger.layer is None and half.finger.skin_modulus == 0.4e6
+        assert layered.finger.layer.thickness == pytest.approx(float(t[:-2]) * 1e-6, rel=1e-12)
+    # without a skin axis nothing is dropped: a half-space base with layer keys is layered
+    plain = sweep_from_dict(tomllib.loads(SWEEP))
+    assert "skin_layer_thickness" in plain.study_data({"skin_layer_thickness": "20um"})["finger"]
+
+
+def test_outputs_name_the_layer_with_units(tmp_path, monkeypatch):
+    import xarray as xr
+
+    monkeypatch.setenv("FINGERPAD_CACHE", str(tmp_path / "cache"))
+    res = invoke("solve", *CAPS, "--pressure", "1kPa:30kPa:2", "--skin-layer-thickness", "30um",
+                 "--skin-layer-modulus", "0.4MPa", "--skin-substrate-modulus", "40kPa",
+                 "--json", str(tmp_path / "s.json"), "--save", str(tmp_path / "s.nc"))
+    assert res.exit_code == 0, res.output
+    assert "skin: layered, t 30 um, E_1 400 kPa on E_2 40 kPa" in res.stdout  # the table says so too
+    mat = json.loads((tmp_path / "s.json").read_text())["inputs"]["materials"]
+    assert mat["skin"] == "layered" and mat["skin_layer_thickness"] == pytest.approx(30e-6)
+    assert mat["units"]["skin_layer_thickness"] == "m" and mat["units"]["skin_substrate_modulus"] == "Pa"
+    with xr.open_dataset(tmp_path / "s.nc") as ds:
+        assert ds.attrs["skin"] == "layered" and ds.attrs["units_skin_layer_thickness"] == "m"
+    res = invoke("predict", *CAPS, "--loads", "0.2N:2N:2", "--finger", "layered", "--model", "bem",
+                 "--out", str(tmp_path / "p"))
+    assert res.exit_code == 0, res.output
+    doc = json.loads((tmp_path / "p" / "predict.json").read_text())
+    assert doc["inputs"]["finger"]["skin_layer_thickness"] == pytest.approx(0.3e-3)
+    assert doc["units"]["skin_layer_thickness"] == "m" and doc["units"]["skin_layer_modulus"] == "Pa"
+    with xr.open_dataset(tmp_path / "p" / "predict.nc") as ds:
+        assert ds.attrs["inputs_finger_skin"] == "layered" and ds.attrs["units_skin_layer_modulus"] == "Pa"
+    # a half-space prediction's units are as they were
+    res = invoke("predict", *CAPS, "--loads", "0.2N:2N:2", "--model", "bem", "--json", "-")
+    assert "skin_layer_thickness" not in json.loads(res.stdout)["units"]

@@ -176,7 +176,10 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
     shown = "bem (the Hertz curves are in the JSON)" if both else payload["model"]
     console = stdout_console(130)
     wide = console.width >= 110
-    table = Table(title=f"{tex['description']}\nmodel: {shown}", box=box.SIMPLE_HEAD)
+    from ..finger import describe_skin
+
+    skin = describe_skin(payload["inputs"]["finger"])
+    table = Table(title=f"{tex['description']}\nmodel: {shown}" + (f"; {skin}" if skin else ""), box=box.SIMPLE_HEAD)
     columns = (["load (N)", "A_g (mm²)", "A_fr (mm²)", "A_re (mm²)", "A_re/A_fr", "zones (centre→edge)",
                 "μ", "μ_ref", "μ/μ_ref"] if wide else ["load (N)", "A_re/A_fr", "centre", "μ", "μ/μ_ref"])
     for col in columns:

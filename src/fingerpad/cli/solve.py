@@ -145,7 +145,7 @@ def resolved(value: float, resolution: float) -> float:
     return 0.0 if abs(value) <= resolution else value
 
 
-def _print_table(results: Sequence[Any], texture: Any, tol: float = 0.0) -> None:
+def _print_table(results: Sequence[Any], texture: Any, tol: float = 0.0, skin: str = "") -> None:
     from rich import box
     from rich.table import Table
 
@@ -154,7 +154,7 @@ def _print_table(results: Sequence[Any], texture: Any, tol: float = 0.0) -> None
     table = Table(
         title=f"{texture.name}: {texture.shape[0]}x{texture.shape[1]} px, "
               f"{format_quantity(texture.size[0], 'length')} x {format_quantity(texture.size[1], 'length')}"
-              f"{'' if texture.periodic else ' (finite patch)'}",
+              f"{'' if texture.periodic else ' (finite patch)'}" + (f"\n{skin}" if skin else ""),
         box=box.SIMPLE_HEAD,
     )
     console = stdout_console(120)
@@ -211,7 +211,9 @@ def run_job(job: Any) -> int:
         sys.stdout.write(json.dumps(outcome.payload, indent=2) + "\n")
         sys.stdout.flush()
     elif job.show_table:
-        _print_table(results, job.texture, job.tol)
+        from ..finger import describe_skin
+
+        _print_table(results, job.texture, job.tol, describe_skin(job.materials.as_dict()))
         if critical is not None:
             print(f"critical (transition) pressure: {format_quantity(critical.estimate, 'pressure')} "
                   f"(bracket {format_quantity(critical.lower, 'pressure')} - {format_quantity(critical.upper, 'pressure')}, "

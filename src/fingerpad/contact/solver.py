@@ -78,7 +78,7 @@ import numpy as np
 from ..errors import FingerpadError, one_line
 from ..materials import check_modulus
 from ..textures import Texture
-from .ccg import CCGResult, constrained_cg
+from .formulations import finish, run_formulation
 from .greens import Backend, compliance_operator, preconditioner, stiffness_operator
 from .layered import Layer
 from .kernels import ArrayKernels, NumpyKernels
@@ -392,16 +392,16 @@ class HalfSpaceSolver:
         # hand the seed over (memory: a nested start's seed is a full-size field of its own)
         holder = [seed]
         del seed
-        raw = self._run(form, mode, value, holder.pop(), stall=STALL_ITERATIONS if auto else None)
+        raw = run_formulation(self, form, mode, value, holder.pop(), stall=STALL_ITERATIONS if auto else None)
         self._kern.release()
         if not raw.converged and auto:
             # The other formulation is the fallback (e.g. near full contact for the primal).
             other = "dual" if form == "primal" else "primal"
-            raw2 = self._run(other, mode, value, initial)
+            raw2 = run_formulation(self, other, mode, value, initial)
             raw2.iterations += raw.iterations
             if raw2.converged or raw2.residual < raw.residual:
                 raw, form = raw2, other
-        result = self._finish(form, mode, value, raw, time.perf_counter() - start)
+        result = finish(self, form, mode, value, raw, time.perf_counter() - start)
         self._work += math.prod(self.texture.shape) * raw.iterations
         self._warm = (weakref.ref(result.pressure), coarse_p) if coarse_p is not None and form == "primal" else None
         if not result.converged:
@@ -438,116 +438,6 @@ class HalfSpaceSolver:
         if form not in self._pre:
             self._pre[form] = preconditioner(self.backend, self.texture, self.modulus, form, self.layer)
         return self._pre[form]
-
-    def _run(self, form: str, mode: str, value: float, seed: Any, stall: int | None = None) -> CCGResult:
-        xp = self._xp
-        be = self.backend
-        pre = self._precond(form)
-        if form == "primal":
-            if mode == "pressure":
-                b = self.h
-                x0 = be.asarray(seed.pressure) if seed is not None else xp.full(self.h.shape, value, dtype=xp.float64)
-                x0 = xp.maximum(x0, 0.0)  # a fresh array: the solve updates it in place
-                del seed  # the caller's seed may be the only other full-size field alive
-                m = float(xp.mean(x0))
-                if m > 0:
-                    x0 *= value / m
-                else:
-                    x0 = xp.full(self.h.shape, value, dtype=xp.float64)
-                return constrained_cg(self._kern, self._K, b, x0, mean=value, scale=self._gap_scale(value), tol=self.tol,
-                                      max_iter=self.max_iter, stall=stall, precond=pre, own=True,
-                                      callback=self._callback())
-            b = self.h - (self.h_max - value)
-            if seed is not None:
-                x0 = xp.maximum(be.asarray(seed.pressure), 0.0)
-            else:
-                x0 = xp.where(b > 0, b, 0.0) * (self.modulus / max(self.texture.size) * 4)
-            return constrained_cg(self._kern, self._K, b, x0, mean=None, scale=max(self.pv, 1e-3 * abs(value)),
-                                  tol=self.tol, max_iter=self.max_iter, stall=stall, precond=pre, own=True, callback=self._callback())
-        # dual: unknown gap, gradient = pressure
-        if mode == "pressure":
-            b = -(self._Sh + value)
-            x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else self._gap_guess()
-            return constrained_cg(self._kern, self._S, b, x0, mean=None, scale=value, tol=self.tol,
-                                  max_iter=self.max_iter, stall=stall, precond=pre, own=True,
-                                  callback=self._callback())
-        target = self.h_max - value - self.h_mean  # mean gap for a zero-mean displacement
-        b = -self._Sh
-        x0 = xp.maximum(be.asarray(seed.gap), 0.0) if seed is not None else xp.maximum(self.h_max - self.h, 0.0)
-        mx = float(xp.mean(x0))
-        x0 = x0 * (target / mx) if mx > 0 else xp.full(self.h.shape, target, dtype=xp.float64)
-        scale = self.modulus * self.pv / max(self.texture.size)
-        return constrained_cg(self._kern, self._S, b, x0, mean=target, scale=scale, tol=self.tol,
-                              max_iter=self.max_iter, stall=stall, precond=pre, own=True, callback=self._callback())
-
-    def _gap_scale(self, pressure: float) -> float:
-        """Length that makes the primal residual relative: the texture's peak-to-valley height,
-        but at least 1e-3 of the displacement the mean pressure gives the patch, so that a flat
-        (or nearly flat) map, a flat punch, converges instead of dividing by zero."""
-        return max(self.pv, 1e-3 * pressure * max(self.texture.size) / self.modulus)
-
-    def _gap_guess(self) -> Any:
-        # Skin plane at the texture's mid-height, gaps where it does not reach: only a starting
-        # point for the dual on cells too small for a coarse-to-fine start.
-        xp = self._xp
-        return xp.maximum(self.h_max - self.h - 0.5 * self.pv, 0.0)
-
-    def _finish(self, form: str, mode: str, value: float, raw: CCGResult, seconds: float) -> ContactResult:
-        xp = self._xp
-        be = self.backend
-        tex = self.texture
-        if form == "primal":
-            p = raw.x
-            u = raw.ax if raw.ax is not None else self._K(p)
-            if mode == "pressure":
-                # g = u - h + c with c fixed by the multiplier (zero gap on the contact set).
-                gap = u - self.h - raw.multiplier
-            else:
-                gap = u - self.h + self.h_max - value
-        else:
-            gap = raw.x
-            if mode == "pressure":
-                p = self._S(gap) + self._Sh + value
-            else:
-                p = self._S(gap) + self._Sh - raw.multiplier
-            # Tension of the order of the residual can remain on contact points; it is part of
-            # the reported residual, and the field itself is kept non-negative.
-            p = xp.where(gap > 0, 0.0, xp.maximum(p, 0.0))
-            u = None
-        p_np = be.to_numpy(p)
-        g_np = be.to_numpy(gap)
-        if tex.periodic:
-            mean_gap = float(g_np.mean())
-            approach = self.h_max - self.h_mean - mean_gap
-            disp = g_np + tex.heights - (self.h_max - approach)
-        else:
-            # gap = u - h - lambda = u + h_max - h - d  =>  d = h_max + lambda
-            approach = value if mode == "approach" else self.h_max + raw.multiplier
-            disp = be.to_numpy(u) if u is not None else g_np + tex.heights - (self.h_max - approach)
-            mean_gap = float(g_np.mean())
-        contact = p_np > 0
-        frac = float(np.count_nonzero(contact)) / contact.size
-        mean_p = float(p_np.mean())
-        return ContactResult(
-            pressure=p_np,
-            gap=g_np,
-            displacement=disp,
-            mean_pressure=mean_p,
-            approach=float(approach),
-            contact_fraction=frac,
-            real_contact_area=frac * tex.area,
-            max_pressure=float(p_np.max()),
-            mean_gap=mean_gap,
-            iterations=raw.iterations,
-            residual=raw.residual,
-            converged=raw.converged,
-            seconds=seconds,
-            formulation=form,
-            contact_state=contact_state(contact, self.base),
-            texture=tex,
-            modulus=self.modulus,
-            tol=self.tol,
-        )
 
 
 @dataclass

@@ -37,6 +37,7 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import FingerpadError
+from ..finger import LAYER_FIELDS
 from .axes import Axis, resolve_axis
 
 __all__ = ["DESIGNS", "DEFAULT_SWEEP_LOADS", "SweepSpec", "read_sweep_file", "sweep_from_dict"]
@@ -115,6 +116,16 @@ class SweepSpec:
                 # another family: its own parameters only (the base's may not apply)
                 section.clear()
             section[axis.key] = axis.study_value(assignment[axis.name])
+        finger = data.get("finger", {})
+        if finger.get("skin") == "half-space" and any(a.section == "finger" and a.key == "skin" for a in self.axes):
+            # a half-space point of a `skin` axis has no layer: the base's and the layer axes'
+            # values do not apply there (its result is the same at every one of them); its skin
+            # is the half-space of the layer's modulus, as `skin = half-space` on a layered finger
+            e1 = finger.get("skin_layer_modulus")
+            for key in (*LAYER_FIELDS, "skin_base"):
+                finger.pop(key, None)
+            if e1 is not None:
+                finger.setdefault("skin_modulus", e1)
         return data
 
     def population_description(self) -> dict[str, Any] | None:

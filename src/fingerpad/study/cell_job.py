@@ -70,9 +70,14 @@ class MaterialsSpec:
     def as_dict(self) -> dict[str, Any]:
         # the layer's keys only with a layer: the homogeneous skin's outputs stay as they were
         layer = {} if self.layer is None else {
+            "skin": "layered",
             "skin_layer_thickness": self.layer.thickness,
             "skin_layer_modulus": self.layer.modulus,
             "skin_substrate_modulus": self.layer.substrate_modulus if not self.layer.rigid_base else "rigid",
+            "skin_substrate_poisson": self.layer.substrate_poisson,
+            "skin_base": "rigid" if self.layer.rigid_base else "elastic",
+            # the layer's units with it (a half-space's materials are listed as they always were)
+            "units": _skin_units(),
         }
         return {
             "reduced_modulus": self.modulus,
@@ -83,6 +88,12 @@ class MaterialsSpec:
             "material_rigid": self.skin_modulus is not None and self.material_modulus is None,
             **layer,
         }
+
+
+def _skin_units() -> dict[str, str]:
+    from ..finger import skin_units
+
+    return skin_units()
 
 
 def parse_materials(

@@ -12,6 +12,7 @@ import numpy as np
 from .._version import __version__
 from ..coupling import CurvePrediction
 from ..errors import FingerpadError
+from ..finger import skin_units
 from .run import Prediction
 
 __all__ = ["OUTPUT_FILES", "OUTPUT_UNITS", "prediction_dataset", "prediction_json", "write_outputs"]
@@ -172,7 +173,8 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
         "directional": None if pred.directional is None else {
             k: v for k, v in pred.directional.items() if not k.startswith(("mu_", "area_ratio_"))},
         "model": pred.primary_model,
-        "units": OUTPUT_UNITS,
+        # a layered skin's fields (inputs.finger) with their units; a half-space's units as before
+        "units": {**OUTPUT_UNITS, **({} if study.finger.layer is None else skin_units())},
         "inputs": inputs,
         "cell": cell,
         "hertz_cell": hertz_cell,
@@ -255,6 +257,7 @@ def prediction_dataset(pred: Prediction):
         "cell": {k: v for k, v in payload["cell"].items()},
         "inputs": {k: v for k, v in payload["inputs"].items() if k != "loads"},
         "notes": payload["notes"],
+        **({} if pred.study.finger.layer is None else {"units": skin_units()}),
     }))
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
