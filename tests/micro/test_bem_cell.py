@@ -106,3 +106,24 @@ def test_modulus_scaling_matches_direct_solves(tmp_path) -> None:
         assert abs(float(scaled.contact_fraction(p)) - solver.solve_pressure(p).contact_fraction) <= max(
             cell.interpolation_error, 2.0 / tex.heights.size)
     assert scaled.transition_pressure == pytest.approx(2.5 * cell.transition_pressure)
+
+
+def test_curve_tolerance_keeps_the_curve_and_the_states() -> None:
+    """The curve's nodes at CURVE_TOL (with the refinement's warm starts) against every solve at
+    tol 1e-8: the state brackets are the same (their bisection keeps tol) and psi agrees within
+    its interpolation error's 1/10 or a pixel, whichever is larger; the curves are separate cache
+    entries."""
+    from fingerpad.micro.bem import CURVE_TOL
+
+    tex = caps64()
+    loose = BEMUnitCell(tex, E, cache=False).prepare(1e2, 1e5)
+    tight = BEMUnitCell(tex, E, cache=False, curve_tol=0).prepare(1e2, 1e5)
+    assert loose.node_tol == CURVE_TOL > tight.node_tol == tight.tol == 1e-8
+    assert loose.key != tight.key
+    assert loose.transition == pytest.approx(tight.transition, rel=1e-12)
+    assert loose.full == pytest.approx(tight.full, rel=1e-12)
+    p = np.geomspace(1e2, 1e5, 40)
+    diff = np.abs(loose.contact_fraction(p) - tight.contact_fraction(p))
+    assert diff.max() <= max(tight.interpolation_error / 10, 1.0 / tex.heights.size)
+    with pytest.raises(Exception, match="curve_tol"):
+        BEMUnitCell(tex, E, cache=False, curve_tol=-1.0)

@@ -16,7 +16,7 @@ import pytest
 import fingerpad as fp
 from fingerpad.contact import Layer
 from fingerpad.micro import BEMUnitCell
-from fingerpad.micro.bem import DEFAULT_RTOL, POINTS_PER_DECADE, unit_cell_key, unit_layer, unit_texture
+from fingerpad.micro.bem import CURVE_TOL, DEFAULT_RTOL, POINTS_PER_DECADE, unit_cell_key, unit_layer, unit_texture
 from fingerpad.micro.cache import CurveCache, content_key
 
 E1, E2, NU = 0.4e6, 40e3, 0.49
@@ -80,13 +80,16 @@ def test_another_thickness_ratio_or_modulus_ratio_is_another_cell(layered):
 
 
 def test_half_space_key_is_the_one_it_always_was():
-    """No layer adds nothing to the key: the cached half-space curves stay valid (no version bump)."""
+    """No layer adds nothing to the key: the cached half-space curves stay valid (no version bump).
+    The curve's node tolerance (CURVE_TOL, looser than tol) joins it: such a curve is another entry."""
     tex = caps()
     unit = unit_texture(tex)
     before = content_key(unit.heights, cell="unit", size=unit.size, base_level=unit.base_level, tol=1e-8,
                          max_iter=5000, ppd=POINTS_PER_DECADE, rtol=DEFAULT_RTOL)
     assert unit_cell_key(tex, tol=1e-8, max_iter=5000, rtol=DEFAULT_RTOL) == before
-    assert BEMUnitCell(tex, 1e6, cache=False).key == before
+    assert BEMUnitCell(tex, 1e6, cache=False, curve_tol=0).key == before
+    assert BEMUnitCell(tex, 1e6, cache=False).key == unit_cell_key(tex, tol=1e-8, max_iter=5000, rtol=DEFAULT_RTOL,
+                                                                   node_tol=CURVE_TOL) != before
     assert BEMUnitCell(tex, 1e6, cache=False, layer=Layer(30e-6, 1e6, NU, E2, NU)).key != before
 
 

@@ -73,7 +73,8 @@ _PREDICT_HELP = {
                    "ellipsoids or ridges from the deflection model (docs/deflection.md); also reports "
                    "mu_perpendicular/mu_parallel.",
     "--accuracy": "Target of the estimated relative error of A_re/A_fr when the grid is automatic (default 0.02).",
-    "--tol": "Relative residual at which a unit-cell solve stops (default 1e-8).",
+    "--tol": ("Relative residual at which a unit-cell solve stops (default 1e-8; the curve's nodes stop "
+              "at the larger of it and 1e-7, the state brackets at it)."),
     "--max-iter": "Iteration cap per unit-cell solve (default 5000).",
     "--device": DEVICE_HELP,
     "--cache": "Folder of cached unit-cell curves (default $FINGERPAD_CACHE or ~/.cache/fingerpad).",

@@ -155,7 +155,8 @@ class Study:
         compliant ellipsoids and ridges (:mod:`fingerpad.micro.deflection`); ``None``: the
         isotropic model.
     tol, max_iter
-        Half-space solver settings.
+        Half-space solver settings (a unit-cell curve's nodes stop at ``max(tol, CURVE_TOL)``,
+        :data:`fingerpad.micro.bem.CURVE_TOL`; its state brackets at ``tol``).
     cache
         Folder of cached unit-cell curves; ``None``: ``$FINGERPAD_CACHE`` or ``~/.cache/fingerpad``;
         ``False``: no cache.
