@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import multiprocessing
 import os
+import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass
@@ -94,8 +95,10 @@ def unpressed(job: SectionJob, ramp0: Any) -> list[Any]:
 def default_workers(tasks: int) -> int:
     """Worker processes for ``tasks`` ramps: the cores this process may use (at most ``tasks``),
     ``FINGERPAD_DEFLECTION_WORKERS`` if set; 1 (serial) inside a daemonic process, which may not
-    start children (e.g. a multiprocessing pool's worker)."""
-    if multiprocessing.current_process().daemon:
+    start children (e.g. a multiprocessing pool's worker), and where other Python threads run (a
+    Dask worker's task, a server): forking a threaded process can deadlock, and those already
+    run their work side by side."""
+    if multiprocessing.current_process().daemon or threading.active_count() > 1:
         return 1
     text = os.environ.get("FINGERPAD_DEFLECTION_WORKERS", "").strip()
     if text:
