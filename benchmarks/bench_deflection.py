@@ -10,18 +10,34 @@ range (0.1-4 N: pad-centre pressures 14.5, 26.8, 49.6 kPa), one normal-load ramp
 then per level the shear ramp to mu = 1.5 with the stability index: seconds per ramp, the
 shear level reached and why the ramp stopped, and the worst case (the issue's figure).
 
+``--command`` (issue 23's row, also run by default after the levels): the README's
+``fingerpad predict ... --direction 0`` with an empty ``FINGERPAD_CACHE``, as a subprocess, wall
+and CPU seconds (the command and its worker processes, from the children's rusage); with
+``--previous PYTHON`` (an environment holding the code before, e.g. main's ``.venv/bin/python``)
+the old and the new command alternate ``--repeat`` times in the same run, and the ratio of their
+CPU seconds is the comparison a loaded machine keeps. The JSON report (``out/bench/deflection.json``)
+holds the ``issue23`` row that ``benchmarks/report.py`` prints.
+
 ``--pressure P``: the detailed single-level view -- mesh size, normal ramp, the shear ramp with and
 without the stability eigenvalue, Newton iterations and time per iteration, then
 ``directional_gain`` cold and from the cache.
 
     python benchmarks/bench_deflection.py [--resolution 6] [--fillet 0.1] [--pressure 3kPa]
+    python benchmarks/bench_deflection.py --command [--previous /path/to/old/.venv/bin/python] [--repeat 2]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import resource
+import shutil
+import subprocess
+import sys
 import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -107,16 +123,97 @@ def single(resolution: int, fillet: float | None, p: float) -> None:
           f"(speed-up {(t1 - t0) / (t2 - t1):.0f}x)")
 
 
+#: issue 23's figure for ``predict --direction 0`` on the README's ellipsoids, empty cache (quiet 2 cores)
+TODAY_SECONDS = 106.0
+#: the README's example (its ``--out`` is added per run)
+README_ARGS = ["predict", "--texture", "ellipsoids", "--semi-axis-x", "45um", "--semi-axis-y", "135um",
+               "--height", "90um", "--spacing-x", "300um", "--spacing-y", "300um", "--material-modulus", "0.3MPa",
+               "--material-poisson", "0.49", "--direction", "0"]
+DEFAULT_OUT = Path(__file__).resolve().parent.parent / "out" / "bench" / "deflection.json"
+
+
+def _load() -> str:
+    return Path("/proc/loadavg").read_text().split()[0] if Path("/proc/loadavg").exists() else "?"
+
+
+def _command_once(python: str) -> dict:
+    """One run of the README command with ``python`` (``-m fingerpad.cli``-like entry), empty cache:
+    wall seconds, CPU seconds of the command and every process it started, the table it printed."""
+    folder = Path(tempfile.mkdtemp(prefix="fingerpad-bench-direction-"))
+    env = {**os.environ, "FINGERPAD_CACHE": str(folder / "cache")}
+    code = "import sys; from fingerpad.cli import main; sys.argv[0] = 'fingerpad'; sys.exit(main())"
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    load = _load()
+    t0 = time.perf_counter()
+    done = subprocess.run([python, "-c", code, *README_ARGS, "--out", str(folder / "out")], env=env,
+                          capture_output=True, text=True, check=False)
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    shutil.rmtree(folder, ignore_errors=True)
+    if done.returncode not in (0, 1):
+        raise SystemExit(f"the command failed with {python}:\n{done.stderr[-2000:]}")
+    ratio = [line for line in done.stdout.splitlines() if line.startswith("directional friction:")]
+    return {"python": python, "wall": wall, "cpu": cpu, "load": load, "summary": ratio[0] if ratio else ""}
+
+
+def command(previous: str | None, repeat: int, out: Path) -> None:
+    """Issue 23's row: the README command, new (this environment) against ``previous`` if given."""
+    runs: dict[str, list[dict]] = {"new": [], "old": []}
+    for _ in range(repeat):
+        for side, python in (("old", previous), ("new", sys.executable)):
+            if python is None:
+                continue
+            r = _command_once(python)
+            runs[side].append(r)
+            print(f"  {side}: wall {r['wall']:6.1f} s, CPU {r['cpu']:6.1f} s (load average {r['load']}); {r['summary']}",
+                  flush=True)
+    new = runs["new"]
+    wall = min(r["wall"] for r in new)
+    cpu = min(r["cpu"] for r in new)
+    loads = "/".join(r["load"] for r in new + runs["old"])
+    same = len({r["summary"] for r in new + runs["old"]}) == 1
+    row = {"row": "`predict --direction 0`, README ellipsoids, empty cache", "script": "bench_deflection.py",
+           "today": f"{TODAY_SECONDS:g} s (quiet)", "goal": "<= 30 s", "load": loads}
+    if runs["old"]:
+        old_cpu = min(r["cpu"] for r in runs["old"])
+        old_wall = min(r["wall"] for r in runs["old"])
+        # The ramps run in worker processes, which a loaded machine (and per-session CPU
+        # groups) does not let run side by side, so the wall time here says little. On the quiet
+        # 2-core machine the old command's 106 s were its CPU time (serial); the new one needs
+        # CPU x (new/old), spread over two cores at best: half of it is a lower bound of the
+        # wall time there (the longest ramp and the uneven split only add to it).
+        best = TODAY_SECONDS * cpu / old_cpu / 2.0
+        row.update({"now": f"wall {wall:.1f} s, CPU {cpu:.1f} s; the code before, same run: wall {old_wall:.1f} s, "
+                           f"CPU {old_cpu:.1f} s; same printed ratio: {same}; quiet 2-core estimate >= {best:.0f} s",
+                    "ratio": old_wall / wall, "ratio_of": f"old wall / new wall, same run (CPU {old_cpu / cpu:.2f}x)",
+                    "met": best <= 30.0})
+    else:
+        row.update({"now": f"wall {wall:.1f} s, CPU {cpu:.1f} s", "ratio": TODAY_SECONDS / wall,
+                    "ratio_of": "today's quiet figure / now", "met": wall <= 30.0})
+    print(f"predict --direction 0, empty cache: {row['now']}; load average {loads}")
+    report = {"date": time.strftime("%Y-%m-%dT%H:%M:%S"), "cores": os.cpu_count(), "runs": runs, "issue23": [row]}
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(report, indent=2) + "\n")
+    print(f"wrote {out}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--resolution", type=int, default=6)
     ap.add_argument("--fillet", type=float, default=None, help="foot fillet radius, units of the half-width r")
     ap.add_argument("--pressure", default=None, help="one pressure level in detail instead of the default levels")
+    ap.add_argument("--command", action="store_true", help="only issue 23's row: the README's predict --direction 0")
+    ap.add_argument("--previous", default=None, help="python of an environment with the code before (same-run ratio)")
+    ap.add_argument("--repeat", type=int, default=1, help="runs of each side of --command, alternating")
+    ap.add_argument("--out", type=Path, default=DEFAULT_OUT, help="JSON report (default: out/bench/deflection.json)")
     args = ap.parse_args()
-    if args.pressure is None:
-        levels(args.resolution, args.fillet)
-    else:
+    if args.pressure is not None:
         single(args.resolution, args.fillet, parse_positive(args.pressure, "pressure", name="--pressure"))
+        return
+    if not args.command:
+        levels(args.resolution, args.fillet)
+    command(args.previous, max(1, args.repeat), args.out)
 
 
 if __name__ == "__main__":

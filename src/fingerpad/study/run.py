@@ -264,7 +264,7 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
     """
     from ..coupling import predict_curve
     from ..materials import Materials
-    from ..micro.deflection import DirectionalCell, directional_gain, texture_geometry
+    from ..micro.deflection import DirectionalCell, directional_gains, texture_geometry
     from ..micro.deflection.hysteresis import geometry_hysteresis_factor
 
     finger = study.finger
@@ -279,9 +279,16 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
     cache = study.curve_cache()
     cache_arg: Any = True if cache is None else (False if cache is False else str(cache.folder))
 
-    def curve_at(direction: float) -> tuple[Any, Any, float]:
-        gain = directional_gain(geometry, materials, direction, p_range, tau0=finger.tau0, alpha=finger.alpha,
-                                cache=cache_arg)
+    names = ("direction", "parallel", "perpendicular")
+    directions = [float(study.direction), float(parallel), float(perpendicular)]
+    # the sections of the three directions (two distinct ones at most) and their pressure levels
+    # solved together, in worker processes (issue 23); the numbers do not depend on the count
+    gains = dict(zip(names, directional_gains(geometry, materials, directions, p_range, tau0=finger.tau0,
+                                              alpha=finger.alpha, cache=cache_arg)))
+
+    def curve_at(name: str) -> tuple[Any, Any, float]:
+        gain = gains[name]
+        direction = float(gain.direction_deg)
         # The elliptical Greenwood-Tabor factor belongs to the compliant-asperity model: a rigid
         # texture keeps the isotropic friction exactly.
         factor = 1.0 if gain.is_identity else geometry_hysteresis_factor(geometry, direction)
@@ -291,9 +298,7 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
         curve = dataclasses.replace(curve, mu_ref=reference.mu_ref, mu_normalised=curve.mu / reference.mu_ref)
         return curve, gain, factor
 
-    curves = {}
-    for name, direction in (("direction", study.direction), ("parallel", parallel), ("perpendicular", perpendicular)):
-        curves[name] = curve_at(float(direction))  # sections repeat: the cache solves each once
+    curves = {name: curve_at(name) for name in names}
     flagged = sorted({float(ramp.pressure) for _, gain, _ in curves.values()
                       for ramp in (getattr(gain, "ramps", []) or [])
                       if getattr(ramp, "buckled", False) or getattr(ramp, "stopped", False)})

@@ -168,3 +168,24 @@ def test_a_buckled_ramp_that_never_carried_shear_has_no_computed_gain():
     assert float(curve(2e4, 0.3)) == 1.0 and bool(curve.saturated(2e4, 0.3))
     mirrored = dataclasses.replace(ramp, mu=-mu, tip_dx=-ramp.tip_dx)  # the same ramp toward -x
     assert mirrored.mu_reached == 0.0
+
+
+def test_the_ramps_in_worker_processes_give_the_serial_numbers_bit_for_bit(tmp_path):
+    # two sections (across and along) at two levels: six tasks (two normal ramps, four shear
+    # ramps) in two processes against all of them in this one; and a section shared by two
+    # directions (0 and 180 deg) solved once, without a cache, to the same numbers as alone
+    settings = dataclasses.replace(TINY, n_pressures=2)
+    serial = run_deflection("ellipsoids", ELLIPSOIDS, SOFT, (0.0, 90.0), (3e3, 6e3), tau0=8.1e3, alpha=0.1,
+                            settings=settings, cache=False, workers=1)
+    pooled = run_deflection("ellipsoids", ELLIPSOIDS, SOFT, (0.0, 90.0, 180.0), (3e3, 6e3), tau0=8.1e3, alpha=0.1,
+                            settings=settings, cache=str(tmp_path), workers=2)
+    assert len(pooled.curves[0].ramps) == 2 and pooled.curves[0].ramps[0].mu.size > 3
+    for a, b in zip(serial.curves + serial.curves[:1], pooled.curves, strict=True):
+        for ra, rb in zip(a.ramps, b.ramps, strict=True):
+            for name in ("mu", "gain", "contact_length", "tip_dx", "bend_dx", "min_eigenvalue", "fold_nodes"):
+                assert np.array_equal(getattr(ra, name), getattr(rb, name), equal_nan=True), name
+            assert ra.stopped == rb.stopped and all(np.array_equal(x, y) for x, y in zip(ra.surfaces, rb.surfaces))
+    assert serial.gain_table() == [row for row in pooled.gain_table() if row["direction_deg"] != 180.0]
+    # the directions 0 and 180 share their section: one solve, one cache entry per section
+    assert pooled.curves[0].cache_key == pooled.curves[2].cache_key
+    assert len([p for p in _entries(tmp_path) if p.suffix == ".json"]) == 2

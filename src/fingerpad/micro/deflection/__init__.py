@@ -12,7 +12,8 @@ Greenwood-Tabor term (:mod:`.hysteresis`) gives the direction dependence of Eq. 
 
 Public API
 ----------
-directional_gain, GainCurve, DirectionalCell, solve_local_shear, texture_geometry, as_dataset,
+directional_gain, directional_gains (several directions, the ramps in worker processes:
+:mod:`.ramps`), GainCurve, DirectionalCell, solve_local_shear, texture_geometry, as_dataset,
 EllipsoidGeometry, RidgeGeometry, Section, section_for, solve_section, DeflectionSettings,
 SectionMaterials, PressureRamp, hertz_ellipse, elliptical_hysteresis_force,
 hysteresis_direction_factor, run_deflection, DeflectionResult (the job :mod:`.job` that
@@ -23,7 +24,8 @@ hysteresis_direction_factor, run_deflection, DeflectionResult (the job :mod:`.jo
 from __future__ import annotations
 
 from .fixedpoint import DirectionalCell, LocalShear, solve_local_shear
-from .gain import DeflectionSettings, GainCurve, PressureRamp, SectionMaterials, as_dataset, directional_gain, solve_section
+from .gain import (DeflectionSettings, GainCurve, PressureRamp, SectionMaterials, as_dataset, directional_gain,
+                   directional_gains, solve_section)
 from .section import EllipsoidGeometry, RidgeGeometry, Section, section_for, texture_geometry
 from .hysteresis import elliptical_hysteresis_force, hertz_ellipse, hysteresis_direction_factor
 from .job import DeflectionResult, run_deflection
@@ -42,6 +44,7 @@ __all__ = [
     "as_dataset",
     "run_deflection",
     "directional_gain",
+    "directional_gains",
     "elliptical_hysteresis_force",
     "hertz_ellipse",
     "hysteresis_direction_factor",

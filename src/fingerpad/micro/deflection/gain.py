@@ -14,25 +14,24 @@ is :mod:`.fixedpoint`.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
 
 from ...errors import FingerpadError
-from .mesh import SectionGeometry, build_mesh
 from .settings import DeflectionSettings, SectionMaterials
-from .path import follow_load, follow_shear
+from .ramps import SectionJob, solve_sections
 from .section import EllipsoidGeometry, Geometry, RidgeGeometry, Section, section_for, texture_geometry
-from .solve import FrictionLaw, SectionSolver
+from .solve import SectionSolver
 
 #: Bump when a change of the section model alters cached numbers.
 MODEL_VERSION = 6  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact;
 # 6: no wall-clock limit in the key or the results (entries of 5 could hold ramps a slow machine cut short)
 
 __all__ = ["DeflectionSettings", "EllipsoidGeometry", "GainCurve", "MODEL_VERSION", "PressureRamp", "RidgeGeometry",
-           "Section", "SectionMaterials", "as_dataset", "directional_gain", "section_for", "solve_section",
+           "Section", "SectionMaterials", "as_dataset", "directional_gain", "directional_gains", "section_for", "solve_section",
            "texture_geometry"]
 
 
@@ -156,39 +155,17 @@ def solve_section(
     progress: Callable[[str], None] | None = None,
     linear: bool = False,
 ) -> list[PressureRamp]:
-    """Shear ramps of one section at the nominal pressures ``pressures`` (Pa).
+    """Shear ramps of one section at the nominal pressures ``pressures`` (Pa), in this process.
 
     One normal-load ramp presses the skin on through all pressures at zero shear; from each,
-    a tip-controlled shear ramp runs to ``settings.mu_max`` (or stops and says why).
+    a tip-controlled shear ramp runs to ``settings.mu_max`` (or stops and says why). Several
+    sections and levels at once, in worker processes: :func:`.ramps.solve_sections`.
     """
     if materials.texture_modulus is None:
         raise FingerpadError("a rigid texture does not deflect: its gain is exactly 1 (no section to solve)")
-    em = float(materials.texture_modulus)
-    r = section.half_width
-    geom = SectionGeometry(section.profile, section.height / r, section.period / r,
-                           settings.base_thickness * section.period / r)
-    mesh = build_mesh(geom, resolution=int(settings.resolution))
-    law = FrictionLaw(settings.friction, tau0 / em, alpha)
-    solver = SectionSolver(mesh, materials.texture_poisson, materials.skin_plane_modulus / em, law,
-                           linear=linear, fold_penalty=settings.fold_penalty)
-    p = np.sort(np.asarray(pressures, dtype=float))
-    loads = p * section.load_per_pressure / (em * r)  # dimensionless P
-    if progress:
-        progress(f"pressing the skin on ({loads.size} pressure levels)")
-    ramp0 = follow_load(solver, loads)
-    out: list[PressureRamp] = []
-    for k, start in enumerate(ramp0.states):
-        if progress:
-            progress(f"shear ramp {k + 1}/{len(ramp0.states)} at p = {p[k]:.4g} Pa")
-        ramp = follow_shear(solver, start, settings.mu_max, check_stability=settings.check_stability,
-                            max_steps=int(settings.max_steps), time_limit=settings.time_limit)
-        out.append(_to_ramp(solver, ramp, p[k], start.load * em * r, r, em))
-        out[-1].incomplete = bool(ramp.timed_out)
-    if ramp0.stopped:
-        for pk in p[len(ramp0.states):]:
-            out.append(PressureRamp(float(pk), float(pk * section.load_per_pressure), *([np.zeros(0)] * 9),
-                                    math.nan, math.nan, False, f"not pressed on: {ramp0.stopped}"))
-    return out
+    p = tuple(float(v) for v in np.sort(np.asarray(pressures, dtype=float)))
+    job = SectionJob(section, materials, p, float(tau0), float(alpha), settings, linear)
+    return solve_sections([job], workers=1, progress=progress)[0]
 
 
 def _to_ramp(solver: SectionSolver, ramp: Any, pressure: float, load: float, r: float, em: float) -> PressureRamp:
@@ -340,6 +317,7 @@ def directional_gain(
     settings: DeflectionSettings = DeflectionSettings(),
     cache: bool | str = True,
     progress: Callable[[str], None] | None = None,
+    workers: int | None = None,
 ) -> GainCurve:
     """Deflection gain of the real contact area for sliding at ``direction_deg``.
 
@@ -365,45 +343,88 @@ def directional_gain(
         by the section (not the direction), so directions sharing a section share the solve.
     progress
         Called with a short message before each stage.
+    workers
+        Processes for the shear ramps of the levels (:func:`.ramps.solve_sections`; None: the
+        cores available). The numbers do not depend on it.
 
     Returns
     -------
     GainCurve
     """
+    return directional_gains(geometry, materials, [direction_deg], pressure_range, tau0, alpha, settings, cache,
+                             progress, workers)[0]
+
+
+def directional_gains(
+    geometry: Geometry,
+    materials: Any,
+    directions: Sequence[float],
+    pressure_range: tuple[float, float],
+    tau0: float = 0.0,
+    alpha: float = 1.0,
+    settings: DeflectionSettings = DeflectionSettings(),
+    cache: bool | str = True,
+    progress: Callable[[str], None] | None = None,
+    workers: int | None = None,
+) -> list[GainCurve]:
+    """:func:`directional_gain` at several directions, the ramps of every section and level that
+    is not cached solved together in ``workers`` processes (issue 23: the two principal sections'
+    six shear ramps of ``predict --direction`` at once). A section shared by several directions
+    is solved once, also without a cache. The curves are the same as one
+    :func:`directional_gain` call per direction, bit for bit, whatever ``workers`` is.
+
+    Returns
+    -------
+    list of GainCurve
+        One per direction, in the order given.
+    """
     mats = materials if isinstance(materials, SectionMaterials) else SectionMaterials.from_materials(materials)
-    section = section_for(geometry, direction_deg)
-    if mats.texture_modulus is None or section.shear_factor == 0.0:
-        why = ("rigid texture (no material modulus): it does not deflect" if mats.texture_modulus is None else
-               "no shear across the section (sliding along the ridges): it does not deflect")
-        curve = GainCurve.identity(direction_deg, why)
-        curve.section = section
-        return curve
-    lo, hi = (float(v) for v in pressure_range)
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo <= hi):
-        raise FingerpadError(f"pressure range must be 0 < low <= high, got {pressure_range!r}")
-    n = int(settings.n_pressures) if hi > lo else 1
-    pressures = np.geomspace(lo, hi, n)
     if settings.friction == "coulomb":
         tau0, alpha = 0.0, 1.0
-    key = None
-    store = None
-    if cache:
-        CurveCache, content_key = _cache()
-        store = CurveCache(None if cache is True else cache)
+    CurveCache, content_key = _cache()
+    store = CurveCache(None if cache is True else cache) if cache else None
+    curves: list[GainCurve | None] = []
+    todo: dict[str, tuple[SectionJob, list[int]]] = {}  # content key -> (job, the directions it serves)
+    for i, direction in enumerate(directions):
+        section = section_for(geometry, direction)
+        if mats.texture_modulus is None or section.shear_factor == 0.0:
+            why = ("rigid texture (no material modulus): it does not deflect" if mats.texture_modulus is None else
+                   "no shear across the section (sliding along the ridges): it does not deflect")
+            curve = GainCurve.identity(float(direction), why)
+            curve.section = section
+            curves.append(curve)
+            continue
+        lo, hi = (float(v) for v in pressure_range)
+        if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo <= hi):
+            raise FingerpadError(f"pressure range must be 0 < low <= high, got {pressure_range!r}")
+        n = int(settings.n_pressures) if hi > lo else 1
+        pressures = np.geomspace(lo, hi, n)
         numbers = np.array([section.half_width, section.height, section.period, section.load_per_pressure,
                             *pressures], dtype=float)
         key = content_key(numbers, kind="deflection", model=MODEL_VERSION, profile=section.profile,
                           materials=asdict(mats), tau0=float(tau0), alpha=float(alpha), settings=settings.key())
-        hit = store.load(key).get("ramps")
+        hit = store.load(key).get("ramps") if store is not None else None
         if hit:
             ramps = [PressureRamp.from_dict(d) for d in hit]
-            return GainCurve(pressures, ramps, section.shear_factor, float(direction_deg), section, key)
-    ramps = solve_section(section, mats, pressures, tau0, alpha, settings, progress)
-    # A ramp cut by the wall-clock safety stop ended where the machine's speed let it: no result,
-    # never stored (a later run, on any machine, solves it again).
-    if store is not None and key is not None and not any(r.incomplete for r in ramps):
-        store.update(key, {"ramps": [r.as_dict(surfaces=True) for r in ramps]})
-    return GainCurve(pressures, ramps, section.shear_factor, float(direction_deg), section, key)
+            curves.append(GainCurve(pressures, ramps, section.shear_factor, float(direction), section, key))
+            continue
+        curves.append(None)
+        if key not in todo:
+            todo[key] = (SectionJob(section, mats, tuple(float(p) for p in pressures), float(tau0), float(alpha),
+                                    settings), [])
+        todo[key][1].append(i)
+    if todo:
+        solved = solve_sections([job for job, _ in todo.values()], workers=workers, progress=progress)
+        for (key, (job, users)), ramps in zip(todo.items(), solved):
+            # A ramp cut by the wall-clock safety stop ended where the machine's speed let it: no
+            # result, never stored (a later run, on any machine, solves it again).
+            if store is not None and not any(r.incomplete for r in ramps):
+                store.update(key, {"ramps": [r.as_dict(surfaces=True) for r in ramps]})
+            for i in users:
+                sec = job.section
+                curves[i] = GainCurve(np.asarray(job.pressures), ramps, sec.shear_factor, float(directions[i]), sec,
+                                      key if store is not None else None)
+    return [c for c in curves if c is not None]
 
 
 def as_dataset(curves: list[GainCurve]) -> Any:

@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import FingerpadError
-from .gain import MODEL_VERSION, DeflectionSettings, GainCurve, SectionMaterials, as_dataset, directional_gain
+from .gain import MODEL_VERSION, DeflectionSettings, GainCurve, SectionMaterials, as_dataset, directional_gains
 from .section import Geometry, deflection_hook
 
 #: Shear levels of the printed and stored gain table.
@@ -164,6 +164,7 @@ def run_deflection(
     cache: bool | str = True,
     progress: Callable[[str], None] | None = None,
     label: Callable[[Any], str] | None = None,
+    workers: int | None = None,
 ) -> DeflectionResult:
     """Gain curves of the texture ``texture`` (a registered family with a ``deflection`` hook).
 
@@ -182,9 +183,12 @@ def run_deflection(
     tau0, alpha
         Eq. 2.3 shape of the friction traction (Pa, -); ignored with Coulomb friction.
     settings, cache, progress
-        As :func:`.gain.directional_gain`; ``progress`` also gets ``"direction D deg"``.
+        As :func:`.gain.directional_gain`; ``progress`` also gets ``"directions D1, D2 deg"``.
     label
         How to name a parameter in messages (default: its command-line option).
+    workers
+        Processes for the shear ramps (None: the cores available, or
+        ``FINGERPAD_DEFLECTION_WORKERS``; 1: this process). The numbers do not depend on it.
 
     Raises
     ------
@@ -211,12 +215,12 @@ def run_deflection(
     geometry = hook(built.params)
     for d in dirs:  # every section is checked before the first is solved
         geometry.section(d)
-    curves = []
-    for d in dirs:
-        if progress:
-            progress(f"direction {d:g} deg")
-        curves.append(directional_gain(geometry, mats, d, (lo, hi), tau0=tau0, alpha=alpha, settings=settings,
-                                       cache=cache, progress=progress))
+    if progress:
+        progress("directions " + ", ".join(f"{d:g}" for d in dirs) + " deg")
+    # every direction's section and level at once, in worker processes (the numbers do not depend
+    # on their count: :mod:`.ramps`)
+    curves = directional_gains(geometry, mats, dirs, (lo, hi), tau0=tau0, alpha=alpha, settings=settings,
+                               cache=cache, progress=progress, workers=workers)
     return DeflectionResult(family.name, dict(built.params), geometry, mats, tau0, alpha, settings, curves)
 
 

@@ -1,0 +1,186 @@
+"""The section solves of the gain tables: one normal-load ramp per section, then one shear ramp
+per pressure level -- serially, or the ramps of several sections and levels at once in a process
+pool (issue 23: ``predict --direction`` spent its time in six independent shear ramps).
+
+Why the pool cannot change a number: every task builds its own solver from the same inputs (the
+solver keeps no state between solves other than its fixed sparsity pattern), a shear ramp starts
+from the very state the shared normal-load ramp converged to (sent to the worker bit for bit),
+and each ramp is one process's sequential computation. The worker count, the order in which
+tasks finish and the machine's load therefore decide only when a ramp is done, never what it
+gives; the tables are bit-identical to the serial path (``workers=1``), which is tested.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing
+import os
+import threading
+from collections.abc import Callable, Sequence
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ...errors import FingerpadError
+from .mesh import SectionGeometry, build_mesh
+from .path import follow_load, follow_shear
+from .section import Section
+from .settings import DeflectionSettings, SectionMaterials
+from .solve import FrictionLaw, SectionSolver
+
+
+@dataclass(frozen=True)
+class SectionJob:
+    """One section to solve at the nominal pressures ``pressures`` (Pa), friction law shape
+    ``tau0`` (Pa), ``alpha`` (-)."""
+
+    section: Section
+    materials: SectionMaterials
+    pressures: tuple[float, ...]
+    tau0: float
+    alpha: float
+    settings: DeflectionSettings
+    linear: bool = False
+
+    def solver(self) -> tuple[SectionSolver, float, float]:
+        """(solver, r, E_m): the dimensionless solver (lengths in r, stresses in E_m)."""
+        if self.materials.texture_modulus is None:
+            raise FingerpadError("a rigid texture does not deflect: its gain is exactly 1 (no section to solve)")
+        em = float(self.materials.texture_modulus)
+        sec, s = self.section, self.settings
+        r = sec.half_width
+        geom = SectionGeometry(sec.profile, sec.height / r, sec.period / r, s.base_thickness * sec.period / r)
+        mesh = build_mesh(geom, resolution=int(s.resolution))
+        law = FrictionLaw(s.friction, self.tau0 / em, self.alpha)
+        solver = SectionSolver(mesh, self.materials.texture_poisson, self.materials.skin_plane_modulus / em, law,
+                               linear=self.linear, fold_penalty=s.fold_penalty)
+        return solver, r, em
+
+    def loads(self, r: float, em: float) -> np.ndarray:
+        """The dimensionless section loads P / (E_m r) of the (sorted) pressure levels."""
+        return np.asarray(self.pressures, dtype=float) * self.section.load_per_pressure / (em * r)
+
+
+def press(job: SectionJob) -> Any:
+    """The normal-load ramp of ``job`` at zero shear through all its levels (:func:`.path.follow_load`)."""
+    solver, r, em = job.solver()
+    return follow_load(solver, job.loads(r, em))
+
+
+def shear(job: SectionJob, k: int, start: Any) -> Any:
+    """The shear ramp of ``job``'s level ``k`` from its pressed state ``start``, as a
+    :class:`.gain.PressureRamp` (SI units)."""
+    from .gain import _to_ramp
+
+    solver, r, em = job.solver()
+    s = job.settings
+    ramp = follow_shear(solver, start, s.mu_max, check_stability=s.check_stability, max_steps=int(s.max_steps),
+                        time_limit=s.time_limit)
+    out = _to_ramp(solver, ramp, job.pressures[k], start.load * em * r, r, em)
+    out.incomplete = bool(ramp.timed_out)
+    return out
+
+
+def unpressed(job: SectionJob, ramp0: Any) -> list[Any]:
+    """Empty ramps for the levels the normal-load ramp did not reach (they say why)."""
+    from .gain import PressureRamp
+
+    return [PressureRamp(float(pk), float(pk * job.section.load_per_pressure), *([np.zeros(0)] * 9),
+                         math.nan, math.nan, False, f"not pressed on: {ramp0.stopped}")
+            for pk in job.pressures[len(ramp0.states):]]
+
+
+def default_workers(tasks: int) -> int:
+    """Worker processes for ``tasks`` ramps: the cores this process may use (at most ``tasks``),
+    ``FINGERPAD_DEFLECTION_WORKERS`` if set; 1 (serial) inside a daemonic process, which may not
+    start children (e.g. a multiprocessing pool's worker), and where other Python threads run (a
+    Dask worker's task, a server): forking a threaded process can deadlock, and those already
+    run their work side by side."""
+    if multiprocessing.current_process().daemon or threading.active_count() > 1:
+        return 1
+    text = os.environ.get("FINGERPAD_DEFLECTION_WORKERS", "").strip()
+    if text:
+        try:
+            n = int(text)
+        except ValueError:
+            raise FingerpadError(f"FINGERPAD_DEFLECTION_WORKERS must be a whole number >= 1, got {text!r}") from None
+        if n < 1:
+            raise FingerpadError(f"FINGERPAD_DEFLECTION_WORKERS must be a whole number >= 1, got {text!r}")
+    else:
+        n = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return max(1, min(n, tasks))
+
+
+def solve_sections(jobs: Sequence[SectionJob], workers: int | None = None,
+                   progress: Callable[[str], None] | None = None) -> list[list[Any]]:
+    """The ramps (:class:`.gain.PressureRamp`, one per level in the job's order) of every job.
+
+    Parameters
+    ----------
+    jobs
+        The sections to solve; each job's ``pressures`` must be increasing.
+    workers
+        Processes: 1 solves in this process, in order; None: :func:`default_workers`. The
+        numbers are the same whatever the count (see the module's docstring).
+    progress
+        Called with a short message when a stage starts (serial) or ends (pool).
+    """
+    jobs = list(jobs)
+    for job in jobs:
+        if list(job.pressures) != sorted(job.pressures):
+            raise FingerpadError("section job: pressure levels must be increasing")
+    n = default_workers(sum(len(j.pressures) for j in jobs)) if workers is None else max(1, int(workers))
+    if n == 1 or not jobs:
+        return [_serial(job, progress) for job in jobs]
+    return _pooled(jobs, n, progress)
+
+
+def _serial(job: SectionJob, progress: Callable[[str], None] | None) -> list[Any]:
+    if progress:
+        progress(f"pressing the skin on ({len(job.pressures)} pressure levels)")
+    ramp0 = press(job)
+    out = []
+    for k, start in enumerate(ramp0.states):
+        if progress:
+            progress(f"shear ramp {k + 1}/{len(ramp0.states)} at p = {job.pressures[k]:.4g} Pa")
+        out.append(shear(job, k, start))
+    return out + (unpressed(job, ramp0) if ramp0.stopped else [])
+
+
+def _pooled(jobs: list[SectionJob], workers: int, progress: Callable[[str], None] | None) -> list[list[Any]]:
+    # fork where there is one: the workers inherit the imported package (no start-up import)
+    methods = multiprocessing.get_all_start_methods()
+    context = multiprocessing.get_context("fork" if "fork" in methods else None)
+    results: list[list[Any]] = [[] for _ in jobs]
+    tails: list[list[Any]] = [[] for _ in jobs]
+    if progress:
+        progress(f"pressing the skin on ({len(jobs)} section(s)), then {workers} worker processes shear")
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        # the normal-load ramps first (1-2 s each), then the shear ramps longest first, as far as
+        # the inputs tell: the more slender section, then the higher pressure (README ellipsoids:
+        # across 17, 30, 52 s; along 6-8 s of CPU). Submitted as they came, the longest ramp
+        # started last on 2 workers (78 of 122 s instead of 63). The order decides only when a
+        # ramp is done.
+        pressed = [fut.result() for fut in [pool.submit(press, job) for job in jobs]]
+        tasks = []
+        for i, ramp0 in enumerate(pressed):
+            results[i] = [None] * len(ramp0.states)
+            tails[i] = unpressed(jobs[i], ramp0) if ramp0.stopped else []
+            sec = jobs[i].section
+            tasks += [(-sec.height / sec.half_width, -jobs[i].pressures[k], i, k, start)
+                      for k, start in enumerate(ramp0.states)]
+        tasks.sort(key=lambda t: t[:4])
+        pending = {pool.submit(shear, jobs[i], k, start): (i, k) for _, _, i, k, start in tasks}
+        while pending:
+            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            for fut in done:
+                i, k = pending.pop(fut)
+                results[i][k] = fut.result()
+                if progress:
+                    progress(f"shear ramp at p = {jobs[i].pressures[k]:.4g} Pa done")
+    return [r + t for r, t in zip(results, tails)]
+
+
+__all__ = ["SectionJob", "default_workers", "press", "shear", "solve_sections"]
