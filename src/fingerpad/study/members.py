@@ -24,25 +24,29 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ..checks import ArrayLike, as_loads
-from ..coupling import CurvePrediction, critical_load, predict_curve
+from ..coupling import CurvePrediction, critical_load, disc_ratio, predict_curve
 from ..errors import FingerpadError
 from ..finger import Finger
 from ..friction import mu_checked
-from ..macro.pressure import disc_nodes
 from ..micro.bem import BEMUnitCell
 from ..micro.response import check_cell
 from .run import P_HIGH, P_LOW, Prediction, centre_state, load_at_centre_pressure
 
-__all__ = ["member_full_contact_loads", "predict_fingers", "predict_members"]
+__all__ = ["STATES", "MemberValues", "evaluate_members", "member_full_contact_loads", "member_quantiles",
+           "predict_fingers", "predict_members"]
 
-#: Members per NumPy block: about 50 k pressures per member at 40 loads; larger blocks fall out of
-#: the CPU caches and run slower (CPU time measured: 1-4 members per block alike, 16 and 48 slower).
-BLOCK = 4
+#: Contact states at the pad centre, in the order of their codes (0, 1, 2).
+STATES: tuple[str, ...] = ("asperity", "transition", "full")
+
+#: Members per NumPy block (10 psi evaluations per member and load: 100 k pressures per block
+#: at 40 loads, bounded memory).
+BLOCK = 256
 
 
 def _area_of(finger: Finger) -> Callable[[float], Any]:
@@ -50,19 +54,6 @@ def _area_of(finger: Finger) -> Callable[[float], Any]:
     :meth:`Finger.ridge_area` without its per-call checks and model construction (the root finder
     stays inside positive loads; :func:`fingerpad.micro.response.area_function` checks each area)."""
     return finger.ridge_area_law()
-
-
-def _psi_rows(base: Any, p: np.ndarray, factors: np.ndarray) -> np.ndarray:
-    """psi of one BEM cell at pressures ``p`` (Pa), each read at its own modulus: ``p / factor``
-    on the base cell, as :class:`~fingerpad.micro.bem.ScaledResponse` reads it, so each value
-    equals that member's own psi to the bit; with the checks of
-    :func:`fingerpad.micro.response.checked_psi`."""
-    out = np.asarray(base.contact_fraction(p / factors), dtype=float)
-    if out.shape != p.shape or not np.all(np.isfinite(out)):
-        raise FingerpadError(f"{type(base).__name__}.contact_fraction returned a bad array")
-    if np.any(out < -1e-9) or np.any(out > 1.0 + 1e-9):
-        raise FingerpadError(f"{type(base).__name__}.contact_fraction returned values outside [0, 1]")
-    return np.clip(out, 0.0, 1.0)
 
 
 def _zone_radius(a: np.ndarray, peak: np.ndarray, p_zone: np.ndarray) -> np.ndarray:
@@ -75,8 +66,8 @@ def _zone_radius(a: np.ndarray, peak: np.ndarray, p_zone: np.ndarray) -> np.ndar
 
 
 def _block(f: np.ndarray, fingers: Sequence[Finger], cells: Sequence[Any], base: Any, factors: np.ndarray,
-           reference: bool, n_rings: int) -> list[CurvePrediction]:
-    """The curves of one block of members whose cells have the same number of kinks."""
+           reference: bool) -> list[CurvePrediction]:
+    """The curves of one block of members, each on ``base`` read at its ``factors[i]``."""
     n, m = len(fingers), f.size
     areas = [finger.areas_checked(f) for finger in fingers]
     gross = np.array([g for g, _ in areas])
@@ -86,20 +77,14 @@ def _block(f: np.ndarray, fingers: Sequence[Finger], cells: Sequence[Any], base:
     states = [check_cell(c) for c in cells]
     pt = np.repeat([s[0] for s in states], m)
     pf = np.repeat([s[1] for s in states], m)
-    kinks = np.repeat(np.array([sorted({b for b in s[2] if math.isfinite(b) and b > 0}) for s in states],
-                               dtype=float).reshape(n, -1), m, axis=0)
     ff = np.tile(f, n)
     ar = ridge.ravel()
     p_mean = ff / ar
     peak = 1.5 * p_mean
     a = np.sqrt(ar / math.pi)
-    # disc_average's sum, with each node's pressure read at its member's modulus
-    peak, s, wt = disc_nodes(peak, kinks, n_nodes=int(n_rings))
-    live = wt != 0
-    values = np.zeros_like(s)
-    values[live] = _psi_rows(base, (peak[:, None] * s)[live],
-                             np.broadcast_to(np.repeat(factors, m)[:, None], s.shape)[live])
-    ratio = 2.0 * np.sum(wt * s * values, axis=1)
+    # what predict_curve on cell.at_modulus(E) computes (ScaledResponse.disc_fraction reads the
+    # base at peak / factor), for every member and load in one call; each entry on its own
+    ratio = disc_ratio(base, peak / np.repeat(factors, m))
     real = ratio * ar
     with np.errstate(divide="ignore"):
         p_re = np.where(real > 0, ff / np.where(real > 0, real, 1.0), np.inf)
@@ -173,17 +158,10 @@ def predict_members(
         raise FingerpadError(f"n_rings must be at least 2, got {n_rings!r}")
     cells = [cell.at_modulus(float(e)) for e in moduli]
     factors = np.array([c.factor for c in cells], dtype=float)
-    # members whose cells have as many finite kinks form blocks (one quadrature layout each)
-    counts = [len({b for b in check_cell(c)[2] if math.isfinite(b) and b > 0}) for c in cells]
-    curves: list[CurvePrediction | None] = [None] * len(fingers)
-    for count in sorted(set(counts)):
-        idx = [i for i, c in enumerate(counts) if c == count]
-        for start in range(0, len(idx), BLOCK):
-            part = idx[start:start + BLOCK]
-            done = _block(f, [fingers[i] for i in part], [cells[i] for i in part], cell, factors[part],
-                          reference, int(n_rings))
-            for i, curve in zip(part, done, strict=True):
-                curves[i] = curve
+    curves: list[CurvePrediction] = []
+    for start in range(0, len(fingers), BLOCK):
+        part = slice(start, start + BLOCK)
+        curves.extend(_block(f, list(fingers[part]), cells[part], cell, factors[part], reference))
     return curves  # type: ignore[return-value]
 
 
@@ -254,3 +232,84 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger]) -> tuple[
     states = [[centre_state(p, c) for p in 1.5 * curve.load / curve.ridge_area]
               for curve, c in zip(curves, cells, strict=True)]
     return curves, np.asarray(crit, float), np.asarray(full, float), states
+
+
+@dataclass
+class MemberValues:
+    """Each member's numbers on one texture (arrays, members first; SI units).
+
+    Attributes
+    ----------
+    area_ratio, mu, mu_ref, mu_normalised
+        ``(members, loads)``: A_re/A_fr, mu (Eq. 2.1), mu on the flat reference, mu/mu_ref.
+    critical_load, full_contact_load
+        ``(members,)``, N: the load at which the pad centre reaches the member's transition and
+        full contact (``inf`` never; NaN none in :data:`~fingerpad.micro.response.DEFAULT_LOAD_RANGE`; full contact NaN
+        with the Hertz cell, 0 on a flat texture).
+    states
+        ``(members, loads)`` int8 codes of :data:`STATES` at the pad centre.
+    """
+
+    area_ratio: np.ndarray
+    mu: np.ndarray
+    mu_ref: np.ndarray
+    mu_normalised: np.ndarray
+    critical_load: np.ndarray
+    full_contact_load: np.ndarray
+    states: np.ndarray
+
+
+def evaluate_members(nominal: Prediction, fingers: Sequence[Finger]) -> MemberValues:
+    """The members' numbers on the nominal prediction's texture as arrays (a sweep point's
+    population): :func:`predict_fingers`, so every member's numbers are those of a plain
+    :func:`~fingerpad.coupling.predict_curve` of that member, bit for bit.
+
+    Parameters
+    ----------
+    nominal
+        The study's :class:`~fingerpad.study.run.Prediction` (its cell is reused; the BEM cell is
+        prepared over the members' pressures, solving only what they add).
+    fingers
+        The members' fingers (:func:`fingerpad.study.population.member_finger`).
+
+    Returns
+    -------
+    MemberValues
+    """
+    curves, crit, full, states = predict_fingers(nominal, fingers)
+    codes = {s: i for i, s in enumerate(STATES)}
+
+    def rows(name: str) -> np.ndarray:
+        return np.array([np.asarray(getattr(c, name), float) for c in curves])
+
+    return MemberValues(rows("area_ratio"), rows("mu"), rows("mu_ref"), rows("mu_normalised"), crit, full,
+                        np.array([[codes[s] for s in row] for row in states], dtype=np.int8))
+
+
+def member_quantiles(values: np.ndarray, levels: Sequence[float], drop_nan: bool = False) -> np.ndarray:
+    """Quantiles (numpy's default linear interpolation) of ``values`` along its first axis,
+    one row per level; infinite values are kept as such (numpy gives NaN between two infinities:
+    here the quantile between two infinite members is ``inf``). ``drop_nan``: members with NaN
+    are left out per column (a load that none reaches); all NaN gives NaN."""
+    v = np.asarray(values, float)
+    q = np.asarray(levels, float)
+    if drop_nan:
+        cols = v.reshape(v.shape[0], -1)
+        res = np.full((q.size, cols.shape[1]), np.nan)
+        for c in range(cols.shape[1]):
+            finite = cols[~np.isnan(cols[:, c]), c]
+            if finite.size:
+                res[:, c] = member_quantiles(finite, q)
+        return res.reshape((q.size, *v.shape[1:]))
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # inf - inf inside numpy's interpolation
+        res = np.quantile(v, q, axis=0)
+    lower = np.quantile(v, q, axis=0, method="lower")
+    upper = np.quantile(v, q, axis=0, method="higher")
+    pos = q * (v.shape[0] - 1)
+    frac = (pos - np.floor(pos)).reshape((q.size,) + (1,) * (v.ndim - 1))
+    fix = np.isnan(res) & ~np.isnan(lower) & ~np.isnan(upper)
+    repl = np.where(lower == upper, lower, np.where(frac > 0, upper, lower))
+    return np.where(fix, repl, res)
