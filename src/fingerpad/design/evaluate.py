@@ -8,7 +8,7 @@ mu, mu_ref and mu/mu_ref. With a population of fingers (``population``: the memb
 quantile levels), also per point the quantiles of the members' A_re/A_fr, mu, mu_ref and
 mu/mu_ref at each load and of their critical and full-contact loads, the probability of each
 contact state at the pad centre, and the fraction of members in asperity contact over the whole
-range (:func:`fingerpad.study.population_batch.evaluate_members`: one cell, every member at its
+range (:func:`fingerpad.study.members.evaluate_members`: one cell, every member at its
 own E*). A point that cannot exist (overlapping asperities, a grid too small)
 is returned invalid with its reason; an unconverged cell is flagged; neither raises.
 """

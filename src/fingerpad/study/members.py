@@ -1,23 +1,23 @@
-"""Many fingers on one texture at once: the coupling of every member of a population, vectorised
-over blocks of members (issue 22, "a population must not cost a population of BEM solves").
+"""Many fingers on one texture at once: the package's one member path (issue 22, "a population
+must not cost a population of BEM solves"), used by ``predict --population``
+(:func:`~fingerpad.study.population.run_population`), the sensitivity analysis, sweeps with a
+population (:func:`evaluate_members`) and the robust design's screen
+(:class:`fingerpad.design.robust.MemberTable`).
 
 :func:`predict_members` gives, for each finger, the :class:`~fingerpad.coupling.CurvePrediction`
 that :func:`~fingerpad.coupling.predict_curve` gives for that finger on ``cell.at_modulus(E1*)``
-(the one unit cell read at the member's modulus by p/E* scaling), to the bit: the same
-pad pressures (Eq. 3.7), the same quadrature nodes per disc, the same psi interpolant, the same
-friction (Eqs. 2.1-2.4) and the same root finder for the critical load. The psi of a block of
-members is one interpolation over ``members x loads x nodes`` pressures (only the nodes of
-non-zero weight, as :func:`~fingerpad.macro.pressure.disc_average` does), and the critical and
-full-contact loads are found with each finger's area law built once
-(:meth:`~fingerpad.finger.Finger.ridge_area_law`). Measured (docs/population.md, "Cost"): the
-work per member is in the psi interpolation and the quadrature arrays, not in Python calls, so
-the blocks are small (:data:`BLOCK`).
+(the one unit cell read at the member's modulus by p/E* scaling), to the bit: the same pad
+pressures (Eq. 3.7), the same exact integral of the cell's interpolated psi (Eq. 3.11,
+:func:`~fingerpad.coupling.disc_ratio`: the antiderivative tabulated at the cell's nodes, one
+Gauss-Legendre piece per member and load, each entry computed on its own), the same friction
+(Eqs. 2.1-2.4) and the same root finder for the critical load, with each finger's area law
+built once (:meth:`~fingerpad.finger.Finger.ridge_area_law`). The members go through in blocks
+(:data:`BLOCK`), one call of the cell's integral per block.
 
 :func:`predict_fingers` runs a study's fingers on its already-solved cell (the cell prepared
-once over their pressures), :func:`member_full_contact_loads` their full-contact loads. They
-are used by :func:`fingerpad.study.population.run_population` and
-:func:`fingerpad.study.sensitivity.population_sensitivity`, and may be used by any caller that
-predicts many fingers on one cell (sweeps over a population, robust design). SI units (m, N, Pa).
+once over their pressures), :func:`member_full_contact_loads` their full-contact loads,
+:func:`evaluate_members` packs them as arrays and :func:`member_quantiles` takes quantiles over
+members that keep ``inf`` (a load never reached). SI units (m, N, Pa).
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ from ..finger import Finger
 from ..friction import mu_checked
 from ..micro.bem import BEMUnitCell
 from ..micro.response import check_cell
-from .run import P_HIGH, P_LOW, Prediction, centre_state, load_at_centre_pressure
+from .run import P_HIGH, P_LOW, Prediction, load_at_centre_pressure
 
 __all__ = ["STATES", "MemberValues", "evaluate_members", "member_full_contact_loads", "member_quantiles",
            "predict_fingers", "predict_members"]
@@ -229,8 +229,12 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger]) -> tuple[
         curves = predict_members(loads, fingers, cells)
         crit = [c.critical_load_hertz if c.critical_load_hertz is not None else math.nan for c in curves]
         full = np.full(len(fingers), math.nan)
-    states = [[centre_state(p, c) for p in 1.5 * curve.load / curve.ridge_area]
-              for curve, c in zip(curves, cells, strict=True)]
+    # centre_state's comparisons (peak >= pf: full, >= pt: transition), on arrays
+    peak = np.array([1.5 * curve.load / curve.ridge_area for curve in curves])
+    pt = np.array([[float(c.transition_pressure)] for c in cells])
+    pf = np.array([[float(c.full_contact_pressure)] for c in cells])
+    codes = np.where(peak >= pf, 2, np.where(peak >= pt, 1, 0))
+    states = [[STATES[k] for k in row] for row in codes.tolist()]
     return curves, np.asarray(crit, float), np.asarray(full, float), states
 
 
