@@ -2,7 +2,8 @@
 same point without one, and the sweep's member step against run_population.
 
 One texture (the default study's caps at a fixed grid, its cell cached first), 40 exploration
-loads. Timed in this one process, alternating the sides, median of ``--repeat`` runs:
+loads. Timed in this one process, alternating the sides, median of ``--repeat`` runs (wall and
+CPU time of this process, the latter less sensitive to a shared machine's load):
 
 * ``point``: :func:`fingerpad.design.evaluate.evaluate_point` without a population (the nominal);
 * ``point+population``: the same with the population's members (the sweep's path);
@@ -63,18 +64,22 @@ def main() -> None:
         "batch": batch,
     }
     times: dict[str, list[float]] = {k: [] for k in sides}
+    cpu: dict[str, list[float]] = {k: [] for k in sides}
     for _ in range(args.repeat):
         for name, fn in sides.items():
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             fn()
             times[name].append(time.perf_counter() - t0)
+            cpu[name].append(time.process_time() - c0)
     med = {k: statistics.median(v) for k, v in times.items()}
+    med_cpu = {k: statistics.median(v) for k, v in cpu.items()}
     print(f"population {spec.population.name!r}: {len(spec.members)} members, 40 loads, grid {args.grid} "
           f"(load average {os.getloadavg()[0]:.2f})")
     for name, t in med.items():
-        print(f"  {name:18s} {t * 1e3:9.1f} ms")
-    print(f"  point+population / point: {med['point+population'] / med['point']:.1f}x; "
-          f"run_population / batch: {med['run_population'] / med['batch']:.1f}x")
+        print(f"  {name:18s} {t * 1e3:9.1f} ms wall {med_cpu[name] * 1e3:9.1f} ms CPU")
+    print(f"  point+population / point: {med['point+population'] / med['point']:.1f}x wall, "
+          f"{med_cpu['point+population'] / med_cpu['point']:.1f}x CPU; "
+          f"run_population / batch: {med_cpu['run_population'] / med_cpu['batch']:.1f}x CPU")
 
 
 if __name__ == "__main__":
