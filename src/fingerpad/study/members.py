@@ -1,7 +1,7 @@
 """Many fingers on one texture at once: the package's one member path (issue 22, "a population
 must not cost a population of BEM solves"), used by ``predict --population``
 (:func:`~fingerpad.study.population.run_population`), the sensitivity analysis, sweeps with a
-population (:func:`evaluate_members`) and the robust design's screen
+population (:func:`~fingerpad.study.members.evaluate_members`) and the robust design's screen
 (:class:`fingerpad.design.robust.MemberTable`).
 
 :func:`predict_members` gives, for each finger, the :class:`~fingerpad.coupling.CurvePrediction`
