@@ -169,7 +169,7 @@ class MemberTable:
         """
         from ..study.members import predict_fingers
 
-        curves, crit, _, _ = predict_fingers(pred, self.fingers)
+        curves, crit, _, _ = predict_fingers(pred, self.fingers, full_contact=False)
 
         def rows(name: str) -> np.ndarray:
             return np.array([np.asarray(getattr(c, name), float) for c in curves])

@@ -173,13 +173,15 @@ def member_full_contact_loads(fingers: Sequence[Finger], pressures: Sequence[flo
                      for finger, p in zip(fingers, pressures, strict=True)], dtype=float)
 
 
-def predict_fingers(nominal: Prediction, fingers: Sequence[Finger]) -> tuple[
+def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True) -> tuple[
         list[CurvePrediction], np.ndarray, np.ndarray, list[list[str]]]:
     """Every finger on the texture of a study already predicted (``nominal``, its cell reused).
 
     The BEM cell is prepared over the union of the fingers' pressures in units of E* (no solve
     when that lies inside what is cached: psi depends on p/E* only) and read at each finger's E1*
     (Eq. 3.4); with the Hertz model each finger gets its own per-asperity cell (no solve).
+    ``full_contact=False`` skips the search of the full-contact loads (NaN then; the robust
+    design's screen does not use them).
 
     Returns
     -------
@@ -222,8 +224,12 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger]) -> tuple[
         for i in sorted(own):
             curves[i] = predict_curve(loads, fingers[i], cells[i])
         crit = [c.critical_load for c in curves]
-        full = np.zeros(len(fingers)) if cell.flat else \
-            member_full_contact_loads(fingers, [c.full_contact_pressure for c in cells])
+        if cell.flat:
+            full = np.zeros(len(fingers))
+        elif full_contact:
+            full = member_full_contact_loads(fingers, [c.full_contact_pressure for c in cells])
+        else:
+            full = np.full(len(fingers), math.nan)
     else:
         cells = [hertz_cell_for(nominal.texture, e)[0] for e in moduli]
         curves = predict_members(loads, fingers, cells)
