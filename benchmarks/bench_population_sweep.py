@@ -1,13 +1,15 @@
 """The per-point population work of a sweep (issue 22): a point with a population against the
-same point without one, and the members computed together against member by member.
+same point without one, and the sweep's member step against run_population.
 
 One texture (the default study's caps at a fixed grid, its cell cached first), 40 exploration
-loads. Timed in this one process, alternating the sides, median of ``--repeat`` runs:
+loads. Timed in this one process, alternating the sides, median of ``--repeat`` runs (wall and
+CPU time of this process, the latter less sensitive to a shared machine's load):
 
 * ``point``: :func:`fingerpad.design.evaluate.evaluate_point` without a population (the nominal);
 * ``point+population``: the same with the population's members (the sweep's path);
-* ``run_population``: :func:`fingerpad.study.population.run_population` (member by member);
-* ``batch``: :func:`fingerpad.study.population_batch.evaluate_members` (what the sweep runs).
+* ``run_population``: :func:`fingerpad.study.population.run_population` (``predict --population``);
+* ``batch``: :func:`fingerpad.study.members.evaluate_members` (what the sweep runs; the same
+  member path as run_population since pop-unify, without its tables and sensitivity).
 
     python benchmarks/bench_population_sweep.py [--population adults] [--grid 32] [--repeat 5]
 """
@@ -34,7 +36,8 @@ def main() -> None:
     from fingerpad.design.spec import sweep_from_dict
     from fingerpad.design.evaluate import evaluate_point
     from fingerpad.study.population import run_population
-    from fingerpad.study.population_batch import evaluate_members, population_fingers
+    from fingerpad.study.members import evaluate_members
+    from fingerpad.study.population import member_finger
     from fingerpad.study.run import run_study
     from fingerpad.study.spec import study_from_dict
 
@@ -52,8 +55,7 @@ def main() -> None:
 
     def batch() -> None:
         nominal = run_study(study)
-        fingers, moduli = population_fingers(nominal, spec.members)
-        evaluate_members(nominal, fingers, moduli)
+        evaluate_members(nominal, [member_finger(nominal.study.finger, m) for m in spec.members])
 
     sides = {
         "point": lambda: evaluate_point(data, spec.loads, pressures),
@@ -62,18 +64,22 @@ def main() -> None:
         "batch": batch,
     }
     times: dict[str, list[float]] = {k: [] for k in sides}
+    cpu: dict[str, list[float]] = {k: [] for k in sides}
     for _ in range(args.repeat):
         for name, fn in sides.items():
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             fn()
             times[name].append(time.perf_counter() - t0)
+            cpu[name].append(time.process_time() - c0)
     med = {k: statistics.median(v) for k, v in times.items()}
+    med_cpu = {k: statistics.median(v) for k, v in cpu.items()}
     print(f"population {spec.population.name!r}: {len(spec.members)} members, 40 loads, grid {args.grid} "
           f"(load average {os.getloadavg()[0]:.2f})")
     for name, t in med.items():
-        print(f"  {name:18s} {t * 1e3:9.1f} ms")
-    print(f"  point+population / point: {med['point+population'] / med['point']:.1f}x; "
-          f"run_population / batch: {med['run_population'] / med['batch']:.1f}x")
+        print(f"  {name:18s} {t * 1e3:9.1f} ms wall {med_cpu[name] * 1e3:9.1f} ms CPU")
+    print(f"  point+population / point: {med['point+population'] / med['point']:.1f}x wall, "
+          f"{med_cpu['point+population'] / med_cpu['point']:.1f}x CPU; "
+          f"run_population / batch: {med_cpu['run_population'] / med_cpu['batch']:.1f}x CPU")
 
 
 if __name__ == "__main__":

@@ -264,8 +264,12 @@ class Finger:
 
         def area(load: Any) -> np.ndarray:
             f = np.asarray(load, dtype=float)
-            ff, ag = np.broadcast_arrays(f, _model_area(gross_model, f))
-            return _model_area(ridges, ff, ag)
+            ag = _model_area(gross_model, f)
+            # the same arrays without np.broadcast_arrays when the shapes agree (a root finder's
+            # scalar load: most of the per-call cost was that function)
+            if ag.shape != f.shape:
+                f, ag = np.broadcast_arrays(f, ag)
+            return _model_area(ridges, f, ag)
 
         return area
 

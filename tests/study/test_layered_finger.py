@@ -32,12 +32,14 @@ def study(finger: dict, kind: str = "both", loads=(0.3, 1.0, 3.0)):
 
 
 def test_default_finger_predicts_what_it_did_before_the_layer():
-    """Bit-identical to the package before the layered skin (numbers from commit e42882a)."""
+    """Bit-identical to the package before the layered skin (numbers from commit e42882a; the BEM
+    area ratio and mu since the coupling integrates the interpolated psi exactly, which moved
+    them by up to 7e-4 relative on this 16-pixel cell)."""
     pred = run_study(study({"preset": "ridged"}))
     assert [repr(float(x)) for x in pred.bem.area_ratio] == \
-        ["0.7454360906252686", "0.7891160869499689", "0.8036994694886143"]
+        ["0.7456450170713762", "0.78898520759537", "0.8031260545351184"]
     assert [repr(float(x)) for x in pred.bem.mu] == \
-        ["0.44215498590445335", "0.41586458351168526", "0.40955840849272446"]
+        ["0.442248723044651", "0.4158141050180432", "0.40934939452434366"]
     assert [repr(float(x)) for x in pred.hertz.mu] == \
         ["0.17800630133098172", "0.1783557935254782", "0.18220057312271495"]
     assert repr(pred.critical_load["bem"]) == "4.37642786242072e-05"

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import math
 
 import numpy as np
 import pytest
@@ -162,3 +163,17 @@ def test_population_json_text_is_the_same_json_one_member_per_line():
     lines = text.splitlines()
     assert sum(line.lstrip().startswith('{"area_ratio"') for line in lines) == 16  # member_results
     assert sum(line.lstrip().startswith('{"skin_modulus"') for line in lines) == 16  # members
+
+
+def test_quantiles_of_loads_never_reached_are_inf():
+    """Members that never reach the transition have critical load inf; numpy's quantile between
+    two infinities is NaN, the reported quantile must stay inf (and finite ones unchanged)."""
+    import dataclasses
+
+    res = run_population(_study(), population_from_table(TABLE), quantiles=(0.0, 0.5, 0.95, 1.0))
+    crit = np.array(res.critical_load, float)
+    crit[: crit.size // 2 + 2] = np.inf  # more than half never reach it
+    got = dataclasses.replace(res, critical_load=crit).quantiles()["critical_load"]
+    finite = np.sort(crit[np.isfinite(crit)])
+    assert got["0"] == finite[0]
+    assert got["0.5"] == math.inf and got["0.95"] == math.inf and got["1"] == math.inf

@@ -8,7 +8,7 @@ mu, mu_ref and mu/mu_ref. With a population of fingers (``population``: the memb
 quantile levels), also per point the quantiles of the members' A_re/A_fr, mu, mu_ref and
 mu/mu_ref at each load and of their critical and full-contact loads, the probability of each
 contact state at the pad centre, and the fraction of members in asperity contact over the whole
-range (:func:`fingerpad.study.population_batch.evaluate_members`: one cell, every member at its
+range (:func:`fingerpad.study.members.evaluate_members`: one cell, every member at its
 own E*). A point that cannot exist (overlapping asperities, a grid too small)
 is returned invalid with its reason; an unconverged cell is flagged; neither raises.
 """
@@ -184,13 +184,14 @@ def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: S
 def _population_bands(pred: Any, population: Mapping[str, Any]) -> dict[str, Any]:
     """The population's numbers at one point (see the module docstring); the extra unit-cell
     solves the members' wider p/E* range needs are counted in ``solves``."""
-    from ..study.population_batch import evaluate_members, member_quantiles, population_fingers
+    from ..study.members import evaluate_members, member_quantiles
+    from ..study.population import member_finger
 
     levels = [float(q) for q in population["quantiles"]]
     cell = pred.cell
     before = int(getattr(cell, "solves", 0) or 0) if cell is not None else 0
-    fingers, moduli = population_fingers(pred, population["members"])
-    values = evaluate_members(pred, fingers, moduli)
+    fingers = [member_finger(pred.study.finger, m) for m in population["members"]]
+    values = evaluate_members(pred, fingers)
     after = int(getattr(cell, "solves", 0) or 0) if cell is not None else 0
     out: dict[str, Any] = {name: member_quantiles(getattr(values, attr), levels)
                            for name, attr in POPULATION_BANDS.items()}

@@ -16,8 +16,9 @@ the plain design:
 Cost: a candidate texture costs one unit cell, as in the plain design. psi(p) depends on p/E*
 only (docs/solver.md, "One curve for every modulus and every scale"), so member ``i`` with
 reduced modulus ``E_i`` reads the cell solved at ``E_0`` at the pressure ``p E_0 / E_i``. While
-searching, :class:`MemberTable` evaluates all members at once (one vectorised disc integral over
-members x loads, Eqs. 3.7, 3.11, and Eqs. 2.1-2.4 on arrays); every number *reported* for a
+searching, :class:`MemberTable` evaluates all members at once with the package's one member
+path (:func:`fingerpad.study.members.predict_fingers`, the path of ``predict --population``, so
+the screen's numbers are the direct prediction's, bit for bit); every number *reported* for a
 candidate comes from :func:`fingerpad.study.population.run_population` on that texture
 (:func:`population_candidate`), the direct population prediction of ``predict --population``.
 """
@@ -28,7 +29,6 @@ import math
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -45,10 +45,6 @@ from .inverse import (
 
 __all__ = ["MemberTable", "PopulationGoal", "population_candidate", "population_goal", "screen_candidate"]
 
-#: Loads (N) on which each member's centre pressure 1.5 F / A_fr(F) is tabulated once, to read
-#: its critical load at any transition pressure by log-log interpolation while searching
-#: (10 per decade over the coupling's load range; exact for power-law ridge areas).
-LOAD_GRID = np.logspace(-9, 9, 181)
 #: The per-load quantities a target names, as :class:`~fingerpad.coupling.CurvePrediction` names them.
 _CURVE_NAME = {"mu_rel": "mu_normalised", "mu": "mu", "mu_ref": "mu_ref", "area_ratio": "area_ratio"}
 
@@ -137,8 +133,9 @@ def population_goal(population: str | Mapping[str, Any] | Population | None, cov
 
 
 class MemberTable:
-    """The members of a population on one finger and material, as arrays over members, for
-    evaluating all of them on a unit cell at once (the search's cheap path).
+    """The members of a population as fingers of one study's finger and material, predicted on
+    each candidate's unit cell by the one member path of the package
+    (:func:`~fingerpad.study.members.predict_fingers`, what ``predict --population`` runs).
 
     Parameters
     ----------
@@ -154,74 +151,31 @@ class MemberTable:
     """
 
     def __init__(self, study: Any, members: Sequence[Mapping[str, float]]) -> None:
-        fingers = [member_finger(study.finger, m) for m in members]
-        mat_nu = study.material_poisson if study.material_poisson is not None else 0.35
+        self.fingers = [member_finger(study.finger, m) for m in members]
         self.loads = np.asarray(study.loads, float)
-        #: Reduced micro modulus E1* of each member (Pa), Eq. 3.4.
-        self.moduli = np.array([f.micro_modulus(study.material_modulus, mat_nu) for f in fingers])
-        #: Ridge contact area of each member at each load (m^2).
-        self.ridge = np.array([np.asarray(f.areas_checked(self.loads)[1], float) for f in fingers])
-        # the friction parameters as (members, 1) columns: Eq. 2.1 of fingerpad.friction then
-        # broadcasts over members x loads with the one formula of the package
-        self.friction = SimpleNamespace(**{k: np.array([[getattr(f, k)] for f in fingers], float)
-                                           for k in ("tau0", "alpha", "beta", "radius", "modulus")})
-        # log centre pressure 1.5 F / A_fr(F) on LOAD_GRID, per member (critical loads)
-        self._log_centre = np.log(np.array([1.5 * LOAD_GRID / np.asarray(f.areas_checked(LOAD_GRID)[1], float)
-                                            for f in fingers]))
 
-    def pressure_range(self) -> tuple[float, float]:
-        """The local pressures the members produce at the loads, in units of their E1*:
-        ``[P_LOW min(F/A_fr/E), P_HIGH max(F/A_fr/E)]``, as
-        :func:`~fingerpad.study.population.run_population` prepares."""
-        from ..study.run import P_HIGH, P_LOW
-
-        p = self.loads / self.ridge / self.moduli[:, None]
-        return P_LOW * float(p.min()), P_HIGH * float(p.max())
-
-    def evaluate(self, cell: Any, modulus: float) -> dict[str, np.ndarray]:
-        """Every member on ``cell`` (solved at reduced modulus ``modulus``, Pa).
-
-        Member ``i`` reads the cell at ``p modulus / E_i`` (psi depends on p/E* only), so its
-        real area is ``A_fr`` times the disc average of psi (Eqs. 3.7, 3.11) at the centre
-        pressure ``1.5 F / A_fr * modulus / E_i``; friction by Eqs. 2.1-2.4 with its parameters.
+    def evaluate(self, pred: Any) -> dict[str, np.ndarray]:
+        """Every member on the texture of ``pred`` (the nominal finger's
+        :class:`~fingerpad.study.run.Prediction`; its cell is read at each member's E1*, Eq. 3.4,
+        and prepared over the members' pressures, solving only what they add).
 
         Returns
         -------
         dict
             ``area_ratio``, ``mu``, ``mu_ref``, ``mu_rel``: ``(members, loads)`` arrays;
             ``critical_load``: per member (N; ``inf`` when the cell never reaches its transition,
-            NaN when no crossing lies in :data:`fingerpad.design.robust.LOAD_GRID`).
+            NaN when no crossing lies in the coupling's load range), each member's numbers those
+            of a plain ``predict`` of it.
         """
-        from ..friction import mu_checked
-        from ..macro.pressure import disc_average
-        from ..micro.response import check_cell, checked_psi
+        from ..study.members import predict_fingers
 
-        pt, _, breaks = check_cell(cell)
-        scale = modulus / self.moduli[:, None]
-        peak = 1.5 * self.loads / self.ridge * scale
-        ratio = disc_average(checked_psi(cell), peak.ravel(), breaks).reshape(peak.shape)
-        mu = mu_checked(self.loads, ratio * self.ridge, self.friction)  # type: ignore[arg-type]
-        mu_ref = mu_checked(self.loads, self.ridge, self.friction)  # type: ignore[arg-type]
-        return {"area_ratio": ratio, "mu": mu, "mu_ref": mu_ref, "mu_rel": mu / mu_ref,
-                "critical_load": self.critical_loads(pt * self.moduli / modulus)}
+        curves, crit, _, _ = predict_fingers(pred, self.fingers, full_contact=False)
 
-    def critical_loads(self, transition: np.ndarray) -> np.ndarray:
-        """Per member, the load (N) at which its centre pressure first reaches ``transition[i]``
-        (Pa), by log-log interpolation on :data:`fingerpad.design.robust.LOAD_GRID`."""
-        out = np.full(transition.shape, math.nan)
-        out[np.isinf(transition)] = math.inf
-        finite = np.isfinite(transition) & (transition > 0)
-        lt = np.log(np.where(finite, transition, 1.0))[:, None]
-        above = self._log_centre >= lt
-        first = np.argmax(above, axis=1)
-        ok = finite & above.any(axis=1) & (first > 0)
-        rows = np.flatnonzero(ok)
-        j = first[rows]
-        lo, hi = self._log_centre[rows, j - 1], self._log_centre[rows, j]
-        x = np.log(LOAD_GRID)
-        w = (lt[rows, 0] - lo) / (hi - lo)
-        out[rows] = np.exp(x[j - 1] + w * (x[j] - x[j - 1]))
-        return out
+        def rows(name: str) -> np.ndarray:
+            return np.array([np.asarray(getattr(c, name), float) for c in curves])
+
+        return {"area_ratio": rows("area_ratio"), "mu": rows("mu"), "mu_ref": rows("mu_ref"),
+                "mu_rel": rows("mu_normalised"), "critical_load": crit}
 
 
 def _quantile(values: np.ndarray, q: float) -> float:
@@ -310,16 +264,11 @@ class _Screen:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 pred = run_study(study)
-                table = self.table(study)
-                cell, e0 = pred.primary_cell, pred.reduced_modulus
-                if pred.bem is not None and not cell.flat:
-                    lo, hi = table.pressure_range()
-                    cell.prepare(lo * cell.modulus, hi * cell.modulus)  # solves only what the members add
-                got = table.evaluate(cell, e0)
+                got = self.table(study).evaluate(pred)
         except FingerpadError as exc:
             cand.reason = str(exc)
             return cand
-        index = {float(f): i for i, f in enumerate(table.loads)}
+        index = {float(f): i for i, f in enumerate(np.asarray(study.loads, float))}
         values = {str(t): got[t.quantity][:, index[float(t.load)]] for t in problem.targets}
         _score(problem, self.goal, cand, values, got["critical_load"], texture_limits(problem, cand, pred.texture))
         return cand

@@ -1,48 +1,52 @@
-"""Many fingers on one texture at once: the coupling of every member of a population, vectorised
-over blocks of members (issue 22, "a population must not cost a population of BEM solves").
+"""Many fingers on one texture at once: the package's one member path (issue 22, "a population
+must not cost a population of BEM solves"), used by ``predict --population``
+(:func:`~fingerpad.study.population.run_population`), the sensitivity analysis, sweeps with a
+population (:func:`~fingerpad.study.members.evaluate_members`) and the robust design's screen
+(:class:`fingerpad.design.robust.MemberTable`).
 
 :func:`predict_members` gives, for each finger, the :class:`~fingerpad.coupling.CurvePrediction`
 that :func:`~fingerpad.coupling.predict_curve` gives for that finger on ``cell.at_modulus(E1*)``
-(the one unit cell read at the member's modulus by p/E* scaling), to the bit: the same
-pad pressures (Eq. 3.7), the same quadrature nodes per disc, the same psi interpolant, the same
-friction (Eqs. 2.1-2.4) and the same root finder for the critical load. The psi of a block of
-members is one interpolation over ``members x loads x nodes`` pressures (only the nodes of
-non-zero weight, as :func:`~fingerpad.macro.pressure.disc_average` does), and the critical and
-full-contact loads are found with each finger's area law built once
-(:meth:`~fingerpad.finger.Finger.ridge_area_law`). Measured (docs/population.md, "Cost"): the
-work per member is in the psi interpolation and the quadrature arrays, not in Python calls, so
-the blocks are small (:data:`BLOCK`).
+(the one unit cell read at the member's modulus by p/E* scaling), to the bit: the same pad
+pressures (Eq. 3.7), the same exact integral of the cell's interpolated psi (Eq. 3.11,
+:func:`~fingerpad.coupling.disc_ratio`: the antiderivative tabulated at the cell's nodes, one
+Gauss-Legendre piece per member and load, each entry computed on its own), the same friction
+(Eqs. 2.1-2.4) and the same root finder for the critical load, with each finger's area law
+built once (:meth:`~fingerpad.finger.Finger.ridge_area_law`). The members go through in blocks
+(:data:`BLOCK`), one call of the cell's integral per block.
 
 :func:`predict_fingers` runs a study's fingers on its already-solved cell (the cell prepared
-once over their pressures), :func:`member_full_contact_loads` their full-contact loads. They
-are used by :func:`fingerpad.study.population.run_population` and
-:func:`fingerpad.study.sensitivity.population_sensitivity`, and may be used by any caller that
-predicts many fingers on one cell (sweeps over a population, robust design). SI units (m, N, Pa).
+once over their pressures), :func:`member_full_contact_loads` their full-contact loads,
+:func:`evaluate_members` packs them as arrays and :func:`member_quantiles` takes quantiles over
+members that keep ``inf`` (a load never reached). SI units (m, N, Pa).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ..checks import ArrayLike, as_loads
-from ..coupling import CurvePrediction, critical_load, predict_curve
+from ..coupling import CurvePrediction, critical_load, disc_ratio, predict_curve
 from ..errors import FingerpadError
 from ..finger import Finger
 from ..friction import mu_checked
-from ..macro.pressure import disc_nodes
 from ..micro.bem import BEMUnitCell
 from ..micro.response import check_cell
-from .run import P_HIGH, P_LOW, Prediction, centre_state, load_at_centre_pressure
+from .run import P_HIGH, P_LOW, Prediction, load_at_centre_pressure
 
-__all__ = ["member_full_contact_loads", "predict_fingers", "predict_members"]
+__all__ = ["STATES", "MemberValues", "evaluate_members", "member_full_contact_loads", "member_quantiles",
+           "predict_fingers", "predict_members"]
 
-#: Members per NumPy block: about 50 k pressures per member at 40 loads; larger blocks fall out of
-#: the CPU caches and run slower (CPU time measured: 1-4 members per block alike, 16 and 48 slower).
-BLOCK = 4
+#: Contact states at the pad centre, in the order of their codes (0, 1, 2).
+STATES: tuple[str, ...] = ("asperity", "transition", "full")
+
+#: Members per NumPy block (10 psi evaluations per member and load: 100 k pressures per block
+#: at 40 loads, bounded memory).
+BLOCK = 256
 
 
 def _area_of(finger: Finger) -> Callable[[float], Any]:
@@ -50,19 +54,6 @@ def _area_of(finger: Finger) -> Callable[[float], Any]:
     :meth:`Finger.ridge_area` without its per-call checks and model construction (the root finder
     stays inside positive loads; :func:`fingerpad.micro.response.area_function` checks each area)."""
     return finger.ridge_area_law()
-
-
-def _psi_rows(base: Any, p: np.ndarray, factors: np.ndarray) -> np.ndarray:
-    """psi of one BEM cell at pressures ``p`` (Pa), each read at its own modulus: ``p / factor``
-    on the base cell, as :class:`~fingerpad.micro.bem.ScaledResponse` reads it, so each value
-    equals that member's own psi to the bit; with the checks of
-    :func:`fingerpad.micro.response.checked_psi`."""
-    out = np.asarray(base.contact_fraction(p / factors), dtype=float)
-    if out.shape != p.shape or not np.all(np.isfinite(out)):
-        raise FingerpadError(f"{type(base).__name__}.contact_fraction returned a bad array")
-    if np.any(out < -1e-9) or np.any(out > 1.0 + 1e-9):
-        raise FingerpadError(f"{type(base).__name__}.contact_fraction returned values outside [0, 1]")
-    return np.clip(out, 0.0, 1.0)
 
 
 def _zone_radius(a: np.ndarray, peak: np.ndarray, p_zone: np.ndarray) -> np.ndarray:
@@ -75,8 +66,8 @@ def _zone_radius(a: np.ndarray, peak: np.ndarray, p_zone: np.ndarray) -> np.ndar
 
 
 def _block(f: np.ndarray, fingers: Sequence[Finger], cells: Sequence[Any], base: Any, factors: np.ndarray,
-           reference: bool, n_rings: int) -> list[CurvePrediction]:
-    """The curves of one block of members whose cells have the same number of kinks."""
+           reference: bool) -> list[CurvePrediction]:
+    """The curves of one block of members, each on ``base`` read at its ``factors[i]``."""
     n, m = len(fingers), f.size
     areas = [finger.areas_checked(f) for finger in fingers]
     gross = np.array([g for g, _ in areas])
@@ -86,20 +77,14 @@ def _block(f: np.ndarray, fingers: Sequence[Finger], cells: Sequence[Any], base:
     states = [check_cell(c) for c in cells]
     pt = np.repeat([s[0] for s in states], m)
     pf = np.repeat([s[1] for s in states], m)
-    kinks = np.repeat(np.array([sorted({b for b in s[2] if math.isfinite(b) and b > 0}) for s in states],
-                               dtype=float).reshape(n, -1), m, axis=0)
     ff = np.tile(f, n)
     ar = ridge.ravel()
     p_mean = ff / ar
     peak = 1.5 * p_mean
     a = np.sqrt(ar / math.pi)
-    # disc_average's sum, with each node's pressure read at its member's modulus
-    peak, s, wt = disc_nodes(peak, kinks, n_nodes=int(n_rings))
-    live = wt != 0
-    values = np.zeros_like(s)
-    values[live] = _psi_rows(base, (peak[:, None] * s)[live],
-                             np.broadcast_to(np.repeat(factors, m)[:, None], s.shape)[live])
-    ratio = 2.0 * np.sum(wt * s * values, axis=1)
+    # what predict_curve on cell.at_modulus(E) computes (ScaledResponse.disc_fraction reads the
+    # base at peak / factor), for every member and load in one call; each entry on its own
+    ratio = disc_ratio(base, peak / np.repeat(factors, m))
     real = ratio * ar
     with np.errstate(divide="ignore"):
         p_re = np.where(real > 0, ff / np.where(real > 0, real, 1.0), np.inf)
@@ -173,17 +158,10 @@ def predict_members(
         raise FingerpadError(f"n_rings must be at least 2, got {n_rings!r}")
     cells = [cell.at_modulus(float(e)) for e in moduli]
     factors = np.array([c.factor for c in cells], dtype=float)
-    # members whose cells have as many finite kinks form blocks (one quadrature layout each)
-    counts = [len({b for b in check_cell(c)[2] if math.isfinite(b) and b > 0}) for c in cells]
-    curves: list[CurvePrediction | None] = [None] * len(fingers)
-    for count in sorted(set(counts)):
-        idx = [i for i, c in enumerate(counts) if c == count]
-        for start in range(0, len(idx), BLOCK):
-            part = idx[start:start + BLOCK]
-            done = _block(f, [fingers[i] for i in part], [cells[i] for i in part], cell, factors[part],
-                          reference, int(n_rings))
-            for i, curve in zip(part, done, strict=True):
-                curves[i] = curve
+    curves: list[CurvePrediction] = []
+    for start in range(0, len(fingers), BLOCK):
+        part = slice(start, start + BLOCK)
+        curves.extend(_block(f, list(fingers[part]), cells[part], cell, factors[part], reference))
     return curves  # type: ignore[return-value]
 
 
@@ -195,13 +173,15 @@ def member_full_contact_loads(fingers: Sequence[Finger], pressures: Sequence[flo
                      for finger, p in zip(fingers, pressures, strict=True)], dtype=float)
 
 
-def predict_fingers(nominal: Prediction, fingers: Sequence[Finger]) -> tuple[
+def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True) -> tuple[
         list[CurvePrediction], np.ndarray, np.ndarray, list[list[str]]]:
     """Every finger on the texture of a study already predicted (``nominal``, its cell reused).
 
     The BEM cell is prepared over the union of the fingers' pressures in units of E* (no solve
     when that lies inside what is cached: psi depends on p/E* only) and read at each finger's E1*
     (Eq. 3.4); with the Hertz model each finger gets its own per-asperity cell (no solve).
+    ``full_contact=False`` skips the search of the full-contact loads (NaN then; the robust
+    design's screen does not use them).
 
     Returns
     -------
@@ -244,13 +224,102 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger]) -> tuple[
         for i in sorted(own):
             curves[i] = predict_curve(loads, fingers[i], cells[i])
         crit = [c.critical_load for c in curves]
-        full = np.zeros(len(fingers)) if cell.flat else \
-            member_full_contact_loads(fingers, [c.full_contact_pressure for c in cells])
+        if cell.flat:
+            full = np.zeros(len(fingers))
+        elif full_contact:
+            full = member_full_contact_loads(fingers, [c.full_contact_pressure for c in cells])
+        else:
+            full = np.full(len(fingers), math.nan)
     else:
         cells = [hertz_cell_for(nominal.texture, e)[0] for e in moduli]
         curves = predict_members(loads, fingers, cells)
         crit = [c.critical_load_hertz if c.critical_load_hertz is not None else math.nan for c in curves]
         full = np.full(len(fingers), math.nan)
-    states = [[centre_state(p, c) for p in 1.5 * curve.load / curve.ridge_area]
-              for curve, c in zip(curves, cells, strict=True)]
+    # centre_state's comparisons (peak >= pf: full, >= pt: transition), on arrays
+    peak = np.array([1.5 * curve.load / curve.ridge_area for curve in curves])
+    pt = np.array([[float(c.transition_pressure)] for c in cells])
+    pf = np.array([[float(c.full_contact_pressure)] for c in cells])
+    codes = np.where(peak >= pf, 2, np.where(peak >= pt, 1, 0))
+    states = [[STATES[k] for k in row] for row in codes.tolist()]
     return curves, np.asarray(crit, float), np.asarray(full, float), states
+
+
+@dataclass
+class MemberValues:
+    """Each member's numbers on one texture (arrays, members first; SI units).
+
+    Attributes
+    ----------
+    area_ratio, mu, mu_ref, mu_normalised
+        ``(members, loads)``: A_re/A_fr, mu (Eq. 2.1), mu on the flat reference, mu/mu_ref.
+    critical_load, full_contact_load
+        ``(members,)``, N: the load at which the pad centre reaches the member's transition and
+        full contact (``inf`` never; NaN none in :data:`~fingerpad.micro.response.DEFAULT_LOAD_RANGE`; full contact NaN
+        with the Hertz cell, 0 on a flat texture).
+    states
+        ``(members, loads)`` int8 codes of :data:`STATES` at the pad centre.
+    """
+
+    area_ratio: np.ndarray
+    mu: np.ndarray
+    mu_ref: np.ndarray
+    mu_normalised: np.ndarray
+    critical_load: np.ndarray
+    full_contact_load: np.ndarray
+    states: np.ndarray
+
+
+def evaluate_members(nominal: Prediction, fingers: Sequence[Finger]) -> MemberValues:
+    """The members' numbers on the nominal prediction's texture as arrays (a sweep point's
+    population): :func:`predict_fingers`, so every member's numbers are those of a plain
+    :func:`~fingerpad.coupling.predict_curve` of that member, bit for bit.
+
+    Parameters
+    ----------
+    nominal
+        The study's :class:`~fingerpad.study.run.Prediction` (its cell is reused; the BEM cell is
+        prepared over the members' pressures, solving only what they add).
+    fingers
+        The members' fingers (:func:`fingerpad.study.population.member_finger`).
+
+    Returns
+    -------
+    MemberValues
+    """
+    curves, crit, full, states = predict_fingers(nominal, fingers)
+    codes = {s: i for i, s in enumerate(STATES)}
+
+    def rows(name: str) -> np.ndarray:
+        return np.array([np.asarray(getattr(c, name), float) for c in curves])
+
+    return MemberValues(rows("area_ratio"), rows("mu"), rows("mu_ref"), rows("mu_normalised"), crit, full,
+                        np.array([[codes[s] for s in row] for row in states], dtype=np.int8))
+
+
+def member_quantiles(values: np.ndarray, levels: Sequence[float], drop_nan: bool = False) -> np.ndarray:
+    """Quantiles (numpy's default linear interpolation) of ``values`` along its first axis,
+    one row per level; infinite values are kept as such (numpy gives NaN between two infinities:
+    here the quantile between two infinite members is ``inf``). ``drop_nan``: members with NaN
+    are left out per column (a load that none reaches); all NaN gives NaN."""
+    v = np.asarray(values, float)
+    q = np.asarray(levels, float)
+    if drop_nan:
+        cols = v.reshape(v.shape[0], -1)
+        res = np.full((q.size, cols.shape[1]), np.nan)
+        for c in range(cols.shape[1]):
+            finite = cols[~np.isnan(cols[:, c]), c]
+            if finite.size:
+                res[:, c] = member_quantiles(finite, q)
+        return res.reshape((q.size, *v.shape[1:]))
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # inf - inf inside numpy's interpolation
+        res = np.quantile(v, q, axis=0)
+    lower = np.quantile(v, q, axis=0, method="lower")
+    upper = np.quantile(v, q, axis=0, method="higher")
+    pos = q * (v.shape[0] - 1)
+    frac = (pos - np.floor(pos)).reshape((q.size,) + (1,) * (v.ndim - 1))
+    fix = np.isnan(res) & ~np.isnan(lower) & ~np.isnan(upper)
+    repl = np.where(lower == upper, lower, np.where(frac > 0, upper, lower))
+    return np.where(fix, repl, res)

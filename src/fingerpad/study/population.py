@@ -46,7 +46,7 @@ from ..finger import FINGER_PARAMS, RIDGE_FRACTION, Finger
 from ..meso import ConstantFractionRidges
 from ..params import Param, _is_bare_number
 from .population_correlations import Correlation, correlate, parse_correlations
-from .members import predict_fingers
+from .members import member_quantiles, predict_fingers
 from .population_presets import POPULATION_PRESETS
 from .run import Prediction, run_study
 from .spec import Study
@@ -351,8 +351,10 @@ class PopulationResult:
             out[name] = {f"{level:g}": table[i] for i, level in enumerate(q)}
         for name, arr in (("critical_load", self.critical_load), ("full_contact_load", self.full_contact_load)):
             finite = arr[~np.isnan(arr)]
-            out[name] = {f"{level:g}": (float(np.quantile(finite, level)) if finite.size else math.nan)
-                         for level in q}
+            # a member that never reaches the transition has inf: numpy's quantile gives NaN
+            # between two infinities, member_quantiles keeps inf
+            table = member_quantiles(finite, q) if finite.size else np.full(q.size, math.nan)
+            out[name] = {f"{level:g}": float(table[i]) for i, level in enumerate(q)}
         return out
 
     def monte_carlo_error(self) -> dict[str, np.ndarray]:
