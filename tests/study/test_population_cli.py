@@ -128,3 +128,22 @@ def test_bad_population_name_and_quantiles(tmp_path: Path):
     assert "neither a preset" in _user_error(invoke("predict", *CAPS, "--population", "martians"))
     assert "--quantiles" in _user_error(invoke("predict", *CAPS, "--population", "adults", "--quantiles", "0.5,2"))
     assert "needs a population" in _user_error(invoke("predict", *CAPS, "--quantiles", "0.5"))
+
+
+def test_quantiles_sorted_and_once_each(tmp_path: Path):
+    """`--quantiles 0.9,0.5,0.1,0.5`: the band runs from the lowest level to the highest and each
+    level gets one CSV column (given as typed, the terminal said "[90-10 %]" and the CSV had two
+    columns named mu_q0.5)."""
+    study = tmp_path / "study.toml"
+    study.write_text('[texture]\nname = "caps"\nradius = "50um"\nheight = "10um"\nspacing = "100um"\n'
+                     '[model]\nkind = "hertz"\n[loads]\nrange = "0.1N:4N:5"\n' + POP)
+    res = invoke("predict", study, "--out", tmp_path / "o", "--quantiles", "0.9,0.5,0.1,0.5")
+    assert res.exit_code == 0, res.stderr
+    assert "[10-90 %]" in res.stdout
+    with open(tmp_path / "o" / "population_bands.csv", newline="") as fh:
+        header = next(csv.reader(fh))
+    assert len(header) == len(set(header))
+    assert [h for h in header if h.startswith("mu_q")] == ["mu_q0.1", "mu_q0.5", "mu_q0.9"]
+    doc = json.loads((tmp_path / "o" / "predict.json").read_text())
+    mu = np.array([m["mu"] for m in doc["population"]["member_results"]])
+    np.testing.assert_array_equal(doc["population"]["quantiles"]["mu"]["0.1"], np.quantile(mu, 0.1, axis=0))

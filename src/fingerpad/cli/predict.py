@@ -440,6 +440,9 @@ def _population(source: str | None, table: Any, quantiles: str | None) -> tuple[
                 from None
         if not levels or any(not 0 <= q <= 1 for q in levels):
             raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {quantiles!r}")
+        # Ascending and once each: the bands are drawn from the first to the last level and a
+        # repeated level would give two CSV columns (and Zarr coordinates) of the same name.
+        levels = sorted(set(levels))
     if source is None and table is None:
         if levels is not None:
             raise FingerpadError("--quantiles needs a population (--population or a [population] table)")

@@ -479,6 +479,7 @@ def run_population(study: Study, population: Population,
     levels = tuple(float(q) for q in quantiles)
     if not levels or any(not (0 <= q <= 1) for q in levels):
         raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {list(quantiles)}")
+    levels = tuple(sorted(set(levels)))  # the band runs from the first level to the last
     if study.direction is not None:
         raise FingerpadError(DIRECTION_REFUSED)
     members = population.sample()
