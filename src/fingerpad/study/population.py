@@ -42,7 +42,7 @@ import numpy as np
 
 from ..coupling import CurvePrediction
 from ..errors import FingerpadError
-from ..finger import FINGER_PARAMS, RIDGE_FRACTION, Finger
+from ..finger import FINGER_PARAMS, LAYER_FIELDS, RIDGE_FRACTION, Finger
 from ..meso import ConstantFractionRidges
 from ..params import Param, _is_bare_number
 from .population_correlations import Correlation, correlate, parse_correlations
@@ -298,6 +298,13 @@ def member_finger(finger: Finger, params: Mapping[str, float]) -> Finger:
             raise FingerpadError("population ridge_fraction: the study's finger must use the constant-fraction "
                                  f"ridge model, not {type(finger.ridges).__name__}")
         values["ridges"] = ConstantFractionRidges(params["ridge_fraction"])
+    layered = sorted(set(values) & set(LAYER_FIELDS))
+    if layered and finger.skin != "layered":
+        # Said in the population's terms: the finger's own check ("a layered skin needs ...
+        # missing") names fields the user never asked the population for.
+        raise FingerpadError(f"population {', '.join(layered)}: the study's finger has a half-space skin; a "
+                             "population of layered skins needs a layered finger (--finger layered, or the "
+                             "[finger] keys skin_layer_thickness, skin_layer_modulus, skin_substrate_modulus)")
     return finger.with_overrides(**values) if values else finger
 
 
@@ -489,6 +496,13 @@ def run_population(study: Study, population: Population,
     notes = list(population.notes)
     if study.model == "both":
         notes.append("population: the BEM curves only (model both)")
+    # Hertz (Eqs. 3.1-3.6) sees a layered skin as the half-space of its layer: a spread of the
+    # layer's thickness or the tissue under it changes no member's curve, which must be said.
+    unseen = [n for n in ("skin_layer_thickness", "skin_substrate_modulus", "skin_substrate_poisson")
+              if n in population.distributions]
+    if study.model == "hertz" and unseen:
+        notes.append(f"population: the Hertz model takes each member's skin as the half-space of its layer, so "
+                     f"the spread of {', '.join(unseen)} does not enter its curves; --model bem has the layer")
     sens = None
     if sensitivity is not None:
         from .sensitivity import population_sensitivity
