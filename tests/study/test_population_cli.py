@@ -174,3 +174,15 @@ def test_hertz_population_of_layer_thicknesses_says_they_do_not_enter(tmp_path: 
     doc = json.loads((tmp_path / "o" / "predict.json").read_text())
     mu = np.array([m["mu"] for m in doc["population"]["member_results"]])
     assert np.all(mu == mu[0])  # the invariant the note explains
+
+
+def test_layered_bem_population_notes_a_cell_per_member(tmp_path: Path):
+    """On a layered finger a spread of E_s (= E_1) changes the cell's proportions: each member
+    is a cell of its own, which the notes say (it cost ~1-2 s a member, unannounced)."""
+    pop = tmp_path / "pop.toml"
+    pop.write_text('[population]\nsize = 2\nskin_modulus = { values = ["0.3MPa", "0.45MPa"] }\n')
+    grid = ["--grid", "16", "--loads", "0.1N:4N:3"]
+    res = invoke("predict", *CAPS[:-4], *grid, *LAYERED, "--model", "bem", "--population", pop,
+                 "--out", tmp_path / "o")
+    assert res.exit_code == 0, res.stderr
+    assert "skin_modulus varies gives each such member a BEM unit cell of its own" in res.stderr.replace("\n", " ")

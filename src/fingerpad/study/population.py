@@ -500,6 +500,14 @@ def run_population(study: Study, population: Population,
     # layer's thickness or the tissue under it changes no member's curve, which must be said.
     unseen = [n for n in ("skin_layer_thickness", "skin_substrate_modulus", "skin_substrate_poisson")
               if n in population.distributions]
+    # A layered cell is scale-free only at fixed proportions (t / L, E_1 / E*, E_2 / E*, the
+    # Poisson ratios): a member that changes any of them is a BEM cell of its own, a cost that
+    # grows with the population (1-2 s a member on 2 cores) and would otherwise go unsaid.
+    proportions = ("skin_modulus", "skin_poisson", *LAYER_FIELDS)
+    varied = [n for n in proportions if n in population.distributions]
+    if study.finger.skin == "layered" and study.model != "hertz" and varied:
+        notes.append(f"population: a layered skin whose {', '.join(varied)} varies gives each such member a BEM "
+                     "unit cell of its own (solved or read from the cache), not one cell for all")
     if study.model == "hertz" and unseen:
         notes.append(f"population: the Hertz model takes each member's skin as the half-space of its layer, so "
                      f"the spread of {', '.join(unseen)} does not enter its curves; --model bem has the layer")
