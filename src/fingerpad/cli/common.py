@@ -220,6 +220,13 @@ class ProgressBar:
             self._start(self.total)
         self.bar.update(self.task, detail=text)
 
+    def finish(self) -> None:
+        """The work ended before the announced total (a search that converged inside its
+        budget): the bar closes full at the count done, not at e.g. 44/60 as if cut short."""
+        if self.bar is not None:
+            done = self.bar.tasks[0].completed
+            self.bar.update(self.task, completed=done, total=done)
+
     def close(self) -> None:
         if self.bar is not None:
             self.bar.stop()

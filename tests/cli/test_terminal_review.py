@@ -1,6 +1,6 @@
-"""`fingerpad fingers` and `fingerpad textures` on an 80-column terminal: every line fits, long
-entries continue indented under their own line (they ran to ~160 columns, or restarted at
-column 0), and nothing is lost to the wrapping."""
+"""Terminal output of the review (2026-11-26): `fingerpad fingers` and `fingerpad textures` on an
+80-column terminal (every line fits, long entries continue indented under their own line: they
+ran to ~160 columns, or restarted at column 0), and a progress bar that ends full."""
 
 from __future__ import annotations
 
@@ -26,3 +26,21 @@ def test_listing_fits_80_columns(command):
         assert "--lattice TEXT, square: square: one asperity per spacing x spacing cell; hexagonal:" in words
         # the continuation of an entry is indented under it, not restarted at column 0
         assert all(line.startswith("      ") for line in lines if "six neighbours at spacing" in line)
+
+
+def test_progress_bar_finishes_full_when_work_ends_early():
+    """`design` announces its --evaluations budget; a search that converges earlier closed its
+    bar at e.g. 44/60, as if cut short. finish() closes it full at the count done."""
+    import io
+
+    from rich.console import Console
+
+    from fingerpad.cli.common import ProgressBar
+
+    out = io.StringIO()
+    with ProgressBar(Console(file=out, width=80, force_terminal=False), "direct predictions") as bar:
+        bar(44, 60)
+        bar.finish()
+        task = bar.bar.tasks[0]
+        assert (task.completed, task.total) == (44, 44) and task.finished
+    ProgressBar(Console(file=io.StringIO()), "never started").finish()  # no bar: nothing to do
