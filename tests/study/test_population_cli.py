@@ -186,3 +186,13 @@ def test_layered_bem_population_notes_a_cell_per_member(tmp_path: Path):
                  "--out", tmp_path / "o")
     assert res.exit_code == 0, res.stderr
     assert "skin_modulus varies gives each such member a BEM unit cell of its own" in res.stderr.replace("\n", " ")
+
+
+def test_a_population_file_is_named_in_quotes(tmp_path: Path):
+    """A file's population is named by its stem: `examples/population.toml` read "population
+    population: 256 fingers"; quoted, the name reads as one."""
+    pop = tmp_path / "population.toml"
+    pop.write_text(POP)
+    res = invoke("predict", *CAPS, "--model", "hertz", "--population", pop, "--out", tmp_path / "o")
+    assert res.exit_code == 0, res.stderr
+    assert "population 'population': 12 fingers" in res.stdout

@@ -250,7 +250,7 @@ def _print_population(payload: Mapping[str, Any]) -> None:
     console = stdout_console(80)
     levels = sorted(q["mu"], key=float)
     band = f"median [{100 * float(levels[0]):g}-{100 * float(levels[-1]):g} %]"
-    table = Table(title=f"population {pop['name']}: {pop['size']} fingers ({pop['model']}); {band}",
+    table = Table(title=f"population {pop['name']!r}: {pop['size']} fingers ({pop['model']}); {band}",
                   box=box.SIMPLE_HEAD, pad_edge=False)
     for col in ("load N", "A_re/A_fr", "μ", "μ/μ_ref", "P(asp)"):
         table.add_column(col, justify="right", no_wrap=True)
