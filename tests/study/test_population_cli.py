@@ -196,3 +196,21 @@ def test_a_population_file_is_named_in_quotes(tmp_path: Path):
     res = invoke("predict", *CAPS, "--model", "hertz", "--population", pop, "--out", tmp_path / "o")
     assert res.exit_code == 0, res.stderr
     assert "population 'population': 12 fingers" in res.stdout
+
+
+def test_a_flag_the_population_overrides_is_refused(tmp_path: Path):
+    """`--skin-modulus 0.45MPa --population adults` gave members of 0.2-0.5 MPa without a word:
+    a finger flag naming a parameter the population draws is refused (as a sweep axis or a
+    design --vary is); one the population leaves alone is taken."""
+    line = _user_error(invoke("predict", *CAPS, "--model", "hertz", "--population", "adults",
+                              "--skin-modulus", "0.45MPa", "--out", tmp_path / "o"))
+    assert "--skin-modulus" in line and "draws skin_modulus" in line
+    line = _user_error(invoke("predict", *CAPS, "--model", "hertz", "--population", "adults",
+                              "--finger-param", "tau0=20kPa", "--out", tmp_path / "o"))
+    assert "--finger-param tau0" in line
+    assert not (tmp_path / "o").exists()
+    pop = tmp_path / "pop.toml"
+    pop.write_text(POP)  # draws skin_modulus, radius, tau0, alpha, ridge_fraction: not beta
+    res = invoke("predict", *CAPS, "--model", "hertz", "--population", pop, "--finger-param", "beta=0.2",
+                 "--out", tmp_path / "o")
+    assert res.exit_code == 0, res.stderr

@@ -416,6 +416,7 @@ def predict(
             study = build_study(ctx_args=list(ctx.args), flags=flags, finger_param=finger_param or [],
                                 options=command_options(ctx), extra_sections=sections)
             pop, levels = _population(population, sections["population"], quantiles)
+        _refuse_overridden(pop, flags, finger_param or [])
         samples = sensitivity_samples_asked(sensitivity, sensitivity_samples, pop)
         if out is None and json_path != "-":
             out = "out"  # files only where asked: with --json - and no --out, none
@@ -426,6 +427,26 @@ def predict(
 
 
 
+
+
+def _refuse_overridden(pop: Any, flags: Mapping[str, Any], finger_param: Sequence[str]) -> None:
+    """A finger flag naming a parameter the population draws would be overridden in every member
+    without a word (``--skin-modulus 0.45MPa --population adults`` gave members of 0.2-0.5 MPa):
+    refused, as sweep refuses such an axis and design such a --vary."""
+    if pop is None:
+        return
+    given = {flag: flag[2:].replace("-", "_") for flag in flags
+             if flag.startswith("--skin-") and flag != "--skin-base" and flags[flag] is not None}
+    given.update({f"--finger-param {item.split('=', 1)[0].strip()}": item.split("=", 1)[0].strip()
+                  for item in finger_param})
+    # the layer's thickness and moduli are how the flags declare a layered skin at all (the
+    # population then spreads them around it): not refused
+    structural = {"skin_layer_thickness", "skin_layer_modulus", "skin_substrate_modulus"}
+    clash = [flag for flag, name in given.items() if name in pop.distributions and name not in structural]
+    if clash:
+        names = ", ".join(given[f] for f in clash)
+        raise FingerpadError(f"{', '.join(clash)}: the population {pop.name!r} draws {names} for every finger, "
+                             "so the value given would be overridden; fix it in the population or drop the flag")
 
 
 def _population(source: str | None, table: Any, quantiles: str | None) -> tuple[Any, list[float] | None]:
