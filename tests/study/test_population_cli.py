@@ -214,3 +214,18 @@ def test_a_flag_the_population_overrides_is_refused(tmp_path: Path):
     res = invoke("predict", *CAPS, "--model", "hertz", "--population", pop, "--finger-param", "beta=0.2",
                  "--out", tmp_path / "o")
     assert res.exit_code == 0, res.stderr
+
+
+def test_one_quantile_is_shown_not_dashed(tmp_path: Path):
+    """`--quantiles 0.9` alone: the table showed '-' in every cell (it printed the median, absent);
+    it shows the 90 % quantile and says so."""
+    study = tmp_path / "study.toml"
+    study.write_text('[texture]\nname = "caps"\nradius = "50um"\nheight = "10um"\nspacing = "100um"\n'
+                     '[model]\nkind = "hertz"\n[loads]\nrange = "0.1N:4N:5"\n' + POP)
+    res = invoke("predict", study, "--out", tmp_path / "o", "--quantiles", "0.9")
+    assert res.exit_code == 0, res.stderr
+    words = " ".join(res.stdout.split())
+    assert "90 % quantile" in words
+    doc = json.loads((tmp_path / "o" / "predict.json").read_text())
+    first = next(line for line in res.stdout.splitlines() if line.strip().startswith("0.1 "))
+    assert f"{doc['population']['quantiles']['mu']['0.9'][0]:.2f}" in first and " - " not in f"{first} "

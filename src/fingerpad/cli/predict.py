@@ -234,6 +234,8 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
 def _band(q: Mapping[str, Any], name: str, i: int) -> str:
     """``median [lowest-highest quantile]`` at load ``i``."""
     levels = sorted(q[name], key=float)
+    if len(levels) == 1:  # one quantile asked for (--quantiles 0.9): its value, not a dash
+        return f"{q[name][levels[0]][i]:.2f}"
     mid = q[name].get("0.5")
     lo, hi = q[name][levels[0]], q[name][levels[-1]]
     text = "-" if mid is None else f"{mid[i]:.2f}"
@@ -249,7 +251,8 @@ def _print_population(payload: Mapping[str, Any]) -> None:
     q = pop["quantiles"]
     console = stdout_console(80)
     levels = sorted(q["mu"], key=float)
-    band = f"median [{100 * float(levels[0]):g}-{100 * float(levels[-1]):g} %]"
+    band = f"median [{100 * float(levels[0]):g}-{100 * float(levels[-1]):g} %]" if len(levels) > 1 else \
+        "median" if float(levels[0]) == 0.5 else f"{100 * float(levels[0]):g} % quantile"
     table = Table(title=f"population {pop['name']!r}: {pop['size']} fingers ({pop['model']}); {band}",
                   box=box.SIMPLE_HEAD, pad_edge=False)
     for col in ("load N", "A_re/A_fr", "μ", "μ/μ_ref", "P(asp)"):
