@@ -211,3 +211,20 @@ def test_sweep_over_the_layer_thickness(tmp_path, monkeypatch):
             "model": {"kind": "bem", "grid": 16, "cache": False}}))
         assert value == pytest.approx(single.critical_load["bem"], rel=1e-9)
     assert crit[0] < crit[1]
+
+
+def test_predict_takes_solves_rigid_substrate_spelling(tmp_path):
+    """`solve` spells a rigid base `--skin-substrate-modulus rigid`; `predict` refused those words
+    ("cannot read 'rigid' as a number") and wanted --skin-base rigid. Both now give the same finger."""
+    base = ["predict", "--texture", "caps", "--radius", "50um", "--height", "10um", "--spacing", "100um",
+            "--model", "hertz", "--loads", "1N:1N:1", "--skin-layer-thickness", "300um",
+            "--skin-layer-modulus", "0.4MPa", "--json", "-"]
+    runner = CliRunner()
+    words = runner.invoke(app, [*base, "--skin-substrate-modulus", "rigid"])
+    flag = runner.invoke(app, [*base, "--skin-base", "rigid"])
+    assert words.exit_code == 0 and flag.exit_code == 0, (words.stderr, flag.stderr)
+    finger = json.loads(words.stdout)["inputs"]["finger"]
+    assert finger == json.loads(flag.stdout)["inputs"]["finger"] and finger["skin_base"] == "rigid"
+    bad = runner.invoke(app, [*base, "--skin-substrate-modulus", "rigid", "--skin-base", "elastic"])
+    assert bad.exit_code == 2 and bad.stderr.strip() == \
+        "error: --skin-substrate-modulus rigid contradicts --skin-base elastic"

@@ -56,7 +56,8 @@ _PREDICT_HELP = {
                               "corneum, 0.2-0.35 mm), with a unit, e.g. 300um; needs --skin-layer-modulus and "
                               "--skin-substrate-modulus (or --skin-base rigid).",
     "--skin-layer-modulus": "Young's modulus E_1 of the skin's outer layer, e.g. 0.4MPa (it is the skin's E_s).",
-    "--skin-substrate-modulus": "Young's modulus E_2 of the tissue under the layer, e.g. 40kPa.",
+    "--skin-substrate-modulus": "Young's modulus E_2 of the tissue under the layer, e.g. 40kPa, "
+                                "or 'rigid' (as --skin-base rigid).",
     "--skin-substrate-poisson": "Poisson ratio of the tissue under the layer (default: the skin's).",
     "--skin-base": "What the layer rests on: elastic (the tissue, default), rigid or rigid-frictionless.",
     "--finger": "Finger preset (default 'default'); see fingerpad.finger.FINGER_PRESETS.",
