@@ -177,12 +177,14 @@ def figures(a: dict, lam: np.ndarray, thresholds: dict, out: Path) -> list[Path]
     plt.close(fig)
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    styles = {"homogeneous": ("0.3", "-"), "layered E_1 0.3": ("C0", "-"), "layered E_1 1 ": ("C1", "-"),
-              "layered E_1 10": ("C3", "-")}
+    # the two homogeneous skins share a grey and differ by line style (one grey for both left the
+    # legend unable to tell them apart)
+    styles = {"homogeneous E_s 0.2": ("0.3", "--"), "homogeneous E_s 0.5": ("0.3", ":"),
+              "layered E_1 0.3": ("C0", "-"), "layered E_1 1 ": ("C1", "-"), "layered E_1 10": ("C3", "-")}
     for label, (lo, hi) in thresholds.items():
-        colour = next((c for k, (c, _) in styles.items() if label.startswith(k)), "k")
+        colour, style = next((v for k, v in styles.items() if label.startswith(k)), ("k", "-"))
         ax.fill_between(lam * 1e6, lo, hi, color=colour, alpha=0.25)
-        ax.plot(lam * 1e6, np.sqrt(lo * hi), color=colour, lw=1, label=label)
+        ax.plot(lam * 1e6, np.sqrt(lo * hi), color=colour, ls=style, lw=1.2, label=label)
     ax.text(3, 0.2, "felt (above the band)", fontsize=9)
     ax.text(300, 2e-4, "pressed flat (below)", fontsize=9)
     ax.axvspan(400, 500, color="0.93", zorder=0)

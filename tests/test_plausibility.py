@@ -44,3 +44,21 @@ def test_every_range_is_ordered_and_positive():
     for role, (low, high, dimension, typical) in RANGES.items():
         assert 0 < low < high, role
         assert dimension in ("length", "force", "pressure", "none") and typical
+
+
+def test_layered_skin_moduli_without_unit_warn():
+    """`--skin-layer-modulus 0.4` (MPa meant) is 0.4 Pa: warned like `--skin-modulus 0.3`, while
+    the layer's published range (1 MPa - 1 GPa in vitro) and the tissue's (kPa) stay silent."""
+    from fingerpad.finger import FINGER_PARAMS
+
+    params = {p.name: p for p in FINGER_PARAMS}
+    with pytest.warns(PlausibilityWarning, match=r"--skin-layer-modulus = 400 mPa is very small .*unit suffix"):
+        params["skin_layer_modulus"].parse("0.4", "--skin-layer-modulus")
+    with pytest.warns(PlausibilityWarning, match=r"--skin-substrate-modulus = 40 Pa is very small"):
+        params["skin_substrate_modulus"].parse("40", "--skin-substrate-modulus")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for text in ("0.4MPa", "1GPa", "5.7kPa"):
+            params["skin_layer_modulus"].parse(text, "--skin-layer-modulus")
+        for text in ("5.7kPa", "40kPa"):
+            params["skin_substrate_modulus"].parse(text, "--skin-substrate-modulus")

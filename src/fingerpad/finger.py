@@ -72,9 +72,11 @@ FINGER_PARAMS: tuple[Param, ...] = (
           "thesis ch. 1.2: 0.2-0.35 mm); typed with a unit", None, low=0, low_open=True, high=10e-3, example="300um",
           label="skin layer thickness t", symbol="t", needs_unit=True),
     Param("skin_layer_modulus", "pressure", "layered skin: Young's modulus E_1 of the outer layer (it is E_s)",
-          None, low=0, low_open=True, example="0.4MPa", label="skin layer modulus E_1", symbol="E_1"),
+          None, low=0, low_open=True, example="0.4MPa", label="skin layer modulus E_1",
+          plausible="skin layer modulus", symbol="E_1"),
     Param("skin_substrate_modulus", "pressure", "layered skin: Young's modulus E_2 of the tissue under the layer",
-          None, low=0, low_open=True, example="40kPa", label="skin substrate modulus E_2", symbol="E_2"),
+          None, low=0, low_open=True, example="40kPa", label="skin substrate modulus E_2",
+          plausible="skin substrate modulus", symbol="E_2"),
     Param("skin_substrate_poisson", "ratio", "layered skin: Poisson ratio nu_2 of the tissue (default: skin_poisson)",
           None, low=-1, low_open=True, high=0.5, label="skin substrate Poisson ratio", symbol="nu_2"),
     Param("skin_base", "choice", "layered skin: what the layer rests on: elastic (the tissue, E_2), rigid (bonded) "

@@ -27,6 +27,12 @@ RANGES: dict[str, tuple[float, float, str, str]] = {
     "load": (1e-3, 100.0, "force", "a finger presses with about 0.01-10 N"),
     "skin modulus": (1e3, 100e6, "pressure", "the skin's micro-scale modulus is about 0.2-0.5 MPa"),
     "pad modulus": (1e3, 10e6, "pressure", "a finger pad's reduced modulus is about 10-100 kPa"),
+    # A layered skin (docs/model.md 6.5): the stratum corneum 1 MPa - 1 GPa in vitro, effective
+    # values down to a few kPa in vivo; the tissue under it a few kPa to ~100 kPa.
+    "skin layer modulus": (1e3, 10e9, "pressure",
+                           "the stratum corneum's modulus is about 1 MPa - 1 GPa in vitro, kPa to MPa in vivo"),
+    "skin substrate modulus": (100.0, 10e6, "pressure",
+                               "the tissue under the stratum corneum is about 5-100 kPa"),
     "material modulus": (1e3, 1e12, "pressure", "materials range from soft gels (kPa) to diamond (1 TPa)"),
     "pressure": (1e-1, 1e9, "pressure", "contact pressures of skin are Pa to MPa"),
     "pad radius": (1e-3, 50e-3, "length", "a finger pad's equivalent radius is about 7-11 mm"),

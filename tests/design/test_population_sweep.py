@@ -181,6 +181,11 @@ def test_the_map_contours_of_10_and_90_percent_bracket_the_median(tmp_path):
     fig = figure_design_map(out)
     labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
     assert any("10 % finger" in t and "(N)" in t for t in labels) and any(">= 90 % of fingers" in t for t in labels)
+    # the colour bar's label is no longer than the bar (on one line it ran past both ends of it)
+    fig.canvas.draw()
+    bar = next(ax for ax in fig.axes if "median over the population" in ax.yaxis.label.get_text())
+    box, frame = bar.yaxis.label.get_window_extent(), bar.get_window_extent()
+    assert frame.y0 <= box.y0 and box.y1 <= frame.y1, (box, frame)
 
 
 POPULATION = """

@@ -287,3 +287,20 @@ def test_outputs_name_the_layer_with_units(tmp_path, monkeypatch):
     # a half-space prediction's units are as they were
     res = invoke("predict", *CAPS, "--loads", "0.2N:2N:2", "--model", "bem", "--json", "-")
     assert "skin_layer_thickness" not in json.loads(res.stdout)["units"]
+
+
+def test_predict_takes_solves_rigid_substrate_spelling(tmp_path):
+    """`solve` spells a rigid base `--skin-substrate-modulus rigid`; `predict` refused those words
+    ("cannot read 'rigid' as a number") and wanted --skin-base rigid. Both now give the same finger."""
+    base = ["predict", "--texture", "caps", "--radius", "50um", "--height", "10um", "--spacing", "100um",
+            "--model", "hertz", "--loads", "1N:1N:1", "--skin-layer-thickness", "300um",
+            "--skin-layer-modulus", "0.4MPa", "--json", "-"]
+    runner = CliRunner()
+    words = runner.invoke(app, [*base, "--skin-substrate-modulus", "rigid"])
+    flag = runner.invoke(app, [*base, "--skin-base", "rigid"])
+    assert words.exit_code == 0 and flag.exit_code == 0, (words.stderr, flag.stderr)
+    finger = json.loads(words.stdout)["inputs"]["finger"]
+    assert finger == json.loads(flag.stdout)["inputs"]["finger"] and finger["skin_base"] == "rigid"
+    bad = runner.invoke(app, [*base, "--skin-substrate-modulus", "rigid", "--skin-base", "elastic"])
+    assert bad.exit_code == 2 and bad.stderr.strip() == \
+        "error: --skin-substrate-modulus rigid contradicts --skin-base elastic"

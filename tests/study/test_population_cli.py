@@ -128,3 +128,104 @@ def test_bad_population_name_and_quantiles(tmp_path: Path):
     assert "neither a preset" in _user_error(invoke("predict", *CAPS, "--population", "martians"))
     assert "--quantiles" in _user_error(invoke("predict", *CAPS, "--population", "adults", "--quantiles", "0.5,2"))
     assert "needs a population" in _user_error(invoke("predict", *CAPS, "--quantiles", "0.5"))
+
+
+def test_quantiles_sorted_and_once_each(tmp_path: Path):
+    """`--quantiles 0.9,0.5,0.1,0.5`: the band runs from the lowest level to the highest and each
+    level gets one CSV column (given as typed, the terminal said "[90-10 %]" and the CSV had two
+    columns named mu_q0.5)."""
+    study = tmp_path / "study.toml"
+    study.write_text('[texture]\nname = "caps"\nradius = "50um"\nheight = "10um"\nspacing = "100um"\n'
+                     '[model]\nkind = "hertz"\n[loads]\nrange = "0.1N:4N:5"\n' + POP)
+    res = invoke("predict", study, "--out", tmp_path / "o", "--quantiles", "0.9,0.5,0.1,0.5")
+    assert res.exit_code == 0, res.stderr
+    assert "[10-90 %]" in res.stdout
+    with open(tmp_path / "o" / "population_bands.csv", newline="") as fh:
+        header = next(csv.reader(fh))
+    assert len(header) == len(set(header))
+    assert [h for h in header if h.startswith("mu_q")] == ["mu_q0.1", "mu_q0.5", "mu_q0.9"]
+    doc = json.loads((tmp_path / "o" / "predict.json").read_text())
+    mu = np.array([m["mu"] for m in doc["population"]["member_results"]])
+    np.testing.assert_array_equal(doc["population"]["quantiles"]["mu"]["0.1"], np.quantile(mu, 0.1, axis=0))
+
+
+LAYERED = ["--skin-layer-thickness", "300um", "--skin-layer-modulus", "0.4MPa", "--skin-substrate-modulus", "40kPa"]
+THICKNESS = '[population]\nsize = 4\nskin_layer_thickness = { distribution = "uniform", low = "200um", high = "350um" }\n'
+
+
+def test_layer_population_on_a_half_space_finger_says_so(tmp_path: Path):
+    """A population of layer thicknesses on a half-space study finger: the error names the
+    population's parameter and the remedy, not fields the user never asked it for."""
+    pop = tmp_path / "pop.toml"
+    pop.write_text(THICKNESS)
+    line = _user_error(invoke("predict", *CAPS, "--model", "hertz", "--population", pop, "--out", tmp_path / "o"))
+    assert "population skin_layer_thickness" in line and "half-space" in line and "--finger layered" in line
+    assert not (tmp_path / "o").exists()
+
+
+def test_hertz_population_of_layer_thicknesses_says_they_do_not_enter(tmp_path: Path):
+    """Hertz takes a layered skin as the half-space of its layer: a spread of the thickness gives
+    identical members (no band), and the note says why rather than leaving a zero-width band."""
+    pop = tmp_path / "pop.toml"
+    pop.write_text(THICKNESS)
+    res = invoke("predict", *CAPS, *LAYERED, "--model", "hertz", "--population", pop, "--out", tmp_path / "o")
+    assert res.exit_code == 0, res.stderr
+    assert "spread of skin_layer_thickness does not enter its curves" in res.stderr.replace("\n", " ")
+    doc = json.loads((tmp_path / "o" / "predict.json").read_text())
+    mu = np.array([m["mu"] for m in doc["population"]["member_results"]])
+    assert np.all(mu == mu[0])  # the invariant the note explains
+
+
+def test_layered_bem_population_notes_a_cell_per_member(tmp_path: Path):
+    """On a layered finger a spread of E_s (= E_1) changes the cell's proportions: each member
+    is a cell of its own, which the notes say (it cost ~1-2 s a member, unannounced)."""
+    pop = tmp_path / "pop.toml"
+    pop.write_text('[population]\nsize = 2\nskin_modulus = { values = ["0.3MPa", "0.45MPa"] }\n')
+    grid = ["--grid", "16", "--loads", "0.1N:4N:3"]
+    res = invoke("predict", *CAPS[:-4], *grid, *LAYERED, "--model", "bem", "--population", pop,
+                 "--out", tmp_path / "o")
+    assert res.exit_code == 0, res.stderr
+    assert "skin_modulus varies gives each such member a BEM unit cell of its own" in res.stderr.replace("\n", " ")
+
+
+def test_a_population_file_is_named_in_quotes(tmp_path: Path):
+    """A file's population is named by its stem: `examples/population.toml` read "population
+    population: 256 fingers"; quoted, the name reads as one."""
+    pop = tmp_path / "population.toml"
+    pop.write_text(POP)
+    res = invoke("predict", *CAPS, "--model", "hertz", "--population", pop, "--out", tmp_path / "o")
+    assert res.exit_code == 0, res.stderr
+    assert "population 'population': 12 fingers" in res.stdout
+
+
+def test_a_flag_the_population_overrides_is_refused(tmp_path: Path):
+    """`--skin-modulus 0.45MPa --population adults` gave members of 0.2-0.5 MPa without a word:
+    a finger flag naming a parameter the population draws is refused (as a sweep axis or a
+    design --vary is); one the population leaves alone is taken."""
+    line = _user_error(invoke("predict", *CAPS, "--model", "hertz", "--population", "adults",
+                              "--skin-modulus", "0.45MPa", "--out", tmp_path / "o"))
+    assert "--skin-modulus" in line and "draws skin_modulus" in line
+    line = _user_error(invoke("predict", *CAPS, "--model", "hertz", "--population", "adults",
+                              "--finger-param", "tau0=20kPa", "--out", tmp_path / "o"))
+    assert "--finger-param tau0" in line
+    assert not (tmp_path / "o").exists()
+    pop = tmp_path / "pop.toml"
+    pop.write_text(POP)  # draws skin_modulus, radius, tau0, alpha, ridge_fraction: not beta
+    res = invoke("predict", *CAPS, "--model", "hertz", "--population", pop, "--finger-param", "beta=0.2",
+                 "--out", tmp_path / "o")
+    assert res.exit_code == 0, res.stderr
+
+
+def test_one_quantile_is_shown_not_dashed(tmp_path: Path):
+    """`--quantiles 0.9` alone: the table showed '-' in every cell (it printed the median, absent);
+    it shows the 90 % quantile and says so."""
+    study = tmp_path / "study.toml"
+    study.write_text('[texture]\nname = "caps"\nradius = "50um"\nheight = "10um"\nspacing = "100um"\n'
+                     '[model]\nkind = "hertz"\n[loads]\nrange = "0.1N:4N:5"\n' + POP)
+    res = invoke("predict", study, "--out", tmp_path / "o", "--quantiles", "0.9")
+    assert res.exit_code == 0, res.stderr
+    words = " ".join(res.stdout.split())
+    assert "90 % quantile" in words
+    doc = json.loads((tmp_path / "o" / "predict.json").read_text())
+    first = next(line for line in res.stdout.splitlines() if line.strip().startswith("0.1 "))
+    assert f"{doc['population']['quantiles']['mu']['0.9'][0]:.2f}" in first and " - " not in f"{first} "

@@ -107,6 +107,19 @@ def say(console: Any, text: str) -> None:
     console.print(text, markup=False, highlight=False, soft_wrap=True)
 
 
+def say_wrapped(console: Any, text: str, hang: int = 4) -> None:
+    """Print plain text on ``console`` wrapped at its width, at word boundaries, continuation
+    lines indented ``hang`` columns past the text's own indent (a listing stays readable on an
+    80-column terminal instead of running on, or restarting at column 0)."""
+    import textwrap
+
+    lead = len(text) - len(text.lstrip(" "))
+    lines = textwrap.wrap(text, width=max(int(console.width), 40), subsequent_indent=" " * (lead + hang),
+                          break_long_words=False, break_on_hyphens=False) or [""]
+    for line in lines:
+        say(console, line)
+
+
 @contextlib.contextmanager
 def warnings_to(console: Any) -> Iterator[None]:
     """Show Python warnings as single ``warning: ...`` lines on ``console`` (stderr)."""
@@ -206,6 +219,13 @@ class ProgressBar:
         if self.bar is None:
             self._start(self.total)
         self.bar.update(self.task, detail=text)
+
+    def finish(self) -> None:
+        """The work ended before the announced total (a search that converged inside its
+        budget): the bar closes full at the count done, not at e.g. 44/60 as if cut short."""
+        if self.bar is not None:
+            done = self.bar.tasks[0].completed
+            self.bar.update(self.task, completed=done, total=done)
 
     def close(self) -> None:
         if self.bar is not None:

@@ -138,6 +138,7 @@ def design_command(
                                      min_feature=min_feature, max_aspect=max_aspect, tolerance=tolerance,
                                      from_sweep=from_sweep, candidates=candidates, evaluations=evaluations,
                                      progress=bar, population=population, coverage=coverage, quantile=quantile)
+            bar.finish()  # the search may stop inside its --evaluations budget
     if json_path == "-":
         sys.stdout.write(json.dumps(result.document(), indent=2) + "\n")
     else:

@@ -9,7 +9,7 @@ from typing import Annotated
 import typer
 
 from ..errors import FingerpadError
-from .common import say, stdout_console, user_errors
+from .common import say, say_wrapped, stdout_console, user_errors
 
 
 def fingers_command() -> None:
@@ -52,23 +52,23 @@ def fingers_command() -> None:
         console.print(table)
     else:  # a narrow terminal: one block per preset
         for name, f in FINGER_PRESETS.items():
-            say(console, f"{name}: {f.description}")
-            say(console, "  " + ", ".join(f"{head(p)} {cell(f, p)}" for p in shown))
-            say(console, f"  gross area: {f.gross_model!r}")
-            say(console, f"  ridge area: {f.ridges!r}")
+            say_wrapped(console, f"{name}: {f.description}")
+            say_wrapped(console, "  " + ", ".join(f"{head(p)} {cell(f, p)}" for p in shown))
+            say_wrapped(console, f"  gross area: {f.gross_model!r}")
+            say_wrapped(console, f"  ridge area: {f.ridges!r}")
     say(console, "")
-    say(console, "finger parameters (--finger-param NAME=VALUE, [finger] NAME = VALUE in a study file):")
+    say_wrapped(console, "finger parameters (--finger-param NAME=VALUE, [finger] NAME = VALUE in a study file):")
     for p in FINGER_PARAMS:
         bounds = f", {p.bounds_text()}" if p.bounds_text() else ""
-        say(console, f"  {p.name} [{p.unit}]{bounds}: {head(p)}, {p.doc}")
-    say(console, f"  {RIDGE_FRACTION.name} [{RIDGE_FRACTION.unit}], {RIDGE_FRACTION.bounds_text()}: --finger-param "
-                 "only, the constant-fraction ridge model with this A_fr/A_g (replaces the finger's ridge model)")
+        say_wrapped(console, f"  {p.name} [{p.unit}]{bounds}: {head(p)}, {p.doc}")
+    say_wrapped(console, f"  {RIDGE_FRACTION.name} [{RIDGE_FRACTION.unit}], {RIDGE_FRACTION.bounds_text()}: --finger-param "
+                         "only, the constant-fraction ridge model with this A_fr/A_g (replaces the finger's ridge model)")
     for title, key, registry in (("pad (gross-area) models", "gross", GROSS_MODELS),
                                  ("ridge-area models", "ridges", RIDGE_MODELS)):
         say(console, "")
-        say(console, f"{title} ([finger] {key} = {{ model = NAME, PARAM = VALUE }} in a study file):")
+        say_wrapped(console, f"{title} ([finger] {key} = {{ model = NAME, PARAM = VALUE }} in a study file):")
         for model in registry.values():
-            say(console, f"  {model.name}: {model.summary}")
+            say_wrapped(console, f"  {model.name}: {model.summary}")
             for p in model.params:
                 unit = f" [{p.unit}]" if p.unit else ""
                 default = p.default_text()
@@ -76,7 +76,7 @@ def fingers_command() -> None:
                     default = "the finger's" if model.inherits[p.name].startswith("finger.") else \
                         "the study's largest load" if model.inherits[p.name] == "loads.max" else default
                 choices = f" ({' | '.join(p.choices)})" if p.choices else ""
-                say(console, f"    {p.name}{unit}, {default}: {p.doc}{choices}")
+                say_wrapped(console, f"    {p.name}{unit}, {default}: {p.doc}{choices}")
 
 
 def finger_models(

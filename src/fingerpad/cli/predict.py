@@ -56,7 +56,8 @@ _PREDICT_HELP = {
                               "corneum, 0.2-0.35 mm), with a unit, e.g. 300um; needs --skin-layer-modulus and "
                               "--skin-substrate-modulus (or --skin-base rigid).",
     "--skin-layer-modulus": "Young's modulus E_1 of the skin's outer layer, e.g. 0.4MPa (it is the skin's E_s).",
-    "--skin-substrate-modulus": "Young's modulus E_2 of the tissue under the layer, e.g. 40kPa.",
+    "--skin-substrate-modulus": "Young's modulus E_2 of the tissue under the layer, e.g. 40kPa, "
+                                "or 'rigid' (as --skin-base rigid).",
     "--skin-substrate-poisson": "Poisson ratio of the tissue under the layer (default: the skin's).",
     "--skin-base": "What the layer rests on: elastic (the tissue, default), rigid or rigid-frictionless.",
     "--finger": "Finger preset (default 'default'); see fingerpad.finger.FINGER_PRESETS.",
@@ -238,6 +239,8 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
 def _band(q: Mapping[str, Any], name: str, i: int) -> str:
     """``median [lowest-highest quantile]`` at load ``i``."""
     levels = sorted(q[name], key=float)
+    if len(levels) == 1:  # one quantile asked for (--quantiles 0.9): its value, not a dash
+        return f"{q[name][levels[0]][i]:.2f}"
     mid = q[name].get("0.5")
     lo, hi = q[name][levels[0]], q[name][levels[-1]]
     text = "-" if mid is None else f"{mid[i]:.2f}"
@@ -253,8 +256,9 @@ def _print_population(payload: Mapping[str, Any]) -> None:
     q = pop["quantiles"]
     console = stdout_console(80)
     levels = sorted(q["mu"], key=float)
-    band = f"median [{100 * float(levels[0]):g}-{100 * float(levels[-1]):g} %]"
-    table = Table(title=f"population {pop['name']}: {pop['size']} fingers ({pop['model']}); {band}",
+    band = f"median [{100 * float(levels[0]):g}-{100 * float(levels[-1]):g} %]" if len(levels) > 1 else \
+        "median" if float(levels[0]) == 0.5 else f"{100 * float(levels[0]):g} % quantile"
+    table = Table(title=f"population {pop['name']!r}: {pop['size']} fingers ({pop['model']}); {band}",
                   box=box.SIMPLE_HEAD, pad_edge=False)
     for col in ("load N", "A_re/A_fr", "μ", "μ/μ_ref", "P(asp)"):
         table.add_column(col, justify="right", no_wrap=True)
@@ -420,6 +424,7 @@ def predict(
             study = build_study(ctx_args=list(ctx.args), flags=flags, finger_param=finger_param or [],
                                 options=command_options(ctx), extra_sections=sections)
             pop, levels = _population(population, sections["population"], quantiles)
+        _refuse_overridden(pop, flags, finger_param or [])
         samples = sensitivity_samples_asked(sensitivity, sensitivity_samples, pop)
         if out is None and json_path != "-":
             out = "out"  # files only where asked: with --json - and no --out, none
@@ -430,6 +435,26 @@ def predict(
 
 
 
+
+
+def _refuse_overridden(pop: Any, flags: Mapping[str, Any], finger_param: Sequence[str]) -> None:
+    """A finger flag naming a parameter the population draws would be overridden in every member
+    without a word (``--skin-modulus 0.45MPa --population adults`` gave members of 0.2-0.5 MPa):
+    refused, as sweep refuses such an axis and design such a --vary."""
+    if pop is None:
+        return
+    given = {flag: flag[2:].replace("-", "_") for flag in flags
+             if flag.startswith("--skin-") and flag != "--skin-base" and flags[flag] is not None}
+    given.update({f"--finger-param {item.split('=', 1)[0].strip()}": item.split("=", 1)[0].strip()
+                  for item in finger_param})
+    # the layer's thickness and moduli are how the flags declare a layered skin at all (the
+    # population then spreads them around it): not refused
+    structural = {"skin_layer_thickness", "skin_layer_modulus", "skin_substrate_modulus"}
+    clash = [flag for flag, name in given.items() if name in pop.distributions and name not in structural]
+    if clash:
+        names = ", ".join(given[f] for f in clash)
+        raise FingerpadError(f"{', '.join(clash)}: the population {pop.name!r} draws {names} for every finger, "
+                             "so the value given would be overridden; fix it in the population or drop the flag")
 
 
 def _population(source: str | None, table: Any, quantiles: str | None) -> tuple[Any, list[float] | None]:
@@ -444,6 +469,9 @@ def _population(source: str | None, table: Any, quantiles: str | None) -> tuple[
                 from None
         if not levels or any(not 0 <= q <= 1 for q in levels):
             raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {quantiles!r}")
+        # Ascending and once each: the bands are drawn from the first to the last level and a
+        # repeated level would give two CSV columns (and Zarr coordinates) of the same name.
+        levels = sorted(set(levels))
     if source is None and table is None:
         if levels is not None:
             raise FingerpadError("--quantiles needs a population (--population or a [population] table)")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from .common import say, stdout_console, user_errors
+from .common import say_wrapped, stdout_console, user_errors
 
 
 def textures_command() -> None:
@@ -37,13 +37,13 @@ def textures_command() -> None:
         console.print(table)
     else:  # a narrow terminal: one block per family, one line per parameter
         for name, fam in families.items():
-            console.print(f"[bold]{escape(name)}[/bold]: {escape(fam.summary)}")
+            say_wrapped(console, f"{name}: {fam.summary}")
             for p in fam.params:
                 default = p.default_text()
                 unit = f" [{p.unit}]" if p.unit else ""
                 choices = f" ({' | '.join(p.choices)})" if p.choices else ""
-                console.print(escape(f"  {p.option} {p.metavar}{unit}, {default}: {p.doc}{choices}"), soft_wrap=False)
-    say(console, "Lengths take unit suffixes (50um, 0.2mm) or metres; angles are in degrees unless suffixed "
+                say_wrapped(console, f"  {p.option} {p.metavar}{unit}, {default}: {p.doc}{choices}")
+    say_wrapped(console, "Lengths take unit suffixes (50um, 0.2mm) or metres; angles are in degrees unless suffixed "
                  "(30deg, 0.5rad); the grid is given as --grid N.")
 
 

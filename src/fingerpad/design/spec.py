@@ -413,6 +413,7 @@ def _add_population(spec: SweepSpec, base_study: Any, population: Any, quantiles
     levels = tuple(float(q) for q in (DEFAULT_QUANTILES if quantiles is None else quantiles))
     if not levels or any(not (0 <= q <= 1) for q in levels):
         raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {list(levels)}")
+    levels = tuple(sorted(set(levels)))  # one coordinate per level, ascending
     for axis in spec.axes:
         name = axis.key if axis.section == "finger" else axis.name
         if axis.section == "finger" and name in pop.distributions:

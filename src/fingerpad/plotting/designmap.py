@@ -127,8 +127,11 @@ def figure_design_map(data: Any) -> Any:
         cbar = fig.colorbar(mesh, ax=list(axes[:n]), shrink=0.9)
         what = data.attrs.get("quantity_label", "μ/μ_ref")
         extra = " (friction against the flat reference)" if what == "μ/μ_ref" else ""
+        # Two lines for a population: on one, the label ran past the colour bar's length and was
+        # cut at the figure's edge.
         median = "median over the population of " if population else ""
-        cbar.set_label(f"{median}{what} at {data.attrs['at']:g} N{extra}")
+        sep = "\n" if population and extra else ""
+        cbar.set_label(f"{median}{what} at {data.attrs['at']:g} N{sep}{extra.lstrip() if sep else extra}")
     if population:
         _population_legend(fig, axes[:n], data)
         return fig

@@ -49,5 +49,5 @@ def figure_population(result: "PopulationResult") -> Any:
     ax.set_xlabel("critical load (N)")
     ax.set_ylabel("members")
     ax.set_title(f"{crit.size - finite.size} of {crit.size} never reach the transition", fontsize=9)
-    fig.suptitle(f"population {result.population.name}: {len(result.members)} fingers")
+    fig.suptitle(f"population {result.population.name!r}: {len(result.members)} fingers")
     return fig

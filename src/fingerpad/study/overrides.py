@@ -135,6 +135,14 @@ def apply_flags(
             flags["--material-modulus"].strip().lower() in ("rigid", "inf", "infinity"):
         out.setdefault("material", {}).pop("poisson", None)
 
+    substrate = flags.get("--skin-substrate-modulus")
+    if isinstance(substrate, str) and substrate.strip().lower() == "rigid":
+        # `solve` spells a rigid base --skin-substrate-modulus rigid: the same words work here
+        base = flags.get("--skin-base")
+        if base is not None and str(base).strip().lower() == "elastic":
+            raise FingerpadError("--skin-substrate-modulus rigid contradicts --skin-base elastic")
+        flags = {**flags, "--skin-substrate-modulus": None, "--skin-base": base or "rigid"}
+
     for flag, value in flags.items():
         if value is None:
             continue

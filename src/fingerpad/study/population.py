@@ -42,7 +42,7 @@ import numpy as np
 
 from ..coupling import CurvePrediction
 from ..errors import FingerpadError
-from ..finger import FINGER_PARAMS, RIDGE_FRACTION, Finger
+from ..finger import FINGER_PARAMS, LAYER_FIELDS, RIDGE_FRACTION, Finger
 from ..meso import ConstantFractionRidges
 from ..params import Param, _is_bare_number
 from .population_correlations import Correlation, correlate, parse_correlations
@@ -298,6 +298,13 @@ def member_finger(finger: Finger, params: Mapping[str, float]) -> Finger:
             raise FingerpadError("population ridge_fraction: the study's finger must use the constant-fraction "
                                  f"ridge model, not {type(finger.ridges).__name__}")
         values["ridges"] = ConstantFractionRidges(params["ridge_fraction"])
+    layered = sorted(set(values) & set(LAYER_FIELDS))
+    if layered and finger.skin != "layered":
+        # Said in the population's terms: the finger's own check ("a layered skin needs ...
+        # missing") names fields the user never asked the population for.
+        raise FingerpadError(f"population {', '.join(layered)}: the study's finger has a half-space skin; a "
+                             "population of layered skins needs a layered finger (--finger layered, or the "
+                             "[finger] keys skin_layer_thickness, skin_layer_modulus, skin_substrate_modulus)")
     return finger.with_overrides(**values) if values else finger
 
 
@@ -481,6 +488,7 @@ def run_population(study: Study, population: Population,
     levels = tuple(float(q) for q in quantiles)
     if not levels or any(not (0 <= q <= 1) for q in levels):
         raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {list(quantiles)}")
+    levels = tuple(sorted(set(levels)))  # the band runs from the first level to the last
     if study.direction is not None:
         raise FingerpadError(DIRECTION_REFUSED)
     members = population.sample()
@@ -490,6 +498,21 @@ def run_population(study: Study, population: Population,
     notes = list(population.notes)
     if study.model == "both":
         notes.append("population: the BEM curves only (model both)")
+    # Hertz (Eqs. 3.1-3.6) sees a layered skin as the half-space of its layer: a spread of the
+    # layer's thickness or the tissue under it changes no member's curve, which must be said.
+    unseen = [n for n in ("skin_layer_thickness", "skin_substrate_modulus", "skin_substrate_poisson")
+              if n in population.distributions]
+    # A layered cell is scale-free only at fixed proportions (t / L, E_1 / E*, E_2 / E*, the
+    # Poisson ratios): a member that changes any of them is a BEM cell of its own, a cost that
+    # grows with the population (1-2 s a member on 2 cores) and would otherwise go unsaid.
+    proportions = ("skin_modulus", "skin_poisson", *LAYER_FIELDS)
+    varied = [n for n in proportions if n in population.distributions]
+    if study.finger.skin == "layered" and study.model != "hertz" and varied:
+        notes.append(f"population: a layered skin whose {', '.join(varied)} varies gives each such member a BEM "
+                     "unit cell of its own (solved or read from the cache), not one cell for all")
+    if study.model == "hertz" and unseen:
+        notes.append(f"population: the Hertz model takes each member's skin as the half-space of its layer, so "
+                     f"the spread of {', '.join(unseen)} does not enter its curves; --model bem has the layer")
     sens = None
     if sensitivity is not None:
         from .sensitivity import population_sensitivity
