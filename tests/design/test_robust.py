@@ -81,6 +81,10 @@ def test_the_search_screen_is_the_direct_population_prediction(tmp_path, kind):
     assert screened.population["coverage"] == checked.population["coverage"]
     assert 0 < checked.population["coverage"] < 1  # the case is not trivial
     assert screened.objective == pytest.approx(checked.objective, rel=1e-12)
+    # with --coverage C the candidate's critical load is the (1 - C) quantile: the JSON's
+    # critical_load levels name it, so the reported number can be checked from the file
+    covered = population_candidate(problem, population_goal(WIDE, "0.7", None), {"spacing": 200e-6})
+    assert covered.population["critical_load"]["0.3"] == covered.critical_load
 
 
 def test_robust_design_round_trip(tmp_path):

@@ -213,6 +213,8 @@ def _score(problem: DesignProblem, goal: PopulationGoal, cand: Candidate, values
     if goal.coverage is not None:
         # the critical load that the covered fraction of the members reaches or exceeds
         cand.critical_load = _quantile(critical, 1.0 - goal.coverage)
+        # the JSON beside it names that level too, so the number can be checked from the file
+        summary["critical_load"][f"{1.0 - goal.coverage:g}"] = cand.critical_load
         member_pen = np.array([critical_penalty(float(c), limit)[0] for c in critical])
         member_score = np.max(dev**2, axis=0) + member_pen
         kth = float(np.sort(member_score)[goal.needed - 1])
