@@ -12,14 +12,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from ..errors import FingerpadError
-
-if TYPE_CHECKING:
-    from .bem import BEMUnitCell
 
 __all__ = ["InterpolatedCurve", "ScaledResponse"]
 
@@ -207,7 +204,7 @@ class ScaledResponse:
     friction measurements.
     """
 
-    base: "BEMUnitCell"
+    base: InterpolatedCurve  # a prepared BEMUnitCell (which adds the state pressures)
     factor: float  # E*_new / E*_base
 
     def contact_fraction(self, p: "np.ndarray | float") -> np.ndarray:
