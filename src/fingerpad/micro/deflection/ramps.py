@@ -26,6 +26,7 @@ import numpy as np
 from ...errors import FingerpadError
 from .mesh import SectionGeometry, build_mesh
 from .path import follow_load, follow_shear
+from .pressure_ramp import PressureRamp, to_ramp
 from .section import Section
 from .settings import DeflectionSettings, SectionMaterials
 from .solve import FrictionLaw, SectionSolver
@@ -71,21 +72,19 @@ def press(job: SectionJob) -> Any:
 
 def shear(job: SectionJob, k: int, start: Any) -> Any:
     """The shear ramp of ``job``'s level ``k`` from its pressed state ``start``, as a
-    :class:`.gain.PressureRamp` (SI units)."""
-    from .gain import _to_ramp
+    :class:`.pressure_ramp.PressureRamp` (SI units)."""
 
     solver, r, em = job.solver()
     s = job.settings
     ramp = follow_shear(solver, start, s.mu_max, check_stability=s.check_stability, max_steps=int(s.max_steps),
                         time_limit=s.time_limit)
-    out = _to_ramp(solver, ramp, job.pressures[k], start.load * em * r, r, em)
+    out = to_ramp(solver, ramp, job.pressures[k], start.load * em * r, r, em)
     out.incomplete = bool(ramp.timed_out)
     return out
 
 
 def unpressed(job: SectionJob, ramp0: Any) -> list[Any]:
     """Empty ramps for the levels the normal-load ramp did not reach (they say why)."""
-    from .gain import PressureRamp
 
     return [PressureRamp(float(pk), float(pk * job.section.load_per_pressure), *([np.zeros(0)] * 9),
                          math.nan, math.nan, False, f"not pressed on: {ramp0.stopped}")
@@ -115,7 +114,7 @@ def default_workers(tasks: int) -> int:
 
 def solve_sections(jobs: Sequence[SectionJob], workers: int | None = None,
                    progress: Callable[[str], None] | None = None) -> list[list[Any]]:
-    """The ramps (:class:`.gain.PressureRamp`, one per level in the job's order) of every job.
+    """The ramps (:class:`.pressure_ramp.PressureRamp`, one per level in the job's order) of every job.
 
     Parameters
     ----------
