@@ -13,8 +13,8 @@ from ..errors import FingerpadError
 if TYPE_CHECKING:  # the figures read a result; plotting imports nothing of measure/ at run time
     from ..measure.analysis import StudyResult
 
-__all__ = ["QCInputs", "condition_label", "figure_participant", "figure_qc", "figure_sample", "log_subs", "png_bytes",
-           "qc_inputs", "qc_png"]
+__all__ = ["QCInputs", "condition_label", "figure_participant", "figure_qc", "figure_sample", "log_subs",
+           "participant_png", "png_bytes", "qc_inputs", "qc_png", "sample_png"]
 
 
 def condition_label(sample: str, direction: str) -> str:
@@ -33,6 +33,45 @@ def _new_figure(ncols: int, width: float = 5.2, height: float = 4.0):
     axes = fig.subplots(1, ncols, squeeze=False)[0]
     fig.subplots_adjust(left=0.5 / (width * ncols) + 0.04, right=0.98, bottom=0.13, top=0.9, wspace=0.28)
     return fig, axes
+
+
+# figures kept by participant_png and sample_png, one per kind and number of panels: a new
+# figure builds its axes and, on the first draw, some 90 tick objects per log axis (a quarter
+# of a participant figure's time); a kept one reuses them
+_KEPT: dict[tuple[str, int], Any] = {}
+
+
+def _empty_axes(ax: Any) -> None:
+    """Take ``ax`` back to the state of a new axes as the figures below use it: no artists,
+    no legend, linear scales (a figure sets its own), limits forgotten and autoscaled, no
+    title or axis labels, the colour cycle from its start."""
+    for container in list(ax.containers):  # errorbar: its lines go with it
+        container.remove()
+    for artist in [*ax.lines, *ax.collections, *ax.patches, *ax.texts, *ax.images]:
+        artist.remove()
+    if ax.get_legend() is not None:
+        ax.get_legend().remove()
+    ax.set_prop_cycle(None)
+    ax.set_xscale("linear")
+    ax.set_yscale("linear")
+    ax.relim()
+    ax.autoscale(True)
+    ax.set(title="", xlabel="", ylabel="")
+
+
+def _figure(kept: dict[tuple[str, int], Any] | None, kind: str, ncols: int, width: float = 5.2):
+    """A new figure of ``ncols`` panels, or with ``kept`` the one kept there for ``kind``
+    (emptied; kept for the next call)."""
+    if kept is None:
+        return _new_figure(ncols, width)
+    fig = kept.get((kind, ncols))
+    if fig is None:
+        fig, axes = _new_figure(ncols, width)
+        kept[(kind, ncols)] = fig
+        return fig, axes
+    for ax in fig.axes:
+        _empty_axes(ax)
+    return fig, fig.axes
 
 
 def log_subs(low: float, high: float) -> tuple[float, ...]:
@@ -87,6 +126,22 @@ def figure_participant(result: StudyResult, participant: str):
     fits. Right: ``mu_tex / mu_ref`` on each textured sample with the segmented fit, the
     breakpoint and its interval, and the model at the fitted E_s.
     """
+    return _draw_participant(result, participant, None)
+
+
+def participant_png(result: StudyResult, participant: str, dpi: int) -> bytes:
+    """The PNG of :func:`figure_participant`, drawn on a figure kept by this process (emptied
+    and filled again: the same image as a new figure's). Not for several threads at once."""
+    return png_bytes(_draw_participant(result, participant, _KEPT), dpi)
+
+
+def sample_png(result: StudyResult, sample: str, dpi: int) -> bytes:
+    """The PNG of :func:`figure_sample`, drawn on a figure kept by this process (emptied and
+    filled again: the same image as a new figure's). Not for several threads at once."""
+    return png_bytes(_draw_sample(result, sample, _KEPT), dpi)
+
+
+def _draw_participant(result: StudyResult, participant: str, kept: dict[tuple[str, int], Any] | None):
     s = result.strokes[result.strokes["participant"] == participant]
     if s.empty:
         raise FingerpadError(f"no strokes of participant {participant!r}")
@@ -94,7 +149,7 @@ def figure_participant(result: StudyResult, participant: str):
     colours = _colours([condition_label(*c) for c in conds])
     ref = result.options.reference
     textured = [c for c in conds if c[0] != ref]
-    fig, axes = _new_figure(2 if textured else 1)
+    fig, axes = _figure(kept, "participant", 2 if textured else 1)
     ax = axes[0]
     grid = result.load_grid()
     for sample, direction in conds:
@@ -146,13 +201,17 @@ def figure_participant(result: StudyResult, participant: str):
 def figure_sample(result: StudyResult, sample: str):
     """Figure of one sample: every participant's binned mu(F), the normalised curves, and the
     between-participant coefficient of variation before/after normalising."""
+    return _draw_sample(result, sample, None)
+
+
+def _draw_sample(result: StudyResult, sample: str, kept: dict[tuple[str, int], Any] | None):
     s = result.bins[(result.bins["sample"] == sample) & (result.bins["sense"] == "both")]
     if s.empty:
         raise FingerpadError(f"no data on sample {sample!r}")
     is_ref = sample == result.options.reference
     participants = sorted(s["participant"].unique())
     colours = _colours(participants)
-    fig, axes = _new_figure(1 if is_ref else 3, width=4.6)
+    fig, axes = _figure(kept, "sample", 1 if is_ref else 3, width=4.6)
     grid = result.load_grid()
     ax = axes[0]
     for p in participants:
@@ -301,9 +360,8 @@ _BAND_STYLES: tuple[dict[str, Any], ...] = (
 
 def _new_qc_figure(n_rows: int):
     """An empty QC figure of ``n_rows`` panels with what every recording's figure shares: the
-    axes and their styles, and the artists that :func:`_fill_qc` gives data (each time panel
-    one line, one band collection per style and the lift-off threshold; the mu panel one line
-    per marker). Set up once per kept figure: styling the ticks and adding the artists was
+    axes and their styles, and the artists that :func:`_draw_qc` gives data (each time panel
+    one line and one band collection per style; the mu panel one line per marker). Set up once per kept figure: styling the ticks and adding the artists was
     about a fifth of a figure's time when done for every recording."""
     from matplotlib.collections import PolyCollection
     from matplotlib.figure import Figure
@@ -318,7 +376,6 @@ def _new_qc_figure(n_rows: int):
                               autolim=False)
         ax.tick_params(labelsize=7)
         ax.grid(True, alpha=0.3)
-    axes[0].axhline(0.0, color="red", lw=0.8, ls=":")  # lift-off threshold
     ax = axes[-1]
     for sense, (marker, label) in _SENSE_STYLE.items():
         ax.plot([], [], marker, ms=4, ls="none", label=label, color=_SENSE_COLOURS[1 if sense == "+" else -1])
@@ -373,15 +430,21 @@ def _draw_qc(inputs: QCInputs, reuse: Any = None):
     bands = [dropped, shade[1], shade[-1], steady[1], steady[-1], outlined, cross]
     span_x = np.asarray([x for spans in bands for span in spans for x in span], dtype=float)
     for ax, (y, label) in zip(axes, series):
-        for extra in ax.lines[2 if ax is axes[0] else 1:]:  # the saturated levels of the last recording
+        for extra in ax.lines[1:]:  # the threshold and saturated levels of the last recording
             extra.remove()
         tt, yy = _decimate(t, np.asarray(y, dtype=float))
         ax.lines[0].set_data(tt, yy)
         for collection, spans in zip(ax.collections, bands, strict=True):
             collection.set_verts(_span_verts(spans))
+        ax.relim()  # data limits of this recording's line only, autoscaled
+        if span_x.size:  # the bands widen the time axis as axvspan's would
+            ax.update_datalim(np.column_stack([span_x, np.zeros_like(span_x)]), updatey=False)
+        ax.autoscale(True)
         ax.set_ylabel(label, fontsize=8)
         ax.set_xlabel("")
-    axes[0].lines[1].set_ydata([inputs.min_load, inputs.min_load])
+    # added after the limits are set, as on a new figure: axhline widens them only where the
+    # level is outside the data's
+    axes[0].axhline(inputs.min_load, color="red", lw=0.8, ls=":")
     for clip in clips:  # the saturated level of each clipped channel
         axes[0 if clip.channel == "normal" else 1].axhline(clip.level, color="magenta", lw=1.0, ls="--")
     axes[n_rows - 2].set_xlabel(xlabel, fontsize=8)
@@ -394,11 +457,8 @@ def _draw_qc(inputs: QCInputs, reuse: Any = None):
         ax.get_legend().remove()
     if len(strokes):
         ax.legend(fontsize=7, loc="best", ncol=3)
-    for i, ax in enumerate(axes):  # data limits from this recording's artists only, autoscaled
-        ax.relim()
-        if i < n_rows - 1 and span_x.size:  # the bands widen the time axis as axvspan's would
-            ax.update_datalim(np.column_stack([span_x, np.zeros_like(span_x)]), updatey=False)
-        ax.autoscale(True)
+    ax.relim()
+    ax.autoscale(True)
     from pathlib import Path
 
     n_drop = len(report.strokes) - len(report.used)
@@ -410,8 +470,15 @@ def _draw_qc(inputs: QCInputs, reuse: Any = None):
     return fig
 
 
+# zlib level of the PNGs: 3 encodes a QC figure in ~19 ms against ~28 ms at the default 6
+# (files ~11 % larger; levels 1-2 are no faster and larger still); the pixels are the same
+PNG_COMPRESS_LEVEL = 3
+
+
 def png_bytes(fig: Any, dpi: int) -> bytes:
+    """``fig`` drawn by Agg at ``dpi`` (dots per inch), as PNG bytes (zlib level
+    :data:`PNG_COMPRESS_LEVEL`)."""
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi)
+    fig.savefig(buf, format="png", dpi=dpi, pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
     return buf.getvalue()
 
