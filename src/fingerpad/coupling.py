@@ -334,17 +334,20 @@ def predict_curve(
         mu_ref = mu_checked(f, ridge, finger)  # on the flat the real area is the ridge area
         mu_norm = mu / mu_ref
 
+    # the root finders call A_fr(F) some 25 times each: the law builds the gross-area model once
+    # (the numbers of finger.ridge_area, without checking each trial load again)
+    ridge_law = finger.ridge_area_law()
     if math.isinf(float(cell.transition_pressure)):
         f_crit = math.inf  # the cell never reaches its transition (a state search found none)
     else:
         try:
-            f_crit = critical_load(cell, finger.ridge_area)
+            f_crit = critical_load(cell, ridge_law)
         except FingerpadError:  # no crossing in the (very wide) load range: report as NaN
             f_crit = math.nan
     f_hertz: float | None = None
     if isinstance(cell, HertzUnitCell):
         try:
-            f_hertz = cell.critical_load(finger.ridge_area)
+            f_hertz = cell.critical_load(ridge_law)
         except FingerpadError:
             f_hertz = math.nan
 

@@ -109,3 +109,21 @@ def test_qc_png_on_a_reused_figure_is_the_same_as_on_a_new_one(study_small):
     fresh = [png_bytes(figure_qc(study_small, s), 40) for s in sources]
     for s, want in zip(sources + sources[::-1], fresh + fresh[::-1]):
         assert qc_png(qc_inputs(study_small, s), 40) == want, s
+
+
+def test_participant_and_sample_pngs_on_kept_figures_are_the_same_as_on_new_ones(study_small):
+    """participant_png and sample_png redraw one kept figure per kind and shape: each PNG is
+    byte-identical to that of a new figure, whichever participant or sample was drawn on the
+    kept figure before (scales, limits, ticks, legend, error bars, bands, titles)."""
+    from fingerpad.plotting.measure import figure_sample, participant_png, png_bytes, sample_png
+
+    participants = sorted(study_small.strokes["participant"].unique())
+    samples = sorted(study_small.strokes["sample"].unique())
+    assert len(participants) >= 2 and len(samples) >= 2  # something drawn before each one
+    fresh = {p: png_bytes(figure_participant(study_small, p), 40) for p in participants}
+    fresh.update({s: png_bytes(figure_sample(study_small, s), 40) for s in samples})
+    for order in (1, -1, 1):
+        for p in participants[::order]:
+            assert participant_png(study_small, p, 40) == fresh[p], p
+        for s in samples[::order]:
+            assert sample_png(study_small, s, 40) == fresh[s], s

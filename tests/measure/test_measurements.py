@@ -395,7 +395,7 @@ def test_report_atomic(study, tmp_path, monkeypatch):
     def boom(*args, **kwargs):
         raise FingerpadError("figure failed")
 
-    monkeypatch.setattr(report, "figure_participant", boom)  # after the tables are written
+    monkeypatch.setattr(report, "participant_png", boom)  # after the tables are written
     with pytest.raises(FingerpadError, match="figure failed"):
         report.write_report(result, out)
     assert sorted(p.name for p in out.iterdir()) == [MANIFEST, "report.html"]  # left as it was

@@ -38,7 +38,7 @@ import pandas as pd
 
 from .._version import __version__
 from ..io import OutputFolder
-from ..plotting.measure import condition_label, figure_participant, figure_sample, png_bytes, qc_inputs, qc_png
+from ..plotting.measure import condition_label, participant_png, qc_inputs, qc_png, sample_png
 from .analysis import StudyResult, study_info
 from .htmlreport import html_report
 
@@ -313,10 +313,11 @@ def write_report(
             # the pool starts on the QC figures now and draws them while the participant
             # and sample figures are drawn here
             with _qc_drawer(result, sources, dpi, workers) as qc_png_of:
-                drawn = [("participant", p, figure_participant) for p in participants] + \
-                        [("sample", s, figure_sample) for s in samples]
+                # each kind drawn on one kept figure (the same image as a new one's)
+                drawn = [("participant", p, participant_png) for p in participants] + \
+                        [("sample", s, sample_png) for s in samples]
                 for kind, key, draw in drawn:
-                    pngs[f"{kind} {key}"] = png = png_bytes(draw(result, key), dpi)
+                    pngs[f"{kind} {key}"] = png = draw(result, key, dpi)
                     name = f"figures/{kind}_{_safe(key)}.png"
                     (tmp / name).write_bytes(png)
                     written.append(name)
