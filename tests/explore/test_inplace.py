@@ -180,6 +180,45 @@ def test_only_preset_names_are_read(tmp_path, population):
     assert population_choices()[0] == "none" and "adults" in population_choices()
 
 
+def test_the_servers_own_populations_are_chosen_by_label_only(tmp_path, population):
+    """`fingerpad explore --population FILE`: the file is read once when the server starts and
+    offered under its label; the page still cannot name a path (not even that file's)."""
+    from fingerpad.explore.server import server_populations
+    from fingerpad.explore.views.population import population_choices, run_preset
+    from fingerpad.study.population import load_population, run_population
+    from fingerpad.study.spec import study_from_dict
+    from fingerpad.explore.inputs import labels_for
+
+    data = population[0]
+    table = tmp_path / "panel.toml"
+    table.write_text('[population]\nsize = 4\nskin_modulus = { distribution = "uniform", low = "0.2MPa", '
+                     'high = "0.5MPa" }\n')
+    adults = tmp_path / "adults.toml"  # a file named like a preset gets a label of its own
+    adults.write_text(table.read_text())
+    extra = server_populations([str(table), str(adults), "adults"])
+    assert list(extra) == ["panel", "adults (2)"]
+    assert population_choices(extra) == ["none", "adults", "panel", "adults (2)"]
+    got = run_preset(data, "panel", extra)
+    want = run_population(study_from_dict(data, labels_for(data)), load_population(str(table)))
+    np.testing.assert_array_equal(got.values("mu_normalised"), want.values("mu_normalised"))
+    for forged in (str(table), "/etc/passwd", "panel "):
+        with pytest.raises(FingerpadError, match="population: choose one of none, adults, panel"):
+            run_preset(data, forged, extra)
+    with pytest.raises(FingerpadError, match="neither a preset"):
+        server_populations([str(tmp_path / "missing.toml")])
+
+
+def test_explore_with_an_unreadable_population_is_one_error_line(tmp_path):
+    from typer.testing import CliRunner
+
+    from fingerpad.cli import app
+
+    res = CliRunner().invoke(app, ["explore", "--no-browser", "--population", str(tmp_path / "missing.toml")])
+    assert res.exit_code == 2
+    lines = [line for line in res.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("error: --population:"), res.stderr
+
+
 def _drain():
     import asyncio
 
@@ -209,7 +248,7 @@ def test_the_page_runs_its_background_work(tmp_path, population, monkeypatch):
 
     calls = []
 
-    def fake(data, name):  # the fixture's result: the wiring is tested here, the numbers above
+    def fake(data, name, extra=None):  # the fixture's result: the wiring is tested here, the numbers above
         calls.append((data, name))
         return population[1]
 

@@ -24,6 +24,11 @@ def explore(
     no_browser: Annotated[bool, typer.Option("--no-browser", help="Do not open the page in a browser.")] = False,
     max_upload: Annotated[int, typer.Option("--max-upload", metavar="MIB", min=1, max=1024,
                                             help="Size limit of uploaded measured maps, MiB (default 20).")] = 20,
+    population: Annotated[list[str] | None, typer.Option(
+        "--population", metavar="NAME|FILE|DIR",
+        help="A population of fingers the page may choose besides the presets: a TOML file with a [population] "
+             "table or a folder written by fingerpad analyse (docs/population.md); read once here, the page "
+             "names it by its label; repeatable.")] = None,
 ) -> None:
     """Explore texture designs in a browser: inputs with units, live curves, BEM in the background.
 
@@ -36,7 +41,8 @@ def explore(
                                   "anyone who reaches it can run computations here and upload files (no login)")
         from ..explore.server import serve
 
-        serve(sweep=sweep, port=port, host=host, open_browser=not no_browser, max_upload_mb=max_upload)
+        serve(sweep=sweep, port=port, host=host, open_browser=not no_browser, max_upload_mb=max_upload,
+              populations=population or ())
 
 
 def register(app: typer.Typer) -> None:

@@ -33,6 +33,8 @@ class ServerState:
     derived: LRU = field(default_factory=lambda: LRU(96))
     # population results by (design, preset): a thousand fingers' curves, kilobytes each
     populations: LRU = field(default_factory=lambda: LRU(8))
+    # populations given at start (`fingerpad explore --population`), by the label the page shows
+    extra_populations: dict[str, Any] = field(default_factory=dict)
 
 
 class ExplorerApp:

@@ -13,7 +13,7 @@ import signal
 import sys
 import tempfile
 import webbrowser
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from ..errors import FingerpadError
@@ -41,6 +41,7 @@ def serve(
     open_browser: bool = True,
     max_upload_mb: int = MAX_UPLOAD_MB,
     announce: Callable[[str], None] | None = None,
+    populations: Sequence[str] = (),
 ) -> None:
     """Start the explorer and serve until interrupted (Ctrl+C).
 
@@ -58,13 +59,19 @@ def serve(
         Size limit of uploaded measured maps, MiB.
     announce
         Called with the page's URL once the server listens (default: print it).
+    populations
+        Populations the page may choose besides the presets: a preset name, a TOML file with a
+        ``[population]`` table or a ``fingerpad analyse`` folder each
+        (:func:`~fingerpad.study.population.load_population`), read here, once; the page names
+        them by label only.
 
     Raises
     ------
     FingerpadError
-        Panel/Bokeh missing, an unreadable sweep store, a port in use.
+        Panel/Bokeh missing, an unreadable sweep store or population, a port in use.
     """
     _check_installed()
+    extra = server_populations(populations)  # a bad file is a user error before anything starts
     ds = None
     if sweep is not None:  # a bad store is a user error before anything starts
         from .sweepdata import open_sweep
@@ -77,7 +84,7 @@ def serve(
     pn.config.inline = False
     upload_dir = tempfile.mkdtemp(prefix="fingerpad-explore-")
     state = ServerState(upload_dir=upload_dir, max_upload_bytes=int(max_upload_mb) * 2**20, sweep=ds,
-                        sweep_path=None if sweep is None else os.path.abspath(sweep))
+                        sweep_path=None if sweep is None else os.path.abspath(sweep), extra_populations=extra)
 
     def page() -> Any:
         return ExplorerApp(state).page
@@ -119,3 +126,22 @@ def serve(
         except Exception:  # noqa: BLE001 -- already stopping
             pass
         shutil.rmtree(upload_dir, ignore_errors=True)
+
+
+def server_populations(sources: Sequence[str]) -> dict[str, Any]:
+    """The populations of ``fingerpad explore --population`` by the label the page shows: the
+    population's name (a file's stem, a preset's name), made unique against the presets and each
+    other by a suffix. Read once, here: the page can only choose among them by label."""
+    from ..study.population import load_population
+    from ..study.population_presets import POPULATION_PRESETS
+
+    out: dict[str, Any] = {}
+    for source in sources:
+        pop = load_population(source)
+        if source in POPULATION_PRESETS:
+            continue  # already a choice
+        label, k = pop.name, 2
+        while label in POPULATION_PRESETS or label in out or label == "none":
+            label, k = f"{pop.name} ({k})", k + 1
+        out[label] = pop
+    return out

@@ -7,9 +7,10 @@ in one worker thread per server, the latest request of a session first (a reques
 is no longer shown is skipped), and the results are remembered per design and population, so a
 design seen before shows its bands at once.
 
-Only the names of the built-in presets are accepted from the page:
-:func:`~fingerpad.study.population.load_population` also reads files, and a page must never name
-a file on the server.
+Only names are accepted from the page: the built-in presets and the populations the server was
+started with (``fingerpad explore --population FILE|DIR``, read once at start, by the person who
+started it). :func:`~fingerpad.study.population.load_population` also reads files, and a page
+must never name a file on the server.
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import html
 import warnings
 from concurrent.futures import ThreadPoolExecutor
 from functools import partial
+from collections.abc import Mapping
 from typing import Any
 
 import lazy_loader
@@ -38,25 +40,31 @@ _KEYS = ("population-area-ratio", "population-normalised", "population-critical-
 _POOL: ThreadPoolExecutor | None = None
 
 
-def population_choices() -> list[str]:
-    """The choices of the page: none and the built-in presets (never a path)."""
+def population_choices(extra: Mapping[str, Any] | None = None) -> list[str]:
+    """The choices of the page: none, the built-in presets and the server's own populations
+    ``extra`` (label -> :class:`~fingerpad.study.population.Population`; never a path)."""
     from ...study.population_presets import POPULATION_PRESETS
 
-    return [NONE, *POPULATION_PRESETS]
+    return [NONE, *POPULATION_PRESETS, *(extra or {})]
 
 
-def run_preset(data: dict[str, Any], name: str) -> Any:
-    """The :class:`~fingerpad.study.population.PopulationResult` of preset ``name`` on the study
-    of ``data``; a name that is not a preset is refused (never read as a file)."""
+def run_preset(data: dict[str, Any], name: str, extra: Mapping[str, Any] | None = None) -> Any:
+    """The :class:`~fingerpad.study.population.PopulationResult` of population ``name`` on the
+    study of ``data``: one of the server's populations ``extra`` (by label) or a preset; any other
+    name is refused (never read as a file)."""
     from ...study.population import load_population, run_population
     from ...study.population_presets import POPULATION_PRESETS
     from ...study.spec import study_from_dict
 
-    if name not in POPULATION_PRESETS:
-        raise FingerpadError(f"population: choose one of {', '.join(population_choices())}")
+    if extra and name in extra:
+        population = extra[name]
+    elif name in POPULATION_PRESETS:
+        population = load_population(name)
+    else:
+        raise FingerpadError(f"population: choose one of {', '.join(population_choices(extra))}")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return run_population(study_from_dict(data, labels_for(data)), load_population(name))
+        return run_population(study_from_dict(data, labels_for(data)), population)
 
 
 def _pool() -> ThreadPoolExecutor:
@@ -74,7 +82,10 @@ class PopulationPanel:
     def __init__(self, view: Any) -> None:
         self.view = view
         self.cache = view.app.populations
-        self.choice = pn.widgets.Select(label="population of fingers", options=population_choices(), value=NONE,
+        # those given to `fingerpad explore --population` (none for a page built without a server state)
+        self.extra = getattr(getattr(view.app, "state", None), "extra_populations", {})
+        self.choice = pn.widgets.Select(label="population of fingers", options=population_choices(self.extra),
+                                        value=NONE,
                                         css_classes=["fp-population"], width=300)
         self.help = pn.pane.HTML(
             "<div style='font-size:11px;color:#555'>the fingers of a built-in population (docs/population.md): "
@@ -105,9 +116,9 @@ class PopulationPanel:
             self.result = None
             return
         self.panel.visible = True
-        if name not in population_choices():  # a forged choice: nothing is read, the choice is reset
+        if name not in population_choices(self.extra):  # a forged choice: nothing is read, the choice is reset
             self.message.object = (f'<div class="fp-error" style="font-size:12px;color:#b00020">population: choose '
-                                   f"one of {html.escape(', '.join(population_choices()))}</div>")
+                                   f"one of {html.escape(', '.join(population_choices(self.extra)))}</div>")
             self.choice.value = NONE
             return
         self.message.object = ""
@@ -132,7 +143,7 @@ class PopulationPanel:
             if hit is not None:
                 return hit, None
             try:
-                result = run_preset(data, name)
+                result = run_preset(data, name, self.extra)
             except FingerpadError as exc:
                 return None, one_line(str(exc))
             self.cache.put_key(key, result)
