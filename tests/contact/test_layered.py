@@ -434,14 +434,19 @@ def test_closed_form_solves_the_derivations_boundary_value_problem(case: str) ->
 # ------------------------------------------------------------------- any array namespace
 
 
+def _paraboloid(n: int, periodic: bool) -> Texture:
+    """A paraboloid of tip radius lam on an n x n grid of side lam = 100 um."""
+    lam = 1e-4
+    x = (np.arange(n) + 0.5) * lam / n - lam / 2
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    return Texture(-(X**2 + Y**2) / (2 * lam), (lam, lam), periodic=periodic)
+
+
 @pytest.mark.parametrize("periodic", [True, False])
 def test_layered_solver_runs_on_the_strict_array_namespace(periodic: bool) -> None:
     """The layered kernel is one more host-built multiplier: a GPU namespace runs it unchanged."""
     xps = pytest.importorskip("array_api_strict")
-    n, lam = 32, 1e-4
-    x = (np.arange(n) + 0.5) * lam / n - lam / 2
-    X, Y = np.meshgrid(x, x, indexing="ij")
-    tex = Texture(-(X**2 + Y**2) / (2 * lam), (lam, lam), periodic=periodic)
+    tex = _paraboloid(32, periodic)
     layer = CASES["stiff on soft"]
     e = layer.reduced_modulus
     ref = HalfSpaceSolver(tex, e, layer=layer, kernels="array").solve_pressure(1e-3 * e)
@@ -479,10 +484,7 @@ def test_layered_solver_on_a_gpu_namespace_if_present(name: str, periodic: bool)
         torch = pytest.importorskip("torch")
         xp = pytest.importorskip("array_api_compat.torch")
         device = torch.device("cuda" if torch.cuda.is_available() else "cpu")
-    n, lam = 64, 1e-4
-    x = (np.arange(n) + 0.5) * lam / n - lam / 2
-    X, Y = np.meshgrid(x, x, indexing="ij")
-    tex = Texture(-(X**2 + Y**2) / (2 * lam), (lam, lam), periodic=periodic)
+    tex = _paraboloid(64, periodic)
     layer = CASES["stiff on soft"]
     e = layer.reduced_modulus
     ref = HalfSpaceSolver(tex, e, layer=layer, kernels="array").solve_pressure(1e-3 * e)
