@@ -405,6 +405,38 @@ def test_console_script_user_error(tmp_path):
     assert not out.exists()
 
 
+def test_main_builds_only_the_command_asked_for_and_it_is_the_same_command():
+    """``main`` runs a group holding the named command alone (issue 23: Typer reads every
+    command's parameters on each start); that command must be the full group's, option for
+    option, and every command of the full group must be reachable that way."""
+    import typer.main
+
+    from fingerpad.cli import _COMMAND_MODULE, app_for
+
+    full = typer.main.get_command(app)
+    assert sorted(_COMMAND_MODULE) == sorted(full.commands)
+    for name, command in full.commands.items():
+        alone = typer.main.get_command(app_for([name, "--help"]))
+        assert name in alone.commands
+        # the module may register a sibling (predict and run-default), never another module's command
+        assert set(alone.commands) <= {n for n, m in _COMMAND_MODULE.items() if m is _COMMAND_MODULE[name]}
+        mine = alone.commands[name]
+        assert [p.opts for p in mine.params] == [p.opts for p in command.params]
+        assert [p.default for p in mine.params] == [p.default for p in command.params]
+        assert mine.help == command.help
+    # anything else (a typo, --help, --version, nothing) gets the full group and its suggestions
+    for args in (["solv"], ["--help"], ["--version"], []):
+        assert app_for(args) is app
+
+
+def test_console_script_typo_suggests_the_command():
+    exe = Path(sys.executable).with_name("fingerpad")
+    cmd = [str(exe)] if exe.exists() else [sys.executable, "-c", "from fingerpad.cli import main; main()"]
+    proc = subprocess.run([*cmd, "solv", "--texture", "caps"], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2
+    assert proc.stderr.startswith("error: No such command 'solv'. Did you mean 'solve'?"), proc.stderr
+
+
 # ------------------------------------------------------------------------------------------------
 # io helpers without the solver
 

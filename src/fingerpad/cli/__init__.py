@@ -101,18 +101,8 @@ class _OneLineErrors(TyperGroup):
         return code
 
 
-app = typer.Typer(
-    cls=_OneLineErrors,
-    name="fingerpad",
-    help="Finger-pad contact and tactile friction on micro-textured surfaces (SI units; unit suffixes such as "
-         "50um, 0.3MPa accepted).",
-    no_args_is_help=True,
-    add_completion=False,
-    pretty_exceptions_show_locals=False,
-)
-
-for _module in (solve, textures, predict, fingers, measure, sweep, design, deflection, explore):
-    _module.register(app)
+#: The command modules, in the order ``fingerpad --help`` lists their commands.
+_MODULES = (solve, textures, predict, fingers, measure, sweep, design, deflection, explore)
 
 
 def _version_callback(value: bool) -> None:
@@ -121,13 +111,50 @@ def _version_callback(value: bool) -> None:
         raise typer.Exit(0)
 
 
-@app.callback()
 def _root(
     version: Annotated[
         bool, typer.Option("--version", help="Show the version and exit.", is_eager=True, callback=_version_callback)
     ] = False,
 ) -> None:
     """Finger-pad contact on micro-textured surfaces (SI units; unit suffixes such as 50um, 0.3MPa)."""
+
+
+def _make_app(modules: tuple[Any, ...]) -> typer.Typer:
+    """The ``fingerpad`` group holding the commands of ``modules``."""
+    made = typer.Typer(
+        cls=_OneLineErrors,
+        name="fingerpad",
+        help="Finger-pad contact and tactile friction on micro-textured surfaces (SI units; unit suffixes such as "
+             "50um, 0.3MPa accepted).",
+        no_args_is_help=True,
+        add_completion=False,
+        pretty_exceptions_show_locals=False,
+    )
+    for module in modules:
+        module.register(made)
+    made.callback()(_root)
+    return made
+
+
+#: Every command (the Python API's entry point, and what ``fingerpad --help`` lists).
+app = _make_app(_MODULES)
+
+#: Command name -> the module that registers it. Registering is cheap; what costs is Typer turning
+#: every registered function into a Click command (reading ~300 annotated parameters), which it
+#: does on every start: ~0.05 s of a 0.7 s ``fingerpad solve`` (issue 23). ``main`` therefore
+#: builds a group holding only the command asked for; it behaves as the full group for that
+#: command (same name, path, options, errors and exit codes).
+_COMMAND_MODULE: dict[str, Any] = {
+    info.name: module for module in _MODULES for info in _make_app((module,)).registered_commands
+}
+
+
+def app_for(args: list[str]) -> typer.Typer:
+    """The group to run for the command-line arguments ``args``: the named command's alone when
+    ``args`` starts with a command name, else every command (``--help``, ``--version``, a typo,
+    which gets Click's suggestions)."""
+    module = _COMMAND_MODULE.get(args[0]) if args else None
+    return app if module is None else _make_app((module,))
 
 
 def _terminate(signum: int, frame: object) -> None:
@@ -140,7 +167,7 @@ def main() -> None:
     import signal
 
     signal.signal(signal.SIGTERM, _terminate)
-    app()
+    app_for(sys.argv[1:])()
 
 
 __all__ = ["app", "main"]

@@ -82,11 +82,46 @@ def device_option(device: str | None) -> Iterator[None]:
             os.environ["FINGERPAD_DEVICE"] = before
 
 
-def stderr_console() -> Any:
-    """A Rich console on stderr (progress, notes, warnings)."""
-    from rich.console import Console
+class _LazyConsole:
+    """A Rich console on stderr that is made when first used.
 
-    return Console(file=sys.stderr, soft_wrap=True, highlight=False)
+    Most runs print nothing on stderr, and importing Rich's console and making one cost ~0.02 s
+    of a command that may take 0.5 s (issue 23). Asking whether stderr is a terminal does not
+    make it where Rich would answer no anyway (no tty, no FORCE_TERMINAL or TTY_INTERACTIVE).
+    """
+
+    def __init__(self) -> None:
+        self._console: Any = None
+
+    def _made(self) -> Any:
+        if self._console is None:
+            from rich.console import Console
+
+            self._console = Console(file=sys.stderr, soft_wrap=True, highlight=False)
+        return self._console
+
+    @property
+    def is_terminal(self) -> bool:
+        import os
+
+        if self._console is None and not (os.environ.get("FORCE_TERMINAL") or os.environ.get("TTY_INTERACTIVE")):
+            isatty = getattr(sys.stderr, "isatty", None)
+            if isatty is None or not isatty():
+                return False
+        return bool(self._made().is_terminal)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._made(), name)
+
+
+def stderr_console() -> Any:
+    """A Rich console on stderr (progress, notes, warnings), made on first use."""
+    return _LazyConsole()
+
+
+def rich_console(console: Any) -> Any:
+    """The Rich console itself, for Rich objects that take one (a progress bar)."""
+    return console._made() if isinstance(console, _LazyConsole) else console
 
 
 def stdout_console(min_width: int = 0) -> Any:
@@ -205,7 +240,7 @@ class ProgressBar:
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
         self.bar = Progress(TextColumn(self.label), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                            TextColumn("{task.fields[detail]}"), console=self.console)
+                            TextColumn("{task.fields[detail]}"), console=rich_console(self.console))
         self.bar.start()
         self.task = self.bar.add_task(self.label, total=n, detail="")
 

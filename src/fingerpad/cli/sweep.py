@@ -6,8 +6,8 @@ from typing import Annotated, Any
 
 import typer
 
-from .common import (DEVICE_HELP, EXIT_INTERRUPTED, device_option, report_interrupt, say, stderr_console,
-                     user_errors, warnings_to)
+from .common import (DEVICE_HELP, EXIT_INTERRUPTED, device_option, report_interrupt, rich_console, say,
+                     stderr_console, user_errors, warnings_to)
 
 _HELP = {
     "--out": "Zarr store of the results (default: the study file's name with .zarr). Rerunning the same sweep "
@@ -103,7 +103,7 @@ class _Progress:
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
         self.bar = Progress(TextColumn("points"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
-                            TextColumn("{task.fields[info]}"), console=console)
+                            TextColumn("{task.fields[info]}"), console=rich_console(console))
         self.task = self.bar.add_task("sweep", total=total, info="")
         self.headline = headline
         self.started = False
