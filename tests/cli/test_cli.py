@@ -529,3 +529,28 @@ def test_solve_critical_bad_width(tmp_path):
                "--grid", "32", "--pressure", "5kPa", "--critical", "2", "--json", tmp_path / "x.json")
     assert r.exit_code == 2 and "--critical" in r.output
     assert not (tmp_path / "x.json").exists()
+
+
+@pytest.mark.parametrize("given", [None, "28"])
+def test_main_lets_openblas_threads_sleep_unless_the_user_chose(monkeypatch, capsys, given):
+    """`main` sets OPENBLAS_THREAD_TIMEOUT (before NumPy loads in a real start) only where the
+    user did not."""
+    import gc
+    import signal
+
+    from fingerpad import cli
+
+    if given is None:
+        monkeypatch.delenv("OPENBLAS_THREAD_TIMEOUT", raising=False)
+    else:
+        monkeypatch.setenv("OPENBLAS_THREAD_TIMEOUT", given)
+    monkeypatch.setattr(sys, "argv", ["fingerpad", "--version"])
+    sigterm = signal.getsignal(signal.SIGTERM)
+    try:
+        with pytest.raises(SystemExit) as exc:
+            cli.main()
+    finally:
+        gc.unfreeze()  # main freezes the heap for the process's end; a test process goes on
+        signal.signal(signal.SIGTERM, sigterm)
+    assert exc.value.code == 0 and capsys.readouterr().out.startswith("fingerpad ")
+    assert os.environ["OPENBLAS_THREAD_TIMEOUT"] == (given or "4")
