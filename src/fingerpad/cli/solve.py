@@ -50,6 +50,8 @@ _HELP = {
                               "needs --skin-layer-modulus and --skin-substrate-modulus (docs/model.md 6.4).",
     "--skin-layer-modulus": "Young's modulus of the skin's outer layer, e.g. 0.4MPa (replaces --skin-modulus).",
     "--skin-substrate-modulus": "Young's modulus of the tissue under the layer, e.g. 40kPa, or 'rigid'.",
+    "--skin-substrate-poisson": "Poisson ratio of the tissue under the layer (default: --skin-poisson).",
+    "--skin-base": "What the layer rests on: elastic (the tissue, default), rigid or rigid-frictionless.",
     "--material-modulus": "Counter-surface Young's modulus, or 'rigid' (default rigid).",
     "--material-poisson": "Counter-surface Poisson ratio (default 0.35).",
     "--pressure": "Mean nominal pressure over the cell; repeat it, or give a range START:STOP:COUNT.",
@@ -92,6 +94,10 @@ def solve(
     skin_layer_modulus: Annotated[str | None, _opt("--skin-layer-modulus", panel=_MATERIALS, metavar="E")] = None,
     skin_substrate_modulus: Annotated[str | None, _opt("--skin-substrate-modulus", panel=_MATERIALS,
                                                        metavar="E")] = None,
+    skin_substrate_poisson: Annotated[str | None, _opt("--skin-substrate-poisson", panel=_MATERIALS,
+                                                       metavar="NU")] = None,
+    skin_base: Annotated[str | None, _opt("--skin-base", panel=_MATERIALS,
+                                          metavar="elastic|rigid|rigid-frictionless")] = None,
     material_modulus: Annotated[str | None, _opt("--material-modulus", panel=_MATERIALS, metavar="E")] = None,
     material_poisson: Annotated[str | None, _opt("--material-poisson", panel=_MATERIALS, metavar="NU")] = None,
     pressure: Annotated[list[str] | None, _opt("--pressure", "-p", panel=_LOADS, metavar="P|START:STOP:COUNT")] = None,
@@ -134,6 +140,7 @@ def solve(
                 formulation=formulation, json_path=json_path, save=save, plot=plot, plot_at=plot_at, csv_path=csv_path,
                 critical=critical, skin_layer_thickness=skin_layer_thickness,
                 skin_layer_modulus=skin_layer_modulus, skin_substrate_modulus=skin_substrate_modulus,
+                skin_substrate_poisson=skin_substrate_poisson, skin_base=skin_base,
             )
         code = run_job(job)
     if code:

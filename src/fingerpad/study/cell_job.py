@@ -75,7 +75,8 @@ class MaterialsSpec:
             "skin_layer_modulus": self.layer.modulus,
             "skin_substrate_modulus": self.layer.substrate_modulus if not self.layer.rigid_base else "rigid",
             "skin_substrate_poisson": self.layer.substrate_poisson,
-            "skin_base": "rigid" if self.layer.rigid_base else "elastic",
+            "skin_base": ("elastic" if not self.layer.rigid_base else
+                          "rigid-frictionless" if self.layer.base == "frictionless" else "rigid"),
             # the layer's units with it (a half-space's materials are listed as they always were)
             "units": _skin_units(),
         }
@@ -105,20 +106,30 @@ def parse_materials(
     skin_layer_thickness: str | None = None,
     skin_layer_modulus: str | None = None,
     skin_substrate_modulus: str | None = None,
+    skin_substrate_poisson: str | None = None,
+    skin_base: str | None = None,
 ) -> MaterialsSpec:
     """Either ``--modulus`` (reduced E*) or the skin/material constants (Eq. 3.4), never both.
 
-    A layered skin (``--skin-layer-thickness``, ``--skin-layer-modulus``,
-    ``--skin-substrate-modulus``, all three; docs/model.md section 6.4) replaces
-    ``--skin-modulus``: the layer is the skin's surface, its modulus enters Eq. 3.4, and
-    ``--skin-poisson`` holds for layer and substrate.
+    A layered skin (``--skin-layer-thickness``, ``--skin-layer-modulus``, and
+    ``--skin-substrate-modulus`` or ``--skin-base rigid|rigid-frictionless``; docs/model.md
+    section 6.4) replaces ``--skin-modulus``: the layer is the skin's surface, its modulus enters
+    Eq. 3.4, and ``--skin-poisson`` holds for the layer and, unless
+    ``--skin-substrate-poisson`` says otherwise, for the substrate.
     """
+    from ..finger import SKIN_BASES
+
+    base = None if skin_base is None else skin_base.strip().lower()
+    if base is not None and base not in SKIN_BASES:
+        raise FingerpadError(f"--skin-base must be one of {', '.join(SKIN_BASES)}, got {skin_base!r}")
+    rigid_base = base in ("rigid", "rigid-frictionless")
     layered = {"--skin-layer-thickness": skin_layer_thickness, "--skin-layer-modulus": skin_layer_modulus,
                "--skin-substrate-modulus": skin_substrate_modulus}
-    if any(v is not None for v in layered.values()):
-        missing = [k for k, v in layered.items() if v is None]
+    if any(v is not None for v in layered.values()) or base is not None or skin_substrate_poisson is not None:
+        missing = [k for k, v in layered.items() if v is None and not (rigid_base and k == "--skin-substrate-modulus")]
         if missing:
-            raise FingerpadError(f"a layered skin needs {', '.join(layered)}: {', '.join(missing)} missing")
+            raise FingerpadError(f"a layered skin needs --skin-layer-thickness, --skin-layer-modulus and "
+                                 f"--skin-substrate-modulus (or --skin-base rigid): {', '.join(missing)} missing")
         for name, value in (("--modulus", modulus), ("--skin-modulus", skin_modulus)):
             if value is not None:
                 raise FingerpadError(f"give either {name} or the layered skin (--skin-layer-modulus is the skin's "
@@ -130,11 +141,27 @@ def parse_materials(
 
         # the finger's declaration: a unit is required (a bare 2 would be 2 m), positive
         t = finger_param("skin_layer_thickness").parse(skin_layer_thickness, "--skin-layer-thickness")
-        rigid = skin_substrate_modulus.strip().lower() in ("rigid", "inf", "infinity")
-        e2 = math.inf if rigid else parse_quantity(skin_substrate_modulus, "pressure", name="--skin-substrate-modulus")
-        if not rigid:
+        said_rigid = skin_substrate_modulus is not None and \
+            skin_substrate_modulus.strip().lower() in ("rigid", "inf", "infinity")
+        if base == "elastic" and said_rigid:
+            raise FingerpadError("--skin-base elastic contradicts --skin-substrate-modulus rigid: give one of them")
+        if rigid_base and skin_substrate_modulus is not None and not said_rigid:
+            raise FingerpadError(f"--skin-base {base} rests the layer on a rigid base: --skin-substrate-modulus "
+                                 f"{skin_substrate_modulus} would be ignored; drop it")
+        rigid = rigid_base or said_rigid
+        if rigid:
+            e2 = math.inf
+        else:
+            e2 = parse_quantity(skin_substrate_modulus, "pressure", name="--skin-substrate-modulus")
             check_modulus(e2, "--skin-substrate-modulus")
-        spec.layer = Layer(t, spec.skin_modulus, spec.skin_poisson, e2, spec.skin_poisson)
+        nu2 = spec.skin_poisson
+        if skin_substrate_poisson is not None:
+            if rigid:
+                raise FingerpadError("--skin-substrate-poisson needs an elastic substrate (a rigid base has none)")
+            nu2 = _parse_float(skin_substrate_poisson, "--skin-substrate-poisson")
+            check_poisson(nu2, "--skin-substrate-poisson")
+        spec.layer = Layer(t, spec.skin_modulus, spec.skin_poisson, e2, nu2,
+                           "frictionless" if base == "rigid-frictionless" else "bonded")
         return spec
     others = {
         "--skin-modulus": skin_modulus,
@@ -356,12 +383,14 @@ def build_solve_job(
     formulation: str, json_path: str | None, save: str | None, plot: str | None, csv_path: str | None = None,
     plot_at: str | None = None, critical: str | None = None, skin_layer_thickness: str | None = None,
     skin_layer_modulus: str | None = None, skin_substrate_modulus: str | None = None,
+    skin_substrate_poisson: str | None = None, skin_base: str | None = None,
 ) -> SolveJob:
     """Validate every option of ``fingerpad solve`` (cheap checks first) and build the texture."""
     if (texture is None) == (surface is None):
         raise FingerpadError("give exactly one of --texture NAME or --surface FILE")
     materials = parse_materials(modulus, skin_modulus, skin_poisson, material_modulus, material_poisson,
-                                skin_layer_thickness, skin_layer_modulus, skin_substrate_modulus)
+                                skin_layer_thickness, skin_layer_modulus, skin_substrate_modulus,
+                                skin_substrate_poisson, skin_base)
     pressures = _parse_pressures(pressure, log)
     tol_v = _parse_float(tol, "--tol")
     if not (0 < tol_v < 1):
