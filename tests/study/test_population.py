@@ -152,6 +152,25 @@ def test_quantile_error_is_reported_shrinks_with_size_and_covers():
     assert len(doc["quantile_error"]["mu"]["0.5"]) == len(study.loads)
 
 
+def test_quantile_error_of_infinite_critical_loads():
+    """Members that never reach the transition have an infinite critical load: a quantile that is
+    inf at both ends of its interval has the error 0 (not inf - inf = NaN); one whose interval
+    reaches inf has the error inf; a finite one is unchanged."""
+    import dataclasses
+
+    result = run_population(_study(), population_from_table(TABLE))
+    n = len(result.members)
+    loads = np.linspace(1.0, 2.0, n)
+    half = dataclasses.replace(result, critical_load=np.where(np.arange(n) < n // 2, loads, math.inf),
+                               quantile_levels=(0.05, 0.5, 0.95))
+    err = half.quantile_error()["critical_load"]
+    assert err["0.95"] == 0.0 and err["0.5"] == math.inf
+    assert 0 < err["0.05"] < 1  # order statistics of the finite half
+    finite = dataclasses.replace(half, critical_load=loads).quantile_error()["critical_load"]
+    assert finite["0.05"] == err["0.05"]
+    assert not any(math.isnan(v) for v in err.values())
+
+
 def test_population_json_text_is_the_same_json_one_member_per_line():
     import json
 

@@ -377,7 +377,9 @@ class PopulationResult:
         ``l, u = nq -+ z sqrt(n q (1 - q))`` (normal approximation of the binomial count below
         the quantile; 1-based, rounded outward, clipped to 1..n). Exact in coverage for
         independent members; the quasi-random sample converges at least as fast, so it is an
-        upper estimate. Keyed as :meth:`quantiles`; the same units."""
+        upper estimate. Keyed as :meth:`quantiles`; the same units. A critical or full-contact
+        load quantile that is infinite at both ends of its interval (most members never reach
+        it) has the error 0; one whose interval reaches infinity has the error inf."""
         from scipy.stats import norm
 
         z = float(norm.ppf(0.5 + confidence / 2))
@@ -389,7 +391,12 @@ class PopulationResult:
             spread = z * math.sqrt(n * q * (1 - q))
             lo = min(max(math.floor(n * q - spread), 1), n) - 1
             hi = min(max(math.ceil(n * q + spread), 1), n) - 1
-            return 0.5 * (sorted_values[hi] - sorted_values[lo])
+            lower, upper = sorted_values[lo], sorted_values[hi]
+            # Both ends infinite (members that never reach the transition): the quantile is inf
+            # for certain, an error of 0, not inf - inf = NaN. One end infinite: the interval is
+            # unbounded, an error of inf.
+            with np.errstate(invalid="ignore"):
+                return np.where(upper == lower, 0.0, 0.5 * (upper - lower))
 
         out: dict[str, dict[str, Any]] = {}
         tables = {name: np.sort(self.values(name), axis=0) for name in QUANTITIES}
