@@ -6,7 +6,9 @@ implementations share one interface:
 * :class:`ArrayKernels` - the reference, one array-API call per operation, for any namespace
   (``array_api_strict`` in the tests, CuPy or PyTorch on a GPU);
 * :class:`NumpyKernels` - NumPy in place, into buffers owned by the kernels (no allocation per
-  iteration, as few passes as NumPy allows); the default for NumPy arrays;
+  iteration, as few passes as NumPy allows); the default for NumPy arrays, run on two row
+  halves in two threads for fields of 512 rows or more
+  (:class:`~fingerpad.contact.kernels_blocked.BlockedNumpyKernels`);
 * :class:`~fingerpad.contact.kernels_numba.NumbaKernels` - fused serial loops compiled with
   Numba (``kernels="numba"``, module :mod:`fingerpad.contact.kernels_numba`): ~20 % faster
   solves, but ~0.5 s to load per process, so ``kernels="auto"`` takes them once a solver's

@@ -82,6 +82,7 @@ from .formulations import finish, run_formulation
 from .greens import Backend, compliance_operator, preconditioner, stiffness_operator
 from .layered import Layer
 from .kernels import ArrayKernels, NumpyKernels
+from .kernels_blocked import BlockedNumpyKernels, blocked_applies
 from .result import FULL_CONTACT_TOL, ContactResult, contact_state
 
 __all__ = ["HalfSpaceSolver", "ContactResult", "contact_state", "FULL_CONTACT_TOL"]  # re-exported
@@ -112,10 +113,11 @@ COMPILED_AFTER_WORK = 2**26
 COMPILED_FIRST_POINTS = 2**23
 
 
-def _kernels_for(xp: Any, choice: str) -> ArrayKernels:
-    """``"numpy"``: in-place NumPy kernels; ``"numba"``: compiled loops (NumPy arrays; the NumPy
-    kernels, with one warning per process, where they cannot load); ``"array"``: the
-    array-namespace reference."""
+def _kernels_for(xp: Any, choice: str, shape: tuple[int, ...] = (), threads: int = 1) -> ArrayKernels:
+    """``"numpy"``: in-place NumPy kernels (on two row blocks, in ``threads`` > 1 threads, for
+    fields of at least 512 rows); ``"numba"``: compiled loops (NumPy arrays; the NumPy kernels,
+    with one warning per process, where they cannot load); ``"array"``: the array-namespace
+    reference."""
     global _COMPILED_UNAVAILABLE
     if choice == "array":
         return ArrayKernels(xp)
@@ -129,6 +131,8 @@ def _kernels_for(xp: Any, choice: str) -> ArrayKernels:
             _COMPILED_UNAVAILABLE = True
             warnings.warn(f"compiled kernels unavailable, NumPy kernels used instead: {one_line(str(exc))}",
                           RuntimeWarning, stacklevel=2)
+    if blocked_applies(shape):
+        return BlockedNumpyKernels(threads)
     return NumpyKernels()
 
 
@@ -248,7 +252,7 @@ class HalfSpaceSolver:
         # NumPy arrays: in-place NumPy kernels until the compiled ones pay (see _solve); other
         # namespaces: the array-API reference.
         choice = ("numpy" if self.backend.is_numpy else "array") if kernels == "auto" else kernels
-        self._kern = _kernels_for(xp_, choice)
+        self._kern = _kernels_for(xp_, choice, texture.shape, self.backend.workers)
         self._work = 0  # grid points x fine iterations of this solver's solves (kernels="auto")
         self._compiled = False
         self.precondition = bool(precondition)

@@ -101,10 +101,12 @@ def test_compliant_run_writes_json_netcdf_png(app, tmp_path):
     assert not list(out.glob(".*part"))
 
 
-def test_predict_direction_on_a_texture_without_direction_is_refused_before_the_cell(app, monkeypatch):
+def test_predict_direction_on_a_texture_without_direction_is_refused_before_the_cell(app, monkeypatch, tmp_path):
     """`predict --direction` with caps solved the BEM cell and only then refused: now it refuses
     first (the cell solve would raise here)."""
     import fingerpad.study.run as run
+
+    monkeypatch.chdir(tmp_path)  # the default --out is ./out: not whatever the checkout holds there
 
     def no_solve(*args, **kwargs):
         raise AssertionError("the unit cell was solved before the texture was checked")
