@@ -183,7 +183,8 @@ def _worker_start() -> Iterator[None]:
     """Start the local workers by forking this process (Linux), not by spawning fresh interpreters.
 
     A spawned worker imports Python, Dask and the numerics anew; a forked one inherits them,
-    with the prediction modules imported here first. Measured for issue 23 (2 workers, 2 cores,
+    with the prediction modules imported here first (:data:`~.evaluate.POINT_MODULES`, what a
+    point imports: ~0.2 s of each worker's first point before, issue 23). Measured for issue 23 (2 workers, 2 cores,
     load average 12): start 3.3-3.9 s -> 0.5-0.9 s, closing 1.2-1.7 s -> 0.03-0.1 s, the
     workers' first imports 0.7-1.2 s -> 0.01 s. Elsewhere (macOS, Windows: fork is unsafe or
     absent there) Dask's default, spawn, stays; so it does with a GPU device
@@ -197,12 +198,15 @@ def _worker_start() -> Iterator[None]:
     if not sys.platform.startswith("linux") or device_setting()[0] != "cpu":
         yield
         return
+    import importlib
     import warnings
 
     import dask
 
-    from ..study import run  # noqa: F401 - what every worker imports for its first point
+    from .evaluate import POINT_MODULES
 
+    for name in POINT_MODULES:  # what every worker imports for its first point
+        importlib.import_module(name)
     with dask.config.set({"distributed.worker.multiprocessing-method": "fork"}), warnings.catch_warnings():
         # Python >= 3.12 warns about forking a process with threads (the cluster's event loop):
         # the child runs only multiprocessing's start of a Dask worker
