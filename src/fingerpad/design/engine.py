@@ -3,8 +3,9 @@
 The client (the ``fingerpad sweep`` process) lays the store out, finds the chunks not yet done,
 and submits two kinds of tasks: one per distinct unit cell (its first point, which solves the
 cell into the shared on-disk cache), then one per chunk of points, each depending on the cells
-its points use, so that identical cells are solved once per sweep. Finished chunks are written
-into the store as they come back. Workers run one thread each, and BLAS and FFT threads are
+its points use, so that identical cells are solved once per sweep. A chunk whose every point is
+its cell's first point has no task: the client writes it from those cells' results. Finished
+chunks are written into the store as they come back. Workers run one thread each, and BLAS and FFT threads are
 capped at one inside them: the parallelism of a sweep is its workers.
 
 To use more than one machine, start ``dask scheduler`` on one, ``dask worker tcp://HOST:8786
@@ -183,7 +184,8 @@ def _worker_start() -> Iterator[None]:
     """Start the local workers by forking this process (Linux), not by spawning fresh interpreters.
 
     A spawned worker imports Python, Dask and the numerics anew; a forked one inherits them,
-    with the prediction modules imported here first. Measured for issue 23 (2 workers, 2 cores,
+    with the prediction modules imported here first (:data:`~.evaluate.POINT_MODULES`, what a
+    point imports: ~0.2 s of each worker's first point before, issue 23). Measured for issue 23 (2 workers, 2 cores,
     load average 12): start 3.3-3.9 s -> 0.5-0.9 s, closing 1.2-1.7 s -> 0.03-0.1 s, the
     workers' first imports 0.7-1.2 s -> 0.01 s. Elsewhere (macOS, Windows: fork is unsafe or
     absent there) Dask's default, spawn, stays; so it does with a GPU device
@@ -197,12 +199,15 @@ def _worker_start() -> Iterator[None]:
     if not sys.platform.startswith("linux") or device_setting()[0] != "cpu":
         yield
         return
+    import importlib
     import warnings
 
     import dask
 
-    from ..study import run  # noqa: F401 - what every worker imports for its first point
+    from .evaluate import POINT_MODULES
 
+    for name in POINT_MODULES:  # what every worker imports for its first point
+        importlib.import_module(name)
     with dask.config.set({"distributed.worker.multiprocessing-method": "fork"}), warnings.catch_warnings():
         # Python >= 3.12 warns about forking a process with threads (the cluster's event loop):
         # the child runs only multiprocessing's start of a Dask worker
@@ -286,7 +291,8 @@ def run_sweep(
         report.done_before = int(done.sum())
         report.workers = len(client.scheduler_info().get("workers", {}))
         report.dashboard = getattr(client, "dashboard_link", None) if cluster is not None or scheduler else None
-        client.run(_limit_worker_threads)
+        # (no client.run of limit_threads first: every task caps its own threads, and that round
+        # trip to each worker held the first task back)
         todo = [region for region in chunk_slices(spec.shape, spec.chunk) if not done[region].all()]
         # One task per distinct cell, for its first point: the other points read it from the cache.
         chunk_items: list[tuple[tuple[slice, ...], list[tuple[tuple[int, ...], dict[str, Any]]], set[str]]] = []
@@ -316,43 +322,84 @@ def run_sweep(
         cell_futures = {key: client.submit(prepare_cell, data, loads, ps, population, idx, pure=False,
                                            key=f"cell-{key[:16]}")
                         for key, (idx, data) in first_of.items()}
-        futures = {}
-        for region, items, keys in chunk_items:
+        firsts = {idx for idx, _ in first_of.values()}
+        futures: dict[Any, tuple[slice, ...]] = {}
+        # Chunks whose every point is the first point of its cell (every point of a sweep over the
+        # texture's shape) need no task of their own: they are written here from their cells'
+        # results as those come in. Their task only passed those results on, from worker to
+        # worker and back here, and queued behind the cell tasks: issue 23, 2 workers against 1.
+        # (chunks by their number in chunk_items: slices are not hashable before Python 3.12)
+        gathered: dict[int, tuple[list[Any], list[str], set[str]]] = {}
+        waiting_on: dict[str, list[int]] = {}
+        for n, (region, items, keys) in enumerate(chunk_items):
+            if items and all(idx in firsts for idx, _ in items):
+                gathered[n] = (items, sorted(keys), set(keys))
+                for k in keys:
+                    waiting_on.setdefault(k, []).append(n)
+                continue
             deps = [cell_futures[k] for k in sorted(keys)]
             fut = client.submit(_after, deps, items, loads, ps, population, pure=False)
             futures[fut] = region
         store.create(overwrite=overwrite)
         if progress is not None:
             progress(report)  # the start: the store is laid out and the workers are there
-        pending_cells = dict(cell_futures)
-        for fut in as_completed(list(futures), loop=client.loop):
-            for key, cf in list(pending_cells.items()):
-                if cf.done():
-                    pending_cells.pop(key)
-                    if cf.status == "finished":
-                        solves = cf.result()["solves"]
-                        report.cells_solved += int(solves > 0)
-                        report.cache_hits += int(solves == 0)
-                        report.solves += int(solves)
+        key_of = {cf: key for key, cf in cell_futures.items()}
+        key_at = {idx: key for key, (idx, _) in first_of.items()}
+        cells: dict[str, Any] = {}  # the results of the cells whose chunks are written here
+        failed: dict[str, BaseException] = {}
+        for fut in as_completed([*cell_futures.values(), *futures], loop=client.loop):
+            if fut in key_of:
+                key = key_of[fut]
+                if fut.status != "finished":
+                    failed[key] = fut.exception()
+                else:
+                    cell = fut.result()
+                    solves = int(cell["solves"])
+                    report.cells_solved += int(solves > 0)
+                    report.cache_hits += int(solves == 0)
+                    report.solves += solves
+                    if key in waiting_on:
+                        cells[key] = cell
+                for n in waiting_on.pop(key, []):
+                    items, keys, left = gathered[n]
+                    left.discard(key)
+                    if left:
+                        continue  # other cells of this chunk are still running
+                    del gathered[n]
+                    region = chunk_items[n][0]
+                    error = next((failed[k] for k in keys if k in failed), None)
+                    if error is not None:  # what the chunk's task would have failed with
+                        report.failures.append(f"chunk {_region_text(region)}: {error!r}")
+                        continue
+                    # as evaluate_chunk takes a point its cell task predicted (the solves were
+                    # counted with the cell)
+                    _record(store, region, [(idx, {**cells.pop(key_at[idx])["result"], "solves": 0})
+                                            for idx, _ in items], report, t_start, progress)
+                continue
             region = futures[fut]
             if fut.status != "finished":
                 report.failures.append(f"chunk {_region_text(region)}: {fut.exception()!r}")
                 continue
-            results = fut.result()
-            store.write(region, results)
-            report.computed += len(results)
-            report.solves += sum(int(r.get("solves", 0)) for _, r in results)
-            report.invalid += sum(1 for _, r in results if not r["valid"])
-            report.unconverged += sum(1 for _, r in results if r["valid"] and not r["converged"])
-            report.seconds = time.perf_counter() - t_start
-            if progress is not None:
-                progress(report)
+            _record(store, region, fut.result(), report, t_start, progress)
     finally:
         _close_quietly(client)
         if cluster is not None:
             cluster.close()
     report.seconds = time.perf_counter() - t_start
     return report
+
+
+def _record(store: SweepStore, region: tuple[slice, ...], results: list[Any], report: SweepReport, t_start: float,
+            progress: Callable[[SweepReport], None] | None) -> None:
+    """Write one chunk's results into the store and count them in ``report``."""
+    store.write(region, results)
+    report.computed += len(results)
+    report.solves += sum(int(r.get("solves", 0)) for _, r in results)
+    report.invalid += sum(1 for _, r in results if not r["valid"])
+    report.unconverged += sum(1 for _, r in results if r["valid"] and not r["converged"])
+    report.seconds = time.perf_counter() - t_start
+    if progress is not None:
+        progress(report)
 
 
 def _wait_for_a_worker(client: Any, address: str, notice: Callable[[str], None] | None) -> None:
@@ -371,12 +418,6 @@ def _wait_for_a_worker(client: Any, address: str, notice: Callable[[str], None] 
             notice(f"no Dask worker has joined the scheduler at {address} after {waited:.0f} s; waiting for one "
                    f"(start workers with `dask worker {address} --nthreads 1`; Ctrl-C stops)")
         step = NO_WORKER_REPEAT
-
-
-def _limit_worker_threads() -> None:
-    from .evaluate import limit_threads
-
-    limit_threads()
 
 
 def _after(deps: list[Any], items: list[Any], loads: list[float], pressures: list[float],
