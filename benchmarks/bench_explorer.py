@@ -180,7 +180,13 @@ def main() -> None:
         rebuild = None if args.browser_only else asyncio.run(_run("rebuild", cache, args.repeats))
         in_place = None if args.browser_only else asyncio.run(_run("in place", cache, args.repeats))
         load1 = os.getloadavg()
-        browser = None if why_not is not None else eb.run(cache, args.repeats)
+        browser = None
+        if why_not is None:
+            try:
+                browser = eb.run(cache, args.repeats)
+            except Exception as exc:  # noqa: BLE001 -- the server side's numbers are kept
+                why_not = f"failed: {type(exc).__name__}: {str(exc)[:300]}"
+                print(f"browser timings {why_not}")
         load2 = os.getloadavg()
     finally:
         for p in burners:
