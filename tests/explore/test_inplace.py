@@ -292,3 +292,35 @@ def test_the_page_runs_its_background_work(tmp_path, population, monkeypatch):
     assert not worker.is_alive(), "the page's background work did not end within 300 s"
     if errors:
         raise errors[0]
+
+
+def test_an_update_of_many_figures_walks_the_document_at_most_once(preds, monkeypatch):
+    """``set_cards`` over a document's figures: one walk over its models where the update changes
+    which models the figures refer to (series added, renderers and legends reordered), none where
+    it changes data only; the document knows every model its figures refer to afterwards."""
+    pytest.importorskip("panel")
+    from bokeh.document import Document
+    from bokeh.document.models import DocumentModelManager
+
+    from fingerpad.explore.views.common import PlotCard, set_cards
+
+    keys = ("areas", "friction", "friction-normalised", "zones", "zone-profile")
+    cards = {k: PlotCard(k) for k in keys}
+    doc = Document()
+    for k, card in cards.items():
+        card.set(builders.prediction_panels(preds[0])[k])
+        doc.add_root(card.drawn.figure)
+    walks = []
+    real = DocumentModelManager.recompute
+    monkeypatch.setattr(DocumentModelManager, "recompute", lambda self: (walks.append(1), real(self))[1])
+    counts = []
+    for pred in [*preds[1:], preds[-1]]:  # the last one again: the same models, data only
+        walks.clear()
+        set_cards((cards[k], builders.prediction_panels(pred)[k], None) for k in keys)
+        counts.append(len(walks))
+        known = {m.id for m in doc.models}
+        real(doc.models)
+        assert known == {m.id for m in doc.models}
+        for k in keys:
+            assert figure_content(cards[k].drawn) == figure_content(bokeh_figure(builders.prediction_panels(pred)[k]))
+    assert max(counts) == 1 and counts[-1] == 0, counts

@@ -6,8 +6,8 @@ from __future__ import annotations
 import html
 import io
 import math
-from collections.abc import Callable, Iterable, Sequence
-from contextlib import ExitStack
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import ExitStack, contextmanager
 from functools import partial
 from typing import Any
 
@@ -17,7 +17,7 @@ pn = lazy_loader.load("panel")
 
 from ...plotting.specs import PlotSpec, spec_csv, spec_json
 
-__all__ = ["PlotCard", "download", "fmt", "html_table", "num_span", "set_cards"]
+__all__ = ["PlotCard", "download", "fmt", "html_table", "num_span", "one_walk", "set_cards"]
 
 FORMATS = ("csv", "json", "png", "svg")
 
@@ -141,18 +141,47 @@ class PlotCard:
 
 def set_cards(updates: Iterable[tuple[PlotCard, PlotSpec | None, str | None]]) -> None:
     """``card.set(spec, note)`` for each update, with Bokeh's walk over the document's models
-    done once for all of them where figures gain models (a new series, a new figure) and not at
-    all where only data change: every figure that gains a model would walk it once more (tenths
-    of a second each on a full page)."""
-    from ..render_bokeh import adds_models
+    done at most once for all of them (:func:`one_walk`).
 
+    Every change of a property that refers to models (a new series, a figure's renderers in
+    another order, a legend's items, the hover tool's renderers) makes Bokeh walk the whole
+    document: tenths of a second each on a full page. Going from one design to another of other
+    contact states or series changes such lists in every figure; the page once walked its
+    document 25 times for one BEM design shown (issue 23)."""
     todo = list(updates)
-    grows = [card for card, spec, _ in todo if spec is not None and not spec.empty
-             and (not card.in_place or adds_models(card.drawn, spec))]
-    docs = {id(d): d for card in grows if card.drawn is not None
+    docs = {id(d): d for card, _, _ in todo if card.drawn is not None
             and (d := card.drawn.figure.document) is not None}
     with ExitStack() as stack:
         for doc in docs.values():
-            stack.enter_context(doc.models.freeze())
+            stack.enter_context(one_walk(doc))
         for card, spec, note in todo:
             card.set(spec, note)
+
+
+@contextmanager
+def one_walk(doc: Any) -> Iterator[None]:
+    """Defer the walks over ``doc``'s models that changes in the body ask for to one walk at its
+    end, and none if none was asked for.
+
+    Bokeh's own :meth:`~bokeh.document.models.DocumentModelManager.freeze` walks the document at
+    its end whether or not a change asked for it (a walk costs as much as the change of several
+    figures' data); the only caller of ``invalidate`` is a model's change of a property that
+    refers to models (``Model.trigger``), so deferring those calls defers exactly what ``freeze``
+    defers. Nested uses defer to the outermost."""
+    models = doc.models
+    if "invalidate" in vars(models):  # an enclosing update defers already
+        yield
+        return
+    asked = False
+
+    def invalidate() -> None:
+        nonlocal asked
+        asked = True
+
+    models.invalidate = invalidate
+    try:
+        yield
+    finally:
+        del models.invalidate
+        if asked:
+            models.invalidate()
