@@ -2,8 +2,10 @@
 
 The client (the ``fingerpad sweep`` process) lays the store out, finds the chunks not yet done,
 and submits two kinds of tasks: one per distinct unit cell (its first point, which solves the
-cell into the shared on-disk cache), then one per chunk of points, each depending on the cells
-its points use, so that identical cells are solved once per sweep. A chunk whose every point is
+cell into the shared on-disk cache over what every point sharing it asks for, in the order of
+their indices), then one per chunk of points, each depending on the cells its points use, so
+that identical cells are solved once per sweep and every point reads its cell as it is in the
+end, whatever order the chunks run in. A chunk whose every point is
 its cell's first point has no task: the client writes it from those cells' results. Finished
 chunks are written into the store as they come back. Workers run one thread each, and BLAS and FFT threads are
 capped at one inside them: the parallelism of a sweep is its workers.
