@@ -2,8 +2,10 @@
 
 The client (the ``fingerpad sweep`` process) lays the store out, finds the chunks not yet done,
 and submits two kinds of tasks: one per distinct unit cell (its first point, which solves the
-cell into the shared on-disk cache), then one per chunk of points, each depending on the cells
-its points use, so that identical cells are solved once per sweep. A chunk whose every point is
+cell into the shared on-disk cache over what every point sharing it asks for, in the order of
+their indices), then one per chunk of points, each depending on the cells its points use, so
+that identical cells are solved once per sweep and every point reads its cell as it is in the
+end, whatever order the chunks run in. A chunk whose every point is
 its cell's first point has no task: the client writes it from those cells' results. Finished
 chunks are written into the store as they come back. Workers run one thread each, and BLAS and FFT threads are
 capped at one inside them: the parallelism of a sweep is its workers.
@@ -297,6 +299,7 @@ def run_sweep(
         # One task per distinct cell, for its first point: the other points read it from the cache.
         chunk_items: list[tuple[tuple[slice, ...], list[tuple[tuple[int, ...], dict[str, Any]]], set[str]]] = []
         first_of: dict[str, tuple[tuple[int, ...], dict[str, Any]]] = {}
+        keyed: dict[str, list[tuple[tuple[int, ...], dict[str, Any]]]] = {}
         for region in todo:
             items, keys = [], set()
             for index in np.ndindex(*(s.stop - s.start for s in region)):
@@ -308,9 +311,11 @@ def run_sweep(
                 if key is not None:
                     keys.add(key)
                     first_of.setdefault(key, (idx, data))
+                    keyed.setdefault(key, []).append((idx, data))
                 items.append((idx, data))
             chunk_items.append((region, items, keys))
         report.cells = len(first_of)
+        sharing = _sharing(spec, keyed, done)
         loads, ps = spec.loads.tolist(), pressures.tolist()
         # the members (the same at every point), sent to each worker once
         population = spec.population_payload()
@@ -319,7 +324,9 @@ def run_sweep(
         # A cell task predicts its first point in full and returns that result, which the point's
         # chunk takes as it is: each such point is predicted once, not twice (the second time from
         # the cache: ~a quarter of a point at grid 48, profiled for issue 23).
-        cell_futures = {key: client.submit(prepare_cell, data, loads, ps, population, idx, pure=False,
+        # The cell task prepares the cell for every point that shares it (a modulus axis), before
+        # any of them is predicted: the chunks then only read it, in whatever order they run.
+        cell_futures = {key: client.submit(prepare_cell, data, loads, ps, population, idx, sharing[key], pure=False,
                                            key=f"cell-{key[:16]}")
                         for key, (idx, data) in first_of.items()}
         firsts = {idx for idx, _ in first_of.values()}
@@ -387,6 +394,21 @@ def run_sweep(
             cluster.close()
     report.seconds = time.perf_counter() - t_start
     return report
+
+
+def _sharing(spec: SweepSpec, keyed: dict[str, list[tuple[tuple[int, ...], dict[str, Any]]]],
+             done: np.ndarray) -> dict[str, list[dict[str, Any]]]:
+    """The study data of the points that share each cell to compute (``keyed``: the points left
+    to compute, by cell), in the order of their indices, with the points of those cells already
+    done: a resumed sweep prepares each curve over the same points as a sweep run at once."""
+    found = {key: list(items) for key, items in keyed.items()}
+    for idx in zip(*np.nonzero(done), strict=True):
+        index = tuple(int(i) for i in idx)
+        data = spec.study_data(spec.assignment(index))
+        key = cell_key(data)
+        if key in found:
+            found[key].append((index, data))
+    return {key: [data for _, data in sorted(items, key=lambda t: t[0])] for key, items in found.items()}
 
 
 def _record(store: SweepStore, region: tuple[slice, ...], results: list[Any], report: SweepReport, t_start: float,

@@ -27,7 +27,7 @@ import numpy as np
 from ..errors import FingerpadError, SetupError, one_line
 
 __all__ = ["POINT_MODULES", "STATE_CODES", "cell_key", "evaluate_chunk", "evaluate_point", "limit_threads",
-           "prepare_cell"]
+           "prepare_cell", "prepare_shared_cell"]
 
 #: Pixels the texture's smallest lateral feature must span for a point to be valid: below two
 #: (the sampling limit) the feature is not in the height map at all, and the cell solves a
@@ -101,18 +101,90 @@ def cell_key(data: Mapping[str, Any]) -> str | None:
 
 def prepare_cell(data: Mapping[str, Any], loads: Sequence[float], pressures: Sequence[float],
                  population: Mapping[str, Any] | None = None,
-                 index: tuple[int, ...] | None = None) -> dict[str, Any]:
+                 index: tuple[int, ...] | None = None,
+                 sharing: Sequence[Mapping[str, Any]] = ()) -> dict[str, Any]:
     """Solve (or find in the cache) the unit cell of one point, by predicting that point.
 
     Run once per distinct cell before the other points that share it, so that a sweep solves
-    each cell once (they then read it from the on-disk cache of ``predict``). Returns the number
-    of solves (0: the cache had the cell), the seconds, and the point's own result with its
-    ``index``: its chunk takes that result instead of predicting the point a second time.
+    each cell once (they then read it from the on-disk cache of ``predict``). ``sharing``: the
+    study data of every point of the sweep that shares this cell, in the order of their indices
+    (this point among them); with more than one, the cell is first prepared for all of them
+    (:func:`prepare_shared_cell`), so that every point reads the same curve, whatever order the
+    chunks run in. Returns the number of solves (0: the cache had the cell), the seconds, and the
+    point's own result with its ``index``: its chunk takes that result instead of predicting the
+    point a second time.
     """
     limit_threads()
+    t0 = time.perf_counter()
+    solves = prepare_shared_cell(sharing, loads, population) if len(sharing) > 1 else 0
     result = evaluate_point(data, loads, pressures, population)
-    return {"solves": result["solves"], "seconds": result["seconds"], "valid": result["valid"],
+    result["solves"] = int(result["solves"]) + solves
+    return {"solves": result["solves"], "seconds": time.perf_counter() - t0, "valid": result["valid"],
             "index": None if index is None else tuple(index), "result": result}
+
+
+#: Passes over the points of a shared cell at most (:func:`prepare_shared_cell`). One pass adds
+#: every node; the second finds nothing to add unless a point's grid choice or refinement changed
+#: with the nodes a later point added (an automatic grid, a refinement at its cap).
+MAX_PREPARE_PASSES = 6
+
+
+def prepare_shared_cell(sharing: Sequence[Mapping[str, Any]], loads: Sequence[float],
+                        population: Mapping[str, Any] | None = None) -> int:
+    """Prepare the unit cell that the points ``sharing`` share (a modulus axis: one cell in p/E*)
+    over what every one of them asks for, before any of them is predicted; returns the solves.
+
+    Each point's preparation is the one its prediction makes (:func:`~fingerpad.study.run.prepare_bem_cell`,
+    with a population the members' cells, :func:`~fingerpad.study.members.member_cells`), in the
+    order given; the passes over them repeat until one solves nothing (at most
+    :data:`MAX_PREPARE_PASSES`). Then every point's own preparation finds its nodes in the cache
+    and adds none: the curve a point reads is the same whatever the order in which the sweep's
+    chunks run, and so are its numbers (a node's value depends on the warm starts of the nodes
+    solved before it, and the interpolant near a range's ends on the nodes beyond them). Points
+    that cannot exist are skipped, as their prediction stores them invalid.
+    """
+    from ..micro.bem import BEMUnitCell
+    from ..study.members import member_cells
+    from ..study.population import member_finger
+    from ..study.run import prepare_bem_cell
+
+    points = []
+    for data in sharing:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                study = _point_study(data, loads)
+                _check_resolved(study)
+                fingers = None if population is None else [member_finger(study.finger, m)
+                                                           for m in population["members"]]
+        except SetupError:
+            raise
+        except FingerpadError:
+            continue
+        if study.model != "hertz":
+            points.append((study, fingers))
+    total = 0
+    for _ in range(MAX_PREPARE_PASSES):
+        solves = 0
+        for study, fingers in points:
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    choice = prepare_bem_cell(study)
+                    solves += choice.solves
+                    if fingers:
+                        cell = choice.cell
+                        before = cell.solves
+                        own = member_cells(study, cell, fingers)
+                        solves += cell.solves - before + sum(c.solves for c in own if isinstance(c, BEMUnitCell))
+            except SetupError:
+                raise
+            except FingerpadError:  # as the point's prediction will say (stored invalid)
+                continue
+        total += solves
+        if solves == 0:
+            break
+    return total
 
 
 def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: Sequence[float],
@@ -142,11 +214,7 @@ def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: S
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            data = {k: dict(v) for k, v in data.items()}
-            data.setdefault("loads", {}).pop("range", None)
-            data["loads"]["values"] = [float(f) for f in loads]
-            data["loads"].pop("zones_at", None)
-            study = _study(data)
+            study = _point_study(data, loads)
             _check_resolved(study)
             pred = run_study(study)
     except SetupError:
@@ -209,6 +277,15 @@ def _population_bands(pred: Any, population: Mapping[str, Any]) -> dict[str, Any
     out["asperity_over_range"] = float(np.mean(np.all(values.states == STATE_CODES["asperity"], axis=1)))
     out["solves_population"] = after - before
     return out
+
+
+def _point_study(data: Mapping[str, Any], loads: np.ndarray | Sequence[float]) -> Any:
+    """The study of a sweep point: its data at the sweep's exploration ``loads`` (N)."""
+    data = {k: dict(v) for k, v in data.items()}
+    data.setdefault("loads", {}).pop("range", None)
+    data["loads"]["values"] = [float(f) for f in loads]
+    data["loads"].pop("zones_at", None)
+    return _study(data)
 
 
 def _check_resolved(study: Any) -> None:

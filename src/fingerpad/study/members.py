@@ -38,8 +38,8 @@ from ..micro.bem import BEMUnitCell
 from ..micro.response import check_cell
 from .run import P_HIGH, P_LOW, Prediction, load_at_centre_pressure
 
-__all__ = ["STATES", "MemberValues", "evaluate_members", "member_full_contact_loads", "member_quantiles",
-           "predict_fingers", "predict_members"]
+__all__ = ["STATES", "MemberValues", "evaluate_members", "member_cells", "member_full_contact_loads",
+           "member_quantiles", "predict_fingers", "predict_members"]
 
 #: Contact states at the pad centre, in the order of their codes (0, 1, 2).
 STATES: tuple[str, ...] = ("asperity", "transition", "full")
@@ -173,6 +173,41 @@ def member_full_contact_loads(fingers: Sequence[Finger], pressures: Sequence[flo
                      for finger, p in zip(fingers, pressures, strict=True)], dtype=float)
 
 
+def _member_moduli(study: Any, fingers: Sequence[Finger]) -> list[float]:
+    """Each finger's reduced modulus E1* (Pa) on the study's texture material (Eq. 3.4)."""
+    mat_nu = study.material_poisson if study.material_poisson is not None else 0.35
+    return [f.micro_modulus(study.material_modulus, mat_nu) for f in fingers]
+
+
+def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger]) -> list[Any]:
+    """The BEM cell of each finger on the study's (prepared) ``cell``, prepared over what that
+    finger's loads ask for: ``cell`` itself over the union of the fingers' pressures in units of
+    E* (no solve when that lies inside what is cached), read at each finger's E1*; a layered
+    finger whose thickness or moduli ratio differ from the study's (another unit layer) on a cell
+    of its own (:meth:`~fingerpad.micro.bem.BEMUnitCell.for_skin`), prepared over its pressures.
+
+    A sweep's cell task calls this for every point sharing a cell before any of them is
+    predicted (:func:`fingerpad.design.evaluate.prepare_shared_cell`): :func:`predict_fingers`
+    then solves nothing. Returns one response per finger."""
+    loads = study.loads
+    moduli = _member_moduli(study, fingers)
+    if not cell.flat:
+        # the pressures every finger asks for, in units of E*: one prepare covers them all
+        lo, hi = math.inf, 0.0
+        for f, e in zip(fingers, moduli, strict=True):
+            p = loads / np.asarray(f.ridge_area(loads), float)
+            lo, hi = min(lo, P_LOW * float(p.min()) / e), max(hi, P_HIGH * float(p.max()) / e)
+        cell.prepare(lo * cell.modulus, hi * cell.modulus)
+    cells: list[Any] = []
+    for f, e in zip(fingers, moduli, strict=True):
+        if f.layer is None and cell.layer is None:
+            cells.append(cell.at_modulus(e))
+            continue
+        p = loads / np.asarray(f.ridge_area(loads), float)
+        cells.append(cell.for_skin(e, f.layer, (P_LOW * float(p.min()), P_HIGH * float(p.max()))))
+    return cells
+
+
 def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True) -> tuple[
         list[CurvePrediction], np.ndarray, np.ndarray, list[list[str]]]:
     """Every finger on the texture of a study already predicted (``nominal``, its cell reused).
@@ -193,27 +228,11 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_cont
     from ..micro.hertz import hertz_cell_for
 
     study = nominal.study
-    mat_nu = study.material_poisson if study.material_poisson is not None else 0.35
-    moduli = [f.micro_modulus(study.material_modulus, mat_nu) for f in fingers]
+    moduli = _member_moduli(study, fingers)
     loads = study.loads
     cell = nominal.cell
     if nominal.bem is not None:
-        if not cell.flat:
-            # the pressures every finger asks for, in units of E*: one prepare covers them all
-            lo, hi = math.inf, 0.0
-            for f, e in zip(fingers, moduli, strict=True):
-                p = loads / np.asarray(f.ridge_area(loads), float)
-                lo, hi = min(lo, P_LOW * float(p.min()) / e), max(hi, P_HIGH * float(p.max()) / e)
-            cell.prepare(lo * cell.modulus, hi * cell.modulus)
-        # a layered finger whose thickness or moduli ratio differ from the study's (another unit
-        # layer) is a cell of its own (BEMUnitCell.for_skin); the others read the shared cell
-        cells: list[Any] = []
-        for f, e in zip(fingers, moduli, strict=True):
-            if f.layer is None and cell.layer is None:
-                cells.append(cell.at_modulus(e))
-                continue
-            p = loads / np.asarray(f.ridge_area(loads), float)
-            cells.append(cell.for_skin(e, f.layer, (P_LOW * float(p.min()), P_HIGH * float(p.max()))))
+        cells = member_cells(study, cell, fingers)
         own = {i for i, c in enumerate(cells) if isinstance(c, BEMUnitCell)}
         shared = [i for i in range(len(fingers)) if i not in own]
         curves = [None] * len(fingers)

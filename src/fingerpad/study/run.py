@@ -26,7 +26,8 @@ from ..micro.hertz import HertzUnitCell, hertz_cell_for, supports_hertz
 from ..textures import Texture
 from .spec import Study
 
-__all__ = ["P_HIGH", "P_LOW", "Prediction", "centre_state", "pad_layer_note", "run_study"]
+__all__ = ["P_HIGH", "P_LOW", "Prediction", "bem_pressure_range", "centre_state", "pad_layer_note", "prepare_bem_cell",
+           "run_study"]
 
 #: Local pressures solved on the BEM cell: [P_LOW * min(F/A_fr), P_HIGH * max(F/A_fr)]. The pad
 #: pressure (Eq. 3.7) runs from 0 at the disc edge to 1.5 F/A_fr at the centre; below the lowest
@@ -215,9 +216,39 @@ def _zones(study: Study, cell: Any, hertz_cell: Any) -> dict[str, Any]:
     return out
 
 
+def bem_pressure_range(study: Study) -> tuple[float, float]:
+    """The local pressures (Pa) the BEM cell of ``study`` is prepared over: those of every load
+    asked for and of the zone map, from ``P_LOW`` times the lowest mean pressure F/A_fr to ``P_HIGH``
+    times the highest (the pad's centre, Eq. 3.7)."""
+    wanted = np.append(study.loads, study.zone_load)
+    p_mean = wanted / np.asarray(study.finger.ridge_area(wanted), dtype=float)
+    return P_LOW * float(p_mean.min()), P_HIGH * float(p_mean.max())
+
+
+def prepare_bem_cell(study: Study) -> Any:
+    """The BEM cell (and its half-grid companion) prepared as :func:`run_study` prepares them,
+    without the prediction: a :class:`~fingerpad.micro.resolution.GridChoice` whose ``solves``
+    counts the unit-cell solves this call added to the cache (0: it held them all). Its error
+    estimate is NaN where the grid is given (not needed for the choice; :func:`run_study`
+    reports it).
+
+    Raises
+    ------
+    FingerpadError
+        As :func:`run_study` for the same study.
+    """
+    study.check()
+    tex = study.build_texture()
+    return _resolved_cell(study, tex, study.reduced_modulus, bem_pressure_range(study), None, estimate=False)
+
+
 def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, float],
-                   progress: Callable[[int, int], None] | None) -> Any:
-    """The BEM cell on a grid chosen by the study's accuracy (or on the given grid)."""
+                   progress: Callable[[int, int], None] | None, estimate: bool = True) -> Any:
+    """The BEM cell on a grid chosen by the study's accuracy (or on the given grid).
+
+    ``estimate=False``: where the grid does not depend on it (a given grid, a measured map), the
+    error estimate is not computed (NaN): the coupling of the two cells is the larger part of a
+    preparation that solves nothing."""
     from ..coupling import couple
     from ..micro.resolution import choose_grid
     from .texture import TextureSpec
@@ -226,9 +257,12 @@ def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, 
     ridge = np.asarray(study.finger.ridge_area(loads), dtype=float)
     generated = isinstance(study.texture, TextureSpec) and study.texture.name is not None
     make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
+    target = None if study.grid is not None or make is None else study.accuracy
+    ratio = (lambda cell: couple(loads, ridge, cell).area_ratio) if estimate or target is not None else \
+        (lambda cell: np.full(loads.size, np.nan))
     return choose_grid(
-        make, tex, e1, p_range, lambda cell: couple(loads, ridge, cell).area_ratio,
-        target=None if study.grid is not None or make is None else study.accuracy,
+        make, tex, e1, p_range, ratio,
+        target=target,
         cell_options={"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache(),
                       "layer": study.finger.layer},
         progress=progress,
@@ -370,10 +404,7 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
     finger = study.finger
     e1 = study.reduced_modulus
     loads = study.loads
-    # The cell is prepared over the local pressures of every load asked for and of the zone map.
-    wanted = np.append(loads, study.zone_load)
-    p_mean = wanted / np.asarray(finger.ridge_area(wanted), dtype=float)
-    p_range = (P_LOW * float(p_mean.min()), P_HIGH * float(p_mean.max()))
+    p_range = bem_pressure_range(study)
     notes: list[str] = []
 
     note = pad_layer_note(finger, float(np.max(loads)))
