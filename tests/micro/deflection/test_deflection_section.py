@@ -119,3 +119,18 @@ def test_stability_index_counts_negative_eigenvalues_and_flags_buckling():
     eig = np.linalg.eigvalsh(solver.condensed_tangent(heavy).toarray())
     assert int(np.count_nonzero(eig < 0)) == -index
     assert np.all(np.linalg.eigvalsh(solver.condensed_tangent(light).toarray()) > 0)
+
+
+def test_limit_cycle_of_the_newton_residuals():
+    """A Newton iteration whose natural residuals come back every 1-4 iterations is caught (it
+    fails at once instead of at max_iter); a converging or merely wandering one is not."""
+    from fingerpad.micro.deflection.solve import CYCLE_RTOL, _limit_cycle
+
+    two = [0.3, 0.1, 1.3e-3, 1.4e-4, 1.3e-3, 1.4e-4]
+    assert _limit_cycle(two[:-1]) == 0  # one repeat is not yet a cycle
+    assert _limit_cycle(two) == 2
+    assert _limit_cycle([0.5, 2e-2, 3e-2, 4e-2, 2e-2, 3e-2, 4e-2]) == 3
+    assert _limit_cycle([0.2, 7e-3, 7e-3 * (1 + 0.1 * CYCLE_RTOL), 7e-3]) == 1
+    # the closest near-repeat seen in a solve that converged (1.6e-2) and a plain Newton descent
+    assert _limit_cycle([0.2, 0.1, 0.2 * (1 + 1.6e-2), 0.1 * (1 - 1.6e-2)]) == 0
+    assert _limit_cycle([1.0, 0.5, 0.2, 5e-2, 3e-3, 1e-5, 1e-10]) == 0

@@ -88,6 +88,25 @@ class NoConvergence(RuntimeError):
     """A Newton solve did not converge (the caller cuts the step)."""
 
 
+#: relative agreement of the natural residuals that marks a Newton limit cycle (see
+#: :func:`_limit_cycle`): in issue 23's six ramps (README ellipsoids, 370 solves) the failed
+#: solves that cycled repeated to 1.2e-6 or closer, the closest near-repeat in a solve that went
+#: on to converge differed by 1.6e-2; 1e-4 lies between them with a factor ~100 either side
+CYCLE_RTOL = 1e-4
+
+
+def _limit_cycle(merits: list[float], max_period: int = 4) -> int:
+    """The period (1-``max_period``) with which the last two natural residuals repeat the ones a
+    period earlier, each to ``CYCLE_RTOL``; 0 if none does."""
+    k = len(merits) - 1
+    for p in range(1, max_period + 1):
+        if k - p - 1 < 0:
+            break
+        if all(abs(merits[k - j] - merits[k - j - p]) <= CYCLE_RTOL * merits[k - j] for j in (0, 1)):
+            return p
+    return 0
+
+
 class SectionSolver:
     """Finite-strain section of a compliant asperity on its base, pressed and sheared by the skin.
 
@@ -205,6 +224,7 @@ class SectionSolver:
         pairs = self.fold.pair(self.positions(v))
         repairs = 0
         history: list[float] = []  # relative equilibrium residuals with an unchanged active set
+        merits: list[float] = []  # the natural residual at every iteration (limit-cycle check)
         for it in range(1, max_iter + 1):
             x = self.positions(v)
             if it > 1:
@@ -258,6 +278,16 @@ class SectionSolver:
                 self._finish(state, xs, tiles, comp, gap, mu * a0, mu * b0)
                 return state
             prev_active = active
+            merits.append(merit)
+            period = _limit_cycle(merits) if res_u > 1e-5 * scale_f else 0
+            if period:
+                # Newton caught in a limit cycle: the same residuals come back every `period`
+                # iterations (typically a Gauss point of the fold contact and its neighbour
+                # taking turns at a closed crease). Such a solve never converged in the
+                # remaining iterations of any ramp measured (issue 23: 42 of 130 failed solves of
+                # the README's ellipsoids, none of 240 converged ones), so it fails now instead of
+                # at max_iter. Below 1e-5 of the load the round-off-floor acceptance above decides.
+                raise NoConvergence(f"no convergence: the Newton iteration cycles (period {period})")
             # Jacobian, block rows (u, contact, load[, tip]) x columns (v, f, Z0[, mu]), as one COO
             kr = self._reduced_stiffness(kmat, fold_k).tocoo()
             ai = np.nonzero(active)[0]
