@@ -110,7 +110,7 @@ def _limit_cycle(merits: list[float], max_period: int = 4) -> int:
 #: a Newton solve that has run ``STALL_AFTER`` iterations and whose natural residual did not
 #: fall below ``STALL_FACTOR`` x its best before in the last ``STALL_WINDOW`` ones fails
 #: (:func:`_stagnates`; chosen on issue 23's six ramps of the README ellipsoids: the failed
-#: solves spend 43 % fewer iterations, converged ones cut instead are 18 of 240)
+#: solves' CPU 36 -> 20 s after the limit-cycle check, 18 of 240 converging solves cut instead)
 STALL_WINDOW, STALL_AFTER, STALL_FACTOR = 6, 10, 0.5
 
 
