@@ -119,3 +119,33 @@ def test_stability_index_counts_negative_eigenvalues_and_flags_buckling():
     eig = np.linalg.eigvalsh(solver.condensed_tangent(heavy).toarray())
     assert int(np.count_nonzero(eig < 0)) == -index
     assert np.all(np.linalg.eigvalsh(solver.condensed_tangent(light).toarray()) > 0)
+
+
+def test_limit_cycle_of_the_newton_residuals():
+    """A Newton iteration whose natural residuals come back every 1-4 iterations is caught (it
+    fails at once instead of at max_iter); a converging or merely wandering one is not."""
+    from fingerpad.micro.deflection.solve import CYCLE_RTOL, _limit_cycle
+
+    two = [0.3, 0.1, 1.3e-3, 1.4e-4, 1.3e-3, 1.4e-4]
+    assert _limit_cycle(two[:-1]) == 0  # one repeat is not yet a cycle
+    assert _limit_cycle(two) == 2
+    assert _limit_cycle([0.5, 2e-2, 3e-2, 4e-2, 2e-2, 3e-2, 4e-2]) == 3
+    assert _limit_cycle([0.2, 7e-3, 7e-3 * (1 + 0.1 * CYCLE_RTOL), 7e-3]) == 1
+    # the closest near-repeat seen in a solve that converged (1.6e-2) and a plain Newton descent
+    assert _limit_cycle([0.2, 0.1, 0.2 * (1 + 1.6e-2), 0.1 * (1 - 1.6e-2)]) == 0
+    assert _limit_cycle([1.0, 0.5, 0.2, 5e-2, 3e-3, 1e-5, 1e-10]) == 0
+
+
+def test_stagnating_newton_residuals():
+    """A late Newton iteration whose residual has not halved over STALL_WINDOW iterations is given
+    up; an early one, or one still descending (even slowly, by halving), is not."""
+    from fingerpad.micro.deflection.solve import STALL_AFTER, STALL_FACTOR, STALL_WINDOW, _stagnates
+
+    wander = [0.14, 0.087, 0.077, 0.066] + [0.06 + 0.01 * (k % 3) for k in range(STALL_AFTER)]
+    assert _stagnates(wander)
+    assert not _stagnates(wander[:STALL_AFTER - 1])  # too early to judge
+    halving = [0.5 * (0.99 * STALL_FACTOR ** (1 / STALL_WINDOW)) ** k for k in range(3 * STALL_AFTER)]
+    assert not any(_stagnates(halving[:n]) for n in range(1, len(halving) + 1))
+    # the first 14 residuals of a solve of issue 23's ramps that converged after 23 iterations
+    late = [0.43, 0.52, 0.5, 0.38, 0.23, 0.22, 0.19, 0.18, 0.16, 0.14, 0.075, 0.064, 0.059, 0.057]
+    assert not _stagnates(late)

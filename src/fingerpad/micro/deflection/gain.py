@@ -27,8 +27,9 @@ from .ramps import SectionJob, solve_sections
 from .section import EllipsoidGeometry, Geometry, RidgeGeometry, Section, section_for, texture_geometry
 
 #: Bump when a change of the section model alters cached numbers.
-MODEL_VERSION = 6  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact;
-# 6: no wall-clock limit in the key or the results (entries of 5 could hold ramps a slow machine cut short)
+MODEL_VERSION = 7  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact;
+# 6: no wall-clock limit in the key or the results (entries of 5 could hold ramps a slow machine cut short);
+# 7: Newton solves caught in a limit cycle or stagnating fail early (issue 23: some ramps take other steps)
 
 __all__ = ["DeflectionSettings", "EllipsoidGeometry", "GainCurve", "MODEL_VERSION", "PressureRamp", "RidgeGeometry",
            "Section", "SectionMaterials", "as_dataset", "directional_gain", "directional_gains", "section_for", "solve_section",
