@@ -293,7 +293,24 @@ def analyse_study(
     ------
     FingerpadError
         For unreadable strokes, a missing reference, or a participant without one.
+
+    Notes
+    -----
+    BLAS runs on one thread here: the fits multiply small matrices (a few hundred rows), where
+    a second thread saves nothing, and OpenBLAS's idle threads spin between the calls, which
+    cost the analysis about as much CPU again (11 against 6 s on the benchmark's 150
+    recordings); a product split over threads also sums in an order that depends on their
+    number, so one thread makes the last bits of every fit the same on any machine.
     """
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _analyse(recordings, options, textures, models)
+
+
+def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
+             textures: Mapping[str, TextureGeometry | None] | None,
+             models: Mapping[str, Model] | None) -> StudyResult:
     opts = options
     textures = dict(textures or {})
     reports: dict[str, StrokeReport] = {}
@@ -445,7 +462,7 @@ def analyse_study(
     pop_curves = population_curves(strokes, edges, opts.reference, opts.level) if opts.population else pd.DataFrame()
     pop_fits = population_fits(strokes, opts.reference, opts.level) if opts.population else pd.DataFrame()
     for message in notes:
-        warnings.warn(message, MeasurementWarning, stacklevel=2)
+        warnings.warn(message, MeasurementWarning, stacklevel=3)
     return StudyResult(
         options=opts, strokes=strokes, bins=bins, fits=fits, spread=spread, spread_summary=summary_spread,
         conditions=conditions, participants=pd.DataFrame(prow), bin_edges=edges, power_laws=power_laws,
