@@ -222,6 +222,12 @@ def _qc_drawer(result: StudyResult, sources: list[str], dpi: int, workers: int |
         return
     from concurrent.futures import ProcessPoolExecutor
 
+    # matplotlib's figure, Agg and font modules loaded before the workers start: forked
+    # workers inherit them instead of each importing them again (~0.25 s of CPU per worker)
+    import matplotlib.backends.backend_agg
+    import matplotlib.collections
+    import matplotlib.figure  # noqa: F401
+
     with ProcessPoolExecutor(max_workers=n) as pool:
         futures = [pool.submit(qc_png, qc_inputs(result, source), dpi) for source in sources]
         try:
