@@ -118,3 +118,25 @@ def test_qc_figures_drawn_by_a_process_pool_are_the_same_files(study_small, tmp_
     for a, b in zip(one, two):
         if a.suffix in {".png", ".csv", ".json"}:
             assert a.read_bytes() == b.read_bytes(), a.name
+
+
+def test_qc_figures_started_during_the_analysis_are_the_same_files(small_study_dir, tmp_path):
+    """EarlyQC starts the QC figures from analyse_study's on_strokes hook, before any fit: every
+    file of the report is the same as the one drawn here from the finished result (the hook
+    sees the recordings, reports, strokes and outlier flags the result ends with)."""
+    from fingerpad import measure as m
+    from fingerpad.measure.report import EarlyQC
+
+    opts = m.AnalysisOptions(reference="flat", n_null=199)
+    recordings = m.load_study([small_study_dir])
+    textures = m.read_textures(small_study_dir / "samples.csv")
+    with EarlyQC(dpi=30, workers=2) as early:
+        result = m.analyse_study(recordings, opts, textures=textures, on_strokes=early.start)
+        assert len(early._futures) == len(recordings) >= 4  # started before the report
+        started = write_report(result, tmp_path / "early", dpi=30, early_qc=early)
+    plain = write_report(result, tmp_path / "plain", dpi=30, workers=1)
+    assert [p.relative_to(tmp_path / "plain") for p in plain] == [p.relative_to(tmp_path / "early") for p in started]
+    assert sum("/qc/" in p.as_posix() for p in plain) == len(recordings)
+    for a, b in zip(plain, started):
+        if a.suffix in {".png", ".csv", ".json"}:
+            assert a.read_bytes() == b.read_bytes(), a.name

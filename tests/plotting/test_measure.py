@@ -41,3 +41,30 @@ def test_qc_figure(tmp_path, measured, png_is_drawn):
 def test_png_bytes_is_a_png(measured):
     data = png_bytes(figure_sample(measured, "flat"), 40)
     assert data[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize("dpi", [40, 100])
+def test_png_bytes_has_the_pixels_and_metadata_of_savefig(measured, dpi):
+    """png_bytes encodes the PNG itself (plotting/png.py): the image Pillow decodes is the one
+    savefig writes, pixel for pixel, with the same mode, size, resolution and Software text;
+    savefig afterwards still writes the same image (the figure is left as it was)."""
+    import io
+
+    from PIL import Image
+
+    def decoded(data: bytes) -> tuple:
+        with Image.open(io.BytesIO(data)) as im:
+            im.load()
+            return im.mode, im.size, im.tobytes(), dict(im.info)
+
+    def saved(fig) -> bytes:
+        buf = io.BytesIO()
+        fig.savefig(buf, format="png", dpi=dpi)
+        return buf.getvalue()
+
+    source = measured.recordings[0].source
+    for fig in (figure_qc(measured, source), figure_sample(measured, "flat")):
+        before = saved(fig)
+        ours = png_bytes(fig, dpi)
+        assert decoded(ours) == decoded(before)
+        assert saved(fig) == before

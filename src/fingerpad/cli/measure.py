@@ -212,12 +212,18 @@ def analyse_command(
         table = Path(samples) if samples else _find_samples_table(data)
         textures = m.read_textures(table) if table else None
         recordings = m.load_study(data, column_spec, pattern=pattern)
-        result = m.analyse_study(recordings, options, textures=textures)
+        from ..measure.report import EarlyQC
         from .common import ProgressBar, stderr_console
 
-        with ProgressBar(stderr_console(), "figures") as bar:
-            written = write_report(result, out, figures=not no_figures, title=title, qc=not no_qc,
-                                   progress=(lambda i, n, _what: bar(i, n)) if sys.stderr.isatty() else None)
+        # the QC figures start as soon as the strokes are known, and draw on the other
+        # cores while the fits run
+        with EarlyQC() as early:
+            result = m.analyse_study(recordings, options, textures=textures,
+                                     on_strokes=early.start if not (no_figures or no_qc) else None)
+            with ProgressBar(stderr_console(), "figures") as bar:
+                written = write_report(result, out, figures=not no_figures, title=title, qc=not no_qc,
+                                       progress=(lambda i, n, _what: bar(i, n)) if sys.stderr.isatty() else None,
+                                       early_qc=early)
     _print_summary(result, written, Path(out), shown)
 
 

@@ -42,7 +42,7 @@ from ..plotting.measure import condition_label, participant_png, qc_inputs, qc_p
 from .analysis import StudyResult, study_info
 from .htmlreport import html_report
 
-__all__ = ["curves_dataset", "html_report", "write_report"]
+__all__ = ["EarlyQC", "curves_dataset", "html_report", "write_report"]
 
 
 def _safe(name: str) -> str:
@@ -207,22 +207,80 @@ def _qc_workers(workers: int | None, n_figures: int) -> int:
     return max(1, min(int(workers), n_figures))
 
 
+def _start_pool(workers: int) -> Any:
+    from concurrent.futures import ProcessPoolExecutor
+
+    # matplotlib's figure, Agg and font modules loaded before the workers start: forked
+    # workers inherit them instead of each importing them again (~0.25 s of CPU per worker)
+    import matplotlib.backends.backend_agg
+    import matplotlib.collections
+    import matplotlib.figure  # noqa: F401
+
+    return ProcessPoolExecutor(max_workers=workers)
+
+
+class EarlyQC:
+    """The QC figures drawn while the analysis still runs.
+
+    Without it the analysis (reading aside, its larger part) runs on one core before any
+    figure is started. Use as a context manager around :func:`analyse_study` and
+    :func:`write_report`: pass :meth:`start` as ``analyse_study(..., on_strokes=...)`` and
+    the object as ``write_report(..., early_qc=...)``. :meth:`start` hands every recording's
+    QC figure to a pool of ``workers`` processes (default as :func:`write_report`'s) as soon
+    as the strokes and their outliers are known; the figures are the same, byte for byte.
+    Leaving the block cancels what is not drawn yet.
+    """
+
+    def __init__(self, dpi: int = 100, workers: int | None = None) -> None:
+        self.dpi = dpi
+        self.workers = workers
+        self._pool: Any = None
+        self._futures: dict[str, Any] = {}
+
+    def __enter__(self) -> EarlyQC:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        for future in self._futures.values():
+            future.cancel()
+        if self._pool is not None:
+            self._pool.shutdown(wait=True, cancel_futures=True)
+
+    def start(self, partial: Any) -> None:
+        """Submit the QC figure of every recording of ``partial`` (what ``on_strokes`` gets)."""
+        sources = [r.source for r in partial.recordings if r.source in partial.stroke_reports]
+        n = _qc_workers(self.workers, len(sources))
+        if n <= 1:  # drawn in this process by write_report, as without it
+            return
+        self._pool = _start_pool(n)
+        self._futures = {source: self._pool.submit(qc_png, qc_inputs(partial, source), self.dpi)
+                         for source in sources}
+
+    def png(self, source: str, dpi: int) -> Any:
+        """The future of ``source``'s PNG at ``dpi``, or ``None`` if it was not started."""
+        return self._futures.get(source) if dpi == self.dpi else None
+
+
 @contextmanager
-def _qc_drawer(result: StudyResult, sources: list[str], dpi: int, workers: int | None) -> Iterator[Any]:
+def _qc_drawer(result: StudyResult, sources: list[str], dpi: int, workers: int | None,
+               early: EarlyQC | None = None) -> Iterator[Any]:
     """Start drawing the QC figure of every recording in ``sources``; yields ``png(i)``, the PNG
     bytes of ``sources[i]``.
 
     With more than one worker a process pool starts on all of them at once, so that it draws
     while this process draws the participant and sample figures; each task carries only its own
     recording (:func:`qc_inputs`; pickled when a worker takes it, so any start method, fork or
-    spawn, is cheap). Leaving the block cancels what is not drawn yet."""
+    spawn, is cheap). Leaving the block cancels what is not drawn yet. Figures ``early``
+    started are taken from it."""
+    started = [early.png(source, dpi) for source in sources] if early is not None else []
+    if started and all(f is not None for f in started):
+        yield lambda i: started[i].result()
+        return
     n = _qc_workers(workers, len(sources))
     if n <= 1:
         yield lambda i: qc_png(qc_inputs(result, sources[i]), dpi)
         return
-    from concurrent.futures import ProcessPoolExecutor
-
-    with ProcessPoolExecutor(max_workers=n) as pool:
+    with _start_pool(n) as pool:
         futures = [pool.submit(qc_png, qc_inputs(result, source), dpi) for source in sources]
         try:
             yield lambda i: futures[i].result()
@@ -241,6 +299,7 @@ def write_report(
     qc: bool = True,
     progress: Any = None,
     workers: int | None = None,
+    early_qc: EarlyQC | None = None,
 ) -> list[Path]:
     """Write tables, figures, NetCDF curves and the HTML report into ``out`` (see module doc).
 
@@ -251,7 +310,8 @@ def write_report(
     report); ``progress(done, total, what)`` is called as figures are drawn. The QC figures
     are drawn by a pool of ``workers`` processes (default: one per CPU this process may use,
     at most 8; ``1`` draws them here), each sent one recording at a time; the files are the
-    same, byte for byte, whatever the number of workers.
+    same, byte for byte, whatever the number of workers. ``early_qc``: QC figures started
+    during the analysis (:class:`EarlyQC`), used where it holds all of them at ``dpi``.
 
     Returns
     -------
@@ -312,7 +372,7 @@ def write_report(
             (tmp / "figures").mkdir()
             # the pool starts on the QC figures now and draws them while the participant
             # and sample figures are drawn here
-            with _qc_drawer(result, sources, dpi, workers) as qc_png_of:
+            with _qc_drawer(result, sources, dpi, workers, early_qc) as qc_png_of:
                 # each kind drawn on one kept figure (the same image as a new one's)
                 drawn = [("participant", p, participant_png) for p in participants] + \
                         [("sample", s, sample_png) for s in samples]

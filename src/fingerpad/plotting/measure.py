@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import io
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -380,6 +379,11 @@ def _new_qc_figure(n_rows: int):
                               autolim=False)
         ax.tick_params(labelsize=7)
         ax.grid(True, alpha=0.3)
+    for ax in axes[:-2]:
+        # these panels never show an x label (time is labelled below the last time panel);
+        # fixed coordinates spare placing the empty label below the tick labels at each draw,
+        # which lays out every tick label once more (~4 % of a figure)
+        ax.xaxis.set_label_coords(0.5, 0.0)
     ax = axes[-1]
     for sense, (marker, label) in _SENSE_STYLE.items():
         ax.plot([], [], marker, ms=4, ls="none", label=label, color=_SENSE_COLOURS[1 if sense == "+" else -1])
@@ -474,15 +478,10 @@ def _draw_qc(inputs: QCInputs, reuse: Any = None):
     return fig
 
 
-# zlib level of the PNGs: 3 encodes a QC figure in ~19 ms against ~28 ms at the default 6
-# (files ~11 % larger; levels 1-2 are no faster and larger still); the pixels are the same
-PNG_COMPRESS_LEVEL = 3
-
-
 def png_bytes(fig: Any, dpi: int) -> bytes:
-    """``fig`` drawn by Agg at ``dpi`` (dots per inch), as PNG bytes (zlib level
-    :data:`PNG_COMPRESS_LEVEL`)."""
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
-    return buf.getvalue()
+    """``fig`` drawn by Agg at ``dpi`` (dots per inch), as PNG bytes: the pixels ``savefig``
+    writes, encoded by :func:`fingerpad.plotting.png.figure_png` (zlib level
+    :data:`~fingerpad.plotting.png.PNG_COMPRESS_LEVEL`)."""
+    from .png import figure_png
 
+    return figure_png(fig, dpi)
