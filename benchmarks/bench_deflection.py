@@ -136,18 +136,43 @@ def _load() -> str:
     return Path("/proc/loadavg").read_text().split()[0] if Path("/proc/loadavg").exists() else "?"
 
 
+def _reap_orphans() -> None:
+    """Become the reaper of this process's orphaned descendants, and collect those that exist.
+
+    The command's ramp workers may be forked by a fork server (the command's progress bar runs a
+    thread, and a threaded process is not forked): the server reaps the workers, but it outlives
+    the command and is then no child of anyone here, so its CPU (with the workers') never reached
+    this process's RUSAGE_CHILDREN. As a subreaper (Linux prctl PR_SET_CHILD_SUBREAPER) this
+    process inherits it and waits for it."""
+    import ctypes
+
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(36, 1, 0, 0, 0)  # PR_SET_CHILD_SUBREAPER
+    except (OSError, AttributeError):
+        return
+    while True:
+        try:
+            pid, _ = os.waitpid(-1, 0)
+        except ChildProcessError:
+            return
+        if pid == 0:
+            return
+
+
 def _command_once(python: str) -> dict:
     """One run of the README command with ``python`` (``-m fingerpad.cli``-like entry), empty cache:
     wall seconds, CPU seconds of the command and every process it started, the table it printed."""
     folder = Path(tempfile.mkdtemp(prefix="fingerpad-bench-direction-"))
     env = {**os.environ, "FINGERPAD_CACHE": str(folder / "cache")}
     code = "import sys; from fingerpad.cli import main; sys.argv[0] = 'fingerpad'; sys.exit(main())"
+    _reap_orphans()  # subreaper from here on (orphans of earlier runs collected before the count)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     load = _load()
     t0 = time.perf_counter()
     done = subprocess.run([python, "-c", code, *README_ARGS, "--out", str(folder / "out")], env=env,
                           capture_output=True, text=True, check=False)
     wall = time.perf_counter() - t0
+    _reap_orphans()  # the fork server the command left (and its workers' CPU with it)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     shutil.rmtree(folder, ignore_errors=True)

@@ -189,3 +189,38 @@ def test_the_ramps_in_worker_processes_give_the_serial_numbers_bit_for_bit(tmp_p
     # the directions 0 and 180 share their section: one solve, one cache entry per section
     assert pooled.curves[0].cache_key == pooled.curves[2].cache_key
     assert len([p for p in _entries(tmp_path) if p.suffix == ".json"]) == 2
+
+
+def test_a_thread_beside_the_main_one_keeps_the_pool_and_its_numbers(tmp_path, monkeypatch):
+    """A progress bar's refresh thread made every command's ramps serial (issue 23): with another
+    thread running, the ramps still go to worker processes, started from a fork server (forking
+    a threaded process is unsafe), with the serial numbers bit for bit; off the main thread (a
+    Dask task, a server's job) they stay serial."""
+    import threading
+
+    from fingerpad.micro.deflection import ramps
+
+    monkeypatch.setenv("FINGERPAD_DEFLECTION_WORKERS", "2")
+    settings = dataclasses.replace(TINY, n_pressures=2)
+    serial = run_deflection("ellipsoids", ELLIPSOIDS, SOFT, (0.0,), (3e3, 6e3), tau0=8.1e3, alpha=0.1,
+                            settings=settings, cache=False, workers=1)
+    stop = threading.Event()
+    beside = threading.Thread(target=stop.wait, daemon=True)
+    beside.start()
+    try:
+        assert ramps.default_workers(6) == 2
+        assert ramps._context().get_start_method() == "forkserver"
+        pooled = run_deflection("ellipsoids", ELLIPSOIDS, SOFT, (0.0,), (3e3, 6e3), tau0=8.1e3, alpha=0.1,
+                                settings=settings, cache=False)
+        off_main: list[int] = []
+        worker = threading.Thread(target=lambda: off_main.append(ramps.default_workers(6)))
+        worker.start()
+        worker.join()
+        assert off_main == [1]
+    finally:
+        stop.set()
+        beside.join()
+    for ra, rb in zip(serial.curves[0].ramps, pooled.curves[0].ramps, strict=True):
+        for name in ("mu", "gain", "contact_length", "tip_dx", "bend_dx"):
+            assert np.array_equal(getattr(ra, name), getattr(rb, name), equal_nan=True), name
+    assert serial.gain_table() == pooled.gain_table()

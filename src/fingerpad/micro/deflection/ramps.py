@@ -94,10 +94,14 @@ def unpressed(job: SectionJob, ramp0: Any) -> list[Any]:
 def default_workers(tasks: int) -> int:
     """Worker processes for ``tasks`` ramps: the cores this process may use (at most ``tasks``),
     ``FINGERPAD_DEFLECTION_WORKERS`` if set; 1 (serial) inside a daemonic process, which may not
-    start children (e.g. a multiprocessing pool's worker), and where other Python threads run (a
-    Dask worker's task, a server): forking a threaded process can deadlock, and those already
-    run their work side by side."""
-    if multiprocessing.current_process().daemon or threading.active_count() > 1:
+    start children (e.g. a multiprocessing pool's worker), and off the main thread (a Dask
+    worker's task, a server's job): those already run their work side by side.
+
+    Other threads beside the main one (a progress bar's refresh thread) do not make it serial:
+    the pool then starts its workers from a fork server instead of forking this process
+    (:func:`_context`). Before, such a thread made every command's ramps serial (issue 23: the
+    progress bar of ``predict --direction`` has one)."""
+    if multiprocessing.current_process().daemon or threading.current_thread() is not threading.main_thread():
         return 1
     text = os.environ.get("FINGERPAD_DEFLECTION_WORKERS", "").strip()
     if text:
@@ -148,10 +152,24 @@ def _serial(job: SectionJob, progress: Callable[[str], None] | None) -> list[Any
     return out + (unpressed(job, ramp0) if ramp0.stopped else [])
 
 
-def _pooled(jobs: list[SectionJob], workers: int, progress: Callable[[str], None] | None) -> list[list[Any]]:
-    # fork where there is one: the workers inherit the imported package (no start-up import)
+def _context() -> Any:
+    """How the pool starts its workers: by forking this process where it has one thread (they
+    inherit the imported package: no start-up import); where other threads run, from a fork
+    server, a fresh single-threaded process that imports this module once and forks the workers
+    (forking a threaded process can leave a lock held by another thread, a console's or stderr's,
+    locked forever in the child); elsewhere (no fork), the platform's default."""
     methods = multiprocessing.get_all_start_methods()
-    context = multiprocessing.get_context("fork" if "fork" in methods else None)
+    if "fork" in methods and threading.active_count() == 1:
+        return multiprocessing.get_context("fork")
+    if "forkserver" in methods:
+        context = multiprocessing.get_context("forkserver")
+        context.set_forkserver_preload([__name__])
+        return context
+    return multiprocessing.get_context()
+
+
+def _pooled(jobs: list[SectionJob], workers: int, progress: Callable[[str], None] | None) -> list[list[Any]]:
+    context = _context()
     results: list[list[Any]] = [[] for _ in jobs]
     tails: list[list[Any]] = [[] for _ in jobs]
     if progress:
