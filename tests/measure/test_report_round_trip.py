@@ -140,3 +140,27 @@ def test_qc_figures_started_during_the_analysis_are_the_same_files(small_study_d
     for a, b in zip(plain, started):
         if a.suffix in {".png", ".csv", ".json"}:
             assert a.read_bytes() == b.read_bytes(), a.name
+
+
+def test_strokes_found_by_the_qc_pool_give_the_same_report(small_study_dir, tmp_path):
+    """EarlyQC.find_strokes finds every recording's strokes in the pool's forked workers (which
+    inherit the recordings), then draws the QC figures there from the inherited samples: the
+    whole report is the same, byte for byte, as one analysed and drawn in this process alone."""
+    from fingerpad import measure as m
+    from fingerpad.measure.report import EarlyQC
+
+    opts = m.AnalysisOptions(reference="flat", n_null=199)
+    recordings = m.load_study([small_study_dir])
+    textures = m.read_textures(small_study_dir / "samples.csv")
+    plain_result = m.analyse_study(recordings, opts, textures=textures)
+    plain = write_report(plain_result, tmp_path / "plain", dpi=30, workers=1)
+    with EarlyQC(dpi=30, workers=2) as early:
+        result = m.analyse_study(recordings, opts, textures=textures, on_strokes=early.start,
+                                 find_strokes=early.find_strokes)
+        assert len(early._forked) == len(recordings) >= 4  # the workers found the strokes
+        pooled = write_report(result, tmp_path / "pooled", dpi=30, early_qc=early)
+    assert [p.relative_to(tmp_path / "plain") for p in plain] == [p.relative_to(tmp_path / "pooled") for p in pooled]
+    for a, b in zip(plain, pooled):
+        if a.suffix in {".png", ".csv", ".json"}:
+            assert a.read_bytes() == b.read_bytes(), a.name
+    assert [r.used for r in result.stroke_reports.values()] == [r.used for r in plain_result.stroke_reports.values()]

@@ -219,7 +219,8 @@ def analyse_command(
         # cores while the fits run
         with EarlyQC() as early:
             result = m.analyse_study(recordings, options, textures=textures,
-                                     on_strokes=early.start if not (no_figures or no_qc) else None)
+                                     on_strokes=early.start if not (no_figures or no_qc) else None,
+                                     find_strokes=early.find_strokes)
             with ProgressBar(stderr_console(), "figures") as bar:
                 written = write_report(result, out, figures=not no_figures, title=title, qc=not no_qc,
                                        progress=(lambda i, n, _what: bar(i, n)) if sys.stderr.isatty() else None,

@@ -275,6 +275,7 @@ def analyse_study(
     textures: Mapping[str, TextureGeometry | None] | None = None,
     models: Mapping[str, Model] | None = None,
     on_strokes: Any = None,
+    find_strokes: Any = None,
 ) -> StudyResult:
     """Run the whole analysis on a set of recordings.
 
@@ -294,6 +295,10 @@ def analyse_study(
         object holding ``recordings``, ``stroke_reports``, ``strokes``, ``clipped_strokes`` and
         ``options`` as the result will (the QC figures need no more: :class:`.report.EarlyQC`
         starts them there).
+    find_strokes
+        ``find_strokes(recordings, options.strokes)``: each recording's
+        :func:`~.tables.recording_strokes`, in order, worked out elsewhere (by other processes:
+        :meth:`.report.EarlyQC.find_strokes`); by default here, one recording after another.
 
     Raises
     ------
@@ -309,16 +314,17 @@ def analyse_study(
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
-        return _analyse(recordings, options, textures, models, on_strokes)
+        return _analyse(recordings, options, textures, models, on_strokes, find_strokes)
 
 
 def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
              textures: Mapping[str, TextureGeometry | None] | None,
-             models: Mapping[str, Model] | None, on_strokes: Any) -> StudyResult:
+             models: Mapping[str, Model] | None, on_strokes: Any, find_strokes: Any) -> StudyResult:
     opts = options
     textures = dict(textures or {})
     reports: dict[str, StrokeReport] = {}
-    strokes = stroke_table(recordings, opts.strokes, reports=reports)
+    strokes = stroke_table(recordings, opts.strokes, reports=reports,
+                           found=find_strokes(recordings, opts.strokes) if find_strokes is not None else None)
     clipping = {source: report.clips for source, report in reports.items()}
     notes = clipping_warnings(strokes, clipping)
     # a saturated sensor biases mu (a capped normal force raises it, capped friction lowers it):

@@ -219,6 +219,32 @@ def _start_pool(workers: int) -> Any:
     return ProcessPoolExecutor(max_workers=workers)
 
 
+#: The recordings a pool's workers find strokes in: set before they fork, so that each worker
+#: holds them without their being pickled (~430 MB for 150 one-minute recordings).
+_FORKED: list[Any] = []
+
+
+def _forked_strokes(index: int, options: Any) -> Any:
+    from threadpoolctl import threadpool_limits
+
+    from .tables import recording_strokes
+
+    with threadpool_limits(limits=1, user_api="blas"):  # as analyse_study: the same last bits
+        frame, report = recording_strokes(_FORKED[index], options)
+    # the direction signal (one number per sample: 74 MB for 150 recordings) served only to
+    # measure the strokes; sending it back cost more than finding the strokes
+    report.signal = None
+    return frame, report
+
+
+def _forked_qc_png(inputs: Any, index: int, dpi: int) -> bytes:
+    """:func:`qc_png` of ``inputs`` with its recording, left out of the message, taken from
+    the worker's inherited copy."""
+    from dataclasses import replace
+
+    return qc_png(replace(inputs, recording=_FORKED[index]), dpi)
+
+
 class EarlyQC:
     """The QC figures drawn while the analysis still runs.
 
@@ -236,6 +262,9 @@ class EarlyQC:
         self.workers = workers
         self._pool: Any = None
         self._futures: dict[str, Any] = {}
+        # source -> index in the recordings the pool's workers inherited (find_strokes)
+        self._forked: dict[str, int] = {}
+        self._forked_recordings: list[Any] = []
 
     def __enter__(self) -> EarlyQC:
         return self
@@ -246,15 +275,50 @@ class EarlyQC:
         if self._pool is not None:
             self._pool.shutdown(wait=True, cancel_futures=True)
 
+    def find_strokes(self, recordings: Any, options: Any) -> list[Any]:
+        """Each recording's :func:`~.tables.recording_strokes`, in order (what
+        ``analyse_study(..., find_strokes=...)`` takes), found by the pool that then draws
+        the QC figures: it starts here, and its processes, forked once the recordings are
+        read, inherit them. Without fork (or for a few recordings) they are found here."""
+        import multiprocessing
+
+        recordings = list(recordings)
+        n = _qc_workers(self.workers, len(recordings))
+        if n <= 1 or multiprocessing.get_start_method(allow_none=False) != "fork" or self._pool is not None:
+            from .tables import recording_strokes
+
+            return [recording_strokes(rec, options) for rec in recordings]
+        _FORKED[:] = recordings
+        try:
+            self._pool = _start_pool(n)
+            self._forked = {rec.source: i for i, rec in enumerate(recordings)}
+            self._forked_recordings = recordings
+            # a few recordings per task: one result each would cost more in messages than
+            # the ~9 ms of finding one recording's strokes
+            return list(self._pool.map(_forked_strokes, range(len(recordings)),
+                                       [options] * len(recordings), chunksize=4))
+        finally:
+            _FORKED.clear()  # the workers keep their copy
+
     def start(self, partial: Any) -> None:
         """Submit the QC figure of every recording of ``partial`` (what ``on_strokes`` gets)."""
         sources = [r.source for r in partial.recordings if r.source in partial.stroke_reports]
         n = _qc_workers(self.workers, len(sources))
         if n <= 1:  # drawn in this process by write_report, as without it
             return
-        self._pool = _start_pool(n)
-        self._futures = {source: self._pool.submit(qc_png, qc_inputs(partial, source), self.dpi)
-                         for source in sources}
+        if self._pool is None:
+            self._pool = _start_pool(n)
+        from dataclasses import replace
+
+        def submit(source: str) -> Any:
+            inputs = qc_inputs(partial, source)
+            index = self._forked.get(source)
+            if index is not None and self._forked_recordings[index] is inputs.recording:
+                # the worker holds the recording already (forked after reading it)
+                return self._pool.submit(_forked_qc_png, replace(inputs, recording=None), index, self.dpi)
+            return self._pool.submit(qc_png, inputs, self.dpi)
+
+        self._futures = {source: submit(source) for source in sources}
 
     def png(self, source: str, dpi: int) -> Any:
         """The future of ``source``'s PNG at ``dpi``, or ``None`` if it was not started."""

@@ -15,17 +15,28 @@ from .recordings import Recording
 from .strokes import StrokeOptions, StrokeReport, find_strokes, measure_strokes
 
 __all__ = ["GROUP", "PLAUSIBLE_MU", "bin_index", "bin_strokes", "cluster_column", "flag_outliers", "load_bin_edges",
-           "plausibility_warnings", "stroke_table"]
+           "plausibility_warnings", "recording_strokes", "stroke_table"]
+
+
+def recording_strokes(rec: Recording, options: StrokeOptions) -> tuple[pd.DataFrame, StrokeReport]:
+    """One recording's strokes (:func:`measure_strokes`) and its :class:`StrokeReport`."""
+    report = find_strokes(rec, options)
+    return measure_strokes(rec, options, report=report), report
 
 
 def stroke_table(recordings: Iterable[Recording], options: StrokeOptions = StrokeOptions(), *,
-                 reports: dict[str, StrokeReport] | None = None) -> pd.DataFrame:
+                 reports: dict[str, StrokeReport] | None = None,
+                 found: Iterable[tuple[pd.DataFrame, StrokeReport]] | None = None) -> pd.DataFrame:
     """:func:`measure_strokes` over all recordings, concatenated; ``reports`` (if given) collects
-    each recording's :class:`StrokeReport` by file (for the QC figures)."""
+    each recording's :class:`StrokeReport` by file (for the QC figures). ``found``: what
+    :func:`recording_strokes` gives for each recording, in their order, if worked out
+    elsewhere (e.g. by other processes); else it is worked out here."""
+    recordings = list(recordings)
+    if found is None:
+        found = (recording_strokes(rec, options) for rec in recordings)
     frames = []
-    for rec in recordings:
-        report = find_strokes(rec, options)
-        frames.append(measure_strokes(rec, options, report=report))
+    for rec, (frame, report) in zip(recordings, found):
+        frames.append(frame)
         if reports is not None:
             reports[rec.source] = report
     if not frames:

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import FingerpadError
+from .drawonce import lay_out_ticks_once, place_legend_once
 
 if TYPE_CHECKING:  # the figures read a result; plotting imports nothing of measure/ at run time
     from ..measure.analysis import StudyResult
@@ -31,6 +32,9 @@ def _new_figure(ncols: int, width: float = 5.2, height: float = 4.0):
     fig = Figure(figsize=(width * ncols, height))
     axes = fig.subplots(1, ncols, squeeze=False)[0]
     fig.subplots_adjust(left=0.5 / (width * ncols) + 0.04, right=0.98, bottom=0.13, top=0.9, wspace=0.28)
+    for ax in axes:
+        lay_out_ticks_once(ax.xaxis)
+        lay_out_ticks_once(ax.yaxis)
     return fig, axes
 
 
@@ -112,7 +116,7 @@ def _finish(ax: Any) -> None:
     # placement lays out every y tick label again at each draw to find out (~15 % of a figure)
     ax.set_title(ax.get_title(), y=1.0)
     if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=7, loc="best")
+        place_legend_once(ax.legend(fontsize=7, loc="best"))
 
 
 def _colours(names: list[str]) -> dict[str, Any]:
@@ -372,6 +376,9 @@ def _new_qc_figure(n_rows: int):
     fig = Figure(figsize=(11, 2.0 * n_rows + 0.6))
     axes = fig.subplots(n_rows, 1, squeeze=True)
     fig.subplots_adjust(left=0.08, right=0.98, bottom=0.06, top=0.94, hspace=0.45)
+    for ax in axes:
+        lay_out_ticks_once(ax.xaxis)
+        lay_out_ticks_once(ax.yaxis)
     for ax in axes[:-1]:
         ax.plot([], [], color="0.25", lw=0.6)
         for style in _BAND_STYLES:
@@ -464,7 +471,7 @@ def _draw_qc(inputs: QCInputs, reuse: Any = None):
     if ax.get_legend() is not None:
         ax.get_legend().remove()
     if len(strokes):
-        ax.legend(fontsize=7, loc="best", ncol=3)
+        place_legend_once(ax.legend(fontsize=7, loc="best", ncol=3))
     ax.relim()
     ax.autoscale(True)
     from pathlib import Path
