@@ -164,3 +164,27 @@ def test_strokes_found_by_the_qc_pool_give_the_same_report(small_study_dir, tmp_
         if a.suffix in {".png", ".csv", ".json"}:
             assert a.read_bytes() == b.read_bytes(), a.name
     assert [r.used for r in result.stroke_reports.values()] == [r.used for r in plain_result.stroke_reports.values()]
+
+
+def _stream_of_worker(parent_stderr_id: int) -> tuple[bool, bool]:
+    import sys
+    import warnings
+
+    warnings.warn("from a QC worker", RuntimeWarning, stacklevel=1)  # must not block
+    return id(sys.stderr) != parent_stderr_id, sys.stderr.fileno() != 2
+
+
+def test_qc_workers_write_on_streams_of_their_own():
+    """The QC pool is forked where a progress bar's thread writes to stderr: a worker gets its own
+    stdout/stderr objects (on copies of the descriptors), so a stream lock that thread held at the
+    fork cannot block the worker's writes."""
+    import sys
+
+    from fingerpad.measure.report import _start_pool
+
+    pool = _start_pool(1)
+    try:
+        fresh, duplicated = pool.submit(_stream_of_worker, id(sys.stderr)).result(timeout=60)
+    finally:
+        pool.shutdown()
+    assert fresh and duplicated

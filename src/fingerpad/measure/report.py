@@ -28,6 +28,7 @@ import json
 import math
 import os
 import re
+import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -216,7 +217,24 @@ def _start_pool(workers: int) -> Any:
     import matplotlib.collections
     import matplotlib.figure  # noqa: F401
 
-    return ProcessPoolExecutor(max_workers=workers)
+    return ProcessPoolExecutor(max_workers=workers, initializer=_own_streams)
+
+
+def _own_streams() -> None:
+    """A worker's own ``sys.stdout`` and ``sys.stderr`` (new objects on copies of the same
+    descriptors). The workers are forked from a process where a progress bar's thread writes to
+    stderr ten times a second: a fork in the middle of such a write leaves the inherited stream's
+    lock held by a thread that does not exist in the child, and the child's first warning would
+    wait on it forever."""
+    import io
+
+    for name, fd in (("stdout", 1), ("stderr", 2)):
+        stream = getattr(sys, name, None)
+        try:
+            setattr(sys, name, io.TextIOWrapper(io.FileIO(os.dup(fd), "w"), encoding=getattr(stream, "encoding", None),
+                                                errors=getattr(stream, "errors", None), line_buffering=True))
+        except OSError:  # no such descriptor (a daemon): keep what is there
+            pass
 
 
 #: The recordings a pool's workers find strokes in: set before they fork, so that each worker
