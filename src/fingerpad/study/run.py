@@ -429,6 +429,10 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
     t_cell = t_coupling = 0.0
     if study.model in ("bem", "both"):
         t0 = time.perf_counter()
+        if study.direction is not None:
+            from ..micro.deflection.ramps import start_fork_server
+
+            start_fork_server()  # the ramps' worker server starts beside the cell's solve
         choice = _resolved_cell(study, tex, e1, p_range, progress)
         cell, tex = choice.cell, choice.cell.texture
         resolution = _resolution_report(choice, study)

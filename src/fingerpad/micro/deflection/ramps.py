@@ -163,9 +163,25 @@ def _context() -> Any:
         return multiprocessing.get_context("fork")
     if "forkserver" in methods:
         context = multiprocessing.get_context("forkserver")
-        context.set_forkserver_preload([__name__])
+        # the main module once in the server (its workers then skip importing it again: a script
+        # must guard its work with `if __name__ == "__main__":`, as for any spawned pool), and
+        # this module with the numerics
+        context.set_forkserver_preload(["__main__", __name__])
         return context
     return multiprocessing.get_context()
+
+
+def start_fork_server() -> None:
+    """Start the fork server the pool may need now, so that its start (a fresh interpreter
+    importing the numerics, ~0.3 s) runs beside the caller's own work instead of before the
+    first ramp. Does nothing where there is no fork server, off the main thread and in a
+    daemonic process (serial there)."""
+    if "forkserver" not in multiprocessing.get_all_start_methods() or default_workers(2) == 1:
+        return
+    from multiprocessing import forkserver
+
+    multiprocessing.get_context("forkserver").set_forkserver_preload(["__main__", __name__])
+    forkserver.ensure_running()
 
 
 def _pooled(jobs: list[SectionJob], workers: int, progress: Callable[[str], None] | None) -> list[list[Any]]:
@@ -200,4 +216,4 @@ def _pooled(jobs: list[SectionJob], workers: int, progress: Callable[[str], None
     return [r + t for r, t in zip(results, tails)]
 
 
-__all__ = ["SectionJob", "default_workers", "press", "shear", "solve_sections"]
+__all__ = ["SectionJob", "default_workers", "press", "shear", "solve_sections", "start_fork_server"]
