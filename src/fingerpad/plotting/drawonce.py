@@ -24,14 +24,11 @@ __all__ = ["lay_out_ticks_once", "place_legend_once"]
 _NEEDED = ("_update_ticks", "_get_ticklabel_bboxes", "_update_label_position", "draw")
 
 
-def lay_out_ticks_once(axis: Any) -> None:
-    """Make ``axis`` (a ``matplotlib.axis.Axis``) reuse, while it draws, the ticks and tick-label
-    boxes it found first: what it computes to place its label is then not computed again.
-    Outside a draw the axis behaves as before."""
-    if not all(hasattr(axis, name) for name in _NEEDED) or "draw" in vars(axis):
-        return
-    draw, update_ticks, bboxes = axis.draw, axis._update_ticks, axis._get_ticklabel_bboxes
-    memo: dict[str, Any] = {}
+def _memo_per_draw(artist: Any) -> dict[Any, Any]:
+    """Wrap ``artist.draw`` so that the returned dict is emptied and marked ``"on"`` for the
+    duration of each draw (and emptied after it): what is remembered in it lasts one draw."""
+    draw = artist.draw
+    memo: dict[Any, Any] = {}
 
     def drawing(renderer: Any, *args: Any, **kwargs: Any) -> Any:
         memo.clear()
@@ -40,6 +37,19 @@ def lay_out_ticks_once(axis: Any) -> None:
             return draw(renderer, *args, **kwargs)
         finally:
             memo.clear()
+
+    artist.draw = drawing
+    return memo
+
+
+def lay_out_ticks_once(axis: Any) -> None:
+    """Make ``axis`` (a ``matplotlib.axis.Axis``) reuse, while it draws, the ticks and tick-label
+    boxes it found first: what it computes to place its label is then not computed again.
+    Outside a draw the axis behaves as before."""
+    if not all(hasattr(axis, name) for name in _NEEDED) or "draw" in vars(axis):
+        return
+    update_ticks, bboxes = axis._update_ticks, axis._get_ticklabel_bboxes
+    memo = _memo_per_draw(axis)
 
     def ticks_once() -> Any:
         if not memo.get("on"):
@@ -56,7 +66,6 @@ def lay_out_ticks_once(axis: Any) -> None:
             memo[key] = bboxes(ticks, renderer)
         return memo[key]
 
-    axis.draw = drawing
     axis._update_ticks = ticks_once
     axis._get_ticklabel_bboxes = boxes_once
 
@@ -67,16 +76,8 @@ def place_legend_once(legend: Any) -> None:
     answer. Outside a draw the legend behaves as before."""
     if legend is None or not hasattr(legend, "_find_best_position") or "draw" in vars(legend):
         return
-    draw, best = legend.draw, legend._find_best_position
-    memo: dict[Any, Any] = {}
-
-    def drawing(renderer: Any, *args: Any, **kwargs: Any) -> Any:
-        memo.clear()
-        memo["on"] = True
-        try:
-            return draw(renderer, *args, **kwargs)
-        finally:
-            memo.clear()
+    best = legend._find_best_position
+    memo = _memo_per_draw(legend)
 
     def best_once(width: float, height: float, renderer: Any) -> Any:
         if not memo.get("on"):
@@ -86,5 +87,4 @@ def place_legend_once(legend: Any) -> None:
             memo[key] = best(width, height, renderer)
         return memo[key]
 
-    legend.draw = drawing
     legend._find_best_position = best_once
