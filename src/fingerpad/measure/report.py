@@ -39,7 +39,8 @@ import pandas as pd
 
 from .._version import __version__
 from ..io import OutputFolder
-from ..plotting.measure import condition_label, participant_png, qc_inputs, qc_png, sample_png
+from ..plotting.measure import (condition_label, load_drawing_modules, participant_png, qc_inputs, qc_png,
+                                sample_png)
 from .analysis import StudyResult, study_info
 from .htmlreport import html_report
 
@@ -213,10 +214,7 @@ def _start_pool(workers: int) -> Any:
 
     # matplotlib's figure, Agg and font modules loaded before the workers start: forked
     # workers inherit them instead of each importing them again (~0.25 s of CPU per worker)
-    import matplotlib.backends.backend_agg
-    import matplotlib.collections
-    import matplotlib.figure  # noqa: F401
-
+    load_drawing_modules()
     return ProcessPoolExecutor(max_workers=workers, initializer=_own_streams)
 
 

@@ -17,6 +17,15 @@ __all__ = ["QCInputs", "condition_label", "figure_participant", "figure_qc", "fi
            "participant_png", "png_bytes", "qc_inputs", "qc_png", "sample_png"]
 
 
+def load_drawing_modules() -> None:
+    """Import matplotlib's figure, Agg and collection modules now: a process pool forked after
+    this call gives its workers them already loaded (each worker importing them again cost
+    ~0.25 s of CPU, issue 23)."""
+    import matplotlib.backends.backend_agg
+    import matplotlib.collections
+    import matplotlib.figure  # noqa: F401
+
+
 def condition_label(sample: str, direction: str) -> str:
     """``sample/direction`` (or the sample alone): the label of one measured condition in
     figures, tables and reports."""
