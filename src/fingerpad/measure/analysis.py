@@ -21,7 +21,7 @@ from .models import Model, TextureGeometry, resolve_finger, texture_model
 from .modulus import ModelTable, ModulusFit, estimate_skin_modulus, estimate_skin_modulus_joint
 from .population import population_curves, population_fits
 from .recordings import Recording
-from .sensitivity import other_micro_model, perturbed_models
+from .sensitivity import Variants, sensitivity_rows, variant_tables
 from .strokes import StrokeOptions, StrokeReport
 from .tables import (
     GROUP,
@@ -215,59 +215,6 @@ def _modulus_columns(mf: ModulusFit) -> dict[str, Any]:
             "skin_modulus_note": mf.note, "model_scale": mf.scale}
 
 
-@dataclass
-class _Variants:
-    """Model tables of one texture: the other micro-model and the friction-parameter refits,
-    keyed by ``(parameter, value)`` (``("micro_model", "hertz")``, ``("tau0", "x0.5")`` ...)."""
-
-    tables: dict[tuple[str, str], ModelTable] = field(default_factory=dict)
-
-
-def _variant_tables(geom: TextureGeometry | None, model: Model, finger: Any,
-                    load_range: tuple[float, float], bounds: tuple[float, float]) -> _Variants:
-    out = _Variants()
-    if geom is not None:
-        try:
-            name, other = other_micro_model(geom, finger)
-            out.tables[("micro_model", name)] = ModelTable(other, load_range, bounds)
-        except FingerpadError:
-            pass  # the other model cannot describe this texture: no comparison
-    for key, mdl in perturbed_models(model, finger).items():
-        try:
-            out.tables[key] = ModelTable(mdl, load_range, bounds)
-        except FingerpadError:
-            continue
-    return out
-
-
-def _sensitivity_rows(base: ModulusFit, refits: list[tuple[str, str, Any]], keys: dict[str, Any]
-                      ) -> tuple[list[dict[str, Any]], dict[str, Any]]:
-    """Run every refit ``(parameter, value, fit())``; rows of the sensitivity table and the
-    summary columns (the other micro-model's E_s, the range over the friction parameters)."""
-    rows: list[dict[str, Any]] = []
-    summary: dict[str, Any] = {}
-    friction = []
-    for parameter, value, refit in refits:
-        try:
-            mf = refit()
-        except FingerpadError as exc:
-            rows.append({**keys, "parameter": parameter, "value": value, "skin_modulus": math.nan,
-                         "ratio": math.nan, "determined": False, "note": str(exc)})
-            continue
-        ratio = mf.skin_modulus / base.skin_modulus if base.skin_modulus > 0 else math.nan
-        rows.append({**keys, "parameter": parameter, "value": value, "skin_modulus": mf.skin_modulus,
-                     "ratio": ratio, "determined": mf.determined, "note": mf.note})
-        if parameter == "micro_model":
-            summary.update(skin_modulus_other_model=value, skin_modulus_other=mf.skin_modulus,
-                           skin_modulus_other_determined=mf.determined)
-        elif mf.determined:
-            friction.append(mf.skin_modulus)
-    if friction:
-        summary.update(skin_modulus_sens_low=float(min(friction + [base.skin_modulus])),
-                       skin_modulus_sens_high=float(max(friction + [base.skin_modulus])))
-    return rows, summary
-
-
 def analyse_study(
     recordings: Sequence[Recording],
     options: AnalysisOptions = AnalysisOptions(),
@@ -357,7 +304,7 @@ def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
 
     usable = strokes[~strokes["outlier"]]
     tables: dict[str, ModelTable] = {}
-    variants: dict[str, _Variants] = {}
+    variants: dict[str, Variants] = {}
     for sample, model in all_models.items():
         loads = usable.loc[usable["sample"] == sample, "load"].to_numpy()
         if loads.size and sample != opts.reference:
@@ -367,7 +314,7 @@ def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
             except FingerpadError as exc:
                 raise FingerpadError(f"model of sample {sample!r}: {exc}") from None
             if opts.sensitivity:
-                variants[sample] = _variant_tables(textures.get(sample), model, finger, load_range,
+                variants[sample] = variant_tables(textures.get(sample), model, finger, load_range,
                                                    opts.modulus_bounds)
 
     fit_kw = dict(level=opts.level, fit_scale=opts.fit_scale)
@@ -431,7 +378,7 @@ def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
                     row.update(_modulus_columns(mf))
                     if sample in variants:
                         refits = [(p, v, (lambda t=t: refit(t))) for (p, v), t in variants[sample].tables.items()]
-                        srows, summary = _sensitivity_rows(mf, refits, dict(zip(GROUP, key)))
+                        srows, summary = sensitivity_rows(mf, refits, dict(zip(GROUP, key)))
                         sens_rows += srows
                         row.update(summary)
                 except FingerpadError as exc:
@@ -466,7 +413,7 @@ def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
                     common = set.intersection(*(set(variants[s].tables) for s in samples))
                     refits = [(p, v, (lambda k=(p, v): joint(lambda s: variants[s].tables[k])))
                               for (p, v) in sorted(common, key=lambda k: (k[0] != "micro_model", k))]
-                    srows, summary = _sensitivity_rows(mf, refits, {"participant": participant,
+                    srows, summary = sensitivity_rows(mf, refits, {"participant": participant,
                                                                     "sample": "all textures", "direction": ""})
                     sens_rows += srows
                     row.update(summary)

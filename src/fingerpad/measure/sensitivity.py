@@ -15,12 +15,16 @@ interface parameters (tau0, alpha of Eq. 2.3, beta of Eq. 2.4) and the ridge fra
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 from ..errors import FingerpadError
-from .models import Model, TextureGeometry, model_variant, texture_model
+from .models import Model, ModelTable, TextureGeometry, model_variant, texture_model
+
+if TYPE_CHECKING:
+    from .modulus import ModulusFit
 
 
 @dataclass(frozen=True)
@@ -72,3 +76,58 @@ def perturbed_models(model: Model, finger: Any) -> dict[tuple[str, str], Model]:
         except FingerpadError:
             continue  # e.g. ridge fraction of a finger whose ridges are not a constant fraction
     return out
+
+
+@dataclass
+class Variants:
+    """Model tables of one texture: the other micro-model and the friction-parameter refits,
+    keyed by ``(parameter, value)`` (``("micro_model", "hertz")``, ``("tau0", "x0.5")`` ...)."""
+
+    tables: dict[tuple[str, str], ModelTable] = field(default_factory=dict)
+
+
+def variant_tables(geom: TextureGeometry | None, model: Model, finger: Any,
+                   load_range: tuple[float, float], bounds: tuple[float, float]) -> Variants:
+    """The other micro-model's table and every friction-parameter refit's (those a texture or
+    model cannot describe are left out)."""
+    out = Variants()
+    if geom is not None:
+        try:
+            name, other = other_micro_model(geom, finger)
+            out.tables[("micro_model", name)] = ModelTable(other, load_range, bounds)
+        except FingerpadError:
+            pass  # the other model cannot describe this texture: no comparison
+    for key, mdl in perturbed_models(model, finger).items():
+        try:
+            out.tables[key] = ModelTable(mdl, load_range, bounds)
+        except FingerpadError:
+            continue
+    return out
+
+
+def sensitivity_rows(base: ModulusFit, refits: list[tuple[str, str, Any]], keys: dict[str, Any]
+                      ) -> tuple[list[dict[str, Any]], dict[str, Any]]:
+    """Run every refit ``(parameter, value, fit())``; rows of the sensitivity table and the
+    summary columns (the other micro-model's E_s, the range over the friction parameters)."""
+    rows: list[dict[str, Any]] = []
+    summary: dict[str, Any] = {}
+    friction = []
+    for parameter, value, refit in refits:
+        try:
+            mf = refit()
+        except FingerpadError as exc:
+            rows.append({**keys, "parameter": parameter, "value": value, "skin_modulus": math.nan,
+                         "ratio": math.nan, "determined": False, "note": str(exc)})
+            continue
+        ratio = mf.skin_modulus / base.skin_modulus if base.skin_modulus > 0 else math.nan
+        rows.append({**keys, "parameter": parameter, "value": value, "skin_modulus": mf.skin_modulus,
+                     "ratio": ratio, "determined": mf.determined, "note": mf.note})
+        if parameter == "micro_model":
+            summary.update(skin_modulus_other_model=value, skin_modulus_other=mf.skin_modulus,
+                           skin_modulus_other_determined=mf.determined)
+        elif mf.determined:
+            friction.append(mf.skin_modulus)
+    if friction:
+        summary.update(skin_modulus_sens_low=float(min(friction + [base.skin_modulus])),
+                       skin_modulus_sens_high=float(max(friction + [base.skin_modulus])))
+    return rows, summary
