@@ -26,13 +26,9 @@ def sensitivity_samples_asked(flag: bool, samples: str | None, population: Any) 
         from ..study.sensitivity import DEFAULT_SAMPLES
 
         return DEFAULT_SAMPLES
-    try:
-        n = int(samples)
-    except ValueError:
-        raise FingerpadError(f"--sensitivity-samples: expected an integer of at least 2, got {samples!r}") from None
-    if n < 2:
-        raise FingerpadError(f"--sensitivity-samples: expected an integer of at least 2, got {samples!r}")
-    return n
+    from ..units import parse_int
+
+    return parse_int(samples, "--sensitivity-samples", minimum=2)
 
 
 def print_sensitivity(sens: Mapping[str, Any]) -> None:

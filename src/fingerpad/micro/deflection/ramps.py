@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import FingerpadError
+from ...units import parse_int
 from .mesh import SectionGeometry, build_mesh
 from .path import follow_load, follow_shear
 from .pressure_ramp import PressureRamp, to_ramp
@@ -105,12 +106,7 @@ def default_workers(tasks: int) -> int:
         return 1
     text = os.environ.get("FINGERPAD_DEFLECTION_WORKERS", "").strip()
     if text:
-        try:
-            n = int(text)
-        except ValueError:
-            raise FingerpadError(f"FINGERPAD_DEFLECTION_WORKERS must be a whole number >= 1, got {text!r}") from None
-        if n < 1:
-            raise FingerpadError(f"FINGERPAD_DEFLECTION_WORKERS must be a whole number >= 1, got {text!r}")
+        n = parse_int(text, "FINGERPAD_DEFLECTION_WORKERS")
     else:
         n = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
     return max(1, min(n, tasks))
