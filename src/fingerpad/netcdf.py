@@ -53,8 +53,8 @@ FIELDS: dict[str, tuple[str, str]] = {
     "displacement": ("m", "normal surface displacement of the skin"),
 }
 
-__all__ = ["load_curve_dataset", "load_dataset", "result_dataset", "results_dataset", "save_load_curve",
-           "save_result", "save_results", "to_netcdf"]
+__all__ = ["load_curve_dataset", "load_dataset", "load_writer_modules", "result_dataset", "results_dataset",
+           "save_load_curve", "save_result", "save_results", "to_netcdf"]
 
 
 def _input_attrs(result: Any) -> dict[str, Any]:
@@ -195,6 +195,23 @@ def results_dataset(results: Sequence[Any], attrs: Mapping[str, Any] | None = No
         "mean_pressure", mp, {"units": "Pa", "long_name": SCALARS["mean_pressure"][1]}
     )
     return xr.Dataset(data, coords=coords, attrs=_global_attrs(first, attrs, "fingerpad unit-cell load curve"))
+
+
+def load_writer_modules() -> None:
+    """Import now what the first :func:`to_netcdf` imports: xarray, the h5netcdf engine with h5py,
+    xarray's list of engines, and Dask's array and distributed modules (xarray asks Dask which
+    scheduler runs before it writes, wherever Dask is installed: ~0.2 s of importing
+    ``distributed`` for a file of NumPy arrays). For a caller that has the time now and not
+    later (``predict --direction`` on a core the deflection ramps left free, issue 23)."""
+    import importlib
+    import importlib.util
+
+    from xarray.backends import list_engines
+
+    list_engines()
+    for name in (ENGINE, f"{ENGINE}.legacyapi", "h5py._hl.dims", "dask.array", "dask.distributed"):
+        if importlib.util.find_spec(name.split(".")[0]) is not None:  # Dask is optional for a file
+            importlib.import_module(name)
 
 
 def to_netcdf(ds: Any, path: str | os.PathLike[str]) -> Path:

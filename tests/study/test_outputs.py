@@ -131,3 +131,33 @@ def test_rows_follow_the_csv_columns(prediction):
     rows = outputs.prediction_rows(prediction)
     assert len(rows) == prediction.primary.load.size
     assert all(list(r) == [h for _, h in outputs.CSV_COLUMNS] for r in rows)
+
+
+def test_load_output_modules_leaves_write_outputs_nothing_heavy_to_import(tmp_path):
+    """``predict --direction`` imports what writes the outputs on a core its ramps left free
+    (issue 23): after :func:`outputs.load_output_modules`, writing a folder imports none of the
+    libraries it draws and writes with (in a fresh interpreter: this one has them all)."""
+    import subprocess
+    import sys
+    import textwrap
+
+    code = textwrap.dedent(f"""
+        import sys
+        from fingerpad.study.outputs import load_output_modules, write_outputs
+        from fingerpad.study.run import run_study
+        from fingerpad.study.spec import Study
+        from fingerpad.textures import spherical_caps
+        pred = run_study(Study(texture=spherical_caps(radius=100e-6, height=20e-6, spacing=175e-6, grid=32),
+                               model="hertz", cache=False))
+        heavy = {{"matplotlib", "PIL", "xarray", "h5py", "h5netcdf", "dask", "distributed", "pandas"}}
+        assert not heavy & {{m.split(".")[0] for m in sys.modules}}, "already imported before the test"
+        load_output_modules()
+        before = set(sys.modules)
+        write_outputs(pred, {str(tmp_path / "out")!r}, dpi=40)
+        late = sorted({{m.split(".")[0] for m in set(sys.modules) - before}} & heavy)
+        print("LATE", late)
+    """)
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert "LATE []" in run.stdout, run.stdout
+    assert (tmp_path / "out" / "friction.png").exists() and (tmp_path / "out" / "predict.nc").exists()

@@ -304,8 +304,14 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
             result = run_population(study, population, quantiles or DEFAULT_QUANTILES, sensitivity=sensitivity)
             pred = result.nominal
         else:
+            from ..study.outputs import load_output_modules
+
             with ProgressBar(err, "unit cell ψ(p)") as bar:
-                pred = run_study(study, progress=bar)
+                # the deflection ramps (tens of seconds with a direction) say which is done, and
+                # where they leave a core free the outputs' modules are imported there (~0.7 s
+                # less after the last ramp, issue 23)
+                pred = run_study(study, progress=bar, notice=bar.detail,
+                                 on_free_core=load_output_modules if out is not None else None)
         figures = {name: make() for name, make in (extra or {}).items()}
         if result is not None and out is not None:
             from ..plotting.population import figure_population

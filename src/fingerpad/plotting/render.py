@@ -17,10 +17,27 @@ import numpy as np
 
 from .specs import STATE_FILL, FigureSpec, PlotSpec
 
-__all__ = ["IMAGE_FORMATS", "draw_panel", "figure", "map_image", "spec_image"]
+__all__ = ["IMAGE_FORMATS", "draw_panel", "figure", "load_drawing_modules", "map_image", "spec_image"]
 
 IMAGE_FORMATS = ("png", "svg")
 _DASH = {"solid": "-", "dashed": "--", "dotted": ":", "dotdash": "-."}
+
+
+def load_drawing_modules() -> None:
+    """Import now what the first figure and its PNG import: matplotlib's figure, Agg and
+    collection modules, and Pillow's image plugins (``savefig`` loads them on its first PNG).
+
+    For a caller that has the time now and not later: a process pool forked after this call
+    gives its workers them already loaded (each worker importing them again cost ~0.25 s of
+    CPU, issue 23: ``fingerpad analyse``), and ``predict --direction`` calls it on a core the
+    deflection ramps left free, instead of after them (~0.4 s, issue 23).
+    """
+    import matplotlib.backends.backend_agg
+    import matplotlib.collections
+    import matplotlib.figure  # noqa: F401
+    from PIL import Image
+
+    Image.preinit()
 
 
 def _nice_log_ticks(ax: Any, lo: float, hi: float) -> None:

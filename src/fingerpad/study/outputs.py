@@ -15,7 +15,8 @@ from ..errors import FingerpadError
 from ..finger import skin_units
 from .run import Prediction
 
-__all__ = ["OUTPUT_FILES", "OUTPUT_UNITS", "prediction_dataset", "prediction_json", "write_outputs"]
+__all__ = ["OUTPUT_FILES", "OUTPUT_UNITS", "load_output_modules", "prediction_dataset", "prediction_json",
+           "write_outputs"]
 
 #: What the contact states mean (written into predict.json).
 STATE_DEFINITIONS = {
@@ -316,6 +317,19 @@ def _write_csv(path: Path, header: Sequence[str], rows: Sequence[Sequence[Any]])
         writer = csv.writer(fh)
         writer.writerow(header)
         writer.writerows(rows)
+
+
+def load_output_modules() -> None:
+    """Import now what :func:`write_outputs` imports on its first call into a folder (matplotlib,
+    Pillow, xarray, the NetCDF engine, Dask's modules that xarray consults): ~0.7 s on the 2-core
+    machine. ``predict --direction`` calls it where its deflection ramps leave a core free, so
+    that the outputs are written without it after the ramps (issue 23)."""
+    from .. import netcdf
+    from ..plotting import prediction  # noqa: F401 - the figures' own modules
+    from ..plotting.render import load_drawing_modules
+
+    load_drawing_modules()
+    netcdf.load_writer_modules()
 
 
 def write_outputs(

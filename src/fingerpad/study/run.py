@@ -286,7 +286,9 @@ def _resolution_report(choice: Any, study: Study) -> dict[str, Any]:
     }
 
 
-def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]) -> dict[str, Any]:
+def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str],
+                         notice: Callable[[str], None] | None = None,
+                         on_free_core: Callable[[], None] | None = None) -> dict[str, Any]:
     """Directional friction of compliant ellipsoids or ridges (issue: Paper C's direction effect).
 
     The adhesive term follows the real area enlarged by the asperities' deflection under the
@@ -294,7 +296,8 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
     the shear and the gain), the hysteresis term the elliptical Greenwood-Tabor factor (Eq. 2.4e,
     ellipsoids only); the flat reference stays isotropic. Computed at the study's direction and
     at the two principal directions (along and across the long axis), each section's ramp
-    cached. Returns the curve at the study's direction (``curve``) and a report.
+    cached. Returns the curve at the study's direction (``curve``) and a report. ``notice`` and
+    ``on_free_core``: see :func:`run_study`.
     """
     from ..coupling import predict_curve
     from ..materials import Materials
@@ -318,7 +321,8 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
     # the sections of the three directions (two distinct ones at most) and their pressure levels
     # solved together, in worker processes (issue 23); the numbers do not depend on the count
     gains = dict(zip(names, directional_gains(geometry, materials, directions, p_range, tau0=finger.tau0,
-                                              alpha=finger.alpha, cache=cache_arg)))
+                                              alpha=finger.alpha, cache=cache_arg, progress=notice,
+                                              on_free_core=on_free_core)))
 
     def curve_at(name: str) -> tuple[Any, Any, float]:
         gain = gains[name]
@@ -378,7 +382,9 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
     }
 
 
-def run_study(study: Study, progress: Callable[[int, int], None] | None = None) -> Prediction:
+def run_study(study: Study, progress: Callable[[int, int], None] | None = None, *,
+              notice: Callable[[str], None] | None = None,
+              on_free_core: Callable[[], None] | None = None) -> Prediction:
     """Run the prediction of ``study`` (see the module docstring).
 
     Parameters
@@ -387,6 +393,12 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
         The inputs.
     progress
         ``progress(i, n)`` after each unit-cell solve (BEM only; not called when cached).
+    notice
+        Short messages of the deflection ramps (with a direction, when not cached): which ramp
+        is done, the longest work of such a prediction.
+    on_free_core
+        Called once when the deflection ramps' worker processes leave a core free (see
+        :func:`fingerpad.micro.deflection.ramps.solve_sections`); not called otherwise.
 
     Raises
     ------
@@ -452,7 +464,7 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None) 
         t_coupling += time.perf_counter() - t0
         if study.direction is not None:
             t0 = time.perf_counter()
-            directional = directional_friction(study, tex, cell, notes)
+            directional = directional_friction(study, tex, cell, notes, notice, on_free_core)
             bem = directional.pop("curve")
             timings_extra["deflection"] = time.perf_counter() - t0
         if cell.flat:

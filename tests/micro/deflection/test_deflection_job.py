@@ -224,3 +224,32 @@ def test_a_thread_beside_the_main_one_keeps_the_pool_and_its_numbers(tmp_path, m
         for name in ("mu", "gain", "contact_length", "tip_dx", "bend_dx"):
             assert np.array_equal(getattr(ra, name), getattr(rb, name), equal_nan=True), name
     assert serial.gain_table() == pooled.gain_table()
+
+
+def test_the_pool_hands_its_first_free_core_to_the_caller_once():
+    """``on_free_core`` (issue 23: ``predict --direction`` imports what writes its outputs there)
+    runs once, in this process, when every ramp is taken and a worker waits while another ramp
+    still runs; the serial path never calls it, nor does a cached section. Progress counts the
+    shear ramps."""
+    import os
+
+    from fingerpad.micro.deflection import directional_gains, texture_geometry
+    from fingerpad.textures import ellipsoids
+
+    geometry = texture_geometry(ellipsoids(**ELLIPSOIDS, grid=128))
+    settings = dataclasses.replace(TINY, n_pressures=2)
+    for workers in (2, 1):
+        messages: list[str] = []
+        calls: list[tuple[int, str]] = []
+        curves = directional_gains(geometry, SOFT, (0.0, 90.0), (3e3, 6e3), tau0=8.1e3, alpha=0.1, settings=settings,
+                                   cache=False, workers=workers, progress=messages.append,
+                                   on_free_core=lambda: calls.append((os.getpid(), messages[-1])))
+        assert len(curves) == 2 and all(len(c.ramps) == 2 for c in curves)
+        if workers == 1:
+            assert calls == []
+            continue
+        done = [m for m in messages if m.startswith("shear ramp ")]
+        assert [m.split()[2] for m in done] == ["1/4", "2/4", "3/4", "4/4"]
+        # once, here, when the third of four ramps ended on two workers (the fourth may have
+        # ended with it: the ramps are counted one by one)
+        assert calls == [(os.getpid(), done[2])]

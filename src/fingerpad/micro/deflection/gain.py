@@ -233,12 +233,15 @@ def directional_gains(
     cache: bool | str = True,
     progress: Callable[[str], None] | None = None,
     workers: int | None = None,
+    on_free_core: Callable[[], None] | None = None,
 ) -> list[GainCurve]:
     """:func:`directional_gain` at several directions, the ramps of every section and level that
     is not cached solved together in ``workers`` processes (issue 23: the two principal sections'
     six shear ramps of ``predict --direction`` at once). A section shared by several directions
     is solved once, also without a cache. The curves are the same as one
     :func:`directional_gain` call per direction, bit for bit, whatever ``workers`` is.
+    ``progress`` and ``on_free_core``: see :func:`.ramps.solve_sections` (neither is called
+    when every section is cached).
 
     Returns
     -------
@@ -281,7 +284,8 @@ def directional_gains(
                                     settings), [])
         todo[key][1].append(i)
     if todo:
-        solved = solve_sections([job for job, _ in todo.values()], workers=workers, progress=progress)
+        solved = solve_sections([job for job, _ in todo.values()], workers=workers, progress=progress,
+                                on_free_core=on_free_core)
         for (key, (job, users)), ramps in zip(todo.items(), solved):
             # A ramp cut by the wall-clock safety stop ended where the machine's speed let it: no
             # result, never stored (a later run, on any machine, solves it again).

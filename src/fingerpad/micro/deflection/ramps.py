@@ -113,7 +113,8 @@ def default_workers(tasks: int) -> int:
 
 
 def solve_sections(jobs: Sequence[SectionJob], workers: int | None = None,
-                   progress: Callable[[str], None] | None = None) -> list[list[Any]]:
+                   progress: Callable[[str], None] | None = None,
+                   on_free_core: Callable[[], None] | None = None) -> list[list[Any]]:
     """The ramps (:class:`.pressure_ramp.PressureRamp`, one per level in the job's order) of every job.
 
     Parameters
@@ -125,6 +126,11 @@ def solve_sections(jobs: Sequence[SectionJob], workers: int | None = None,
         numbers are the same whatever the count (see the module's docstring).
     progress
         Called with a short message when a stage starts (serial) or ends (pool).
+    on_free_core
+        Called once, in this process, when the pool first has a worker with no ramp left to take
+        while others still run (never in serial): work of the caller's own that would otherwise
+        wait for the last ramp runs on that core (``predict --direction`` imports what writes
+        its outputs there, issue 23). It must not raise: an error there is the caller's.
     """
     jobs = list(jobs)
     for job in jobs:
@@ -133,7 +139,7 @@ def solve_sections(jobs: Sequence[SectionJob], workers: int | None = None,
     n = default_workers(sum(len(j.pressures) for j in jobs)) if workers is None else max(1, int(workers))
     if n == 1 or not jobs:
         return [_serial(job, progress) for job in jobs]
-    return _pooled(jobs, n, progress)
+    return _pooled(jobs, n, progress, on_free_core)
 
 
 def _serial(job: SectionJob, progress: Callable[[str], None] | None) -> list[Any]:
@@ -180,7 +186,8 @@ def start_fork_server() -> None:
     forkserver.ensure_running()
 
 
-def _pooled(jobs: list[SectionJob], workers: int, progress: Callable[[str], None] | None) -> list[list[Any]]:
+def _pooled(jobs: list[SectionJob], workers: int, progress: Callable[[str], None] | None,
+            on_free_core: Callable[[], None] | None = None) -> list[list[Any]]:
     context = _context()
     results: list[list[Any]] = [[] for _ in jobs]
     tails: list[list[Any]] = [[] for _ in jobs]
@@ -208,7 +215,13 @@ def _pooled(jobs: list[SectionJob], workers: int, progress: Callable[[str], None
                 i, k = pending.pop(fut)
                 results[i][k] = fut.result()
                 if progress:
-                    progress(f"shear ramp at p = {jobs[i].pressures[k]:.4g} Pa done")
+                    progress(f"shear ramp {len(tasks) - len(pending)}/{len(tasks)} done "
+                             f"(p = {jobs[i].pressures[k] / 1e3:.3g} kPa)")
+                if on_free_core is not None and 0 < len(pending) < workers:
+                    # every ramp is taken and a worker waits: its core is free until the last
+                    # ends (checked per ramp, so that two ending together still count)
+                    on_free_core()
+                    on_free_core = None
     return [r + t for r, t in zip(results, tails)]
 
 
