@@ -39,8 +39,8 @@ import pandas as pd
 
 from .._version import __version__
 from ..io import OutputFolder
-from ..plotting.measure import (condition_label, load_drawing_modules, participant_png, qc_inputs, qc_png,
-                                sample_png)
+from ..plotting.measure import condition_label, participant_png, qc_inputs, qc_png, sample_png
+from ..plotting.render import load_drawing_modules
 from .analysis import StudyResult, study_info
 from .htmlreport import html_report
 

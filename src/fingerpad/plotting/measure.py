@@ -9,13 +9,12 @@ import numpy as np
 
 from ..errors import FingerpadError
 from .drawonce import lay_out_ticks_once, place_legend_once
-from .render import load_drawing_modules
 
 if TYPE_CHECKING:  # the figures read a result; plotting imports nothing of measure/ at run time
     from ..measure.analysis import StudyResult
 
-__all__ = ["QCInputs", "condition_label", "figure_participant", "figure_qc", "figure_sample", "load_drawing_modules",
-           "log_subs", "participant_png", "png_bytes", "qc_inputs", "qc_png", "sample_png"]
+__all__ = ["QCInputs", "condition_label", "figure_participant", "figure_qc", "figure_sample", "log_subs",
+           "participant_png", "png_bytes", "qc_inputs", "qc_png", "sample_png"]
 
 
 def condition_label(sample: str, direction: str) -> str:
