@@ -44,3 +44,32 @@ def test_progress_bar_finishes_full_when_work_ends_early():
         task = bar.bar.tasks[0]
         assert (task.completed, task.total) == (44, 44) and task.finished
     ProgressBar(Console(file=io.StringIO()), "never started").finish()  # no bar: nothing to do
+
+
+def test_progress_bar_stage_row_has_its_own_clock_and_no_count():
+    """`predict --direction`: after the unit cell's bar is full, the deflection ramps run for
+    tens of seconds. Their messages went to the full bar's detail, whose clock had stopped and
+    whose long text pushed the bar out of an 80-column terminal; they get a row of their own:
+    a running (unfinished) task, no count, its label and message."""
+    import io
+
+    from rich.console import Console
+
+    from fingerpad.cli.common import ProgressBar
+
+    out = io.StringIO()
+    with ProgressBar(Console(file=out, width=80, force_terminal=True), "unit cell ψ(p)") as bar:
+        bar(70, 70)
+        show = bar.stage("deflection ramps")
+        show("shear ramp 3/6 done (p = 26.8 kPa)")
+        main, ramps = bar.bar.tasks
+        assert main.finished and main.fields["count"] == "70/70"
+        assert not ramps.finished and ramps.total is None and ramps.fields["count"] == ""
+        assert ramps.description == "deflection ramps" and ramps.fields["detail"].startswith("shear ramp 3/6")
+        bar.bar.refresh()
+    lines = [line for line in out.getvalue().splitlines() if "deflection ramps" in line]
+    assert lines and "shear ramp 3/6 done" in lines[-1]
+    # a stage alone (the unit cell cached: its bar never started) shows its row only
+    with ProgressBar(Console(file=io.StringIO(), width=80), "unit cell ψ(p)") as bar:
+        bar.stage("deflection ramps")("pressing 2 section(s)")
+        assert [t.description for t in bar.bar.tasks] == ["deflection ramps"]

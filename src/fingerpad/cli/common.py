@@ -9,7 +9,7 @@ from __future__ import annotations
 import contextlib
 import sys
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import typer
@@ -227,7 +227,8 @@ def option(*decls: str, help_texts: dict[str, str], panel: str, metavar: str | N
 
 class ProgressBar:
     """A Rich progress bar on stderr, started on the first call ``bar(i, n)`` or
-    ``bar.detail(text)`` (none if neither is ever called)."""
+    ``bar.detail(text)`` (none if neither is ever called); :meth:`stage` adds a row for a later
+    stage of the work."""
 
     def __init__(self, console: Any, label: str, total: int = 1) -> None:
         self.console = console
@@ -236,36 +237,55 @@ class ProgressBar:
         self.bar: Any = None
         self.task: Any = None
 
-    def _start(self, n: int) -> None:
-        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+    def _progress(self) -> Any:
+        if self.bar is None:
+            from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-        self.bar = Progress(TextColumn(self.label), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                            TextColumn("{task.fields[detail]}"), console=rich_console(self.console))
-        self.bar.start()
-        self.task = self.bar.add_task(self.label, total=n, detail="")
+            # the count is a field, not MofNCompleteColumn: a stage's row has none (no "0/?")
+            self.bar = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.fields[count]}"),
+                                TimeElapsedColumn(), TextColumn("{task.fields[detail]}"),
+                                console=rich_console(self.console))
+            self.bar.start()
+        return self.bar
+
+    def _start(self, n: int) -> None:
+        self.task = self._progress().add_task(self.label, total=n, detail="", count=f"0/{n}")
 
     def __call__(self, i: int, n: int) -> None:
-        if self.bar is None:
+        if self.task is None:
             self._start(n)
-        self.bar.update(self.task, completed=min(i, n), total=n)
+        self.bar.update(self.task, completed=min(i, n), total=n, count=f"{min(i, n)}/{n}")
 
     def detail(self, text: str) -> None:
         """Show ``text`` after the bar (e.g. the iteration of a long solve)."""
-        if self.bar is None:
+        if self.task is None:
             self._start(self.total)
         self.bar.update(self.task, detail=text)
+
+    def stage(self, label: str) -> Callable[[str], None]:
+        """A row under the bar for a later stage whose length is not known beforehand (a pulsing
+        bar, its own elapsed time and the stage's last message), shown from its first message:
+        ``show = bar.stage("deflection ramps"); show("shear ramp 3/6 done")``."""
+        task: list[Any] = []
+
+        def show(text: str) -> None:
+            if not task:
+                task.append(self._progress().add_task(label, total=None, detail="", count=""))
+            self.bar.update(task[0], detail=text)
+
+        return show
 
     def finish(self) -> None:
         """The work ended before the announced total (a search that converged inside its
         budget): the bar closes full at the count done, not at e.g. 44/60 as if cut short."""
-        if self.bar is not None:
-            done = self.bar.tasks[0].completed
-            self.bar.update(self.task, completed=done, total=done)
+        if self.task is not None:
+            done = next(t.completed for t in self.bar.tasks if t.id == self.task)
+            self.bar.update(self.task, completed=done, total=done, count=f"{done:g}/{done:g}")
 
     def close(self) -> None:
         if self.bar is not None:
             self.bar.stop()
-            self.bar = None
+            self.bar = self.task = None
 
     def __enter__(self) -> ProgressBar:
         return self

@@ -310,7 +310,7 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
                 # the deflection ramps (tens of seconds with a direction) say which is done, and
                 # where they leave a core free the outputs' modules are imported there (~0.7 s
                 # less after the last ramp, issue 23)
-                pred = run_study(study, progress=bar, notice=bar.detail,
+                pred = run_study(study, progress=bar, notice=bar.stage("deflection ramps"),
                                  on_free_core=load_output_modules if out is not None else None)
         figures = {name: make() for name, make in (extra or {}).items()}
         if result is not None and out is not None:

@@ -192,7 +192,7 @@ def _pooled(jobs: list[SectionJob], workers: int, progress: Callable[[str], None
     results: list[list[Any]] = [[] for _ in jobs]
     tails: list[list[Any]] = [[] for _ in jobs]
     if progress:
-        progress(f"pressing the skin on ({len(jobs)} section(s)), then {workers} worker processes shear")
+        progress(f"pressing {len(jobs)} section(s), then shearing in {workers} processes")
     with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
         # the normal-load ramps first (1-2 s each), then the shear ramps longest first, as far as
         # the inputs tell: the more slender section, then the higher pressure (README ellipsoids:
