@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 from fingerpad.cli import app
 from fingerpad.design.evaluate import evaluate_point
 from fingerpad.design.spec import sweep_from_dict
-from fingerpad.study.population import load_population, run_population
+from fingerpad.population.run import load_population, run_population
 from fingerpad.study.spec import study_from_dict
 
 from .test_sweep import STUDY as SWEEP_STUDY
@@ -76,7 +76,7 @@ def test_no_spread_gives_the_nominal_values_exactly(kind):
 def test_bands_are_the_quantiles_of_a_direct_population_prediction(kind, curve_rtol):
     """A point's stored bands equal the quantiles of run_population's members on that texture.
 
-    One member path (fingerpad.study.members) for both, so the numbers agree bit for bit on the
+    One member path (fingerpad.population.members) for both, so the numbers agree bit for bit on the
     same cell; with BEM the sweep's cell holds the nodes of its own pressure range, whose
     interpolant may differ from the direct run's in the last digits (1e-12 allowed)."""
     spec = sweep_from_dict({**BASE, "model": {**BASE["model"], "kind": kind}, "sweep": SWEEP}, population=SPREAD)
@@ -110,8 +110,8 @@ def test_members_read_one_cell_exactly():
     to 1e-13), at every member's own E*."""
     from scipy.integrate import quad
 
-    from fingerpad.study.members import evaluate_members
-    from fingerpad.study.population import member_finger
+    from fingerpad.population.members import evaluate_members
+    from fingerpad.population.run import member_finger
     from fingerpad.study.run import run_study
 
     data = {**BASE, "model": {"kind": "bem", "grid": 16}, "loads": {"values": [0.2, 1.0, 3.0]}}
@@ -139,7 +139,7 @@ def test_members_read_one_cell_exactly():
 
 def test_quantiles_keep_infinite_members():
     """Numpy gives NaN between two infinite values; a critical load never reached stays inf."""
-    from fingerpad.study.members import member_quantiles
+    from fingerpad.population.members import member_quantiles
 
     v = np.array([1.0, 2.0, np.inf, np.inf])
     out = member_quantiles(v, [0.0, 0.5, 0.9, 1.0])

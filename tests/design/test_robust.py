@@ -16,12 +16,12 @@ import pytest
 from typer.testing import CliRunner
 
 from fingerpad.cli import app
-from fingerpad.design import proposal, robust
+from fingerpad.design import inverse_design, robust
 from fingerpad.design.inverse import DesignProblem, parse_target
-from fingerpad.design.proposal import design_textures, free_axes
+from fingerpad.design.inverse_design import design_textures, free_axes
 from fingerpad.design.robust import population_candidate, population_goal, screen_candidate
 from fingerpad.errors import FingerpadError
-from fingerpad.study.population import population_from_table, run_population
+from fingerpad.population.run import population_from_table, run_population
 from fingerpad.study.spec import read_study_file, study_from_dict
 
 runner = CliRunner()
@@ -178,7 +178,7 @@ def no_prediction(monkeypatch):
         raise AssertionError("a prediction started for an input that makes no sense")
 
     for name in ("predict_candidate", "search", "population_candidate"):
-        monkeypatch.setattr(proposal, name, refuse)
+        monkeypatch.setattr(inverse_design, name, refuse)
     monkeypatch.setattr(robust, "run_population", refuse)
 
 
@@ -254,7 +254,7 @@ def test_candidates_from_a_sweep_are_screened_and_predicted_for_the_population(t
 
     monkeypatch.setattr(store, "open_sweep", lambda path: Store())
     ranked = [{"params": {"spacing": s}, "score": 0.0} for s in (200e-6, 260e-6, 500e-6)]  # 500 um: out of the box
-    monkeypatch.setattr(proposal, "rank_sweep", lambda ds, targets, limit: ranked)
+    monkeypatch.setattr(inverse_design, "rank_sweep", lambda ds, targets, limit: ranked)
     study = study_file(tmp_path)
     result = design_textures(study, VARY, ["mu_rel=0.4@1N"], from_sweep="sweep.zarr", population=NARROW,
                              coverage=0.5, candidates=2)

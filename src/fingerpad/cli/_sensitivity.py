@@ -1,5 +1,5 @@
 """The sensitivity part of ``fingerpad predict --population ... --sensitivity``: its flags checked
-and its table printed (the indices are computed by :mod:`fingerpad.study.sensitivity`)."""
+and its table printed (the indices are computed by :mod:`fingerpad.population.sobol`)."""
 
 from __future__ import annotations
 
@@ -23,7 +23,7 @@ def sensitivity_samples_asked(flag: bool, samples: str | None, population: Any) 
     if not any(d.spread for d in population.distributions.values()):
         raise FingerpadError("--sensitivity: no parameter of the population has a spread")
     if samples is None:
-        from ..study.sensitivity import DEFAULT_SAMPLES
+        from ..population.sobol import DEFAULT_SAMPLES
 
         return DEFAULT_SAMPLES
     from ..units import parse_int

@@ -281,7 +281,7 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
 
     ``out``: the output folder (replaced as a whole), or ``None`` for none; ``extra``: more
     figures for it (name -> callable returning a Figure); ``population``: a
-    :class:`~fingerpad.study.population.Population` to predict as well (``quantiles``: its bands;
+    :class:`~fingerpad.population.run.Population` to predict as well (``quantiles``: its bands;
     ``sensitivity``: the base samples of its Sobol indices, or ``None``).
     """
     import warnings
@@ -299,7 +299,7 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
         result = None
         if population is not None:
-            from ..study.population import DEFAULT_QUANTILES, run_population
+            from ..population.run import DEFAULT_QUANTILES, run_population
 
             result = run_population(study, population, quantiles or DEFAULT_QUANTILES, sensitivity=sensitivity)
             pred = result.nominal
@@ -482,7 +482,7 @@ def _population(source: str | None, table: Any, quantiles: str | None) -> tuple[
         if levels is not None:
             raise FingerpadError("--quantiles needs a population (--population or a [population] table)")
         return None, None
-    from ..study.population import load_population, population_from_table
+    from ..population.run import load_population, population_from_table
 
     pop = load_population(source) if source is not None else population_from_table(table)
     return pop, levels

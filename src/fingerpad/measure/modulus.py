@@ -30,7 +30,7 @@ import numpy as np
 from scipy import stats
 
 from ..errors import FingerpadError
-from .models import Model, ModelTable
+from .micro_models import Model, ModelTable
 from .stats import cluster_labels, random_intercept_fit
 from .transition import modulus_from_transition, transition_load
 

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
-    from ..study.population import PopulationResult
+    from ..population.run import PopulationResult
 
 __all__ = ["figure_population"]
 

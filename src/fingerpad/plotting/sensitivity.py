@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
-    from ..study.sensitivity import SensitivityResult
+    from ..population.sobol import SensitivityResult
 
 __all__ = ["figure_sensitivity", "shown_loads"]
 

@@ -306,7 +306,7 @@ def prediction_rows(pred: Prediction) -> list[dict[str, Any]]:
     return [{header: row.get(key) for key, header in CSV_COLUMNS} for row in payload["results"]]
 
 
-#: The population's tables in the output folder (:mod:`.population_tables`).
+#: The population's tables in the output folder (:mod:`fingerpad.population.outputs`).
 POPULATION_CSV = ("population_bands.csv", "population_members.csv")
 
 
@@ -355,9 +355,9 @@ def write_outputs(
     extra
         More figures for the folder: file name -> ``Figure``, or -> ``str`` for a text file.
     population
-        A :class:`~fingerpad.study.population.PopulationResult` of which ``pred`` is the nominal:
+        A :class:`~fingerpad.population.run.PopulationResult` of which ``pred`` is the nominal:
         the JSON gets its ``population`` entry, the NetCDF its ``member`` dimension, the folder
-        :data:`POPULATION_CSV` (:mod:`.population_tables`).
+        :data:`POPULATION_CSV` (:mod:`fingerpad.population.outputs`).
 
     Returns
     -------
@@ -403,7 +403,7 @@ def write_outputs(
                 prediction_dataset(pred) if population is None else population.add_to_dataset(prediction_dataset(pred)),
                 tmp))
             if population is not None:
-                from .population_tables import band_table, member_table
+                from ..population.outputs import band_table, member_table
 
                 for name, table in zip(POPULATION_CSV, (band_table, member_table), strict=True):
                     header, rows = table(population)

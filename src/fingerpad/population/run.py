@@ -2,7 +2,7 @@
 the prediction of every member from one unit cell (issue 22).
 
 A ``[population]`` table (a study file's, a file of one's own, or a preset of
-:mod:`.population_presets`) reads::
+:mod:`.presets`) reads::
 
     [population]
     size = 200                      # members
@@ -20,8 +20,8 @@ The names are the ``--finger-param`` names (:data:`fingerpad.finger.FINGER_PARAM
 ``ridge_fraction`` (the constant-fraction ridge model's A_fr/A_g). Every value is read and
 checked through the parameter's declaration (:class:`fingerpad.params.Param`); lengths and
 pressures need a unit. Parameters not listed keep the study's finger's value. Correlations:
-:mod:`.population_correlations`. A folder written by ``fingerpad analyse`` is a population too,
-one member per participant (:mod:`.population_measured`).
+:mod:`.correlations`. A folder written by ``fingerpad analyse`` is a population too,
+one member per participant (:mod:`.measured`).
 
 Cost: the unit cell's psi(p) depends on p/E* only (docs/solver.md, "One curve for every modulus
 and every scale"), so the BEM cell is solved once, over the union of the members' pressures in
@@ -45,11 +45,11 @@ from ..errors import FingerpadError
 from ..finger import FINGER_PARAMS, LAYER_FIELDS, RIDGE_FRACTION, Finger
 from ..meso import ConstantFractionRidges
 from ..params import Param, _is_bare_number
-from .population_correlations import Correlation, correlate, parse_correlations
+from .correlations import Correlation, correlate, parse_correlations
 from .members import member_quantiles, predict_fingers
-from .population_presets import POPULATION_PRESETS
-from .run import Prediction, run_study
-from .spec import Study
+from .presets import POPULATION_PRESETS
+from ..study.run import Prediction, run_study
+from ..study.spec import Study
 
 __all__ = [
     "DEFAULT_QUANTILES",
@@ -129,8 +129,8 @@ class Population:
     """Distributions of the finger's parameters, a sample size, a seed and a sampling method.
 
     ``correlations``: (name, name, Spearman rank correlation) pairs, laid on the points by a
-    Gaussian copula (:mod:`.population_correlations`). ``measured``: fixed members (SI), e.g. the
-    participants of an ``analyse`` folder (:mod:`.population_measured`), returned by
+    Gaussian copula (:mod:`.correlations`). ``measured``: fixed members (SI), e.g. the
+    participants of an ``analyse`` folder (:mod:`.measured`), returned by
     :meth:`sample` as they are (``distributions`` then only records their values), labelled by
     ``labels``; ``notes`` are passed on to the result.
     """
@@ -265,7 +265,7 @@ def population_from_table(table: Mapping[str, Any], where: str = "[population]",
 def load_population(source: str | Mapping[str, Any]) -> Population:
     """A population from a preset name (:data:`POPULATION_PRESETS`), a TOML file with a
     ``[population]`` table (a study file will do), a folder written by ``fingerpad analyse``
-    (:func:`~.population_measured.population_from_results`), or a table."""
+    (:func:`~.measured.population_from_results`), or a table."""
     if isinstance(source, Mapping):
         return population_from_table(source)
     key = str(source).strip().lower()
@@ -273,7 +273,7 @@ def load_population(source: str | Mapping[str, Any]) -> Population:
         return population_from_table(POPULATION_PRESETS[key], where=f"population {key!r}", name=key)
     path = Path(source)
     if path.is_dir():
-        from .population_measured import population_from_results
+        from .measured import population_from_results
 
         return population_from_results(path)
     if not path.is_file():
@@ -330,7 +330,7 @@ class PopulationResult:
         The quantiles reported.
     sensitivity
         Sobol indices of mu/mu_ref and the critical load
-        (:class:`~fingerpad.study.sensitivity.SensitivityResult`), when asked for.
+        (:class:`~fingerpad.population.sobol.SensitivityResult`), when asked for.
     """
 
     nominal: Prediction
@@ -481,9 +481,9 @@ def run_population(study: Study, population: Population,
     the union of the members' pressures in units of E* (no solve when that lies inside what is
     cached) and every member's curve is that of :func:`~fingerpad.coupling.predict_curve` on the
     cell at the member's E1*, the members coupled together in small blocks
-    (:func:`~fingerpad.study.members.predict_members`). With the Hertz model each member gets its
+    (:func:`~fingerpad.population.members.predict_members`). With the Hertz model each member gets its
     own per-asperity cell (no solve). ``sensitivity``: the base samples N of the Sobol indices
-    (:func:`~fingerpad.study.sensitivity.population_sensitivity`, N (d + 2) more fingers), or
+    (:func:`~fingerpad.population.sobol.population_sensitivity`, N (d + 2) more fingers), or
     ``None`` for none.
 
     Raises
@@ -522,7 +522,7 @@ def run_population(study: Study, population: Population,
                      f"the spread of {', '.join(unseen)} does not enter its curves; --model bem has the layer")
     sens = None
     if sensitivity is not None:
-        from .sensitivity import population_sensitivity
+        from .sobol import population_sensitivity
 
         sens = population_sensitivity(nominal, population, sensitivity)
     return PopulationResult(nominal, population, members, curves, crit, full, states, levels, notes, sens)

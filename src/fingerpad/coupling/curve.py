@@ -19,13 +19,13 @@ from typing import Any
 
 import numpy as np
 
-from .checks import ArrayLike, as_areas, as_loads, scalar_out
-from .errors import FingerpadError
-from .finger import Finger
-from .friction import mu_checked
-from .macro.pressure import disc_average, pad_pressure
-from .micro.hertz import HertzUnitCell
-from .micro.response import (
+from ..checks import ArrayLike, as_areas, as_loads, scalar_out
+from ..errors import FingerpadError
+from ..finger import Finger
+from ..friction import mu_checked
+from ..macro.pressure import disc_average, pad_pressure
+from ..micro.hertz import HertzUnitCell
+from ..micro.response import (
     DEFAULT_LOAD_RANGE,
     RidgeArea,
     UnitCellResponse,

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from fingerpad.errors import FingerpadError
-from fingerpad.study.population import (
+from fingerpad.population.run import (
     QUANTITIES,
     Population,
     load_population,

@@ -41,8 +41,8 @@ import numpy as np
 
 from ..errors import FingerpadError
 from .members import predict_fingers
-from .population import Population, member_finger
-from .run import Prediction
+from .run import Population, member_finger
+from ..study.run import Prediction
 
 __all__ = ["DEFAULT_SAMPLES", "SensitivityResult", "population_sensitivity", "saltelli_points", "sobol_indices"]
 
@@ -254,7 +254,7 @@ def population_sensitivity(
     evaluate
         ``evaluate(nominal, fingers) -> {"mu_normalised": (M, loads), "critical_load": (M,),
         "log10_critical_load": (M,)}``;
-        by default the vectorised coupling (:func:`~fingerpad.study.members.predict_fingers`).
+        by default the vectorised coupling (:func:`~fingerpad.population.members.predict_fingers`).
 
     Raises
     ------

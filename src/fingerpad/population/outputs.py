@@ -20,8 +20,8 @@ from typing import Any
 
 import numpy as np
 
-from .outputs import CSV_COLUMNS
-from .population import QUANTITIES, PopulationResult
+from ..study.outputs import CSV_COLUMNS
+from .run import QUANTITIES, PopulationResult
 
 __all__ = ["band_table", "member_table"]
 

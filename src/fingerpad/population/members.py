@@ -1,7 +1,7 @@
 """Many fingers on one texture at once: the package's one member path (issue 22, "a population
 must not cost a population of BEM solves"), used by ``predict --population``
-(:func:`~fingerpad.study.population.run_population`), the sensitivity analysis, sweeps with a
-population (:func:`~fingerpad.study.members.evaluate_members`) and the robust design's screen
+(:func:`~fingerpad.population.run.run_population`), the sensitivity analysis, sweeps with a
+population (:func:`~fingerpad.population.members.evaluate_members`) and the robust design's screen
 (:class:`fingerpad.design.robust.MemberTable`).
 
 :func:`predict_members` gives, for each finger, the :class:`~fingerpad.coupling.CurvePrediction`
@@ -36,7 +36,7 @@ from ..finger import Finger
 from ..friction import mu_checked
 from ..micro.bem import BEMUnitCell
 from ..micro.response import check_cell
-from .run import P_HIGH, P_LOW, Prediction, load_at_centre_pressure
+from ..study.run import P_HIGH, P_LOW, Prediction, load_at_centre_pressure
 
 __all__ = ["STATES", "MemberValues", "evaluate_members", "member_cells", "member_full_contact_loads",
            "member_quantiles", "predict_fingers", "predict_members"]
@@ -141,7 +141,7 @@ def predict_members(
     -------
     list of CurvePrediction
         One per finger, equal to ``predict_curve(loads, finger, cell.at_modulus(E1*))``, bit for
-        bit (``tests/study/test_members.py``).
+        bit (``tests/population/test_members.py``).
     """
     if moduli is None or not hasattr(cell, "at_modulus"):
         cells = list(cell) if isinstance(cell, Sequence) else [cell] * len(fingers)
@@ -299,7 +299,7 @@ def evaluate_members(nominal: Prediction, fingers: Sequence[Finger]) -> MemberVa
         The study's :class:`~fingerpad.study.run.Prediction` (its cell is reused; the BEM cell is
         prepared over the members' pressures, solving only what they add).
     fingers
-        The members' fingers (:func:`fingerpad.study.population.member_finger`).
+        The members' fingers (:func:`fingerpad.population.run.member_finger`).
 
     Returns
     -------

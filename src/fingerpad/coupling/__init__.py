@@ -1,0 +1,35 @@
+"""The coupling of the three scales: pad pressure x psi(p) -> real area, zones, critical loads.
+
+* :mod:`.curve` - one finger on one unit cell: :func:`couple`, :func:`critical_load`,
+  :func:`adhesion_integral`, :func:`predict_curve` (Eqs. 3.6-3.12).
+
+SI units (m, N, Pa).
+"""
+
+from .curve import (
+    DEFAULT_LOAD_RANGE,
+    CouplingResult,
+    CurvePrediction,
+    UnitCellResponse,
+    adhesion_integral,
+    couple,
+    critical_load,
+    disc_ratio,
+    local_shear_strength,
+    pad_pressure,
+    predict_curve,
+)
+
+__all__ = [
+    "DEFAULT_LOAD_RANGE",
+    "CouplingResult",
+    "CurvePrediction",
+    "UnitCellResponse",
+    "adhesion_integral",
+    "couple",
+    "critical_load",
+    "disc_ratio",
+    "local_shear_strength",
+    "pad_pressure",
+    "predict_curve",
+]
