@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 from fingerpad.cli import app
 from fingerpad.design.evaluate import evaluate_point
 from fingerpad.design.spec import sweep_from_dict
-from fingerpad.population.run import load_population, run_population
+from fingerpad.population import load_population, run_population
 from fingerpad.study.spec import study_from_dict
 
 from .test_sweep import STUDY as SWEEP_STUDY
@@ -111,7 +111,7 @@ def test_members_read_one_cell_exactly():
     from scipy.integrate import quad
 
     from fingerpad.population.members import evaluate_members
-    from fingerpad.population.run import member_finger
+    from fingerpad.population.members import member_finger
     from fingerpad.study.run import run_study
 
     data = {**BASE, "model": {"kind": "bem", "grid": 16}, "loads": {"values": [0.2, 1.0, 3.0]}}

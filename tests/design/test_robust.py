@@ -21,7 +21,7 @@ from fingerpad.design.inverse import DesignProblem, parse_target
 from fingerpad.design.inverse_design import design_textures, free_axes
 from fingerpad.design.robust import population_candidate, population_goal, screen_candidate
 from fingerpad.errors import FingerpadError
-from fingerpad.population.run import population_from_table, run_population
+from fingerpad.population import population_from_table, run_population
 from fingerpad.study.spec import read_study_file, study_from_dict
 
 runner = CliRunner()

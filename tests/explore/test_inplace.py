@@ -185,7 +185,7 @@ def test_the_servers_own_populations_are_chosen_by_label_only(tmp_path, populati
     offered under its label; the page still cannot name a path (not even that file's)."""
     from fingerpad.explore.server import server_populations
     from fingerpad.explore.views.population import population_choices, run_preset
-    from fingerpad.population.run import load_population, run_population
+    from fingerpad.population import load_population, run_population
     from fingerpad.study.spec import study_from_dict
     from fingerpad.explore.inputs import labels_for
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from fingerpad.errors import FingerpadError
-from fingerpad.population.run import (
+from fingerpad.population import (
     QUANTITIES,
     Population,
     load_population,

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from fingerpad.errors import FingerpadError
-from fingerpad.population.run import load_population
+from fingerpad.population import load_population
 
 from .test_population_cli import _user_error, invoke
 

@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 
 from fingerpad.cli import app
 from fingerpad.errors import FingerpadError
-from fingerpad.population.run import population_from_table, run_population
+from fingerpad.population import population_from_table, run_population
 from fingerpad.study.run import run_study
 from fingerpad.population.sobol import population_sensitivity, saltelli_points, sobol_indices
 from fingerpad.study.spec import DEFAULT_STUDY, study_from_dict

@@ -281,28 +281,33 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
 
     ``out``: the output folder (replaced as a whole), or ``None`` for none; ``extra``: more
     figures for it (name -> callable returning a Figure); ``population``: a
-    :class:`~fingerpad.population.run.Population` to predict as well (``quantiles``: its bands;
+    :class:`~fingerpad.population.distributions.Population` to predict as well (``quantiles``: its bands;
     ``sensitivity``: the base samples of its Sobol indices, or ``None``).
     """
     import warnings
 
     from ..encode import json_text, to_jsonable
-    from ..study.outputs import FOLDER_FILES, POPULATION_CSV, check_outputs, prediction_json, write_outputs
+    from ..study.outputs import FOLDER_FILES, check_outputs, prediction_json, write_outputs
     from ..study.run import run_study
 
-    pop_files = dict.fromkeys(("population.png", *POPULATION_CSV)) if population is not None else {}
-    if population is not None and sensitivity is not None:
-        pop_files.update({"sensitivity.png": None, "sensitivity.csv": None})
+    pop_files: tuple[str, ...] = ()
+    if population is not None:
+        from ..population.outputs import population_files
+
+        pop_files = population_files(sensitivity is not None)
     check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {}), *pop_files}))  # before solving
     err = stderr_console()
     with warnings_to(err):
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
         result = None
         if population is not None:
+            from ..population.outputs import write_population_outputs
             from ..population.run import DEFAULT_QUANTILES, run_population
 
             result = run_population(study, population, quantiles or DEFAULT_QUANTILES, sensitivity=sensitivity)
             pred = result.nominal
+            figures = {name: make() for name, make in (extra or {}).items()}
+            paths = write_population_outputs(result, out, json_path=json_path, csv_path=csv_path, extra=figures)
         else:
             from ..study.outputs import load_output_modules
 
@@ -312,17 +317,8 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
                 # less after the last ramp, issue 23)
                 pred = run_study(study, progress=bar, notice=bar.stage("deflection ramps"),
                                  on_free_core=load_output_modules if out is not None else None)
-        figures = {name: make() for name, make in (extra or {}).items()}
-        if result is not None and out is not None:
-            from ..plotting.population import figure_population
-
-            figures["population.png"] = figure_population(result)
-            if result.sensitivity is not None:
-                from ..plotting.sensitivity import figure_sensitivity
-
-                figures["sensitivity.png"] = figure_sensitivity(result.sensitivity)
-                figures["sensitivity.csv"] = result.sensitivity.csv_text()
-        paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures, population=result)
+            figures = {name: make() for name, make in (extra or {}).items()}
+            paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures)
     payload = to_jsonable(prediction_json(pred))
     if result is not None:
         payload["population"] = to_jsonable(result.as_dict())
@@ -482,7 +478,8 @@ def _population(source: str | None, table: Any, quantiles: str | None) -> tuple[
         if levels is not None:
             raise FingerpadError("--quantiles needs a population (--population or a [population] table)")
         return None, None
-    from ..population.run import load_population, population_from_table
+    from ..population.distributions import population_from_table
+    from ..population.sources import load_population
 
     pop = load_population(source) if source is not None else population_from_table(table)
     return pop, levels

@@ -1,7 +1,10 @@
 """The coupling of the three scales: pad pressure x psi(p) -> real area, zones, critical loads.
 
 * :mod:`.curve` - one finger on one unit cell: :func:`couple`, :func:`critical_load`,
-  :func:`adhesion_integral`, :func:`predict_curve` (Eqs. 3.6-3.12).
+  :func:`adhesion_integral`, :func:`predict_curve` (Eqs. 3.6-3.12);
+* :mod:`.members` - many fingers on one unit cell at once, :func:`predict_members`: the
+  vectorised twin of :func:`predict_curve`, bit for bit (an equation changed in one is changed
+  in the other, here beside it).
 
 SI units (m, N, Pa).
 """
@@ -19,6 +22,7 @@ from .curve import (
     pad_pressure,
     predict_curve,
 )
+from .members import predict_members
 
 __all__ = [
     "DEFAULT_LOAD_RANGE",
@@ -32,4 +36,5 @@ __all__ = [
     "local_shear_strength",
     "pad_pressure",
     "predict_curve",
+    "predict_members",
 ]

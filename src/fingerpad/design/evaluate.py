@@ -145,7 +145,7 @@ def prepare_shared_cell(sharing: Sequence[Mapping[str, Any]], loads: Sequence[fl
     """
     from ..micro.bem import BEMUnitCell
     from ..population.members import member_cells
-    from ..population.run import member_finger
+    from ..population.members import member_finger
     from ..study.run import prepare_bem_cell
 
     points = []
@@ -261,7 +261,7 @@ def _population_bands(pred: Any, population: Mapping[str, Any]) -> dict[str, Any
     """The population's numbers at one point (see the module docstring); the extra unit-cell
     solves the members' wider p/E* range needs are counted in ``solves``."""
     from ..population.members import evaluate_members, member_quantiles
-    from ..population.run import member_finger
+    from ..population.members import member_finger
 
     levels = [float(q) for q in population["quantiles"]]
     cell = pred.cell

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError
-from ..population.run import Population
+from ..population.distributions import Population
 from .axes import Axis
 from .inverse import XATOL, Candidate, DesignProblem, Target, parse_target, predict_candidate, rank_sweep, search
 from .robust import PopulationGoal, population_candidate, population_goal, screen_candidate
@@ -224,7 +224,7 @@ def design_textures(
     population
         Design for a population of fingers (a preset name such as ``"adults"``, a TOML file
         with a ``[population]`` table, the table itself, or a
-        :class:`~fingerpad.population.run.Population`); needs ``coverage`` or ``quantile``
+        :class:`~fingerpad.population.distributions.Population`); needs ``coverage`` or ``quantile``
         (:mod:`fingerpad.design.robust`). Without it, ``coverage`` or ``quantile`` use the
         study's own ``[population]`` table; the table is ignored when neither is given.
     coverage
@@ -261,7 +261,7 @@ def design_textures(
     axes = free_axes(vary, data.get("texture", {}).get("name"))
     if population is None and table is not None and (coverage is not None or quantile is not None):
         # the study file's own [population] table, as predict uses it
-        from ..population.run import population_from_table
+        from ..population.distributions import population_from_table
 
         name = "study" if isinstance(study, Mapping) else os.path.splitext(os.path.basename(study))[0]
         population = population_from_table(table, where="[population]", name=name)

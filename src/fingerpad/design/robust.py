@@ -34,7 +34,10 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError
-from ..population.run import DEFAULT_QUANTILES, Population, load_population, member_finger, run_population
+from ..population.distributions import Population
+from ..population.members import member_finger
+from ..population.run import DEFAULT_QUANTILES, run_population
+from ..population.sources import load_population
 from .inverse import (
     Candidate,
     DesignProblem,
@@ -56,7 +59,7 @@ class PopulationGoal:
     Attributes
     ----------
     population
-        The population of fingers (:class:`~fingerpad.population.run.Population`).
+        The population of fingers (:class:`~fingerpad.population.distributions.Population`).
     coverage
         Least fraction of the members that must meet the targets, in (0, 1]; or ``None``.
     quantile

@@ -81,7 +81,7 @@ class SweepSpec:
     chunk: int = 8
     raw: dict[str, Any] = field(default_factory=dict)
     source: str | None = None
-    #: A population of fingers (:class:`fingerpad.population.run.Population`) predicted at
+    #: A population of fingers (:class:`fingerpad.population.distributions.Population`) predicted at
     #: every point, or ``None``; its members (SI) and the quantile levels stored.
     population: Any = None
     members: list[dict[str, float]] = field(default_factory=list)
@@ -281,8 +281,8 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
     file (:func:`read_sweep_file`, as ``fingerpad sweep`` reads them), not for a dict built in
     Python, whose bare numbers are SI.
 
-    ``population``: a :class:`~fingerpad.population.run.Population` (or a preset name or
-    file, :func:`~fingerpad.population.run.load_population`) predicted at every point; without
+    ``population``: a :class:`~fingerpad.population.distributions.Population` (or a preset name or
+    file, :func:`~fingerpad.population.sources.load_population`) predicted at every point; without
     it, the study's ``[population]`` table if it has one. ``quantiles``: the levels of its
     bands (default 5/25/50/75/95 %); the store always holds 10, 50 and 90 % as well, which the
     design map draws.
@@ -395,14 +395,10 @@ MAP_QUANTILES = (0.1, 0.5, 0.9)
 def _add_population(spec: SweepSpec, base_study: Any, population: Any, quantiles: Sequence[float] | None) -> None:
     """Attach a population to ``spec``: sampled once here (every point predicts the same
     members), checked against the axes and the study before anything runs."""
-    from ..population.run import (
-        DEFAULT_QUANTILES,
-        POPULATION_PARAMS,
-        Population,
-        load_population,
-        member_finger,
-        population_from_table,
-    )
+    from ..population.distributions import POPULATION_PARAMS, Population, population_from_table
+    from ..population.members import member_finger
+    from ..population.run import DEFAULT_QUANTILES
+    from ..population.sources import load_population
 
     if isinstance(population, Population):
         pop = population

@@ -90,7 +90,8 @@ def check_store_population(ds: Any, path: str | Path, source: str) -> None:
         The store holds no population, or another one (other distributions, size, seed, method
         or members); a bad ``source``.
     """
-    from ..population.run import DEFAULT_QUANTILES, load_population
+    from ..population.run import DEFAULT_QUANTILES
+    from ..population.sources import load_population
     from .spec import SweepSpec
 
     pop = load_population(source)

@@ -3,17 +3,19 @@ load, and the distribution of the critical load (docs/population.md)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from ..population.run import PopulationResult
+#: The result these figures read (:class:`~fingerpad.population.run.PopulationResult`), named for
+#: the signatures only: plotting imports nothing of the layers above it, not even for type
+#: checking.
+PopulationResult = Any
 
 __all__ = ["figure_population"]
 
 
-def figure_population(result: "PopulationResult") -> Any:
+def figure_population(result: PopulationResult) -> Any:
     """Shaded bands (the outer and inner pairs of the reported quantiles, e.g. 5-95 % and
     25-75 %) and the median of A_re/A_fr and mu/mu_ref against the load (log axis), and a
     histogram of the members' critical loads (N, log bins; members that never reach the

@@ -1,9 +1,30 @@
 """A population of fingers: distributions of a person's parameters, their members predicted on
 one unit cell, the bands over them and which parameter drives the spread.
 
-* :mod:`.run` - a ``[population]`` table read, sampled and predicted (:func:`run_population`);
-* :mod:`.presets` - the built-in populations (``adults``); :mod:`.correlations` - rank
-  correlations by a Gaussian copula; :mod:`.measured` - the participants of an ``analyse`` folder;
-* :mod:`.members` - many fingers on one texture at once; :mod:`.sobol` - Sobol indices;
-* :mod:`.outputs` - the population's tables.
+* :mod:`.distributions` - a ``[population]`` table read, checked and sampled;
+  :mod:`.correlations` - rank correlations by a Gaussian copula; :mod:`.presets` - the built-in
+  populations (``adults``); :mod:`.measured` - the participants of an ``analyse`` folder;
+  :mod:`.sources` - a population by preset name, file, folder or table;
+* :mod:`.members` - the members on one texture at once (the coupling's vectorised twin,
+  :mod:`fingerpad.coupling.members`);
+* :mod:`.run` - :func:`run_population`: the nominal prediction, every member, the bands;
+  :mod:`.sobol` - which parameter drives the spread (Sobol indices); :mod:`.outputs` - the
+  population's files.
+
+The public names below are imported on first use.
 """
+
+import lazy_loader
+
+__getattr__, __dir__, __all__ = lazy_loader.attach(
+    __name__,
+    submodules=["correlations", "distributions", "measured", "members", "outputs", "presets", "run", "sobol",
+                "sources"],
+    submod_attrs={
+        "distributions": ["POPULATION_PARAMS", "Distribution", "Population", "population_from_table"],
+        "presets": ["POPULATION_PRESETS"],
+        "run": ["DEFAULT_QUANTILES", "QUANTITIES", "PopulationResult", "run_population"],
+        "sobol": ["SensitivityResult", "population_sensitivity"],
+        "sources": ["load_population"],
+    },
+)

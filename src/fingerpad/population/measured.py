@@ -33,7 +33,7 @@ from typing import Any
 
 from ..errors import FingerpadError
 from ..io import MANIFEST
-from .run import POPULATION_PARAMS, Distribution, Population
+from .distributions import POPULATION_PARAMS, Distribution, Population
 
 __all__ = ["RESULTS_FILES", "population_from_results"]
 

@@ -40,8 +40,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError
-from .members import predict_fingers
-from .run import Population, member_finger
+from .distributions import Population
+from .members import member_finger, predict_fingers
 from ..study.run import Prediction
 
 __all__ = ["DEFAULT_SAMPLES", "SensitivityResult", "population_sensitivity", "saltelli_points", "sobol_indices"]

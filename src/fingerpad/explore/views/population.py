@@ -9,7 +9,7 @@ design seen before shows its bands at once.
 
 Only names are accepted from the page: the built-in presets and the populations the server was
 started with (``fingerpad explore --population FILE|DIR``, read once at start, by the person who
-started it). :func:`~fingerpad.population.run.load_population` also reads files, and a page
+started it). :func:`~fingerpad.population.sources.load_population` also reads files, and a page
 must never name a file on the server.
 """
 
@@ -42,7 +42,7 @@ _POOL: ThreadPoolExecutor | None = None
 
 def population_choices(extra: Mapping[str, Any] | None = None) -> list[str]:
     """The choices of the page: none, the built-in presets and the server's own populations
-    ``extra`` (label -> :class:`~fingerpad.population.run.Population`; never a path)."""
+    ``extra`` (label -> :class:`~fingerpad.population.distributions.Population`; never a path)."""
     from ...population.presets import POPULATION_PRESETS
 
     return [NONE, *POPULATION_PRESETS, *(extra or {})]
@@ -52,7 +52,8 @@ def run_preset(data: dict[str, Any], name: str, extra: Mapping[str, Any] | None 
     """The :class:`~fingerpad.population.run.PopulationResult` of population ``name`` on the
     study of ``data``: one of the server's populations ``extra`` (by label) or a preset; any other
     name is refused (never read as a file)."""
-    from ...population.run import load_population, run_population
+    from ...population.run import run_population
+    from ...population.sources import load_population
     from ...population.presets import POPULATION_PRESETS
     from ...study.spec import study_from_dict
 
