@@ -179,7 +179,7 @@ def test_the_map_contours_of_10_and_90_percent_bracket_the_median(tmp_path):
     from fingerpad.plotting.designmap import figure_design_map
 
     fig = figure_design_map(out)
-    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
     assert any("10 % finger" in t and "(N)" in t for t in labels) and any(">= 90 % of fingers" in t for t in labels)
     # the colour bar's label is no longer than the bar (on one line it ran past both ends of it)
     fig.canvas.draw()
@@ -263,7 +263,7 @@ def test_resume_with_another_population_is_refused(tmp_path):
         res = runner.invoke(app, ["sweep", str(study), "--out", str(store), *extra])
         assert res.exit_code == 2, res.output
         lines = [ln for ln in res.output.splitlines() if ln.strip()]
-        assert len(lines) == 1 and "holds this sweep with population 'custom' (8 members" in lines[0], res.output
+        assert len(lines) == 1 and "holds this sweep with population 'study.toml' (8 members" in lines[0], res.output
     (tmp_path / "plain").mkdir()
     plain = write_study(tmp_path / "plain", population=False)
     res = runner.invoke(app, ["sweep", str(plain), "--out", str(store)])
@@ -278,7 +278,7 @@ def test_resume_with_another_population_is_refused(tmp_path):
 def test_an_axis_the_population_varies_is_refused():
     from fingerpad.errors import FingerpadError
 
-    with pytest.raises(FingerpadError, match="varies skin_modulus itself"):
+    with pytest.raises(FingerpadError, match=r"\[sweep.axes\] skin_modulus: the population .* draws skin_modulus for every finger"):
         sweep_from_dict({**BASE, "sweep": {"axes": {"skin_modulus": ["0.2MPa", "0.4MPa"]}}}, population=SPREAD)
 
 

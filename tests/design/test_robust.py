@@ -162,7 +162,7 @@ def test_unreachable_coverage_reports_the_best_coverage(tmp_path):
                               "--evaluations", "8", "--candidates", "2", "--json", str(out)])
     assert res.exit_code == 0, res.output
     doc = json.loads(out.read_text())
-    assert doc["met"] is False and doc["population"]["name"] == "wide"
+    assert doc["met"] is False and doc["population"]["name"] == "wide.toml"
     assert doc["population"]["size"] == 32 and len(doc["candidates"]) == 2
     best = max(c["population"]["coverage"] for c in doc["candidates"])
     assert 0 < best < 0.9
@@ -195,7 +195,7 @@ def no_prediction(monkeypatch):
     (["--population", "adults", "--quantile", "inf"], "--quantile"),
     (["--population", "nobody", "--coverage", "0.9"], "neither a preset"),
     (["--population", "adults", "--coverage", "0.9", "--vary", "skin_modulus=0.2MPa:0.4MPa"],
-     "the population varies skin_modulus"),
+     "--vary skin_modulus: the population 'adults' draws skin_modulus for every finger"),
 ])
 def test_bad_population_inputs_are_one_error_line_and_nothing_written(tmp_path, no_prediction, extra, expect):
     study = study_file(tmp_path)
@@ -235,7 +235,7 @@ def test_the_study_files_population_table_serves_coverage_and_quantile(tmp_path)
                      encoding="utf-8")
     result = design_textures(study, VARY, ["mu_rel=0.4@1N"], quantile=0.5, evaluations=3, candidates=1)
     assert result.goal is not None and result.goal.population.size == 8
-    assert result.goal.population.name == study.stem and result.candidates[0].population["size"] == 8
+    assert result.goal.population.name == study.name and result.candidates[0].population["size"] == 8
     plain = design_textures(study, VARY, ["mu_rel=0.4@1N"], evaluations=3, candidates=1)
     assert plain.goal is None and not plain.candidates[0].population
 

@@ -273,7 +273,7 @@ def _axis_values(axis: Axis, spec: Any, design: str, where: str,
 
 
 def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = None, population: Any = None,
-                    quantiles: Sequence[float] | None = None) -> SweepSpec:
+                    quantiles: str | Sequence[float] | None = None) -> SweepSpec:
     """Build and check a :class:`SweepSpec` from the sections of a sweep study file.
 
     ``require_units``: whether a length, pressure or force of an axis must carry a unit (a bare
@@ -281,11 +281,12 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
     file (:func:`read_sweep_file`, as ``fingerpad sweep`` reads them), not for a dict built in
     Python, whose bare numbers are SI.
 
-    ``population``: a :class:`~fingerpad.population.distributions.Population` (or a preset name or
-    file, :func:`~fingerpad.population.sources.load_population`) predicted at every point; without
-    it, the study's ``[population]`` table if it has one. ``quantiles``: the levels of its
-    bands (default 5/25/50/75/95 %); the store always holds 10, 50 and 90 % as well, which the
-    design map draws.
+    ``population``: a :class:`~fingerpad.population.distributions.Population` (or a preset name,
+    a file, an ``analyse`` folder, or a table in SI numbers) predicted at every point; without it,
+    the study's ``[population]`` table if it has one (:func:`fingerpad.population.rules.attach`
+    checks either against the base study and the axes). ``quantiles``: the levels of its bands
+    (numbers or ``"0.1,0.5,0.9"``; default 5/25/50/75/95 %); the store always holds 10, 50 and
+    90 % as well, which the design map draws.
 
     The base study (every point's study, before the axis values) is checked once here by
     :func:`fingerpad.study.spec.study_from_dict`; each point is checked again when it runs, and
@@ -377,12 +378,7 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
         raise FingerpadError(f"[sweep]: {size} points is more than the {MAX_POINTS} allowed")
     spec = SweepSpec(base=base, design=design, axes=axes, loads=loads, point_values=point_values, chunk=chunk,
                      raw=_jsonable(sweep), source=source)
-    if population is None and data.get("population") is not None:
-        population = data["population"]
-    if population is not None:
-        _add_population(spec, base_study, population, quantiles)
-    elif quantiles is not None:
-        raise FingerpadError("--quantiles needs a population (--population or a [population] table)")
+    _add_population(spec, base_study, population, data.get("population"), quantiles)
     del base_study
     return spec
 
@@ -392,44 +388,21 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
 MAP_QUANTILES = (0.1, 0.5, 0.9)
 
 
-def _add_population(spec: SweepSpec, base_study: Any, population: Any, quantiles: Sequence[float] | None) -> None:
-    """Attach a population to ``spec``: sampled once here (every point predicts the same
-    members), checked against the axes and the study before anything runs."""
-    from ..population.distributions import POPULATION_PARAMS, Population, population_from_table
-    from ..population.members import member_finger
-    from ..population.run import DEFAULT_QUANTILES
-    from ..population.sources import load_population
+def _add_population(spec: SweepSpec, base_study: Any, population: Any, table: Mapping[str, Any] | None,
+                    quantiles: str | Sequence[float] | None) -> None:
+    """Attach a population to ``spec`` (``population``, else the study file's ``table``), every
+    rule of :func:`fingerpad.population.rules.attach` checked against the base study and the axes
+    before anything runs: sampled once here (every point predicts the same members)."""
+    from ..population.rules import attach
 
-    if isinstance(population, Population):
-        pop = population
-    elif isinstance(population, Mapping):
-        pop = population_from_table(population)
-    else:
-        pop = load_population(str(population))
-    levels = tuple(float(q) for q in (DEFAULT_QUANTILES if quantiles is None else quantiles))
-    if not levels or any(not (0 <= q <= 1) for q in levels):
-        raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {list(levels)}")
-    levels = tuple(sorted(set(levels)))  # one coordinate per level, ascending
-    for axis in spec.axes:
-        name = axis.key if axis.section == "finger" else axis.name
-        if axis.section == "finger" and name in pop.distributions:
-            raise FingerpadError(f"[sweep.axes] {axis.name}: the population {pop.name!r} varies {name} itself; "
-                                 "sweep it or let the population spread it, not both")
-        if axis.name == "direction":
-            raise FingerpadError("[sweep.axes] direction: a population with a sliding direction is not supported "
-                                 "yet (directional friction of a population)")
-    if base_study.direction is not None:
-        raise FingerpadError("[model] direction: a population with a sliding direction is not supported yet "
-                             "(directional friction of a population); drop one of them")
-    members = pop.sample()  # bounds checked here, before any point runs
-    for m in members[:1]:
-        member_finger(base_study.finger, m)  # ridge_fraction needs the constant-fraction model
-    unknown = sorted(set().union(*members) - set(POPULATION_PARAMS)) if members else []
-    if unknown:  # pragma: no cover - population_from_table refuses them first
-        raise FingerpadError(f"population: unknown parameter(s) {', '.join(unknown)}")
-    spec.population = pop
-    spec.members = members
-    spec.quantiles = tuple(sorted(set(levels) | set(MAP_QUANTILES)))
+    fixed = {axis.key: f"[sweep.axes] {axis.name}" for axis in spec.axes if axis.section == "finger"}
+    directions = ["direction" for axis in spec.axes if (axis.section, axis.key) == ("model", "direction")]
+    plan = attach(base_study, population, table=table, quantiles=quantiles, fixed=fixed, axes=directions)
+    if plan is None:
+        return
+    spec.population = plan.population
+    spec.members = [dict(m) for m in plan.members]
+    spec.quantiles = tuple(sorted(set(plan.quantiles) | set(MAP_QUANTILES)))
 
 
 def _jsonable(value: Any) -> Any:

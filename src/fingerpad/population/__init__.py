@@ -18,12 +18,13 @@ import lazy_loader
 
 __getattr__, __dir__, __all__ = lazy_loader.attach(
     __name__,
-    submodules=["correlations", "distributions", "measured", "members", "outputs", "presets", "run", "sobol",
+    submodules=["correlations", "distributions", "measured", "members", "outputs", "presets", "rules", "run", "sobol",
                 "sources"],
     submod_attrs={
         "distributions": ["POPULATION_PARAMS", "Distribution", "Population", "population_from_table"],
         "presets": ["POPULATION_PRESETS"],
-        "run": ["DEFAULT_QUANTILES", "QUANTITIES", "PopulationResult", "run_population"],
+        "rules": ["DEFAULT_QUANTILES", "PopulationStudy", "attach"],
+        "run": ["QUANTITIES", "PopulationResult", "run_population"],
         "sobol": ["SensitivityResult", "population_sensitivity"],
         "sources": ["load_population"],
     },

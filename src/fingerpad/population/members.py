@@ -15,7 +15,7 @@ SI units (m, N, Pa).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -70,7 +70,8 @@ def _member_moduli(study: Any, fingers: Sequence[Finger]) -> list[float]:
     return [f.micro_modulus(study.material_modulus, mat_nu) for f in fingers]
 
 
-def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger]) -> list[Any]:
+def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger],
+                 progress: Callable[[int, int], None] | None = None) -> list[Any]:
     """The BEM cell of each finger on the study's (prepared) ``cell``, prepared over what that
     finger's loads ask for: ``cell`` itself over the union of the fingers' pressures in units of
     E* (no solve when that lies inside what is cached), read at each finger's E1*; a layered
@@ -79,7 +80,8 @@ def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger]) -> li
 
     A sweep's cell task calls this for every point sharing a cell before any of them is
     predicted (:func:`fingerpad.design.evaluate.prepare_shared_cell`): :func:`predict_fingers`
-    then solves nothing. Returns one response per finger."""
+    then solves nothing. ``progress(done, total)`` after each layered finger's cell (a cell of its
+    own takes seconds to solve). Returns one response per finger."""
     loads = study.loads
     moduli = _member_moduli(study, fingers)
     if not cell.flat:
@@ -90,16 +92,23 @@ def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger]) -> li
             lo, hi = min(lo, P_LOW * float(p.min()) / e), max(hi, P_HIGH * float(p.max()) / e)
         cell.prepare(lo * cell.modulus, hi * cell.modulus)
     cells: list[Any] = []
+    layered = sum(1 for f in fingers if not (f.layer is None and cell.layer is None))
+    done = 0
     for f, e in zip(fingers, moduli, strict=True):
         if f.layer is None and cell.layer is None:
             cells.append(cell.at_modulus(e))
             continue
         p = loads / np.asarray(f.ridge_area(loads), float)
         cells.append(cell.for_skin(e, f.layer, (P_LOW * float(p.min()), P_HIGH * float(p.max()))))
+        done += 1
+        if progress is not None:
+            progress(done, layered)
     return cells
 
 
-def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True) -> tuple[
+def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,
+                    progress: Callable[[int, int], None] | None = None,
+                    stats: dict[str, int] | None = None) -> tuple[
         list[CurvePrediction], np.ndarray, np.ndarray, list[list[str]]]:
     """Every finger on the texture of a study already predicted (``nominal``, its cell reused).
 
@@ -107,7 +116,9 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_cont
     when that lies inside what is cached: psi depends on p/E* only) and read at each finger's E1*
     (Eq. 3.4); with the Hertz model each finger gets its own per-asperity cell (no solve).
     ``full_contact=False`` skips the search of the full-contact loads (NaN then; the robust
-    design's screen does not use them).
+    design's screen does not use them). ``progress``: as for :func:`member_cells`; ``stats``, if
+    given, gets ``own_cells`` (members on a BEM cell of their own) and ``solves`` (unit-cell
+    solves the members added, 0 when the cache held them).
 
     Returns
     -------
@@ -123,8 +134,12 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_cont
     loads = study.loads
     cell = nominal.cell
     if nominal.bem is not None:
-        cells = member_cells(study, cell, fingers)
+        before = int(getattr(cell, "solves", 0) or 0)
+        cells = member_cells(study, cell, fingers, progress)
         own = {i for i, c in enumerate(cells) if isinstance(c, BEMUnitCell)}
+        if stats is not None:
+            stats["own_cells"] = len(own)
+            stats["solves"] = int(getattr(cell, "solves", 0) or 0) - before + sum(int(cells[i].solves) for i in own)
         shared = [i for i in range(len(fingers)) if i not in own]
         curves = [None] * len(fingers)
         if shared:

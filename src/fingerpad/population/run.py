@@ -13,7 +13,7 @@ units of E*, and every member reads it at its own E1* (:meth:`BEMUnitCell.at_mod
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -21,16 +21,13 @@ import numpy as np
 
 from ..coupling import CurvePrediction
 from ..errors import FingerpadError
-from ..finger import LAYER_FIELDS
 from ..study.run import Prediction, run_study
 from ..study.spec import Study
+from .rules import DEFAULT_QUANTILES, PopulationStudy, attach
 from .distributions import Population
-from .members import member_finger, member_quantiles, predict_fingers
+from .members import member_quantiles, predict_fingers
 
 __all__ = ["DEFAULT_QUANTILES", "QUANTITIES", "PopulationResult", "run_population"]
-
-#: Quantiles reported by default.
-DEFAULT_QUANTILES: tuple[float, ...] = (0.05, 0.25, 0.5, 0.75, 0.95)
 #: The per-load quantities of each member (keys of ``member_results``).
 QUANTITIES: tuple[str, ...] = ("area_ratio", "mu", "mu_ref", "mu_normalised")
 
@@ -57,6 +54,9 @@ class PopulationResult:
     sensitivity
         Sobol indices of mu/mu_ref and the critical load
         (:class:`~fingerpad.population.sobol.SensitivityResult`), when asked for.
+    own_cells, member_solves
+        Members on a BEM unit cell of their own (a layered skin whose proportions vary) and the
+        unit-cell solves the members added to the nominal's (0: the cache held them).
     """
 
     nominal: Prediction
@@ -69,6 +69,8 @@ class PopulationResult:
     quantile_levels: tuple[float, ...]
     notes: list[str] = field(default_factory=list)
     sensitivity: Any = None
+    own_cells: int = 0
+    member_solves: int = 0
 
     def values(self, quantity: str) -> np.ndarray:
         """``(members, loads)`` array of a per-load quantity."""
@@ -190,65 +192,49 @@ class PopulationResult:
         }
 
 
-#: Why ``--population`` and ``--direction`` are refused together, and what to do instead.
-DIRECTION_REFUSED = (
-    "--population with --direction: not supported. The directional friction comes from the "
-    "deflection of the compliant features under each finger's own shear (its E_s, tau0 and alpha), so "
-    "every member would need its own directional ramps (a population of solves, not one cell); run the "
-    "population without --direction for the bands, then predict --direction for the members of interest "
-    "with their --finger-param values (population.members in the JSON)")
-
-
-def run_population(study: Study, population: Population,
-                   quantiles: Sequence[float] = DEFAULT_QUANTILES, sensitivity: int | None = None) -> PopulationResult:
+def run_population(study: Study | PopulationStudy, population: Population | Mapping[str, Any] | str | None = None,
+                   quantiles: str | Sequence[float] | None = None, sensitivity: bool | int | str | None = None, *,
+                   progress: Callable[[int, int], None] | None = None,
+                   member_progress: Callable[[int, int], None] | None = None) -> PopulationResult:
     """Predict every member of ``population`` on the study's texture (see the module docstring).
 
-    The nominal prediction (the study's finger) is run first; the BEM cell is then prepared over
-    the union of the members' pressures in units of E* (no solve when that lies inside what is
-    cached) and every member's curve is that of :func:`~fingerpad.coupling.predict_curve` on the
-    cell at the member's E1*, the members coupled together in small blocks
-    (:func:`~fingerpad.population.members.predict_members`). With the Hertz model each member gets its
-    own per-asperity cell (no solve). ``sensitivity``: the base samples N of the Sobol indices
-    (:func:`~fingerpad.population.sobol.population_sensitivity`, N (d + 2) more fingers), or
-    ``None`` for none.
+    ``study`` and ``population`` are first joined by :func:`~.rules.attach` (every rule of a
+    population on a study, with the message the command line gives), unless ``study`` is already
+    a :class:`~.rules.PopulationStudy`. The nominal prediction (the study's finger) is run first;
+    the BEM cell is then prepared over the union of the members' pressures in units of E* (no
+    solve when that lies inside what is cached) and every member's curve is that of
+    :func:`~fingerpad.coupling.predict_curve` on the cell at the member's E1*, the members coupled
+    together in small blocks (:func:`~fingerpad.coupling.members.predict_members`). With the Hertz
+    model each member gets its own per-asperity cell (no solve). ``quantiles``: the levels of the
+    bands (default :data:`~.rules.DEFAULT_QUANTILES`); ``sensitivity``: the base samples N of the
+    Sobol indices (:func:`~fingerpad.population.sobol.population_sensitivity`, N (d + 2) more
+    fingers; ``True``: the default N), or ``None`` for none. ``progress(done, total)``: the
+    nominal unit cell's solves; ``member_progress(done, total)``: the cells of members that need
+    one of their own (a layered skin whose proportions vary).
 
     Raises
     ------
     FingerpadError
-        A sliding direction (refused: :data:`DIRECTION_REFUSED` says why), bad quantiles, a
-        member outside its parameter's bounds.
+        What :func:`~.rules.attach` refuses (a sliding direction, a value the user fixed that
+        the population draws, bad quantiles, a member outside its parameter's bounds, ...).
     """
-    levels = tuple(float(q) for q in quantiles)
-    if not levels or any(not (0 <= q <= 1) for q in levels):
-        raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {list(quantiles)}")
-    levels = tuple(sorted(set(levels)))  # the band runs from the first level to the last
-    if study.direction is not None:
-        raise FingerpadError(DIRECTION_REFUSED)
-    members = population.sample()
-    fingers = [member_finger(study.finger, m) for m in members]  # bounds checked before any solve
-    nominal = run_study(study)
-    curves, crit, full, states = predict_fingers(nominal, fingers)
-    notes = list(population.notes)
-    if study.model == "both":
-        notes.append("population: the BEM curves only (model both)")
-    # Hertz (Eqs. 3.1-3.6) sees a layered skin as the half-space of its layer: a spread of the
-    # layer's thickness or the tissue under it changes no member's curve, which must be said.
-    unseen = [n for n in ("skin_layer_thickness", "skin_substrate_modulus", "skin_substrate_poisson")
-              if n in population.distributions]
-    # A layered cell is scale-free only at fixed proportions (t / L, E_1 / E*, E_2 / E*, the
-    # Poisson ratios): a member that changes any of them is a BEM cell of its own, a cost that
-    # grows with the population (1-2 s a member on 2 cores) and would otherwise go unsaid.
-    proportions = ("skin_modulus", "skin_poisson", *LAYER_FIELDS)
-    varied = [n for n in proportions if n in population.distributions]
-    if study.finger.skin == "layered" and study.model != "hertz" and varied:
-        notes.append(f"population: a layered skin whose {', '.join(varied)} varies gives each such member a BEM "
-                     "unit cell of its own (solved or read from the cache), not one cell for all")
-    if study.model == "hertz" and unseen:
-        notes.append(f"population: the Hertz model takes each member's skin as the half-space of its layer, so "
-                     f"the spread of {', '.join(unseen)} does not enter its curves; --model bem has the layer")
+    if isinstance(study, PopulationStudy):
+        if population is not None or quantiles is not None or sensitivity is not None:
+            raise FingerpadError("run_population: give the population, quantiles and sensitivity to attach(), "
+                                 "not again here")
+        plan = study
+    else:
+        plan = attach(study, population, quantiles=quantiles, sensitivity=sensitivity)
+        if plan is None:
+            raise FingerpadError("run_population: no population given")
+    nominal = run_study(plan.study, progress=progress)
+    stats: dict[str, int] = {}
+    curves, crit, full, states = predict_fingers(nominal, plan.fingers, progress=member_progress, stats=stats)
     sens = None
-    if sensitivity is not None:
+    if plan.sensitivity is not None:
         from .sobol import population_sensitivity
 
-        sens = population_sensitivity(nominal, population, sensitivity)
-    return PopulationResult(nominal, population, members, curves, crit, full, states, levels, notes, sens)
+        sens = population_sensitivity(nominal, plan.population, plan.sensitivity)
+    return PopulationResult(nominal, plan.population, [dict(m) for m in plan.members], curves, crit, full, states,
+                            plan.quantiles, list(plan.notes), sens, own_cells=stats.get("own_cells", 0),
+                            member_solves=stats.get("solves", 0))
