@@ -296,3 +296,39 @@ def test_a_map_of_a_population_the_store_lacks_is_refused(tmp_path):
     lines = [ln for ln in res.output.splitlines() if ln.strip()]
     assert len(lines) == 1 and lines[0].startswith("error:") and "holds no population" in lines[0], res.output
     assert not (tmp_path / "map").exists()
+
+
+def test_the_repair_of_a_damaged_population_store_names_its_population(tmp_path):
+    """Issue 30, defect 9: the repair command suggested for a damaged population store left out
+    --population (and named absolute paths); typed as given, the sweep suggested --overwrite,
+    which would have thrown the store away. Now the suggestion, typed as given, repairs it, and a
+    run that forgets the population is told to give it, not to overwrite."""
+    import os
+    import shlex
+    import subprocess
+
+    from .test_sweep import fingerpad_cmd
+
+    def run(*args: str) -> subprocess.CompletedProcess:
+        return subprocess.run([*fingerpad_cmd(), *args], capture_output=True, text=True, timeout=240, cwd=tmp_path,
+                              env={**os.environ, "FINGERPAD_CACHE": str(tmp_path / "cache")})
+
+    (tmp_path / "study.toml").write_text(SWEEP_STUDY.format(spacing="130um:200um:2", height='["8um", "20um"]'))
+    (tmp_path / "pop.toml").write_text(POPULATION)
+    first = run("sweep", "study.toml", "--population", "pop.toml", "--quantiles", "0.2,0.8", "--out", "r.zarr",
+                "--workers", "1")
+    assert first.returncode == 0, first.stderr
+    (tmp_path / "r.zarr" / "band_mu" / "0.0.0.0").write_bytes(b"not a chunk")
+    forgot = run("sweep", "study.toml", "--out", "r.zarr")
+    assert forgot.returncode == 2
+    assert "give --population pop.toml --quantiles 0.1,0.2,0.5,0.8,0.9 as the sweep that wrote it did" in forgot.stderr
+    assert "--overwrite would discard its points" in forgot.stderr
+    damaged = run("sweep", "study.toml", "--population", "pop.toml", "--quantiles", "0.2,0.8", "--out", "r.zarr")
+    assert damaged.returncode == 2, damaged.stderr
+    line = damaged.stderr.strip()
+    command = line[line.index("fingerpad sweep "):line.index(" recomputes")]
+    assert command == ("fingerpad sweep study.toml --out r.zarr --population pop.toml --quantiles 0.1,0.2,0.5,0.8,0.9 "
+                       "--repair"), line
+    repaired = run(*shlex.split(command)[1:], "--workers", "1")
+    assert repaired.returncode == 0, repaired.stderr
+    assert "repairing" in repaired.stderr

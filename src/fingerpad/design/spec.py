@@ -28,6 +28,7 @@ import copy
 import hashlib
 import json
 import math
+import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -86,6 +87,9 @@ class SweepSpec:
     population: Any = None
     members: list[dict[str, float]] = field(default_factory=list)
     quantiles: tuple[float, ...] = ()
+    #: How ``--population`` named it (a preset name, or a file or folder as an absolute path),
+    #: recorded so that a resume or repair command can name it again; ``None`` for a table.
+    population_source: str | None = None
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -393,6 +397,7 @@ def _add_population(spec: SweepSpec, base_study: Any, population: Any, table: Ma
     """Attach a population to ``spec`` (``population``, else the study file's ``table``), every
     rule of :func:`fingerpad.population.rules.attach` checked against the base study and the axes
     before anything runs: sampled once here (every point predicts the same members)."""
+    from ..population.presets import POPULATION_PRESETS
     from ..population.rules import attach
 
     fixed = {axis.key: f"[sweep.axes] {axis.name}" for axis in spec.axes if axis.section == "finger"}
@@ -402,6 +407,9 @@ def _add_population(spec: SweepSpec, base_study: Any, population: Any, table: Ma
         return
     spec.population = plan.population
     spec.members = [dict(m) for m in plan.members]
+    if isinstance(population, (str, os.PathLike)):
+        named = str(population).strip()
+        spec.population_source = named if named.lower() in POPULATION_PRESETS else os.path.abspath(named)
     spec.quantiles = tuple(sorted(set(plan.quantiles) | set(MAP_QUANTILES)))
 
 
