@@ -1,7 +1,10 @@
-"""The vectorised coupling of many fingers (fingerpad.coupling.members): every member's numbers are
-those of a predict_curve per member, to the bit (issue 22, cost)."""
+"""The vectorised coupling of many fingers (fingerpad.coupling.members) and the members' full-contact
+loads (fingerpad.population.members): every member's numbers are those of a predict_curve and a
+load search per member, to the bit (issue 22, cost)."""
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import pytest
@@ -15,6 +18,8 @@ from fingerpad.meso import ConstantFractionRidges
 from fingerpad.micro.bem import BEMUnitCell
 from fingerpad.micro.response import PowerLawUnitCell
 from fingerpad.coupling.members import predict_members
+from fingerpad.population.members import member_full_contact_loads
+from fingerpad.study.run import load_at_centre_pressure
 
 LOADS = np.geomspace(0.1, 4.0, 9)
 
@@ -53,6 +58,14 @@ def test_members_equal_predict_curve_per_member_bit_for_bit(cell, monkeypatch):
     # the members span asperity contact and the transition: discs over the transition bracket's
     # nodes (the interpolant's kinks) are exercised
     assert any(c.centre_past_transition.any() for c in got) and any(not c.centre_past_transition.all() for c in got)
+
+
+def test_full_contact_loads_equal_the_per_member_search(cell):
+    fingers = _fingers(5, seed=2)
+    pressures = [cell.at_modulus(f.micro_modulus(None)).full_contact_pressure for f in fingers]
+    want = [load_at_centre_pressure(f, p) for f, p in zip(fingers, pressures, strict=True)]
+    np.testing.assert_array_equal(member_full_contact_loads(fingers, pressures), want)
+    assert math.isinf(member_full_contact_loads(fingers[:1], [math.inf])[0])
 
 
 def test_other_cells_run_per_member():

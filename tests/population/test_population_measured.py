@@ -94,6 +94,14 @@ def test_fitted_columns_named_as_parameters_are_used(panel, tmp_path):
         load_population(copy)
 
 
+def _copy(panel, tmp_path: Path) -> tuple[Path, list[dict]]:
+    """A copy of the panel's analyse folder and the rows of its participants.csv."""
+    copy = tmp_path / "res"
+    shutil.copytree(panel[1], copy)
+    with open(copy / "participants.csv", newline="") as fh:
+        return copy, list(csv.DictReader(fh))
+
+
 def _write(path: Path, rows: list[dict]) -> None:
     with open(path, "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
@@ -129,11 +137,7 @@ def test_a_tampered_summary_is_one_error_line(panel, tmp_path, summary):
 def test_unknown_and_unreadable_columns_are_named(panel, tmp_path):
     """Issue 30, defect 11: a column that is no population parameter (a misspelt `tau_0`) was left
     out without a word, and text in a parameter's column read as "not fitted"."""
-    _, res, _, _ = panel
-    copy = tmp_path / "res"
-    shutil.copytree(res, copy)
-    with open(copy / "participants.csv", newline="") as fh:
-        rows = list(csv.DictReader(fh))
+    copy, rows = _copy(panel, tmp_path)
     for row in rows:
         row["tau_0"] = 6000.0
     _write(copy / "participants.csv", rows)
@@ -154,11 +158,7 @@ def test_implausible_participants_are_warned_about(panel, tmp_path):
     from fingerpad.population import attach
     from fingerpad.study.spec import study_from_dict
 
-    _, res, _, _ = panel
-    copy = tmp_path / "res"
-    shutil.copytree(res, copy)
-    with open(copy / "participants.csv", newline="") as fh:
-        rows = list(csv.DictReader(fh))
+    copy, rows = _copy(panel, tmp_path)
     for row in rows:
         row["radius"] = 5.0
     rows[0]["skin_modulus"] = 1e30

@@ -9,32 +9,8 @@
 SI units (m, N, Pa).
 """
 
-from .curve import (
-    DEFAULT_LOAD_RANGE,
-    CouplingResult,
-    CurvePrediction,
-    UnitCellResponse,
-    adhesion_integral,
-    couple,
-    critical_load,
-    disc_ratio,
-    local_shear_strength,
-    pad_pressure,
-    predict_curve,
-)
+from . import curve
+from .curve import *  # noqa: F403 - the face hands on curve's public names
 from .members import predict_members
 
-__all__ = [
-    "DEFAULT_LOAD_RANGE",
-    "CouplingResult",
-    "CurvePrediction",
-    "UnitCellResponse",
-    "adhesion_integral",
-    "couple",
-    "critical_load",
-    "disc_ratio",
-    "local_shear_strength",
-    "pad_pressure",
-    "predict_curve",
-    "predict_members",
-]
+__all__ = [*curve.__all__, "predict_members"]

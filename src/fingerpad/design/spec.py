@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from .._version import __version__
+from ..encode import to_jsonable
 from ..errors import FingerpadError
 from ..finger import LAYER_FIELDS
 from .axes import Axis, resolve_axis
@@ -140,11 +141,11 @@ class SweepSpec:
         # the members themselves count (a digest of their values, SI): whatever shaped them
         # (correlations, measured members, a later way of drawing them) tells two populations apart
         digest = hashlib.sha256(json.dumps(self.members, sort_keys=True, default=repr).encode()).hexdigest()
-        return _jsonable({"name": pop.name, "size": pop.size, "seed": pop.seed, "method": pop.method,
+        return to_jsonable({"name": pop.name, "size": pop.size, "seed": pop.seed, "method": pop.method,
                           "distributions": {k: {"distribution": d.kind, **d.args}
                                             for k, d in pop.distributions.items()},
                           "correlations": list(getattr(pop, "correlations", ()) or ()),
-                          "quantiles": list(self.quantiles), "members_sha256": digest})
+                          "quantiles": list(self.quantiles), "members_sha256": digest}, nonfinite=repr)
 
     def population_payload(self) -> dict[str, Any] | None:
         """What every point needs of the population (plain data for the Dask workers): the
@@ -381,7 +382,7 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
     if size > MAX_POINTS:
         raise FingerpadError(f"[sweep]: {size} points is more than the {MAX_POINTS} allowed")
     spec = SweepSpec(base=base, design=design, axes=axes, loads=loads, point_values=point_values, chunk=chunk,
-                     raw=_jsonable(sweep), source=source)
+                     raw=to_jsonable(sweep, nonfinite=repr), source=source)
     _add_population(spec, base_study, population, data.get("population"), quantiles)
     del base_study
     return spec
@@ -411,13 +412,3 @@ def _add_population(spec: SweepSpec, base_study: Any, population: Any, table: Ma
         named = str(population).strip()
         spec.population_source = named if named.lower() in POPULATION_PRESETS else os.path.abspath(named)
     spec.quantiles = tuple(sorted(set(plan.quantiles) | set(MAP_QUANTILES)))
-
-
-def _jsonable(value: Any) -> Any:
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, float) and not math.isfinite(value):
-        return repr(value)
-    return value if isinstance(value, (str, int, float, bool)) or value is None else str(value)
