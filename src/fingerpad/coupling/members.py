@@ -1,5 +1,6 @@
-"""Many fingers on one unit cell at once: the vectorised twin of :func:`.curve.predict_curve`
-(issue 22, "a population must not cost a population of BEM solves").
+"""Many fingers on one unit cell at once: the vectorised twin of
+:func:`~fingerpad.coupling.predict_curve` (issue 22, "a population must not cost a population of
+BEM solves").
 
 :func:`predict_members` gives, for each finger, the :class:`~.curve.CurvePrediction` that
 :func:`~.curve.predict_curve` gives for that finger on ``cell.at_modulus(E1*)`` (the one unit

@@ -5,6 +5,9 @@ one unit cell, the bands over them and which parameter drives the spread.
   :mod:`.correlations` - rank correlations by a Gaussian copula; :mod:`.presets` - the built-in
   populations (``adults``); :mod:`.measured` - the participants of an ``analyse`` folder;
   :mod:`.sources` - a population by preset name, file, folder or table;
+* :mod:`.rules` - :func:`attach`: every rule of a population on a study (which values the user
+  fixed, a sliding direction, quantile levels, sizes, the Sobol design), asked by the library,
+  the command line and the explorer alike;
 * :mod:`.members` - the members on one texture at once (the coupling's vectorised twin,
   :mod:`fingerpad.coupling.members`);
 * :mod:`.run` - :func:`run_population`: the nominal prediction, every member, the bands;

@@ -1,7 +1,8 @@
 """A population's members on one texture: the package's one member path (issue 22, "a population
 must not cost a population of BEM solves"), used by ``predict --population``
 (:func:`~fingerpad.population.run.run_population`), the Sobol indices, sweeps with a population
-(:func:`evaluate_members`) and the robust design's screen (:class:`fingerpad.design.robust.MemberTable`).
+(:func:`~fingerpad.population.members.evaluate_members`) and the robust design's screen
+(:class:`fingerpad.design.robust.MemberTable`).
 
 :func:`member_finger` makes a member's finger from the study's; :func:`member_cells` prepares
 the study's unit cell once over what every member asks for; :func:`predict_fingers` then runs
@@ -24,7 +25,7 @@ import numpy as np
 from ..coupling import CurvePrediction, predict_curve
 from ..coupling.members import predict_members
 from ..errors import FingerpadError
-from ..finger import LAYER_FIELDS, Finger
+from ..finger import FINGER_FIELDS, LAYER_FIELDS, Finger
 from ..meso import ConstantFractionRidges
 from ..micro.bem import BEMUnitCell
 from ..study.run import P_HIGH, P_LOW, Prediction, load_at_centre_pressure
@@ -37,8 +38,10 @@ STATES: tuple[str, ...] = ("asperity", "transition", "full")
 
 
 def member_finger(finger: Finger, params: Mapping[str, float]) -> Finger:
-    """The study's finger with a member's parameters (SI)."""
-    values = {k: v for k, v in params.items() if k != "ridge_fraction"}
+    """The study's finger with a member's parameters (SI): the finger's own fields, and the ridge
+    fraction as a constant-fraction ridge model; a parameter of the person that is not the
+    finger's (declared in :data:`~.distributions.POPULATION_PARAMS`) is left to whoever reads it."""
+    values = {k: v for k, v in params.items() if k in FINGER_FIELDS}
     if "ridge_fraction" in params:
         if not isinstance(finger.ridges, ConstantFractionRidges):
             raise FingerpadError("population ridge_fraction: the study's finger must use the constant-fraction "
@@ -52,8 +55,6 @@ def member_finger(finger: Finger, params: Mapping[str, float]) -> Finger:
                              "population of layered skins needs a layered finger (--finger layered, or the "
                              "[finger] keys skin_layer_thickness, skin_layer_modulus, skin_substrate_modulus)")
     return finger.with_overrides(**values) if values else finger
-
-
 
 
 def member_full_contact_loads(fingers: Sequence[Finger], pressures: Sequence[float]) -> np.ndarray:
