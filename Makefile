@@ -2,13 +2,24 @@
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
+PIP    := $(PY) -m pip install --quiet --disable-pip-version-check
+# `make run`: the core alone (pip install fingerpad: solve, predict and the figures).
+CORE   := $(VENV)/.core-stamp
+# `make test`, `make docs`: every extra, the test and documentation stacks (the `test` extra).
 STAMP  := $(VENV)/.installed-stamp
 
-.PHONY: run test test-slow docs bench bytecode clean
+.PHONY: run test test-slow docs bench bytecode dist clean
 
-$(STAMP): pyproject.toml
+$(CORE): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet --disable-pip-version-check -e ".[test,fast]"
+	$(PIP) -e .
+	$(MAKE) --no-print-directory bytecode
+	touch $(CORE)
+
+# After `make run` the core is there: this adds the rest (a stamp of its own, so `make test`
+# after `make run` installs the extras; pyproject.toml newer than either redoes it).
+$(STAMP): pyproject.toml $(CORE)
+	$(PIP) -e ".[test]"
 	$(MAKE) --no-print-directory bytecode
 	touch $(STAMP)
 
@@ -19,7 +30,7 @@ $(STAMP): pyproject.toml
 bytecode:
 	$(PY) -m compileall -q src > /dev/null
 
-run: $(STAMP)
+run: $(CORE)
 	$(VENV)/bin/fingerpad run-default --out out
 
 test: $(STAMP)
@@ -35,7 +46,7 @@ docs: $(STAMP)
 	@echo "the site: build/docs/index.html"
 
 bench: $(STAMP) bytecode
-	$(PY) -m pip install --quiet --disable-pip-version-check -e ".[bench]"
+	$(PIP) -e ".[bench]"
 	$(PY) benchmarks/bench_solver.py --grids 1024,2048 --memory 4096
 	$(PY) benchmarks/bench_predict.py
 	$(PY) benchmarks/bench_population.py
@@ -47,5 +58,11 @@ bench: $(STAMP) bytecode
 	test ! -f benchmarks/bench_explorer.py || $(PY) benchmarks/bench_explorer.py
 	$(PY) benchmarks/report.py
 
+# The release files: an sdist and a wheel in dist/ (tests/test_release.py installs the wheel
+# into a fresh environment with the core alone).
+dist: $(STAMP)
+	rm -rf dist
+	$(PY) -m build --outdir dist .
+
 clean:
-	rm -rf $(VENV) out .pytest_cache build/docs build/jupyter_execute docs/api/generated
+	rm -rf $(VENV) out dist .pytest_cache build/docs build/jupyter_execute docs/api/generated
