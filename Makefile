@@ -2,8 +2,8 @@
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
-# pip compiles every installed module on one core; `bytecode` does it on all cores afterwards
-# (`make run` on a fresh clone: pip's own compile took 33 s of CPU of which --no-compile saved 17).
+# pip would compile every installed module, on one core: 17 of the 33 s of CPU of a fresh core
+# install (load ~8). `make run` compiles what its job imports, `make test` all (`bytecode`).
 PIP    := $(PY) -m pip install --quiet --disable-pip-version-check --no-compile
 # `make run`: the core alone (pip install fingerpad: solve, predict and the figures).
 CORE   := $(VENV)/.core-stamp
@@ -15,7 +15,7 @@ STAMP  := $(VENV)/.installed-stamp
 $(CORE): pyproject.toml
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PIP) -e .
-	$(MAKE) --no-print-directory bytecode
+	$(PY) -m compileall -q -j 0 src > /dev/null
 	touch $(CORE)
 
 # After `make run` the core is there: this adds the rest (a stamp of its own, so `make test`
@@ -34,8 +34,10 @@ bytecode:
 	$(PY) -m compileall -q -j 0 src > /dev/null
 	$(PY) -m compileall -q -j 0 $(VENV)/lib/python*/site-packages > /dev/null || true
 
+# The job writes the bytecode of the modules it imports into .venv (where the environment sets
+# PYTHONDONTWRITEBYTECODE, as pip would have written it): later starts read it.
 run: $(CORE)
-	$(VENV)/bin/fingerpad run-default --out out
+	env -u PYTHONDONTWRITEBYTECODE $(VENV)/bin/fingerpad run-default --out out
 
 test: $(STAMP)
 	$(PY) -m pytest -q -m "not slow"
