@@ -59,8 +59,13 @@ def cite_command(
     every: Annotated[bool, typer.Option("--all", help="Every publication fingerpad's methods rest on, with "
                                                       "what each is used for.")] = False,
 ) -> None:
-    """How to cite fingerpad: the thesis whose model it implements (the preferred reference for
-    the model) and the package; with OUTPUT or --all, the publications of the methods used."""
+    """How to cite fingerpad and the thesis it implements; with OUTPUT, the methods a run used.
+
+    Without arguments: the thesis whose model fingerpad implements (the
+    preferred reference for the model) and the package. With OUTPUT: the
+    publications of the methods that run used, as its files list them;
+    with --all: every publication fingerpad's methods rest on.
+    """
     import shutil
 
     from .. import references as refs
