@@ -328,7 +328,7 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
                                  on_free_core=load_output_modules if out is not None else None)
             figures = {name: make() for name, make in (extra or {}).items()}
             paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures)
-    payload = to_jsonable(prediction_json(pred))
+    payload = to_jsonable(prediction_json(pred, result))
     if result is not None:
         payload["population"] = to_jsonable(result.as_dict())
     if json_path == "-":

@@ -119,4 +119,5 @@ def write_population_outputs(result: PopulationResult, out_dir: str | os.PathLik
         for name, table in zip(POPULATION_CSV, (band_table, member_table), strict=True):
             files[name] = _csv_text(*table(result))
     return write_outputs(result.nominal, out_dir, json_path=json_path, csv_path=csv_path, extra=files, dpi=dpi,
-                         sections={"population": to_jsonable(result.as_dict())}, dataset=result.add_to_dataset)
+                         sections={"population": to_jsonable(result.as_dict())}, dataset=result.add_to_dataset,
+                         cited=result)

@@ -72,6 +72,17 @@ class PopulationResult:
     own_cells: int = 0
     member_solves: int = 0
 
+    def references(self) -> tuple[str, ...]:
+        """The publications of the population's own methods (:mod:`fingerpad.references` keys):
+        its correlated sampling and its Sobol indices, when used (the members vary the nominal
+        finger's parameters, not its models, so the nominal prediction names those)."""
+        from . import correlations
+
+        keys: list[str] = list(correlations.REFERENCES) if self.population.correlations else []
+        if self.sensitivity is not None:
+            keys.extend(self.sensitivity.REFERENCES)
+        return tuple(keys)
+
     def values(self, quantity: str) -> np.ndarray:
         """``(members, loads)`` array of a per-load quantity."""
         return np.array([np.asarray(getattr(c, quantity), float) for c in self.curves])
