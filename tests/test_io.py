@@ -140,8 +140,8 @@ def test_staging_commits_all_files(tmp_path):
     try:
         staging.stage(str(tmp_path / "a.json"), lambda tmp: tmp.write_text("{}"))
         staging.stage(str(tmp_path / "b.csv"), lambda tmp: tmp.write_text("x\n1\n"))
-        # nothing final exists before the commit, only hidden parts
-        assert all(name.startswith(".") and name.endswith(".part") for name in listing(tmp_path))
+        # nothing final exists before the commit, only hidden parts (and the files' locks)
+        assert all(name.startswith(".") and name.endswith((".part", ".lock")) for name in listing(tmp_path))
         staging.commit()
     finally:
         staging.discard()

@@ -26,8 +26,8 @@ from pathlib import Path
 from typing import Any
 
 
+from . import locks
 from .errors import FingerpadError
-
 
 
 # ---------------------------------------------------------------------------------------------
@@ -91,11 +91,14 @@ def existing_parent(path: Path) -> Path:
     return parent
 
 
-def check_writable(path: str | os.PathLike[str], what: str = "output", suffixes: Sequence[str] = ()) -> Path:
+def check_writable(path: str | os.PathLike[str], what: str = "output", suffixes: Sequence[str] = (),
+                   claim: bool = True) -> Path:
     """Raise a :class:`FingerpadError` early if the file ``path`` cannot be written: an empty
     name, a name not ending in one of ``suffixes`` (the format follows the name, so ``--plot
     x.txt`` must not write a PNG), a folder, something that is not a regular file (``/dev/null``
-    is never replaced), a missing folder, or a folder where nothing can be created (tried).
+    is never replaced), a missing folder, a folder where nothing can be created (tried), or a
+    file another run is writing
+    (:mod:`fingerpad.locks`; ``claim``: inside a command, hold its lock until the command ends).
     A symbolic link is written through. Returns the path."""
     text = os.fspath(path)
     if not text.strip():
@@ -115,6 +118,8 @@ def check_writable(path: str | os.PathLike[str], what: str = "output", suffixes:
     reason = _probe(parent)
     if reason is not None:
         raise FingerpadError(f"cannot write {what} {text!r}: {reason} (folder {str(parent)!r})")
+    if claim:
+        locks.claim(text, what)  # no other run writes it (held to the command's end, see locks.claims)
     return Path(text)
 
 
@@ -154,6 +159,7 @@ def check_output_location(path: str | os.PathLike[str], option: str = "--out",
     reason = _probe(existing)
     if reason is not None:
         raise FingerpadError(f"cannot write {option} {text!r}: {reason} (folder {str(existing)!r})")
+    locks.claim(final, option, text)  # no other run writes it (held to the command's end, see locks.claims)
     return final
 
 
@@ -233,19 +239,25 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
     link is written through (the link stays).
     """
     target = real_path(path)
-    check_writable(path)
-    fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent or ".")
-    os.close(fd)
-    tmp = Path(tmp_name)
+    check_writable(path, claim=False)
+    # a user's file is locked while it is written (a temporary one of ours, .NAME..., is ours alone)
+    key = locks.hold(target, "output") if not target.name.startswith(".") else None
     try:
-        yield tmp
-        with contextlib.suppress(OSError):
-            os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, target)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
-        raise
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent or ".")
+        os.close(fd)
+        tmp = Path(tmp_name)
+        try:
+            yield tmp
+            with contextlib.suppress(OSError):
+                os.chmod(tmp, 0o666 & ~_umask())
+            os.replace(tmp, target)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+            raise
+    finally:
+        if key is not None:
+            locks.release(key)
 
 
 def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], Any]) -> Path:
@@ -290,11 +302,14 @@ class Staging:
 
     def __init__(self) -> None:
         self.staged: list[tuple[Path, Path, str]] = []
+        self.locks: list[str] = []
 
     def stage(self, final: str | os.PathLike[str], write: Callable[[Path], Any]) -> None:
-        """Call ``write(tmp)`` to write the output meant for ``final`` to a temporary file."""
+        """Call ``write(tmp)`` to write the output meant for ``final`` to a temporary file
+        (``final`` locked until :meth:`commit` or :meth:`discard`, see :mod:`fingerpad.locks`)."""
         given = os.fspath(final)
         target = real_path(given)
+        self.locks.append(locks.hold(target, "output"))
         tmp = target.parent / f".{target.name}.{uuid.uuid4().hex[:8]}.part"
         self.staged.append((tmp, target, given))
         try:
@@ -310,6 +325,7 @@ class Staging:
             except OSError as exc:
                 raise WriteError(given, _reason(exc)) from None
         self.staged.clear()
+        self._unlock()
 
     def discard(self) -> None:
         """Remove the temporary files still staged (after an error; harmless after :meth:`commit`)."""
@@ -317,6 +333,11 @@ class Staging:
             with contextlib.suppress(OSError):
                 tmp.unlink()
         self.staged.clear()
+        self._unlock()
+
+    def _unlock(self) -> None:
+        while self.locks:
+            locks.release(self.locks.pop())
 
 
 class OutputFolder:
@@ -340,21 +361,30 @@ class OutputFolder:
         self.option = option
         self.names = tuple(names)
         self.final = self.check(folder, names, option)
+        # held from here to discard: the hidden folder's name is only removed as stale by a
+        # writer holding the lock (fingerpad.locks)
+        self._lock: str | None = locks.hold(self.final, option, self.given)
         try:
             self.final.parent.mkdir(parents=True, exist_ok=True)
             self.build = self.final.parent / f".{self.final.name}.{uuid.uuid4().hex[:8]}.part"
             self.build.mkdir()
         except OSError as exc:
+            self._unlock()
             raise WriteError(self.given, _reason(exc), f"{option} folder") from None
+
+    def _unlock(self) -> None:
+        if self._lock is not None:
+            locks.release(self._lock)
+            self._lock = None
 
     @staticmethod
     def check(folder: str | os.PathLike[str], names: Sequence[str] = (), option: str = "--out",
               inputs: Sequence[str | os.PathLike[str]] = ()) -> Path:
         """The checks of the constructor, without writing anything (to run before long work).
 
-        Refused: what :func:`check_output_location` refuses; a file; a folder holding anything
-        this package did not write there (:func:`foreign_entries`); a folder holding one of
-        ``inputs``. Returns the folder that
+        Refused: what :func:`check_output_location` refuses (a folder another run writes among
+        them); a file; a folder holding anything this package did not write there
+        (:func:`foreign_entries`); a folder holding one of ``inputs``. Returns the folder that
         will be written (absolute, a symbolic link followed).
         """
         final = check_output_location(folder, option, inputs)
@@ -404,6 +434,7 @@ class OutputFolder:
         import shutil
 
         shutil.rmtree(self.build, ignore_errors=True)
+        self._unlock()
 
     def __enter__(self) -> OutputFolder:
         return self

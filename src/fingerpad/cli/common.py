@@ -45,9 +45,15 @@ EXTRA_ARGS = {"allow_extra_args": True, "ignore_unknown_options": True}
 
 @contextlib.contextmanager
 def user_errors() -> Iterator[None]:
-    """Turn user errors into ``error: <message>`` on one stderr line and exit code 2."""
+    """Turn user errors into ``error: <message>`` on one stderr line and exit code 2.
+
+    The command's outputs, once checked, are its own until it ends (:func:`fingerpad.locks.claims`):
+    a second run naming one of them is refused before its work, naming this one."""
+    from ..locks import claims
+
     try:
-        yield
+        with claims():
+            yield
     except (FingerpadError, OSError) as exc:
         sys.stderr.write(f"error: {one_line(describe_exception(exc))}\n")
         sys.stderr.flush()

@@ -249,11 +249,12 @@ def run_sweep(
     Raises
     ------
     FingerpadError
-        A store of another sweep without ``overwrite``, a damaged store without ``repair``, a
-        scheduler that does not answer, a bad ``FINGERPAD_FFT`` setting.
+        A store of another sweep without ``overwrite``, a damaged store without ``repair``,
+        a store another sweep is writing
+        (:class:`~fingerpad.locks.OutputBusy`), a scheduler that does not answer, a bad
+        ``FINGERPAD_FFT`` setting.
     """
-    from distributed import as_completed
-
+    from .. import locks
     from ..contact.greens import Backend
 
     # A bad FFT setting would make every point's solve fail (each chunk then fails with a
@@ -262,6 +263,20 @@ def run_sweep(
     Backend()
     if scheduler is not None:
         scheduler = check_address(scheduler)
+    # One sweep writes a store at a time: a second is refused, naming the first (fingerpad.locks).
+    key = locks.hold(store_path, "--out", os.fspath(store_path))
+    try:
+        return _run_sweep(spec, store_path, workers, scheduler, overwrite, repair, progress, notice)
+    finally:
+        locks.release(key)
+
+
+def _run_sweep(spec: SweepSpec, store_path: str | Path, workers: int | None, scheduler: str | None,
+               overwrite: bool, repair: bool, progress: Callable[[SweepReport], None] | None,
+               notice: Callable[[str], None] | None) -> SweepReport:
+    """:func:`run_sweep` once the store is this process's to write."""
+    from distributed import as_completed
+
     t_start = time.perf_counter()
     pressures = sweep_pressures(spec)
     store = SweepStore(store_path, spec, pressures)

@@ -18,6 +18,7 @@ import itertools
 import json
 import math
 import shutil
+import uuid
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -176,13 +177,19 @@ class SweepStore:
         """Lay the store out (or find it): a store of another sweep is refused unless ``overwrite``."""
         if self.check_existing(overwrite) == "resume":
             return  # the same sweep: resume
-        if self.path.exists():
-            shutil.rmtree(self.path)  # an empty folder or another sweep's store (check_store_path)
         tmp = self.path.with_name(f".{self.path.name}.creating")
         shutil.rmtree(tmp, ignore_errors=True)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             self.template().to_zarr(tmp, mode="w", encoding=self.encoding(), zarr_format=2, consolidated=True)
+        if self.path.exists():
+            # an empty folder or another sweep's store (check_store_path): moved aside in one
+            # rename, then removed, so that an interruption leaves the old store or none, never
+            # half of one (a hidden .NAME.XXXXXXXX.old left by kill -9 goes with the next run,
+            # fingerpad.locks.remove_stale)
+            old = self.path.with_name(f".{self.path.name}.{uuid.uuid4().hex[:8]}.old")
+            self.path.rename(old)
+            shutil.rmtree(old, ignore_errors=True)
         tmp.rename(self.path)  # a store appears complete or not at all
 
     def check(self) -> StoreDamage:
