@@ -16,6 +16,7 @@ from typer.testing import CliRunner
 from fingerpad import io as fio
 from fingerpad import locks
 from fingerpad.cli import app
+from fingerpad.errors import FingerpadError
 
 runner = CliRunner()
 CAPS = ["--texture", "caps", "--radius", "50um", "--height", "10um", "--spacing", "100um", "--grid", "32"]
@@ -151,3 +152,18 @@ def test_a_live_writers_files_are_never_removed(tmp_path, holder, monkeypatch):
     res = runner.invoke(app, ["solve", *CAPS, "--pressure", "1kPa", "--json", "p.json"])
     assert res.exit_code == 2 and "--json 'p.json' is in use" in res.stderr
     assert [p.name for p in left if p.name.startswith((".out", ".p.json")) and not p.exists()] == []
+
+
+def test_repair_without_a_store_is_refused(tmp_path, monkeypatch):
+    """Issue 30, item 15: it ran a whole new sweep."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text(STUDY)
+    line = error_line(runner.invoke(app, ["sweep", "s.toml", "--out", "r.zarr", "--repair"]))
+    assert line == ("error: --repair: there is no sweep store at 'r.zarr' to repair; run the sweep without --repair "
+                    "to start it (or name the store to repair with --out)")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+    from fingerpad.design.engine import run_sweep
+    from fingerpad.design.spec import read_sweep_file, sweep_from_dict
+
+    with pytest.raises(FingerpadError, match="no sweep store"):  # the library's door too
+        run_sweep(sweep_from_dict(read_sweep_file("s.toml")), tmp_path / "r.zarr", repair=True)

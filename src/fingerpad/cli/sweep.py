@@ -70,7 +70,7 @@ def sweep_command(
             spec = sweep_from_dict(data, population=pop, quantiles=levels)
         store = out if out is not None else str(Path(study).with_suffix(".zarr"))
         where = str(check_output_location(store, "--out"))  # before any work; a link is written through
-        check_store_path(store, spec, overwrite)  # only a sweep store is ever replaced
+        check_store_path(store, spec, overwrite, repair)  # only a sweep store is ever replaced
         bar = _Progress(err, spec.size,
                         f"sweep: {spec.size} points ({spec.design}: {', '.join(a.name for a in spec.axes)}) into {store}"
                         + (f"; {spec.population_text()} at every point" if spec.population is not None else ""))

@@ -31,7 +31,7 @@ import numpy as np
 from ..errors import FingerpadError, one_line
 from .evaluate import cell_key, evaluate_chunk, prepare_cell
 from .spec import SweepSpec
-from .store import SweepStore, chunk_slices, pressure_grid
+from .store import SweepStore, check_store_path, chunk_slices, pressure_grid
 
 __all__ = ["SweepReport", "check_address", "connect", "probe_scheduler", "run_sweep", "sweep_pressures"]
 
@@ -250,7 +250,7 @@ def run_sweep(
     ------
     FingerpadError
         A store of another sweep without ``overwrite``, a damaged store without ``repair``,
-        a store another sweep is writing
+        ``repair`` without a store, a store another sweep is writing
         (:class:`~fingerpad.locks.OutputBusy`), a scheduler that does not answer, a bad
         ``FINGERPAD_FFT`` setting.
     """
@@ -281,7 +281,7 @@ def _run_sweep(spec: SweepSpec, store_path: str | Path, workers: int | None, sch
     pressures = sweep_pressures(spec)
     store = SweepStore(store_path, spec, pressures)
     report = SweepReport(points=spec.size)
-    if store.check_existing(overwrite) == "resume":
+    if check_store_path(store_path, spec, overwrite, repair) == "resume":
         # Checked before any cluster starts: a damaged store is said at once, and a finished
         # sweep costs no cluster (9-16 s to start one on two cores, to do nothing).
         damage = store.check()

@@ -431,7 +431,8 @@ def _read_attrs(path: Path) -> dict[str, Any] | None:
     return attrs if attrs.get("fingerpad_sweep") == 1 else None
 
 
-def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite: bool = False) -> str:
+def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite: bool = False,
+                     repair: bool = False) -> str:
     """What a sweep into ``path`` does there: ``"create"``, ``"resume"`` (the same sweep) or
     ``"replace"`` (another sweep, with ``overwrite``); cheap, to run before any work.
 
@@ -440,10 +441,14 @@ def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite:
     FingerpadError
         ``path`` holds something other than a sweep store (a folder of notes, the study file
         itself): it is a user's own and is never replaced, ``overwrite`` or not; or it holds
-        another sweep and ``overwrite`` is not given.
+        another sweep and ``overwrite`` is not given; or ``repair`` is asked where there is no
+        store to repair (it would run the whole sweep anew).
     """
     p = Path(path)
     if not p.exists():
+        if repair:
+            raise FingerpadError(f"--repair: there is no sweep store at {str(p)!r} to repair; run the sweep without "
+                                 "--repair to start it (or name the store to repair with --out)")
         return "create"
     existing = _read_attrs(p)
     if existing is None:
