@@ -1,6 +1,6 @@
 """One writer per output (fingerpad.locks): a second run is refused naming the first, the
 left-overs of killed writers are removed by the next one, never those of a live one (issue 30,
-items 2 and 16)."""
+items 2, 15 and 16); an output that cannot be replaced is refused before the work (item 18)."""
 
 from __future__ import annotations
 
@@ -167,3 +167,57 @@ def test_repair_without_a_store_is_refused(tmp_path, monkeypatch):
 
     with pytest.raises(FingerpadError, match="no sweep store"):  # the library's door too
         run_sweep(sweep_from_dict(read_sweep_file("s.toml")), tmp_path / "r.zarr", repair=True)
+
+
+def _immutable(path: Path) -> bool:
+    """Make ``path`` immutable (chattr +i: root on a file system that has it)."""
+    try:
+        return subprocess.run(["chattr", "+i", str(path)], capture_output=True).returncode == 0
+    except OSError:
+        return False
+
+
+@pytest.fixture
+def immutable():
+    made = []
+
+    def make(path: Path) -> None:
+        if not _immutable(path):
+            pytest.skip("chattr +i is not available here (needs root and a file system with it)")
+        made.append(path)
+
+    yield make
+    for path in made:
+        subprocess.run(["chattr", "-i", str(path)], capture_output=True)
+
+
+def test_an_immutable_output_is_refused_before_the_work(tmp_path, monkeypatch, immutable):
+    monkeypatch.chdir(tmp_path)
+    first = runner.invoke(app, ["predict", *CAPS, "--out", "out", "--loads", "1N"])
+    assert first.exit_code == 0, first.output
+    immutable(tmp_path / "out")
+    solved = []
+    import fingerpad.study.run as study_run
+
+    monkeypatch.setattr(study_run, "run_study", lambda *a, **k: solved.append(1))  # the work must not start
+    line = error_line(runner.invoke(app, ["predict", *CAPS, "--out", "out", "--loads", "1N"]))
+    assert line == "error: cannot replace --out 'out': Operation not permitted"
+    (tmp_path / "p.json").write_text("{}")
+    immutable(tmp_path / "p.json")
+    line = error_line(runner.invoke(app, ["solve", *CAPS, "--pressure", "1kPa", "--json", "p.json"]))
+    assert line == "error: cannot replace --json 'p.json': Operation not permitted"
+    with pytest.raises(FingerpadError, match="cannot replace"):
+        fio.OutputFolder.check(tmp_path / "out")
+    assert not solved
+
+
+def test_an_immutable_sweep_store_is_refused_before_the_work(tmp_path, immutable):
+    from fingerpad.design.spec import read_sweep_file, sweep_from_dict
+    from fingerpad.design.store import check_store_path
+
+    (tmp_path / "s.toml").write_text(STUDY)
+    (tmp_path / "r.zarr").mkdir()  # an empty folder is replaced by the store
+    immutable(tmp_path / "r.zarr")
+    spec = sweep_from_dict(read_sweep_file(tmp_path / "s.toml"))
+    with pytest.raises(FingerpadError, match=r"cannot write into --out '.*r.zarr': Operation not permitted"):
+        check_store_path(tmp_path / "r.zarr", spec)

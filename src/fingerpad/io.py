@@ -83,6 +83,28 @@ def _probe(folder: Path) -> str | None:
     return None
 
 
+def _check_replaceable(path: Path, label: str) -> None:
+    """Raise a :class:`FingerpadError` if the existing ``path`` cannot be replaced by a rename
+    (an immutable or append-only file or folder, ``chattr +i``): tried, as :func:`_probe` tries,
+    by renaming it to a hidden name and back, so that the refusal comes before the work."""
+    probe = path.parent / f".{path.name}.{uuid.uuid4().hex[:8]}.probe"
+    try:
+        os.rename(path, probe)
+    except OSError as exc:
+        raise FingerpadError(f"cannot replace {label}: {exc.strerror or exc}") from None
+    os.rename(probe, path)
+
+
+def check_folder_writable(folder: str | os.PathLike[str], label: str) -> None:
+    """Raise a :class:`FingerpadError` if files cannot be created in, or written into, the
+    existing ``folder`` (a store resumed in place), or it cannot be replaced by a rename; tried."""
+    path = Path(folder)
+    reason = _probe(path)
+    if reason is not None:
+        raise FingerpadError(f"cannot write into {label}: {reason}")
+    _check_replaceable(path, label)
+
+
 def existing_parent(path: Path) -> Path:
     """The nearest existing ancestor of ``path`` (temporary folders go there, same disk)."""
     parent = Path(os.path.abspath(path)).parent
@@ -96,8 +118,8 @@ def check_writable(path: str | os.PathLike[str], what: str = "output", suffixes:
     """Raise a :class:`FingerpadError` early if the file ``path`` cannot be written: an empty
     name, a name not ending in one of ``suffixes`` (the format follows the name, so ``--plot
     x.txt`` must not write a PNG), a folder, something that is not a regular file (``/dev/null``
-    is never replaced), a missing folder, a folder where nothing can be created (tried), or a
-    file another run is writing
+    is never replaced), a missing folder, a folder where nothing can be created, an existing
+    file that cannot be replaced (both tried), or a file another run is writing
     (:mod:`fingerpad.locks`; ``claim``: inside a command, hold its lock until the command ends).
     A symbolic link is written through. Returns the path."""
     text = os.fspath(path)
@@ -118,6 +140,8 @@ def check_writable(path: str | os.PathLike[str], what: str = "output", suffixes:
     reason = _probe(parent)
     if reason is not None:
         raise FingerpadError(f"cannot write {what} {text!r}: {reason} (folder {str(parent)!r})")
+    if p.exists():
+        _check_replaceable(p, f"{what} {text!r}")
     if claim:
         locks.claim(text, what)  # no other run writes it (held to the command's end, see locks.claims)
     return Path(text)
@@ -384,7 +408,8 @@ class OutputFolder:
 
         Refused: what :func:`check_output_location` refuses (a folder another run writes among
         them); a file; a folder holding anything this package did not write there
-        (:func:`foreign_entries`); a folder holding one of ``inputs``. Returns the folder that
+        (:func:`foreign_entries`); a folder holding one of ``inputs``; a folder that cannot be
+        replaced (tried). Returns the folder that
         will be written (absolute, a symbolic link followed).
         """
         final = check_output_location(folder, option, inputs)
@@ -403,6 +428,7 @@ class OutputFolder:
                     f"{option} {text!r} holds files fingerpad did not write there ({shown}); it is left alone: "
                     f"name a new or empty folder (an output folder is replaced as a whole)"
                 )
+            _check_replaceable(final, f"{option} {text!r}")
         return final
 
     def path(self, name: str) -> Path:

@@ -451,10 +451,13 @@ def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite:
                                  "--repair to start it (or name the store to repair with --out)")
         return "create"
     existing = _read_attrs(p)
-    if existing is None:
-        if p.is_dir() and not any(p.iterdir()):
-            return "replace"
+    if existing is None and not (p.is_dir() and not any(p.iterdir())):
         raise FingerpadError(f"{p}: exists and is not a fingerpad sweep store; it is left alone (name another --out)")
+    from ..io import check_folder_writable
+
+    check_folder_writable(p, f"--out {str(p)!r}")  # before the work, not after it (a read-only store)
+    if existing is None:
+        return "replace"
     if spec is not None and existing.get("signature") == spec.signature():
         return "resume"
     if spec is not None and not overwrite and spec.signature(population=False) in (
