@@ -27,7 +27,7 @@ from ..textures import Texture
 from .device import choice_setting, device_namespace
 from .layered import Layer, spectral_factor
 
-__all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "fft_settings", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
+__all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "check_setup", "fft_settings", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
            "love_rectangle", "smoothed_rectangle"]
 
 FFT_ENGINES = ("auto", "ducc0", "scipy")
@@ -154,6 +154,23 @@ class Backend:
 # --------------------------------------------------------------------------------------------
 # Elastic operators
 # --------------------------------------------------------------------------------------------
+
+
+def check_setup() -> Backend:
+    """The backend every solve of this process would use, made once to check the environment's
+    compute settings (``FINGERPAD_DEVICE``, ``FINGERPAD_FFT``, ``FINGERPAD_FFT_WORKERS``).
+
+    The one rule of every front door that runs many solves (``predict``, ``sweep``, ``design``,
+    the explorer, their Python functions): a device or FFT engine that is absent or misspelt
+    stops the work at once, in one line, instead of failing each solve, which a job that records
+    its failures per point or candidate would report as NaN results.
+
+    Raises
+    ------
+    SetupError
+        An unknown device or engine, a GPU library or GPU that is missing, a bad thread count.
+    """
+    return Backend()
 
 
 def wavenumbers(shape: tuple[int, int], spacing: tuple[float, float]) -> np.ndarray:

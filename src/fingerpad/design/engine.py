@@ -255,12 +255,12 @@ def run_sweep(
         ``FINGERPAD_FFT`` setting.
     """
     from .. import locks
-    from ..contact.greens import Backend
+    from ..contact.greens import check_setup
 
-    # A bad FFT setting would make every point's solve fail (each chunk then fails with a
-    # SetupError, see evaluate_point): check it here, once, before any work (LocalCluster workers
-    # inherit this environment; those of an existing scheduler have their own).
-    Backend()
+    # A bad device or FFT setting would make every point's solve fail (each chunk then fails with
+    # a SetupError, see evaluate_point): check it here, once, before any work (LocalCluster
+    # workers inherit this environment; those of an existing scheduler have their own).
+    check_setup()
     if scheduler is not None:
         scheduler = check_address(scheduler)
     # One sweep writes a store at a time: a second is refused, naming the first (fingerpad.locks).

@@ -246,10 +246,17 @@ def design_textures(
     FingerpadError
         An input that makes no sense (each checked before any prediction), a sweep without the
         free parameters.
+    SetupError
+        The device or FFT engine of ``FINGERPAD_DEVICE``/``FINGERPAD_FFT`` is absent
+        (:func:`~fingerpad.contact.greens.check_setup`).
     """
+    from ..contact.greens import check_setup
     from ..study.spec import read_study_file, study_from_dict
     from ..units import parse_int, parse_quantity, parse_range
     from .spec import DEFAULT_SWEEP_LOADS
+
+    # an absent device or FFT engine stops the design here, not as NaN in every candidate
+    check_setup()
 
     if isinstance(study, Mapping):
         data = {k: dict(v) for k, v in study.items() if k != "sweep"}

@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FingerpadError
+from ..errors import FingerpadError, SetupError
 from ..study.population import DEFAULT_QUANTILES, Population, load_population, member_finger, run_population
 from .inverse import (
     Candidate,
@@ -267,6 +267,8 @@ class _Screen:
                 warnings.simplefilter("ignore")
                 pred = run_study(study)
                 got = self.table(study).evaluate(pred)
+        except SetupError:
+            raise  # the machine's setting, not this texture's: every candidate would fail alike
         except FingerpadError as exc:
             cand.reason = str(exc)
             return cand
@@ -315,6 +317,8 @@ def population_candidate(problem: DesignProblem, goal: PopulationGoal, params: M
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             res = run_population(study, goal.population, quantiles=goal.levels)
+    except SetupError:
+        raise  # the machine's setting, not this texture's: every candidate would fail alike
     except FingerpadError as exc:
         cand.reason = str(exc)
         return cand
