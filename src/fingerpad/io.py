@@ -1,4 +1,7 @@
-"""Writing files atomically and output folders as a whole.
+"""Reading the TOML files users write, and writing files atomically and output folders as a whole.
+
+:func:`read_toml` reads every TOML file a user gives (study files, population files, column
+specs) with the same checks and messages.
 
 NetCDF files of solved cells are in :mod:`fingerpad.netcdf`; values become JSON or NetCDF
 attributes in :mod:`fingerpad.encode`.
@@ -28,6 +31,72 @@ from typing import Any
 
 from . import locks
 from .errors import FingerpadError
+
+
+# ---------------------------------------------------------------------------------------------
+# TOML files a user writes
+# ---------------------------------------------------------------------------------------------
+
+#: Largest TOML file read (bytes): a study, population or column file is a few kB of text; a
+#: bigger one is a mistake (a data file named instead), refused before it is read into memory.
+MAX_TOML_BYTES = 16 * 2**20
+
+
+def read_toml(path: str | os.PathLike[str], what: str = "file") -> dict[str, Any]:
+    """The tables of the TOML file ``path``; ``what`` names it in messages (``study file``).
+
+    Raises
+    ------
+    FingerpadError
+        ``cannot read {what} 'PATH': ...``: no such file, a folder, not a regular file (a FIFO or
+        a device, never opened: reading one would wait for a writer), larger than
+        :data:`MAX_TOML_BYTES`, unreadable, binary, not UTF-8 (UTF-16 said so), not TOML, nested
+        too deeply for the parser or holding an integer too long to convert. A UTF-8 byte-order
+        mark is skipped.
+    """
+    import stat
+    import tomllib
+
+    text = os.fspath(path)
+    head = f"cannot read {what} {text!r}"
+    try:
+        st = os.stat(text)
+    except FileNotFoundError:
+        raise FingerpadError(f"{head}: no such file") from None
+    except OSError as exc:
+        raise FingerpadError(f"{head}: {exc.strerror or exc}") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise FingerpadError(f"{head}: it is a directory")
+    if not stat.S_ISREG(st.st_mode):
+        kind = "a FIFO (named pipe)" if stat.S_ISFIFO(st.st_mode) else "not a regular file"
+        raise FingerpadError(f"{head}: it is {kind}; give a TOML text file")
+    if st.st_size > MAX_TOML_BYTES:
+        raise FingerpadError(f"{head}: it is {st.st_size / 2**20:.0f} MiB, more than the {MAX_TOML_BYTES // 2**20} MiB "
+                             f"a TOML file may have here (a data file named instead?)")
+    try:
+        with open(text, "rb") as fh:
+            raw = fh.read(MAX_TOML_BYTES + 1)
+    except OSError as exc:
+        raise FingerpadError(f"{head}: {exc.strerror or exc}") from None
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise FingerpadError(f"{what} {text!r} is saved as UTF-16 (a byte-order mark says so); save it as UTF-8 "
+                             "TOML text")
+    if b"\x00" in raw[:4096]:
+        raise FingerpadError(f"{what} {text!r} is a binary file, not a text file; save it as UTF-8 TOML text")
+    try:
+        decoded = raw.decode("utf-8-sig")  # a byte-order mark (Windows editors write one) is skipped
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        raise FingerpadError(f"{what} {text!r} is not UTF-8 text (byte {exc.start + 1}, line {line}: "
+                             f"{raw[exc.start:exc.start + 1]!r}); save it as UTF-8 TOML text") from None
+    try:
+        return tomllib.loads(decoded)
+    except tomllib.TOMLDecodeError as exc:
+        raise FingerpadError(f"{what} {text!r}: {exc}") from None
+    except RecursionError:
+        raise FingerpadError(f"{what} {text!r}: arrays or tables nested too deeply to read") from None
+    except ValueError as exc:  # an integer of thousands of digits (Python's conversion limit)
+        raise FingerpadError(f"{what} {text!r}: {exc.args[0].split(';')[0] if exc.args else exc}") from None
 
 
 # ---------------------------------------------------------------------------------------------

@@ -266,16 +266,6 @@ class Study:
 # ---------------------------------------------------------------------------------------------
 
 
-def _undecodable(path: Path, raw: bytes, exc: UnicodeDecodeError) -> str:
-    """What is wrong with a study file that is not UTF-8 text, in the user's words."""
-    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
-        what = "is saved as UTF-16 (a byte-order mark says so)"
-    else:
-        line = raw[: exc.start].count(b"\n") + 1
-        what = f"is not UTF-8 text (byte {exc.start + 1}, line {line}: {raw[exc.start:exc.start + 1]!r})"
-    return f"study file {str(path)!r} {what}; save it as UTF-8 TOML text"
-
-
 def read_study_file(path: str | os.PathLike[str], extra_sections: tuple[str, ...] = ()) -> dict[str, dict[str, Any]]:
     """Read a TOML study file into its sections (keys checked, relative paths resolved).
 
@@ -285,26 +275,13 @@ def read_study_file(path: str | os.PathLike[str], extra_sections: tuple[str, ...
     Raises
     ------
     FingerpadError
-        Unreadable file, not a TOML text, TOML syntax error, unknown section or key.
+        Unreadable file, not a TOML text, TOML syntax error (:func:`fingerpad.io.read_toml`),
+        unknown section or key.
     """
-    import tomllib
+    from ..io import read_toml
 
     p = Path(path)
-    if not p.is_file():
-        raise FingerpadError(f"cannot read study file {str(p)!r}: " + ("it is a directory" if p.is_dir() else "no such file"))
-    try:
-        raw = p.read_bytes()
-    except OSError as exc:
-        raise FingerpadError(f"cannot read study file {str(p)!r}: {exc.strerror or exc}") from None
-    if b"\x00" in raw[:4096] and not raw.startswith((b"\xff\xfe", b"\xfe\xff")):
-        raise FingerpadError(f"study file {str(p)!r} is a binary file, not a text file; save it as UTF-8 TOML text")
-    try:
-        # utf-8-sig: a byte-order mark (Windows editors write one) is skipped, not read as text.
-        data = tomllib.loads(raw.decode("utf-8-sig"))
-    except UnicodeDecodeError as exc:
-        raise FingerpadError(_undecodable(p, raw, exc)) from None
-    except tomllib.TOMLDecodeError as exc:
-        raise FingerpadError(f"study file {str(p)!r}: {exc}") from None
+    data = read_toml(p, "study file")
     unknown = [k for k in data if k not in SECTION_KEYS and k not in extra_sections]
     if unknown:
         hint = " ([sweep] tables are read by `fingerpad sweep`)" if "sweep" in unknown else ""
