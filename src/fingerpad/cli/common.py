@@ -14,7 +14,7 @@ from typing import Any
 
 import typer
 
-from ..errors import FingerpadError, describe_exception, one_line
+from ..errors import FingerpadError, describe_exception, one_line, printable
 
 EXIT_UNCONVERGED = 1
 EXIT_USER_ERROR = 2
@@ -144,8 +144,9 @@ def stdout_console(min_width: int = 0) -> Any:
 
 
 def say(console: Any, text: str) -> None:
-    """Print plain text (no markup) on ``console``."""
-    console.print(text, markup=False, highlight=False, soft_wrap=True)
+    """Print plain text (no markup; control characters of names read from files escaped,
+    :func:`~fingerpad.errors.printable`) on ``console``."""
+    console.print(printable(text), markup=False, highlight=False, soft_wrap=True)
 
 
 def say_wrapped(console: Any, text: str, hang: int = 4) -> None:
