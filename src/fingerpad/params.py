@@ -275,7 +275,11 @@ class Param:
         if self.kind == "angle":
             return self.check(parse_angle(value, label), label)
         if self.kind in ("count", "grid"):
+            from .units import MAX_INT_DIGITS, parse_int
+
             text = str(value).strip()
+            if text.lstrip("+-").isdigit():  # digits: read exactly, however many (a 5000-digit one is refused)
+                return self.check(parse_int(text, label, -10**MAX_INT_DIGITS), label)
             try:
                 number = float(text)
             except ValueError:

@@ -52,18 +52,17 @@ def sweep_command(
     """
     from pathlib import Path
 
-    from ..design.engine import eta, run_sweep
+    from ..design.engine import check_workers, eta, run_sweep
     from ..design.store import check_store_path, points_done
     from ..io import check_output_location
     from ..design.spec import read_sweep_file, sweep_from_dict
-    from ..units import parse_int
     from .predict import _population
 
     with user_errors(), device_option(device):
         err = stderr_console()
         if workers is not None and scheduler is not None:
             raise_error("give --workers (a local cluster) or --scheduler (an existing one), not both")
-        n = parse_int(workers, "--workers") if workers is not None else None
+        n = check_workers(workers)
         with warnings_to(err):
             data = read_sweep_file(study)
             pop, levels = _population(population, data.get("population"), quantiles)
@@ -151,7 +150,7 @@ def _summary(err: Any, report: Any, store: str, eta: Any) -> None:
     rate = f"{report.computed / minutes:.3g} points/min, " if minutes > 0 and report.computed else ""
     lines = [
         f"sweep: {report.points} points, {report.done_before} done before, {report.computed} computed now "
-        f"in {report.seconds:.1f} s ({rate}{report.workers} workers)",
+        f"in {report.seconds:.1f} s ({rate}{report.workers} worker{'' if report.workers == 1 else 's'})",
         f"cells: {report.cells} distinct, {report.cells_solved} solved, {report.cache_hits} from the cache",
         f"points: {report.invalid} invalid (stored with their reason), {report.unconverged} with unconverged cells",
     ]

@@ -33,7 +33,27 @@ from .evaluate import cell_key, evaluate_chunk, prepare_cell
 from .spec import SweepSpec
 from .store import SweepStore, check_store_path, chunk_slices, pressure_grid
 
-__all__ = ["SweepReport", "check_address", "connect", "probe_scheduler", "run_sweep", "sweep_pressures"]
+__all__ = ["SweepReport", "check_address", "check_workers", "max_workers", "connect", "probe_scheduler", "run_sweep", "sweep_pressures"]
+
+#: Local worker processes per core a sweep may start (``--workers``): one per core is the
+#: default; more only share the cores, and each costs ~0.1-0.3 GB of memory.
+MAX_WORKERS_PER_CORE = 4
+
+
+def max_workers() -> int:
+    """Most worker processes of a local cluster on this machine (:data:`MAX_WORKERS_PER_CORE`
+    per core): their number changes how fast a sweep runs, never its results."""
+    return MAX_WORKERS_PER_CORE * (os.cpu_count() or 1)
+
+
+def check_workers(workers: Any, name: str = "--workers") -> int | None:
+    """``workers`` (text or a number; ``None``: one per core) checked against :func:`max_workers`."""
+    from ..units import parse_int
+
+    if workers is None:
+        return None
+    return parse_int(workers, name, 1, max_workers())
+
 
 #: Seconds to wait for an existing scheduler before giving up.
 CONNECT_TIMEOUT = 5.0
@@ -165,7 +185,7 @@ def connect(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
             raise FingerpadError(f"--scheduler {address}: the Dask scheduler stopped answering "
                                  f"({type(exc).__name__})") from None
         return client, None
-    n = workers or os.cpu_count() or 1
+    n = check_workers(workers, "workers") or os.cpu_count() or 1
     import importlib.util
 
     # Dask's dashboard is drawn with Bokeh: ask for it only where Bokeh is installed (looked up,
@@ -261,6 +281,7 @@ def run_sweep(
     # a SetupError, see evaluate_point): check it here, once, before any work (LocalCluster
     # workers inherit this environment; those of an existing scheduler have their own).
     check_setup()
+    workers = check_workers(workers, "workers")
     if scheduler is not None:
         scheduler = check_address(scheduler)
     # One sweep writes a store at a time: a second is refused, naming the first (fingerpad.locks).

@@ -276,10 +276,8 @@ def design_textures(
     parsed = [t if isinstance(t, Target) else parse_target(t) for t in targets]
     if not parsed:
         raise FingerpadError("give at least one --target QUANTITY=VALUE@LOAD")
-    n_cand = parse_int(candidates, "--candidates")
-    n_eval = parse_int(evaluations, "--evaluations")
-    if n_eval > MAX_EVALUATIONS:
-        raise FingerpadError(f"--evaluations {n_eval}: at most {MAX_EVALUATIONS} (a sweep covers more points)")
+    n_cand = parse_int(candidates, "--candidates", 1, MAX_EVALUATIONS)
+    n_eval = parse_int(evaluations, "--evaluations", 1, MAX_EVALUATIONS)
     problem = DesignProblem(
         base=data, axes=axes, targets=parsed,
         min_critical_load=_number(min_critical_load, "force", "--min-critical-load"),

@@ -190,26 +190,6 @@ def _texture_param_errors(data: Mapping[str, Mapping[str, Any]]) -> list[FieldEr
     return out
 
 
-def _page_limits(data: Mapping[str, Mapping[str, Any]]) -> list[FieldError]:
-    """What the page refuses before the library runs anything: a measured map that is not the
-    session's upload is checked by :func:`validate`, and more loads than :data:`MAX_PAGE_LOADS`
-    once the library has read them; here, a grid beyond the library's
-    :data:`~fingerpad.textures.MAX_GRID`."""
-    from ..study.values import integer
-    from ..textures import MAX_GRID, MIN_GRID
-
-    out = []
-    grid = data.get("model", {}).get("grid")
-    if grid is not None:
-        try:
-            n = integer(grid, field_label("model", "grid"), MIN_GRID)
-            if n > MAX_GRID:
-                raise FingerpadError(f"{field_label('model', 'grid')}: at most {MAX_GRID} points, got {n}")
-        except FingerpadError as exc:
-            out.append(FieldError("model.grid", one_line(str(exc))))
-    return out
-
-
 def _too_many_loads(study: Any, data: Mapping[str, Mapping[str, Any]]) -> FieldError | None:
     """More loads than the page shows (counted as the library read them: ranges, lists, both)."""
     n = int(getattr(study.loads, "size", len(study.loads)))
@@ -247,7 +227,7 @@ def validate(data: Mapping[str, Mapping[str, Any]], *, check: bool = True, uploa
         except FingerpadError:
             return StudyCheck(None, [FieldError("texture.surface", REFUSED)], [])
     words = (lambda m: m) if uploads is None else (lambda m: page_message(m, upload, uploads.root))
-    param_msgs = _texture_param_errors(data) + _page_limits(data)
+    param_msgs = _texture_param_errors(data)  # (a grid beyond MAX_GRID: study_from_dict refuses it)
     errors = [e for e in param_msgs if not e.warning]
     warns = [e for e in param_msgs if e.warning]
     study = None

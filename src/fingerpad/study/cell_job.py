@@ -395,10 +395,14 @@ def build_solve_job(
     tol_v = _parse_float(tol, "--tol")
     if not (0 < tol_v < 1):
         raise FingerpadError(f"--tol must lie in (0, 1), got {tol!r}")
-    max_iter_v = parse_int(max_iter, "--max-iter")
+    from ..contact.solver import MAX_ITER
+
+    max_iter_v = parse_int(max_iter, "--max-iter", 1, MAX_ITER)
     if formulation not in ("auto", "primal", "dual"):
         raise FingerpadError(f"--formulation must be auto, primal or dual, got {formulation!r}")
-    grid_v = parse_int(grid, "--grid") if grid is not None else None
+    from ..textures import MAX_GRID
+
+    grid_v = parse_int(grid, "--grid", 4, MAX_GRID) if grid is not None else None
     size_v = parse_size(size) if size is not None else None
     plot_at_v = parse_positive(plot_at, "pressure", name="--plot-at") if plot_at is not None else None
     if plot_at_v is not None and plot is None:

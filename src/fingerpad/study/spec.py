@@ -73,7 +73,7 @@ from ..errors import FingerpadError
 from ..finger import FINGER_FIELDS, FINGER_PRESETS, Finger, finger_param, get_finger, model_from_spec
 from ..materials import check_modulus, check_poisson
 from ..plausibility import check_plausible
-from ..textures import Texture
+from ..textures import MAX_GRID, Texture
 from .texture import TEXTURE_KEYS, TextureSpec
 from .values import boolean, integer, material, parse_loads, positive_loads, quantity
 
@@ -199,12 +199,14 @@ class Study:
                 self.material_poisson = 0.35
             check_poisson(self.material_poisson, "material Poisson ratio")
         if self.grid is not None:
-            self.grid = integer(self.grid, "grid", 4)
+            self.grid = integer(self.grid, "grid", 4, MAX_GRID)
         if not (isinstance(self.accuracy, (int, float)) and 0 < self.accuracy < 1):
             raise FingerpadError(f"accuracy must lie in (0, 1), got {self.accuracy!r}")
         if not (isinstance(self.tol, (int, float)) and 0 < self.tol < 1):
             raise FingerpadError(f"tol must lie in (0, 1), got {self.tol!r}")
-        self.max_iter = integer(self.max_iter, "max_iter")
+        from ..contact.solver import MAX_ITER
+
+        self.max_iter = integer(self.max_iter, "max_iter", 1, MAX_ITER)
         if self.zones_at is not None and not (math.isfinite(self.zones_at) and self.zones_at > 0):
             raise FingerpadError(f"zones_at must be a positive load, got {self.zones_at!r}")
         if isinstance(self.texture, Texture):
@@ -347,7 +349,7 @@ def _texture_spec(section: Mapping[str, Any], name: _Names) -> tuple[TextureSpec
     )
     spec.params = {k.replace("-", "_"): v for k, v in sec.items()}
     spec.labels.update({k: name("texture", k) for k in spec.params})
-    return spec, (None if grid is None else integer(grid, name("texture", "grid"), 4))
+    return spec, (None if grid is None else integer(grid, name("texture", "grid"), 4, MAX_GRID))
 
 
 def _finger(section: Mapping[str, Any], name: _Names, context: Mapping[str, Any]) -> Finger:
@@ -440,7 +442,7 @@ def study_from_dict(
     if not (isinstance(kind, str) and kind.strip().lower() in MODELS):
         raise FingerpadError(f"{name('model', 'kind')}: must be one of {', '.join(MODELS)}, got {kind!r}")
     grid = msec.get("grid")
-    grid_v = None if grid is None else integer(grid, name("model", "grid"), 4)
+    grid_v = None if grid is None else integer(grid, name("model", "grid"), 4, MAX_GRID)
     if grid_v is not None and tex_grid is not None and grid_v != tex_grid:
         raise FingerpadError("give the grid once, in [model] (or --grid)")
     grid_v = grid_v if grid_v is not None else tex_grid
@@ -455,7 +457,9 @@ def study_from_dict(
     tol = quantity(msec.get("tol", 1e-8), "none", name("model", "tol"))
     if not 0 < tol < 1:
         raise FingerpadError(f"{name('model', 'tol')}: must lie in (0, 1), got {tol!r}")
-    max_iter = integer(msec.get("max_iter", 5000), name("model", "max_iter"))
+    from ..contact.solver import MAX_ITER
+
+    max_iter = integer(msec.get("max_iter", 5000), name("model", "max_iter"), 1, MAX_ITER)
     cache = msec.get("cache")
     if isinstance(cache, bool):
         cache = None if cache else False

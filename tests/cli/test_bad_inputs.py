@@ -1,0 +1,127 @@
+"""Bad inputs as a new user gives them, against the contract: one ``error:`` line on stderr, exit
+code 2, no traceback, nothing written, the same message at every door (issue 30).
+
+Each case fails before any long work (a check up front), so the whole file runs in seconds.
+benchmarks/bad_inputs.py runs a wider list as real subprocesses and counts tried / held / broke.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from fingerpad.cli import app
+
+runner = CliRunner()
+CAPS = ["--texture", "caps", "--radius", "50um", "--height", "10um", "--spacing", "100um"]
+BIG = "9" * 5000  # more digits than Python converts to int by default (4300)
+STUDY = """
+[texture]
+name = "caps"
+radius = "100um"
+height = "20um"
+spacing = "175um"
+[model]
+grid = 16
+{model}
+[sweep]
+loads = "0.1N:4N:4"
+{sweep}
+[sweep.axes]
+spacing = "130um:300um:2"
+"""
+
+
+def error_line(result) -> str:
+    assert result.exit_code == 2, (result.exit_code, result.output[-2000:])
+    lines = [line for line in result.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("error: "), result.stderr[-2000:]
+    assert "Traceback" not in result.output
+    return lines[0]
+
+
+@pytest.fixture
+def here(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def study(folder: Path, model: str = "", sweep: str = "") -> str:
+    (folder / "s.toml").write_text(STUDY.format(model=model, sweep=sweep))
+    return "s.toml"
+
+
+# ------------------------------------------------------------------------------------------------
+# every count a user can give has a cap (issue 30, items 4, 13 and 19)
+
+COUNTS = [
+    (["sweep", "S", "--workers", "100000"], r"--workers: must be at most \d+, got 100000"),
+    (["sweep", "S", "--workers", "0"], "--workers: must be at least 1, got 0"),
+    (["sweep", "S", "--workers", BIG], r"--workers: must be at most \d+, got a number of 5000 digits"),
+    (["predict", *CAPS, "--grid", BIG], "--grid: must be at most 8192, got a number of 5000 digits"),
+    (["predict", *CAPS, "--max-iter", BIG], "--max-iter: must be at most 100000, got a number of 5000 digits"),
+    (["predict", *CAPS, "--max-iter", "1000000"], "--max-iter: must be at most 100000, got 1000000"),
+    (["solve", *CAPS, "--pressure", "1kPa", "--grid", BIG], "--grid: must be at most 8192, got a number of 5000 "),
+    (["solve", *CAPS, "--pressure", "1kPa", "--max-iter", "10000000"], "--max-iter: must be at most 100000"),
+    (["solve", *CAPS, "--pressure", f"1kPa:2kPa:{BIG}"], "--pressure: COUNT of 5000 digits is more than the 10000"),
+    (["predict", *CAPS, "--loads", f"1N:2N:{BIG}"], "--loads: COUNT of 5000 digits is more than"),
+    (["design", "S", "--vary", "spacing=100um:400um", "--target", "mu_rel=0.5@1N", "--candidates", "1000000000"],
+     "--candidates: must be at most 10000"),
+    (["design", "S", "--vary", "spacing=100um:400um", "--target", "mu_rel=0.5@1N", "--evaluations", BIG],
+     "--evaluations: must be at most 10000, got a number of 5000 digits"),
+    (["analyse", "D", "--reference", "flat", "--out", "r", "--n-null", "1000000000"],
+     "n_null must lie in 19..100000 and n_boot in 20..100000, got 1000000000 and 200"),
+    (["analyse", "D", "--reference", "flat", "--out", "r", "--n-null", BIG], "--n-null: must be an integer of at most 30 digits"),
+    (["analyse", "D", "--reference", "flat", "--out", "r", "--bins", "1000000"], r"n_bins must lie in 1..1000"),
+    (["simulate-measurement", "--out", "sim", "--participants", "300000"],
+     "participants: at most 1000 in a simulated study, got 300000"),
+    (["simulate-measurement", "--out", "sim", "--seed", BIG], "--seed: must be"),
+]
+
+
+@pytest.mark.parametrize("args, message", COUNTS, ids=[" ".join(a[:1] + a[-2:-1]) for a, _ in COUNTS])
+def test_every_count_has_a_cap(here, args, message):
+    import re
+
+    (here / "D").mkdir()
+    study(here)
+    args = ["s.toml" if a == "S" else a for a in args]
+    line = error_line(runner.invoke(app, args))
+    assert re.search(message, line), line
+    assert len(line) < 400  # a 5000-digit value is not echoed back
+    assert sorted(p.name for p in here.iterdir()) == ["D", "s.toml"]  # nothing written
+
+
+@pytest.mark.parametrize("model, sweep, message", [
+    (f'max_iter = "{BIG}"', "", r"\[model\] max_iter: must be at most 100000, got a number of 5000 digits"),
+    ('grid = "99999999"', "", None),  # [model] grid given twice in the template: replaced below
+    ("", 'chunk = "abc"', r"\[sweep\] chunk: expected an integer, got 'abc'"),
+    ("", "chunk = [1]", r"\[sweep\] chunk: expected an integer, got \[1\]"),
+    ("", "chunk = 1.5", r"\[sweep\] chunk: expected an integer, got 1.5"),
+    ("", "chunk = 10000000", r"\[sweep\] chunk: must be at most 1000000"),
+    ("", 'design = "lhs"\npoints = 1000000000000', r"\[sweep\] points: must be at most 1000000"),
+    ("", 'design = "lhs"\npoints = 4\nseed = -1', r"\[sweep\] seed: must be at least 0, got -1"),
+])
+def test_study_file_counts_have_caps(here, model, sweep, message):
+    import re
+
+    text = STUDY.format(model=model, sweep=sweep)
+    if message is None:
+        text = text.replace("grid = 16\n", "")
+        message = r"\[model\] grid: must be at most 8192, got 99999999"
+    if "lhs" in sweep:
+        text = text.replace('spacing = "130um:300um:2"', 'spacing = "130um:300um"')
+    (here / "s.toml").write_text(text)
+    line = error_line(runner.invoke(app, ["sweep", "s.toml", "--out", "r.zarr"]))
+    assert re.search(message, line), line
+
+
+def test_the_explorer_grid_field_is_capped():
+    from fingerpad.explore.inputs import validate
+
+    data = {"texture": {"name": "caps", "radius": "50um", "height": "10um", "spacing": "100um"},
+            "model": {"grid": BIG}}
+    errors = [e for e in validate(data).errors if e.field == "model.grid"]
+    assert len(errors) == 1 and "must be at most 8192, got a number of 5000 digits" in errors[0].message
