@@ -191,9 +191,13 @@ def connect(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
     # Dask's dashboard is drawn with Bokeh: ask for it only where Bokeh is installed (looked up,
     # not imported: Bokeh belongs to the explorer's layer).
     dashboard: str | None = "127.0.0.1:0" if importlib.util.find_spec("bokeh") is not None else None
-    with _worker_start():
+    with _worker_start(), _interrupt_deferred() as interrupted:
+        # preload: each worker runs dask_setup below when it starts (a spawned one too)
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
-                               dashboard_address=dashboard, silence_logs=50)
+                               dashboard_address=dashboard, silence_logs=50, preload=[__name__])
+    if interrupted:
+        cluster.close()
+        raise KeyboardInterrupt
     try:
         return Client(cluster, set_as_default=False), cluster
     except BaseException:
@@ -235,6 +239,39 @@ def _worker_start() -> Iterator[None]:
         # the child runs only multiprocessing's start of a Dask worker
         warnings.filterwarnings("ignore", message=".*fork.*", category=DeprecationWarning)
         yield
+
+
+def dask_setup(worker: Any) -> None:
+    """Run by every worker of a local cluster when it starts (Dask's preload): Ctrl-C is the
+    client's to handle. A terminal sends it to the whole process group, workers included, and
+    each worker (and its nanny's process) printed a KeyboardInterrupt traceback, ~40 lines,
+    before the client's one ``interrupted:`` line; the client closes the cluster, which stops
+    them."""
+    import signal
+    import threading
+
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+@contextlib.contextmanager
+def _interrupt_deferred() -> Iterator[list[int]]:
+    """While the local workers are started: Ctrl-C is noted in the list yielded (the caller
+    stops once they are up), and the forked workers inherit a handler that only notes it
+    (:func:`dask_setup` then makes them ignore it), so that none of them is born able to print
+    a traceback for it."""
+    import signal
+    import threading
+
+    caught: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield caught
+        return
+    before = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield caught
+    finally:
+        signal.signal(signal.SIGINT, before)
 
 
 def _close_quietly(client: Any) -> None:
