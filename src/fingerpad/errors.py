@@ -42,6 +42,17 @@ def printable(text: str) -> str:
                    for c in text)
 
 
+def excerpt(value: object, limit: int = 80) -> str:
+    """``repr(value)``, printable (:func:`printable`) and at most about ``limit`` characters: a
+    value a user or a page sent, quoted back in a message or a log line (a 5 MB forged value
+    becomes its first characters and its length)."""
+    text = printable(repr(value))
+    if len(text) <= limit:
+        return text
+    size = len(value) if isinstance(value, (str, bytes)) else len(text)
+    return f"{text[:limit]}... ({size} characters)"
+
+
 def one_line(text: str) -> str:
     """``text`` on one line (for ``error: ...`` and ``warning: ...`` messages), control
     characters escaped (:func:`printable`), at most about :data:`MAX_LINE` characters."""

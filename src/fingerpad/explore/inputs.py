@@ -190,6 +190,22 @@ def _texture_param_errors(data: Mapping[str, Mapping[str, Any]]) -> list[FieldEr
     return out
 
 
+def _grid_error(data: Mapping[str, Mapping[str, Any]]) -> list[FieldError]:
+    """The grid field read on its own, as ``study_from_dict`` reads it (bounds declared by the
+    library: :data:`~fingerpad.textures.MIN_GRID`, :data:`~fingerpad.textures.MAX_GRID`)."""
+    from ..study.values import integer
+    from ..textures import MAX_GRID, MIN_GRID
+
+    grid = data.get("model", {}).get("grid")
+    if grid is None:
+        return []
+    try:
+        integer(grid, field_label("model", "grid"), MIN_GRID, MAX_GRID)
+    except FingerpadError as exc:
+        return [FieldError("model.grid", one_line(str(exc)))]
+    return []
+
+
 def _too_many_loads(study: Any, data: Mapping[str, Mapping[str, Any]]) -> FieldError | None:
     """More loads than the page shows (counted as the library read them: ranges, lists, both)."""
     n = int(getattr(study.loads, "size", len(study.loads)))
@@ -227,7 +243,10 @@ def validate(data: Mapping[str, Mapping[str, Any]], *, check: bool = True, uploa
         except FingerpadError:
             return StudyCheck(None, [FieldError("texture.surface", REFUSED)], [])
     words = (lambda m: m) if uploads is None else (lambda m: page_message(m, upload, uploads.root))
-    param_msgs = _texture_param_errors(data)  # (a grid beyond MAX_GRID: study_from_dict refuses it)
+    param_msgs = _texture_param_errors(data) + _grid_error(data)
+    if any(e.field == "model.grid" for e in param_msgs):
+        # reported; the rest of the study is read without it, so that its other messages show too
+        data = {**data, "model": {k: v for k, v in data.get("model", {}).items() if k != "grid"}}
     errors = [e for e in param_msgs if not e.warning]
     warns = [e for e in param_msgs if e.warning]
     study = None
