@@ -128,9 +128,7 @@ def apply_flags(
     if tex or texture is not None or surface is not None:
         out["texture"] = tex
 
-    if flags.get("--material-modulus") is None and flags.get("--material-poisson") is not None:
-        if out.get("material", {}).get("modulus") in (None, "rigid"):
-            raise FingerpadError("--material-poisson needs --material-modulus (the default material is rigid)")
+    # (--material-poisson without a modulus: study.values.material refuses it, naming the flag)
     if isinstance(flags.get("--material-modulus"), str) and \
             flags["--material-modulus"].strip().lower() in ("rigid", "inf", "infinity"):
         out.setdefault("material", {}).pop("poisson", None)

@@ -192,7 +192,8 @@ class Study:
             raise FingerpadError(f"model must be one of {', '.join(MODELS)}, got {self.model!r}")
         if self.material_modulus is None:
             if self.material_poisson is not None:
-                raise FingerpadError("a material Poisson ratio needs a material modulus (rigid by default)")
+                raise FingerpadError("material Poisson ratio: a Poisson ratio is given, but it needs a material "
+                                     "modulus (the default material is rigid)")
         else:
             check_modulus(self.material_modulus, "material modulus")
             if self.material_poisson is None:

@@ -106,10 +106,12 @@ def parse_loads(spec: Any, log: bool, name: str = "loads") -> np.ndarray:
 
 def material(modulus: Any, poisson: Any, modulus_name: str, poisson_name: str) -> tuple[float | None, float | None]:
     """Counter-surface (E, nu); ``None`` modulus or ``"rigid"`` = rigid (then no Poisson ratio)."""
-    rigid = modulus is None or (isinstance(modulus, str) and modulus.strip().lower() in ("rigid", "inf", "infinity"))
-    if rigid:
+    said = isinstance(modulus, str) and modulus.strip().lower() in ("rigid", "inf", "infinity")
+    if modulus is None or said:
         if poisson is not None:
-            raise FingerpadError(f"{poisson_name}: a Poisson ratio needs a material modulus (the default material is rigid)")
+            why = (f"{modulus_name} {modulus.strip()} is a rigid material, which has none" if said else
+                   "it needs a material modulus (the default material is rigid)")
+            raise FingerpadError(f"{poisson_name}: a Poisson ratio is given, but {why}")
         return None, None
     from ..materials import MATERIAL_MODULUS, MATERIAL_POISSON
 
