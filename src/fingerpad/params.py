@@ -262,6 +262,8 @@ class Param:
             # needs_unit: text typed without a unit (a number from TOML or Python is SI, as a
             # sweep axis passes its values)
             typed = self.needs_unit and isinstance(value, str)
+            if _is_bare_number(value) and not math.isfinite(float(str(value).strip())):
+                raise FingerpadError(f"{label}: must be a finite number, got {value!r}")  # not "nanm has no unit"
             if (require_unit or typed) and _is_bare_number(value) and float(str(value).strip()) != 0:
                 units = ", ".join(u for u, (dim, _) in UNITS.items() if dim == self.dimension and u.isascii())
                 raise FingerpadError(

@@ -89,9 +89,8 @@ def parse_quantity(text: str | float | int, dimension: str, *, name: str = "valu
                 raise FingerpadError(f"{name}: unknown unit {unit!r} in {text!r} (use one of: {known})")
             unit_dim, factor = UNITS[unit]
             if dimension != unit_dim:
-                raise FingerpadError(
-                    f"{name}: {text!r} is a {unit_dim}, expected a {dimension}"
-                )
+                expected = "a plain number (no unit)" if dimension == "none" else f"a {dimension}"
+                raise FingerpadError(f"{name}: {text!r} is a {unit_dim}, expected {expected}")
             exponent = _EXPONENT[unit]
             if exponent is None:
                 value *= factor

@@ -125,3 +125,49 @@ def test_the_explorer_grid_field_is_capped():
             "model": {"grid": BIG}}
     errors = [e for e in validate(data).errors if e.field == "model.grid"]
     assert len(errors) == 1 and "must be at most 8192, got a number of 5000 digits" in errors[0].message
+
+
+# ------------------------------------------------------------------------------------------------
+# messages that said something else than what was wrong (issue 30, item 19)
+
+
+def test_a_non_finite_number_is_not_read_as_a_missing_unit():
+    from fingerpad.errors import FingerpadError
+    from fingerpad.params import Param
+
+    p = Param("sd", "length", "a spread", low=0)
+    for value in ("nan", float("nan"), "inf", "-inf"):
+        with pytest.raises(FingerpadError, match=r"^sd: must be a finite number, got "):
+            p.parse(value, "sd", require_unit=True)  # it said: 'nan' has no unit ... "nanm"
+
+
+def test_a_unit_where_a_plain_number_is_expected_says_so():
+    from fingerpad.errors import FingerpadError
+    from fingerpad.units import parse_quantity
+
+    with pytest.raises(FingerpadError, match=r"^values: '5kPa' is a pressure, expected a plain number \(no unit\)$"):
+        parse_quantity("5kPa", "none", name="values")  # it said: expected a none
+
+
+def test_design_vary_names_its_option(here):
+    line = error_line(runner.invoke(app, ["design", study(here), "--vary", "nosuch=1:2", "--target", "mu_rel=0.5@1N"]))
+    assert line.startswith("error: --vary 'nosuch' is not a parameter of texture 'caps'"), line  # not "[sweep] axis"
+
+
+def test_a_layer_modulus_is_named_as_given_at_every_door(here):
+    caps = [*CAPS, "--grid", "16"]
+    layer = ["--skin-layer-thickness", "300um", "--skin-layer-modulus", "1e12Pa", "--skin-substrate-modulus", "40kPa"]
+    for command in (["solve", *caps, *layer, "--pressure", "1kPa"], ["predict", *caps, *layer, "--loads", "1N",
+                                                                       "--json", "-"]):
+        res = runner.invoke(app, command)
+        warned = [ln for ln in res.stderr.splitlines() if ln.startswith("warning:")]
+        assert warned and warned[0].startswith("warning: --skin-layer-modulus = 1000 GPa is very large for a skin "
+                                               "layer modulus"), (command[0], res.stderr)  # solve said --skin-modulus
+
+
+def test_fingers_lists_models_in_words_and_units():
+    res = runner.invoke(app, ["fingers"], env={"COLUMNS": "200"})
+    assert res.exit_code == 0
+    assert "HertzArea(" not in res.stdout and "ConstantFractionRidges(" not in res.stdout  # Python reprs
+    assert "hertz: R_fp 9 mm, E_fp* 40 kPa" in res.stdout and "constant_fraction: fraction 0.5" in res.stdout
+    assert "sinusoidal: wavelength 450 um" in res.stdout

@@ -138,7 +138,7 @@ def free_axes(vary: Mapping[str, Any] | Sequence[str], family: str | None) -> li
             items.append((name, bounds))
     axes = []
     for name, bounds in items:
-        axis = resolve_axis(name, family)
+        axis = resolve_axis(name, family, "--vary")
         if not axis.numeric:
             raise FingerpadError(f"--vary {name}: only numeric parameters can be optimised")
         parts = bounds.split(":") if isinstance(bounds, str) else list(bounds)
