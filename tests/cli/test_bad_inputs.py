@@ -171,3 +171,12 @@ def test_fingers_lists_models_in_words_and_units():
     assert "HertzArea(" not in res.stdout and "ConstantFractionRidges(" not in res.stdout  # Python reprs
     assert "hertz: R_fp 9 mm, E_fp* 40 kPa" in res.stdout and "constant_fraction: fraction 0.5" in res.stdout
     assert "sinusoidal: wavelength 450 um" in res.stdout
+
+
+@pytest.mark.parametrize("command", ["predict", "sweep", "design"])
+def test_an_empty_population_is_named_empty(here, command):
+    args = {"predict": ["predict", *CAPS, "--json", "-"], "sweep": ["sweep", study(here), "--out", "r.zarr"],
+            "design": ["design", study(here), "--vary", "spacing=100um:400um", "--target", "mu_rel=0.5@1N",
+                       "--coverage", "0.5"]}[command]
+    line = error_line(runner.invoke(app, [*args, "--population", ""]))
+    assert line.startswith("error: --population is empty: name a preset (adults"), line  # it named '.'

@@ -269,6 +269,9 @@ def load_population(source: str | Mapping[str, Any]) -> Population:
     if isinstance(source, Mapping):
         return population_from_table(source)
     key = str(source).strip().lower()
+    if not key:  # Path("") is the current folder: it was named as '.'
+        raise FingerpadError(f"--population is empty: name a preset ({', '.join(POPULATION_PRESETS)}), a TOML file "
+                             "with a [population] table or a folder written by fingerpad analyse")
     if key in POPULATION_PRESETS:
         return population_from_table(POPULATION_PRESETS[key], where=f"population {key!r}", name=key)
     path = Path(source)
