@@ -20,7 +20,7 @@ bytecode:
 	$(PY) -m compileall -q src > /dev/null
 
 run: $(STAMP)
-	$(VENV)/bin/fingerpad run-default --out out
+	$(VENV)/bin/fingerpad run-default --out out/run
 
 test: $(STAMP)
 	$(PY) -m pytest -q -m "not slow"
