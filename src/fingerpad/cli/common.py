@@ -232,10 +232,36 @@ def option(*decls: str, help_texts: dict[str, str], panel: str, metavar: str | N
     return typer.Option(*decls, help=help_texts[decls[0].split("/")[0]], rich_help_panel=panel, metavar=metavar, **kw)
 
 
+#: Seconds between the plain progress lines written where stderr is not a terminal (a log file,
+#: a pipe, CI): a bar there cannot redraw itself and was left frozen in the log at its last
+#: state; work shorter than this writes none.
+PLAIN_PROGRESS_EVERY = 10.0
+
+
+class PlainProgress:
+    """Progress as plain lines (``LABEL: 45/202, DETAIL (12 s)``), at most one every
+    :data:`PLAIN_PROGRESS_EVERY` seconds: what a bar becomes where stderr is not a terminal."""
+
+    def __init__(self, console: Any, every: float | None = None) -> None:
+        import time
+
+        self.console = console
+        self.every = PLAIN_PROGRESS_EVERY if every is None else every
+        self.start = self.last = time.monotonic()
+
+    def line(self, text: str) -> None:
+        import time
+
+        now = time.monotonic()
+        if now - self.last >= self.every:
+            self.last = now
+            say(self.console, f"{text} ({now - self.start:.0f} s)")
+
+
 class ProgressBar:
     """A Rich progress bar on stderr, started on the first call ``bar(i, n)`` or
     ``bar.detail(text)`` (none if neither is ever called); :meth:`stage` adds a row for a later
-    stage of the work."""
+    stage of the work. Where stderr is not a terminal, plain lines instead (:class:`PlainProgress`)."""
 
     def __init__(self, console: Any, label: str, total: int = 1) -> None:
         self.console = console
@@ -243,6 +269,13 @@ class ProgressBar:
         self.total = total
         self.bar: Any = None
         self.task: Any = None
+        self.plain = None if console.is_terminal else PlainProgress(console)
+        self._count = ""
+        self._detail = ""
+
+    def _say(self) -> None:
+        assert self.plain is not None
+        self.plain.line(f"{self.label}: " + ", ".join(t for t in (self._count, self._detail) if t))
 
     def _progress(self) -> Any:
         if self.bar is None:
@@ -259,12 +292,20 @@ class ProgressBar:
         self.task = self._progress().add_task(self.label, total=n, detail="", count=f"0/{n}")
 
     def __call__(self, i: int, n: int) -> None:
+        if self.plain is not None:
+            self._count = f"{min(i, n)}/{n}"
+            self._say()
+            return
         if self.task is None:
             self._start(n)
         self.bar.update(self.task, completed=min(i, n), total=n, count=f"{min(i, n)}/{n}")
 
     def detail(self, text: str) -> None:
         """Show ``text`` after the bar (e.g. the iteration of a long solve)."""
+        if self.plain is not None:
+            self._detail = text
+            self._say()
+            return
         if self.task is None:
             self._start(self.total)
         self.bar.update(self.task, detail=text)
@@ -276,6 +317,9 @@ class ProgressBar:
         task: list[Any] = []
 
         def show(text: str) -> None:
+            if self.plain is not None:
+                self.plain.line(f"{label}: {text}")
+                return
             if not task:
                 task.append(self._progress().add_task(label, total=None, detail="", count=""))
             self.bar.update(task[0], detail=text)

@@ -96,11 +96,16 @@ def raise_error(message: str) -> None:
 
 
 class _Progress:
-    """Points done with ETA, cells solved, cache hits and failures, on stderr."""
+    """Points done with ETA, cells solved, cache hits and failures, on stderr (plain lines where
+    stderr is not a terminal, :class:`~.common.PlainProgress`: a bar there is left frozen in the log)."""
 
     def __init__(self, console: Any, total: int, headline: str) -> None:
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
+        from .common import PlainProgress
+
+        self.plain = None if console.is_terminal else PlainProgress(console)
+        self.total = total
         self.bar = Progress(TextColumn("points"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
                             TextColumn("{task.fields[info]}"), console=rich_console(console))
         self.task = self.bar.add_task("sweep", total=total, info="")
@@ -118,13 +123,17 @@ class _Progress:
                                        markup=False)
             if report.done_before:
                 self.bar.console.print(f"resuming: {report.done_before} points done before", markup=False)
-            self.bar.start()
+            if self.plain is None:
+                self.bar.start()
             self.started = True
         if not self.announced and report.dashboard:
             self.bar.console.print(f"Dask dashboard: {report.dashboard}", markup=False)
             self.announced = True
         info = (f"cells {report.cells_solved} solved, {report.cache_hits} cached; "
                 f"{report.invalid} invalid, {len(report.failures)} failed")
+        if self.plain is not None:
+            self.plain.line(f"points: {report.done_before + report.computed}/{self.total}, {info}")
+            return
         self.bar.update(self.task, completed=report.done_before + report.computed, info=info)
 
     def notice(self, message: str) -> None:
@@ -135,7 +144,7 @@ class _Progress:
         self.bar.console.print(message, markup=False)
 
     def close(self) -> None:
-        if self.started:
+        if self.started and self.plain is None:
             self.bar.stop()
 
 
