@@ -100,3 +100,23 @@ def test_progress_bar_stage_row_has_its_own_clock_and_no_count():
     with ProgressBar(Console(file=io.StringIO(), width=80, force_terminal=True), "unit cell ψ(p)") as bar:
         bar.stage("deflection ramps")("pressing 2 section(s)")
         assert [t.description for t in bar.bar.tasks] == ["deflection ramps"]
+
+
+def test_textures_piped_keeps_each_meaning_beside_its_parameter():
+    """Issue 30, item 21: piped to a file (140 columns), `fingerpad textures` printed each family's
+    parameters and meanings as two cells of many lines, so a wrapped meaning pushed the next ones
+    down beside other parameters ("--spacing LENGTH ... (h <= R)")."""
+    from typer.testing import CliRunner
+
+    from fingerpad.cli import app
+    from fingerpad.textures import registry
+
+    res = CliRunner().invoke(app, ["textures"])
+    assert res.exit_code == 0
+    lines = res.stdout.splitlines()
+    for fam in registry().values():
+        start = next(i for i, ln in enumerate(lines) if ln.startswith(f"│ {fam.name} "))
+        for p in fam.params:
+            row = next(ln for ln in lines[start:] if f"│ {p.option} {p.metavar} " in ln)
+            words = " ".join(p.doc.split()[:2])
+            assert words in row, (fam.name, p.name, row)  # the meaning starts on the option's own line
