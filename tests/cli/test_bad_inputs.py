@@ -180,3 +180,14 @@ def test_an_empty_population_is_named_empty(here, command):
                        "--coverage", "0.5"]}[command]
     line = error_line(runner.invoke(app, [*args, "--population", ""]))
     assert line.startswith("error: --population is empty: name a preset (adults"), line  # it named '.'
+
+
+@pytest.mark.parametrize("value, message", [
+    ("100000", "FINGERPAD_FFT_WORKERS must be a whole number of threads in 0..1024 (0: all cores), got 100000"),
+    (BIG, "FINGERPAD_FFT_WORKERS must be a whole number of threads in 0..1024, got a value of 5000 characters"),
+])
+def test_fft_threads_have_a_cap(here, monkeypatch, value, message):
+    monkeypatch.setenv("FINGERPAD_FFT_WORKERS", value)
+    for command in (["solve", *CAPS, "--grid", "16", "--pressure", "1kPa"], ["predict", *CAPS, "--json", "-"]):
+        res = runner.invoke(app, command)
+        assert res.exit_code == 2 and res.stderr == f"error: {message}\n", res.stderr  # before any work

@@ -75,11 +75,14 @@ def device_option(device: str | None) -> Iterator[None]:
 
     from ..contact.device import device_namespace, device_setting
 
+    from ..contact.greens import check_setup
+
     name, _ = device_setting(device)
     device_namespace(device)  # the library and a GPU are there, or the command stops here
     before = os.environ.get("FINGERPAD_DEVICE")
     os.environ["FINGERPAD_DEVICE"] = name
     try:
+        check_setup()  # and the FFT settings, before any work (the one check every door asks)
         yield
     finally:
         if before is None:

@@ -31,6 +31,9 @@ __all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "check_setup", "fft_settings
            "love_rectangle", "smoothed_rectangle"]
 
 FFT_ENGINES = ("auto", "ducc0", "scipy")
+#: Most FFT threads one process may be given (``FINGERPAD_FFT_WORKERS``): far above any machine's
+#: cores (their number changes the speed, never a result), far below a typo's 100000 threads.
+MAX_FFT_WORKERS = 1024
 
 
 def fft_settings(fft: str | None = None, workers: int | None = None) -> tuple[str, int]:
@@ -46,6 +49,9 @@ def fft_settings(fft: str | None = None, workers: int | None = None) -> tuple[st
     engine, _ = choice_setting(fft, "fft", "FINGERPAD_FFT", FFT_ENGINES, "FFT engine")
     if workers is None:
         raw = os.environ.get("FINGERPAD_FFT_WORKERS", "").strip()
+        if len(raw) > 30:
+            raise SetupError(f"FINGERPAD_FFT_WORKERS must be a whole number of threads in 0..{MAX_FFT_WORKERS}, "
+                             f"got a value of {len(raw)} characters")
         try:
             workers = int(raw) if raw else 0
         except ValueError:
@@ -53,8 +59,9 @@ def fft_settings(fft: str | None = None, workers: int | None = None) -> tuple[st
         source = "FINGERPAD_FFT_WORKERS"
     else:
         source = "workers"
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
-        raise SetupError(f"{source} must be a whole number of threads >= 0 (0: all cores), got {workers!r}")
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 0 <= workers <= MAX_FFT_WORKERS:
+        raise SetupError(f"{source} must be a whole number of threads in 0..{MAX_FFT_WORKERS} (0: all cores), "
+                         f"got {workers!r}")
     return engine, workers or os.cpu_count() or 1
 
 
