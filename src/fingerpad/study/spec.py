@@ -391,13 +391,21 @@ def study_from_dict(
     FingerpadError
         Naming the offending value.
     """
-    src = data.get("_source", {}).get("file")
+    if not isinstance(data, Mapping):
+        raise FingerpadError(f"a study is a mapping of sections ({', '.join(SECTION_KEYS)}) to their values, "
+                             f"got {type(data).__name__}")
+    source = data.get("_source", {})
+    src = source.get("file") if isinstance(source, Mapping) else None
     name = _Names(src, labels)
     unknown = [k for k in data if k not in SECTION_KEYS and k != "_source"]
     if unknown:
-        raise FingerpadError(f"unknown study section(s) {', '.join(sorted(unknown))}")
+        raise FingerpadError(f"unknown study section(s) {', '.join(sorted(map(str, unknown)))}")
     for section, body in data.items():
-        if section in ("texture", "_source"):
+        if section == "_source":
+            continue
+        if not isinstance(body, Mapping):
+            raise FingerpadError(f"{name(section)}: must be a table of values (a mapping), got {type(body).__name__}")
+        if section == "texture":
             continue
         bad = [k for k in body if k not in SECTION_KEYS[section]]
         if bad:
