@@ -191,3 +191,31 @@ def test_fft_threads_have_a_cap(here, monkeypatch, value, message):
     for command in (["solve", *CAPS, "--grid", "16", "--pressure", "1kPa"], ["predict", *CAPS, "--json", "-"]):
         res = runner.invoke(app, command)
         assert res.exit_code == 2 and res.stderr == f"error: {message}\n", res.stderr  # before any work
+
+
+
+@pytest.mark.parametrize("args, message", [
+    (["predict", *CAPS, "--grid", "16", "--json", "-", "--grid", "32"], "--grid is given twice (16 and 32): give it once"),
+    (["predict", *CAPS, "--out=a", "--out", "b"], "--out is given twice (a and b): give it once"),
+    (["solve", *CAPS, "--radius", "60um", "--pressure", "1kPa"], "--radius is given twice (50um and 60um): give it once"),
+])
+def test_an_option_given_twice_is_refused(here, args, message):
+    """Found by the bad-input audit: the last one won silently."""
+    line = error_line(runner.invoke(app, args))
+    assert line.startswith(f"error: {message}"), line
+
+
+@pytest.mark.parametrize("data, message", [
+    (["texture"], "a study is a mapping of sections (texture, material, finger, loads, model) to their values, got list"),
+    ({"texture": 3}, "[texture]: must be a table of values (a mapping), got int"),
+    ({"texture": {"name": "flat", "size": "1mm"}, "loads": [1]}, "[loads]: must be a table of values (a mapping), "
+                                                                 "got list"),
+])
+def test_study_from_dict_refuses_what_is_not_a_study(data, message):
+    """Found by the bad-input audit: a TypeError or AttributeError traceback from the Python API."""
+    from fingerpad.errors import FingerpadError
+    from fingerpad.study import study_from_dict
+
+    with pytest.raises(FingerpadError) as got:
+        study_from_dict(data)
+    assert str(got.value) == message
