@@ -219,3 +219,13 @@ def test_study_from_dict_refuses_what_is_not_a_study(data, message):
     with pytest.raises(FingerpadError) as got:
         study_from_dict(data)
     assert str(got.value) == message
+
+
+
+def test_csv_dash_is_not_a_file_named_dash(here):
+    """Found by the bad-input audit: predict --csv - wrote a file named '-' (solve refused it)."""
+    for command in (["predict", *CAPS, "--grid", "32", "--loads", "1N", "--json", "-"],
+                    ["solve", *CAPS, "--grid", "32", "--pressure", "1kPa"]):
+        line = error_line(runner.invoke(app, [*command, "--csv", "-"]))
+        assert line == "error: --csv '-': the file name must end in .csv (the format follows it)", line
+    assert not (here / "-").exists()
