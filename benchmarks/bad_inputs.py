@@ -377,6 +377,93 @@ def cases() -> list[Case]:
     api("read_study_file nested", lambda d: (d / "n.toml").write_text("x = " + "[" * 3000 + "]" * 3000) and __import__(
         "fingerpad.study.spec", fromlist=["x"]).read_study_file(d / "n.toml"))
     api("OutputFolder of the current folder", lambda d: __import__("fingerpad.io", fromlist=["x"]).OutputFolder("."))
+    # ------------------------------------------------------------------ a second round (after the first fixes)
+    for opt, val in (("--plot-at", "1kPa"), ("--critical", "2"), ("--critical", "abc"), ("--formulation", "nosuch"),
+                     ("--base-quantile", "2"), ("--pixel-size", "1um"), ("--periodize", None), ("--csv", "-"),
+                     ("--csv", "x.csv"), ("--json", "x.csv")):
+        extra = [opt] if val is None else [opt, val]
+        if opt == "--csv" and val == "x.csv":
+            extra += ["--json", "x.csv"]
+        cli(f"solve {opt} (2)", *SOLVE, *extra)
+    cli("solve --plot-at -1kPa", *SOLVE, "--plot", "p.png", "--plot-at", "-1kPa")
+    for opt, val in (("--zones-at", "-1N"), ("--zones-at", "abc"), ("--finger-param", "=1"),
+                     ("--finger-param", "radius=1mm=2"), ("--finger-param", "skin=layered"),
+                     ("--sensitivity", None), ("--quantiles", "0.5,abc"), ("--csv", "-"), ("--base-quantile", "0.5"),
+                     ("--pixel-size", "1um"), ("--size", "1mm"), ("--height-unit", "um"), ("--skin-base", "rigid"),
+                     ("--skin-substrate-poisson", "0.3"), ("--material-poisson", "0.7"), ("--skin-modulus", "nan"),
+                     ("--finger", ""), ("--model", ""), ("--accuracy", "abc"), ("--tol", "1e-400")):
+        cli(f"predict {opt} (2)", *PREDICT, *([opt] if val is None else [opt, val]))
+    cli("predict ridges without width", "predict", "--texture", "ridges", "--height", "10um", "--spacing", "100um",
+        "--json", "-")
+    cli("predict ellipsoids orientation abc", "predict", "--texture", "ellipsoids", "--semi-axis-x", "30um",
+        "--semi-axis-y", "30um", "--height", "10um", "--spacing-x", "100um", "--spacing-y", "100um", "--orientation",
+        "abc", "--json", "-")
+    cli("predict surface with texture options", "predict", "--surface", "t.txt", "--radius", "50um", "--size",
+        "1mm", "--height-unit", "um", "--json", "-", files={"t.txt": "1 2\n3 4\n"})
+    cli("predict --model hertz on ridges", "predict", "--texture", "ridges", "--width", "40um", "--height", "10um",
+        "--spacing", "100um", "--model", "hertz", "--json", "-")
+    for sel in ("height=abc", "height=99um", "nosuch=1", "height=8um", "spacing=100um"):
+        cli(f"design-map --select {sel}", "design-map", "store.zarr", "--x", "spacing", "--y", "height", "--select",
+            sel, *(["--select", "height=10um"] if sel == "height=8um" else []))
+    for opt, val in (("--at", "abc"), ("--at", "0"), ("--quantity", "mu_perp_over_par"), ("--out", ""),
+                     ("--out", "."), ("--x", "")):
+        cli(f"design-map {opt} (2)", "design-map", "store.zarr", "--x", "spacing", "--y", "height", opt, val)
+    for opt, val in (("--quantiles", "0.5,abc"), ("--quantiles", ""), ("--quantiles", "0.5,2"),
+                     ("--population", "examples"), ("--workers", "1.5"), ("--scheduler", ""),
+                     ("--scheduler", "tcp://[::1"), ("--out", "."), ("--out", "sweep.toml")):
+        cli(f"sweep {opt} (2)", "sweep", "sweep.toml", "--out", "r.zarr", opt, val)
+    pop = {"population size 0": "[population]\nsize = 0\n", "size -1": "[population]\nsize = -1\n",
+           "size abc": "[population]\nsize = \"abc\"\n", "size 1e7": "[population]\nsize = 10000000\n",
+           "unknown distribution": "[population]\nsize = 4\n[population.skin_modulus]\ndist = \"nosuch\"\n",
+           "sd nan": "[population]\nsize = 4\n[population.skin_modulus]\ndist = \"normal\"\nmean = \"0.3MPa\"\n"
+                     "sd = nan\n",
+           "values with a unit": "[population]\nsize = 4\n[population.alpha]\nvalues = [0.1, \"5kPa\"]\n",
+           "nested": "x = " + "[" * 2000 + "]" * 2000, "not a table": "population = 3\n", "empty file": ""}
+    for name, text in pop.items():
+        c.append(Case(f"population file: {name}", ["predict", *CAPS, "--loads", "1N", "--json", "-", "--population",
+                                                   "p.toml"], files={"p.toml": text}))
+    c.append(Case("population file: FIFO", ["predict", *CAPS, "--loads", "1N", "--json", "-", "--population", "p.toml"],
+                  fifo="p.toml", limit=20))
+    c.append(Case("population folder without participants", ["predict", *CAPS, "--loads", "1N", "--json", "-",
+                                                              "--population", "d"], files={"d/x.txt": "x"}))
+    for opt, val in (("--reference", ""), ("--pattern", "nothing"), ("--samples", "missing.csv"),
+                     ("--samples", "sim/manifest.csv"), ("--loads", "1N"), ("--level", "abc"), ("--title", "x" * 100000)):
+        cli(f"analyse {opt} (2)", *ANALYSE, opt, val)
+    cli("analyse the same file twice", "analyse", "sim/P01_flat_1.csv", "sim/P01_flat_1.csv", "--reference", "flat",
+        "--out", "res3")
+    for opt, val in (("--friction", "nosuch"), ("--time-limit", "-1"), ("--max-steps", "0"), ("--direction", "abc"),
+                     ("--tau0", "-1kPa"), ("--material-poisson", "0.7"), ("--material-modulus", "-1MPa"),
+                     ("--skin-modulus", "0")):
+        cli(f"deflection {opt} (2)", *deflect, opt, val)
+    for opt, val in (("--texture", "bumps"), ("--participants", "1.5"), ("--strokes", BIG), ("--repetitions", "-1")):
+        cli(f"simulate-measurement {opt} (2)", "simulate-measurement", "--out", "sim3", opt, val)
+    for name, data in {
+        "no texture": {"loads": {"range": "1N:2N:3"}}, "texture name empty": {"texture": {"name": ""}},
+        "spacing escape": {"texture": {**good["texture"], "spacing": "1\u202e00um"}},
+        "loads 5 MB": {**good, "loads": {"range": "x" * 5_000_000}},
+        "finger radius -1": {**good, "finger": {"radius": "-1mm"}},
+        "material modulus inf poisson": {**good, "material": {"modulus": "inf", "poisson": "0.3"}},
+        "direction abc": {**good, "model": {"direction": "abc"}},
+        "grid 1.5": {**good, "model": {"grid": "1.5"}},
+    }.items():
+        c.append(Case(f"explore validate (2): {name}", explore=data))
+    from fingerpad.contact.layered import Layer
+
+    api("Layer thickness -1", lambda d: Layer(-1.0, 1e6, 0.49, 4e4, 0.49))
+    api("Layer poisson 0.7", lambda d: Layer(3e-4, 1e6, 0.7, 4e4, 0.49))
+    api("ridges width 0", lambda d: __import__("fingerpad.textures", fromlist=["x"]).ridges(width=0, height=1e-5,
+                                                                                          spacing=1e-4))
+    api("periodize of a list", lambda d: __import__("fingerpad.textures", fromlist=["x"]).periodize([1, 2]))
+    api("finger_param nosuch", lambda d: __import__("fingerpad.finger", fromlist=["x"]).finger_param("nosuch"))
+    api("parse_range reversed", lambda d: __import__("fingerpad.units", fromlist=["x"]).parse_range("2N:1N:3", "force"))
+    api("Study loads nan", lambda d: __import__("fingerpad.study", fromlist=["x"]).Study(
+        texture=__import__("fingerpad.study", fromlist=["x"]).TextureSpec(name="flat", params={"size": "1mm"}),
+        loads=[float("nan")]))
+    api("predict_curve finger None", lambda d: fp.predict_curve([1.0], None, fp.BEMUnitCell(caps(), 1e6)))
+    api("open_sweep of a folder", lambda d: (d / "f").mkdir() or __import__(
+        "fingerpad.design.store", fromlist=["x"]).open_sweep(d / "f"))
+    api("read_toml of a FIFO", lambda d: os.mkfifo(d / "p.toml") or __import__(
+        "fingerpad.io", fromlist=["x"]).read_toml(d / "p.toml"))
     return c
 
 

@@ -229,3 +229,32 @@ def test_csv_dash_is_not_a_file_named_dash(here):
         line = error_line(runner.invoke(app, [*command, "--csv", "-"]))
         assert line == "error: --csv '-': the file name must end in .csv (the format follows it)", line
     assert not (here / "-").exists()
+
+
+def test_a_manifest_given_as_the_sample_table_is_refused(tmp_path):
+    """Found by the bad-input audit: analyse --samples manifest.csv read every sample as flat,
+    its unknown columns ignored; a sample given twice took the last row silently."""
+    from fingerpad.errors import FingerpadError
+    from fingerpad.measure.models import read_textures
+
+    manifest = tmp_path / "manifest.csv"
+    manifest.write_text("file,participant,sample,repetition\nP01_flat_1.csv,P01,flat,1\n")
+    with pytest.raises(FingerpadError, match=r"unknown column\(s\) 'file', 'participant', 'repetition' in a sample "
+                                             r"table \(columns: sample, radius"):
+        read_textures(manifest)
+    twice = tmp_path / "samples.csv"
+    twice.write_text("sample,radius,height,spacing\nbumps,50um,10um,100um\nbumps,60um,10um,100um\n")
+    with pytest.raises(FingerpadError, match=r"row 3: sample 'bumps' is given twice"):
+        read_textures(twice)
+
+
+def test_api_refusals_are_fingerpad_errors():
+    """Found by the bad-input audit: tracebacks of other kinds from the Python API."""
+    from fingerpad.errors import FingerpadError
+    from fingerpad.finger import finger_param
+    from fingerpad.textures import periodize
+
+    with pytest.raises(FingerpadError, match=r"^unknown finger parameter 'nosuch' \(finger parameters: radius, "):
+        finger_param("nosuch")  # was StopIteration
+    with pytest.raises(FingerpadError, match="periodize takes a fingerpad Texture .*got list"):
+        periodize([1, 2])  # was AttributeError
