@@ -258,3 +258,18 @@ def test_api_refusals_are_fingerpad_errors():
         finger_param("nosuch")  # was StopIteration
     with pytest.raises(FingerpadError, match="periodize takes a fingerpad Texture .*got list"):
         periodize([1, 2])  # was AttributeError
+
+
+def test_the_sweep_summary_counts_one_worker_in_the_singular():
+    """Issue 30, item 19: "1 workers"."""
+    import io
+
+    from rich.console import Console
+
+    from fingerpad.cli.sweep import _summary
+    from fingerpad.design.engine import SweepReport, eta
+
+    for n, words in ((1, "1 worker)"), (2, "2 workers)")):
+        out = io.StringIO()
+        _summary(Console(file=out, width=200), SweepReport(points=4, computed=4, seconds=60.0, workers=n), "r.zarr", eta)
+        assert words in out.getvalue().splitlines()[0], out.getvalue()
