@@ -23,6 +23,7 @@ from typing import Annotated, Any
 import typer
 
 from ..errors import FingerpadError, one_line, printable
+from ..extras import require
 from ..units import parse_int, parse_quantity
 from .common import user_errors
 
@@ -147,6 +148,7 @@ def analyse_command(
     Example: fingerpad analyse data/ --reference flat --out results/
     """
     with user_errors(), _measurement_warnings() as shown:
+        require("measure")  # before any file is read: the same line as analyse_study's
         from .. import measure as m
         from ..finger import get_finger
         from ..io import OutputFolder

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError, one_line
+from ..extras import require
 from .evaluate import cell_key, evaluate_chunk, prepare_cell
 from .spec import SweepSpec
 from .store import SweepStore, check_store_path, chunk_slices, pressure_grid
@@ -310,7 +311,10 @@ def run_sweep(
         ``repair`` without a store, a store another sweep is writing
         (:class:`~fingerpad.locks.OutputBusy`), a scheduler that does not answer, a bad
         ``FINGERPAD_FFT`` setting.
+    MissingExtraError
+        Dask or Zarr not installed (the ``sweep`` extra).
     """
+    require("sweep")
     from .. import locks
     from ..contact.greens import check_setup
 
