@@ -179,7 +179,7 @@ def test_an_empty_population_is_named_empty(here, command):
             "design": ["design", study(here), "--vary", "spacing=100um:400um", "--target", "mu_rel=0.5@1N",
                        "--coverage", "0.5"]}[command]
     line = error_line(runner.invoke(app, [*args, "--population", ""]))
-    assert line.startswith("error: --population is empty: name a preset (adults"), line  # it named '.'
+    assert line.startswith("error: --population: empty; name a preset (adults"), line  # it named '.'
 
 
 @pytest.mark.parametrize("value, message", [
@@ -235,7 +235,7 @@ def test_a_manifest_given_as_the_sample_table_is_refused(tmp_path):
     """Found by the bad-input audit: analyse --samples manifest.csv read every sample as flat,
     its unknown columns ignored; a sample given twice took the last row silently."""
     from fingerpad.errors import FingerpadError
-    from fingerpad.measure.models import read_textures
+    from fingerpad.measure.micro_models import read_textures
 
     manifest = tmp_path / "manifest.csv"
     manifest.write_text("file,participant,sample,repetition\nP01_flat_1.csv,P01,flat,1\n")

@@ -115,7 +115,7 @@ def test_every_door_refuses_an_absent_device_of_the_environment(monkeypatch, tmp
     design = ["design", "examples/study.toml", "--vary", "spacing=100um:400um", "--target", "mu_rel=0.5@1N",
               "--evaluations", "2"]
     if door == "api-design":
-        from fingerpad.design.proposal import design_textures
+        from fingerpad.design.inverse_design import design_textures
 
         with pytest.raises(SetupError, match=re.escape(expected)):
             design_textures("examples/study.toml", ["spacing=100um:400um"], ["mu_rel=0.5@1N"], evaluations=2)

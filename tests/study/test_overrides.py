@@ -62,7 +62,7 @@ def test_rigid_material_drops_the_file_poisson():
 
 
 @pytest.mark.parametrize("flags, file, message", [
-    ({"--material-poisson": "0.3"}, {}, "it needs a material modulus (the default material is rigid)"),
+    ({"--material-poisson": "0.3"}, {}, "it needs a material modulus, --material-modulus (the default material is rigid)"),
     ({"--material-poisson": "0.3"}, {"modulus": "rigid"}, "[material] modulus rigid is a rigid material, which has none"),
     ({"--material-poisson": "0.3", "--material-modulus": "inf"}, {},
      "--material-modulus inf is a rigid material, which has none"),

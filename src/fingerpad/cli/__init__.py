@@ -75,9 +75,10 @@ class _OneLineErrors(TyperGroup):
         super().__init__(*args, **kwargs)
         _escape_help(self)
 
-    def _given_twice(self, args: list[str]) -> None:
+    def _given_twice(self, args: list[Any]) -> None:
         """An option that takes one value, given twice (``--grid 16 ... --grid 32``): Click keeps
         the last silently; here it is a usage error, as a contradiction is."""
+        args = [str(a) for a in args]  # Python callers (tests, scripts) may pass paths or numbers
         command = self.commands.get(args[0]) if args else None
         if command is None:
             return

@@ -134,7 +134,11 @@ def apply_flags(
     if tex or texture is not None or surface is not None:
         out["texture"] = tex
 
-    # (--material-poisson without a modulus: study.values.material refuses it, naming the flag)
+    # (--material-poisson without a modulus: study.values.material refuses it, naming the flag
+    # and the modulus as a command line gives it)
+    if flags.get("--material-poisson") is not None and flags.get("--material-modulus") is None and \
+            out.get("material", {}).get("modulus") is None:
+        labels[("material", "modulus")] = "--material-modulus"
     if isinstance(flags.get("--material-modulus"), str) and \
             flags["--material-modulus"].strip().lower() in ("rigid", "inf", "infinity"):
         out.setdefault("material", {}).pop("poisson", None)

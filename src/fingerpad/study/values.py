@@ -110,7 +110,7 @@ def material(modulus: Any, poisson: Any, modulus_name: str, poisson_name: str) -
     if modulus is None or said:
         if poisson is not None:
             why = (f"{modulus_name} {modulus.strip()} is a rigid material, which has none" if said else
-                   "it needs a material modulus (the default material is rigid)")
+                   f"it needs a material modulus, {modulus_name} (the default material is rigid)")
             raise FingerpadError(f"{poisson_name}: a Poisson ratio is given, but {why}")
         return None, None
     from ..materials import MATERIAL_MODULUS, MATERIAL_POISSON
