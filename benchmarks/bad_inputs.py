@@ -362,8 +362,8 @@ def cases() -> list[Case]:
     api("study_from_dict loads a list", lambda d: study_from_dict({"texture": {"name": "flat", "size": "1mm"},
                                                                    "loads": [1]}))
     api("study_from_dict not a dict", lambda d: study_from_dict(["texture"]))
-    api("load_population ''", lambda d: __import__("fingerpad.study.population", fromlist=["x"]).load_population(""))
-    api("design_textures targets []", lambda d: __import__("fingerpad.design.proposal", fromlist=["x"]).design_textures(
+    api("load_population ''", lambda d: __import__("fingerpad.population.sources", fromlist=["x"]).load_population(""))
+    api("design_textures targets []", lambda d: __import__("fingerpad.design.inverse_design", fromlist=["x"]).design_textures(
         {"texture": {"name": "caps", "radius": "50um", "height": "10um", "spacing": "100um"}},
         ["spacing=100um:300um"], []))
     api("sweep_from_dict no sweep", lambda d: __import__("fingerpad.design.spec", fromlist=["x"]).sweep_from_dict(
@@ -426,16 +426,18 @@ def cases() -> list[Case]:
                   fifo="p.toml", limit=20))
     c.append(Case("population folder without participants", ["predict", *CAPS, "--loads", "1N", "--json", "-",
                                                               "--population", "d"], files={"d/x.txt": "x"}))
-    for opt, val in (("--reference", ""), ("--pattern", "nothing"), ("--samples", "missing.csv"),
-                     ("--samples", "sim/manifest.csv"), ("--loads", "1N"), ("--level", "abc"), ("--title", "x" * 100000)):
+    for opt, val in (("--reference", ""), ("--samples", "missing.csv"), ("--samples", "sim/manifest.csv"),
+                     ("--loads", "1N"), ("--level", "abc")):
         cli(f"analyse {opt} (2)", *ANALYSE, opt, val)
-    cli("analyse the same file twice", "analyse", "sim/P01_flat_1.csv", "sim/P01_flat_1.csv", "--reference", "flat",
-        "--out", "res3")
+    cli("analyse a file the pattern does not match", "analyse", "sim/P01_flat_1.csv", "--pattern", "nothing",
+        "--reference", "flat", "--out", "res3")
+    # (not mistakes of the contract's kind, tried and left out: a 100 000-character --title is a
+    # title; the same file given twice is read once; --pattern is unused where a manifest is read)
     for opt, val in (("--friction", "nosuch"), ("--time-limit", "-1"), ("--max-steps", "0"), ("--direction", "abc"),
                      ("--tau0", "-1kPa"), ("--material-poisson", "0.7"), ("--material-modulus", "-1MPa"),
                      ("--skin-modulus", "0")):
         cli(f"deflection {opt} (2)", *deflect, opt, val)
-    for opt, val in (("--texture", "bumps"), ("--participants", "1.5"), ("--strokes", BIG), ("--repetitions", "-1")):
+    for opt, val in (("--texture", "flat"), ("--participants", "1.5"), ("--strokes", BIG), ("--repetitions", "-1")):
         cli(f"simulate-measurement {opt} (2)", "simulate-measurement", "--out", "sim3", opt, val)
     for name, data in {
         "no texture": {"loads": {"range": "1N:2N:3"}}, "texture name empty": {"texture": {"name": ""}},
