@@ -22,6 +22,9 @@ def load_population(source: str | Mapping[str, Any]) -> Population:
     (:func:`~.measured.population_from_results`), or a table."""
     if isinstance(source, Mapping):
         return population_from_table(source)
+    if not isinstance(source, (str, os.PathLike)):  # a Python caller's slip: said, not a TypeError
+        raise FingerpadError(f"population: expected a preset name ({', '.join(POPULATION_PRESETS)}), a file or "
+                             f"folder, a table or a Population; got {type(source).__name__}")
     key = str(source).strip().lower()
     if key in POPULATION_PRESETS:
         return population_from_table(POPULATION_PRESETS[key], where=f"population {key!r}", name=key,
