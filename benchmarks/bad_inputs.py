@@ -466,6 +466,88 @@ def cases() -> list[Case]:
         "fingerpad.design.store", fromlist=["x"]).open_sweep(d / "f"))
     api("read_toml of a FIFO", lambda d: os.mkfifo(d / "p.toml") or __import__(
         "fingerpad.io", fromlist=["x"]).read_toml(d / "p.toml"))
+
+    # ------------------------------------------------ round 3: the population's rules and sources
+    # (after the house's population/ and its attach: a fixed value, an analyse folder tampered
+    # with, the population's flags at every door, the library's calls)
+    def panel(participants: str | bytes, summary: str = '{"study": {}}') -> dict[str, str | bytes]:
+        manifest = json.dumps({"files": ["participants.csv", "summary.json"]})
+        return {"a/.fingerpad-output.json": manifest, "a/participants.csv": participants, "a/summary.json": summary}
+
+    ok_row = "participant,skin_modulus\nP01,300000\n"
+    for name, files in {
+        "E_s inf": panel("participant,skin_modulus\nP01,inf\n"),
+        "E_s text": panel("participant,skin_modulus\nP01,soft\n"),
+        "header only": panel("participant,skin_modulus\n"),
+        "participants UTF-16": panel(ok_row.encode("utf-16")),
+        "participants binary": panel(b"\x00\x01\x02" * 100),
+        "tau0 text": panel("participant,skin_modulus,tau0\nP01,300000,x\n"),
+        "tau0 negative": panel("participant,skin_modulus,tau0\nP01,300000,-5\n"),
+        "tau0 for one only": panel("participant,skin_modulus,tau0\nP01,300000,5000\nP02,350000,\n"),
+        "summary []": panel(ok_row, "[]"),
+        "summary not JSON": panel(ok_row, "{"),
+        "summary 2000 deep": panel(ok_row, "[" * 2000 + "]" * 2000),
+        "manifest not JSON": {**panel(ok_row), "a/.fingerpad-output.json": "{"},
+        "participants a folder": {**panel(ok_row), "a/participants.csv": None},
+    }.items():
+        files = {k: v for k, v in files.items() if v is not None}
+        if name == "participants a folder":
+            files["a/participants.csv/x"] = "x"
+        cli(f"pop3 analyse folder: {name}", *PREDICT, "--population", "a", files=files)
+    study_pop = STUDY + "[finger]\nskin_modulus = \"0.45MPa\"\n"
+    cli("pop3 [finger] skin_modulus with adults", "predict", "s.toml", "--json", "-", "--population", "adults",
+        files={"s.toml": study_pop})
+    cli("pop3 [finger] tau0 with adults (sweep)", "sweep", "s.toml", "--out", "r.zarr", "--population", "adults",
+        files={"s.toml": SWEEP + "[finger]\ntau0 = \"5kPa\"\n"})
+    cli("pop3 [finger] skin_modulus with adults (design)", *DESIGN[:1], "s.toml", *DESIGN[2:], "--population",
+        "adults", "--coverage", "0.5", files={"s.toml": study_pop})
+    cli("pop3 --finger-param radius with adults", *PREDICT, "--finger-param", "radius=9mm", "--population", "adults")
+    cli("pop3 --sensitivity-samples without --sensitivity", *PREDICT, "--population", "adults",
+        "--sensitivity-samples", "8")
+    cli("pop3 --quantiles without a population (sweep)", "sweep", "sweep.toml", "--out", "r.zarr", "--quantiles",
+        "0.5")
+    cli("pop3 --quantile without a population (design)", *DESIGN, "--quantile", "0.1")
+    cli("pop3 --coverage 0 (design)", *DESIGN, "--population", "adults", "--coverage", "0")
+    cli("pop3 --population with a direction", *PREDICT, "--population", "adults", "--direction", "0deg")
+    cli("pop3 study [population] size 20001", "predict", "s.toml", "--json", "-",
+        files={"s.toml": STUDY + "[population]\nsize = 20001\n"})
+    cli("pop3 study [population] not a table", "predict", "s.toml", "--json", "-",
+        files={"s.toml": "population = 3\n" + STUDY})
+    cli("pop3 population file: [population] 5 MB name", *PREDICT, "--population", "p.toml",
+        files={"p.toml": "[population]\nname = \"" + "x" * 5_000_000 + "\"\n"})
+    cli("pop3 population file: correlation 2", *PREDICT, "--population", "p.toml",
+        files={"p.toml": "[population]\nsize = 8\ncorrelations = [[\"radius\", \"modulus\", 2]]\n"
+                         "radius = { values = [\"8mm\", \"9mm\"] }\nmodulus = { values = [\"30kPa\", \"40kPa\"] }\n"})
+    cli("pop3 population file: a bare pressure", *PREDICT, "--population", "p.toml",
+        files={"p.toml": "[population]\ntau0 = { distribution = \"uniform\", low = 1000, high = 5000 }\n"})
+    cli("pop3 explore --population a FIFO", "explore", "--no-browser", "--population", "p.toml", fifo="p.toml",
+        limit=20)
+    cli("pop3 explore --population a bad table", "explore", "--no-browser", "--population", "p.toml",
+        files={"p.toml": "[population]\ntau0 = { distribution = \"beta\" }\n"})
+    from fingerpad.study.spec import DEFAULT_STUDY, study_from_dict
+
+    def nominal(**finger: str):
+        data = json.loads(json.dumps(DEFAULT_STUDY))
+        data["model"], data["loads"] = {"kind": "hertz"}, {"range": "0.1N:4N:3"}
+        data["finger"] = {"preset": "default", **finger}
+        return study_from_dict(data)
+
+    pop_api = __import__("fingerpad.population", fromlist=["x"])
+    api("pop3 run_population E_s fixed, adults", lambda d: pop_api.run_population(nominal(skin_modulus="0.45MPa"),
+                                                                                  "adults"))
+    api("pop3 run_population of a list", lambda d: pop_api.run_population(nominal(), [1, 2]))
+    api("pop3 run_population quantiles 2", lambda d: pop_api.run_population(nominal(), "adults", quantiles=[2]))
+    api("pop3 run_population sensitivity 1e9", lambda d: pop_api.run_population(nominal(), "adults",
+                                                                                 sensitivity=10**9))
+    api("pop3 population_from_table size 1e7", lambda d: pop_api.population_from_table({"size": 10**7}))
+    api("pop3 attach a direction axis", lambda d: pop_api.attach(nominal(), "adults", axes=["direction"]))
+    api("pop3 design_textures E_s fixed, adults", lambda d: __import__(
+        "fingerpad.design.inverse_design", fromlist=["x"]).design_textures(
+        {**json.loads(json.dumps(DEFAULT_STUDY)), "finger": {"skin_modulus": "0.45MPa"}}, ["spacing=100um:200um"],
+        ["mu_rel=0.5@1N"], population="adults", coverage=0.5))
+    c.append(Case("pop3 explore validate: E_s typed, adults chosen (run_preset)", call=lambda d: __import__(
+        "fingerpad.explore.views.population", fromlist=["x"]).run_preset(
+        {**json.loads(json.dumps(DEFAULT_STUDY)), "finger": {"skin_modulus": "0.45MPa"}}, "adults")))
     return c
 
 
