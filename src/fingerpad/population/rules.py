@@ -212,9 +212,10 @@ def _notes(population: Population, study: Study, quantiles: Sequence[float]) -> 
     outer = [q for q in quantiles if min(q, 1 - q) * n < 1]
     if population.measured and n < FEW_MEMBERS and outer:
         shown = ", ".join(f"{100 * q:g} %" for q in outer)
-        notes.append(f"population {population.name!r}: {n} people; the {shown} bands lie beyond what {n} people "
-                     f"show (fewer than one person outside them): they are the range of the panel, not of the "
-                     "population it was drawn from")
+        people = "1 person" if n == 1 else f"{n} people"
+        notes.append(f"population {population.name!r}: {people}; the {shown} bands lie beyond what {people} "
+                     f"{'shows' if n == 1 else 'show'} (fewer than one person outside them): they are the range of "
+                     "the panel, not of the population it was drawn from")
     return notes
 
 

@@ -298,7 +298,7 @@ def check_outputs(out_dir: str | os.PathLike[str] | None, json_path: str | None 
         fio.OutputFolder.check(out_dir, names)
     targets = {}
     for option, path, suffixes in (("--json", json_path, JSON_SUFFIXES), ("--csv", csv_path, CSV_SUFFIXES)):
-        if path is None or path == "-":
+        if path is None or (option == "--json" and path == "-"):  # (--json - is stdout; a CSV is a file)
             continue
         fio.check_writable(path, option, suffixes)
         key = os.path.abspath(path)
