@@ -162,6 +162,8 @@ class BEMUnitCell(InterpolatedCurve):
         self._unit_points: dict[float, dict[str, Any]] = {}
         self._transition: tuple[float, float] | None = None
         self._full: tuple[float, float] | None = None
+        #: State brackets (p / E*) reported instead of the cell's own (:meth:`adopt_states`)
+        self._reported: dict[str, tuple[float, float]] = {}
         self._points: dict[float, dict[str, Any]] | None = None
         self.flat = texture.peak_to_valley <= 0
         self.solves = 0
@@ -206,16 +208,54 @@ class BEMUnitCell(InterpolatedCurve):
                             for q, row in self._unit_points.items()}
         return self._points
 
+    def _bracket(self, name: str, own: bool = False) -> tuple[float, float] | None:
+        """The unit bracket (p / E*) of state ``name``: the adopted one unless ``own``."""
+        if not own and name in self._reported:
+            return self._reported[name]
+        return self._transition if name == "transition" else self._full
+
     @property
     def transition(self) -> tuple[float, float] | None:
-        """Bracket [lo, hi] (Pa) of the transition pressure (``None`` before :meth:`prepare`)."""
-        return None if self._transition is None else (self._transition[0] * self.modulus,
-                                                      self._transition[1] * self.modulus)
+        """Bracket [lo, hi] (Pa) of the transition pressure (``None`` before :meth:`prepare`);
+        the adopted one after :meth:`adopt_states`."""
+        b = self._bracket("transition")
+        return None if b is None else (b[0] * self.modulus, b[1] * self.modulus)
 
     @property
     def full(self) -> tuple[float, float] | None:
-        """Bracket [lo, hi] (Pa) of the full-contact pressure (``None`` before :meth:`prepare`)."""
-        return None if self._full is None else (self._full[0] * self.modulus, self._full[1] * self.modulus)
+        """Bracket [lo, hi] (Pa) of the full-contact pressure (``None`` before :meth:`prepare`);
+        the adopted one after :meth:`adopt_states`."""
+        b = self._bracket("full")
+        return None if b is None else (b[0] * self.modulus, b[1] * self.modulus)
+
+    def adopt_states(self, transition: "BEMUnitCell", full: "BEMUnitCell") -> None:
+        """Report the transition bracket of ``transition`` and the full-contact bracket of
+        ``full`` -- cells of the same texture on the grids chosen for those states
+        (:func:`fingerpad.micro.resolution.choose_state_grids`) -- as this cell's (its zones,
+        critical and full-contact loads). The curve psi(p) stays this cell's own, kinks at its
+        own brackets included (they are within the state's reported error of the adopted ones)."""
+        for name, other in (("transition", transition), ("full", full)):
+            if other.unit_layer != self.unit_layer:
+                raise FingerpadError("adopt_states: a cell of another skin")
+            if other.modulus != self.modulus:
+                raise FingerpadError("adopt_states: a cell at another modulus")
+            bracket = other._bracket(name, own=True)
+            if bracket is None:
+                raise FingerpadError("adopt_states: the other cell is not prepared")
+            if other is self:
+                self._reported.pop(name, None)
+            else:
+                self._reported[name] = tuple(bracket)  # type: ignore[assignment]
+
+    def own_state_pressure(self, name: str) -> float:
+        """This cell's own pressure (Pa) of state ``name`` (``"transition"`` or ``"full"``),
+        whatever it adopted: the geometric middle of its bracket (inf beyond the search cap)."""
+        if self.flat:
+            return 0.0
+        b = self._bracket(name, own=True)
+        if b is None:
+            raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
+        return math.inf if math.isinf(b[1]) else self.modulus * math.sqrt(b[0] * b[1])
 
     def _store(self, new_points: dict[float, dict[str, Any]], **extra: Any) -> None:
         payload: dict[str, Any] = {"points": {repr(p): row for p, row in new_points.items()}, **extra}
@@ -464,9 +504,10 @@ class BEMUnitCell(InterpolatedCurve):
         middle of a bracket of relative width ``rtol``; inf if beyond :data:`STATE_SEARCH_CAP` E*)."""
         if self.flat:
             return 0.0
-        if self._transition is None:
+        b = self._bracket("transition")
+        if b is None:
             raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
-        lo, hi = self._transition
+        lo, hi = b
         return math.inf if math.isinf(hi) else self.modulus * math.sqrt(lo * hi)
 
     @property
@@ -476,9 +517,10 @@ class BEMUnitCell(InterpolatedCurve):
         of a bracket of relative width ``rtol``; inf if beyond :data:`STATE_SEARCH_CAP` E*)."""
         if self.flat:
             return 0.0
-        if self._full is None:
+        b = self._bracket("full")
+        if b is None:
             raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
-        lo, hi = self._full
+        lo, hi = b
         return math.inf if math.isinf(hi) else self.modulus * math.sqrt(lo * hi)
 
     def at_modulus(self, modulus: float) -> "ScaledResponse":
