@@ -113,7 +113,18 @@ class DirectionalCell:
                 max_fraction = 1.0
         self.max_fraction = float(max_fraction)
 
+    #: What the wrapped cell computes from its own psi(p), which this cell's psi replaces: not
+    #: passed on. ``disc_fraction`` is the exact disc average of a BEM cell's interpolated psi;
+    #: passed on, the coupling integrated the undeflected psi and the gain never entered
+    #: (issue 31: ``predict --direction`` gave equal real areas across and along, the friction
+    #: ratio 1.02-1.07 being the hysteresis factor alone). The coupling integrates this cell's
+    #: psi itself (graded quadrature split at the state pressures).
+    NOT_PASSED_ON = frozenset({"disc_fraction", "at_modulus", "for_skin", "interpolation_error", "curve", "points"})
+
     def __getattr__(self, name: str) -> Any:
+        if name.startswith("_") or (name in DirectionalCell.NOT_PASSED_ON and not self.gain.is_identity):
+            # (an identity gain keeps the wrapped cell's psi exactly, and so its exact integrals)
+            raise AttributeError(f"DirectionalCell has no {name!r} (the wrapped cell's would ignore the gain)")
         return getattr(self._cell, name)
 
     def local_shear(self, p: np.ndarray) -> LocalShear:
