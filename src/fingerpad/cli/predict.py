@@ -240,7 +240,8 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
     res = (payload.get("cell") or {}).get("resolution")
     if res and res.get("area_ratio_error") is not None:
         grid = "x".join(str(g) for g in res["grid"])
-        say(console, f"unit cell {grid} px ({res['chosen']}): estimated error of A_re/A_fr "
+        chosen = str(res["chosen"]).split(" (")[0]  # "automatic", "given", "the map's own"
+        say(console, f"unit cell {grid} px ({chosen}): estimated error of A_re/A_fr "
                      f"{100 * res['area_ratio_error']:.2g} %")
 
 
@@ -248,7 +249,8 @@ def _plus_minus(error: Any) -> str:
     """`` ± X %`` for a relative error estimate (nothing when there is none)."""
     if error is None or not isinstance(error, (int, float)) or error != error:
         return ""
-    return " ± inf" if error == float("inf") else f" ± {100 * error:.2g} %"
+    # beyond 100 % the number says only that the grid does not resolve it
+    return " ± >100 %" if error > 1.0 else f" ± {100 * error:.2g} %"
 
 
 def _band(q: Mapping[str, Any], name: str, i: int) -> str:
