@@ -345,6 +345,18 @@ def _resolution_report(choice: Any, study: Study, states: dict[str, Any] | None 
     }
 
 
+def directional_settings(finger: Finger, cell: Any, centre: Any) -> Any:
+    """The deflection settings of ``predict --direction``: the ramps go as far as the coupling
+    needs, past every fixed point (*) at the pad-centre pressures ``centre`` (Pa) for gains up to
+    :data:`~fingerpad.micro.deflection.fixedpoint.GAIN_BOUND`
+    (:func:`~fingerpad.micro.deflection.needed_shear`; issue 31: a ramp to the deflection
+    command's default 1.5 was three times the work for a fixed point of 0.2)."""
+    from ..micro.deflection import DeflectionSettings, needed_shear
+
+    centre = np.asarray(centre, float)
+    return DeflectionSettings(mu_max=needed_shear(centre, cell.contact_fraction(centre), finger.tau0, finger.alpha))
+
+
 def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str],
                          notice: Callable[[str], None] | None = None,
                          on_free_core: Callable[[], None] | None = None) -> dict[str, Any]:
@@ -379,9 +391,10 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
     directions = [float(study.direction), float(parallel), float(perpendicular)]
     # the sections of the three directions (two distinct ones at most) and their pressure levels
     # solved together, in worker processes (issue 23); the numbers do not depend on the count
+    settings = directional_settings(finger, cell, centre)
     gains = dict(zip(names, directional_gains(geometry, materials, directions, p_range, tau0=finger.tau0,
-                                              alpha=finger.alpha, cache=cache_arg, progress=notice,
-                                              on_free_core=on_free_core)))
+                                              alpha=finger.alpha, settings=settings, cache=cache_arg,
+                                              progress=notice, on_free_core=on_free_core)))
 
     def curve_at(name: str) -> tuple[Any, Any, float]:
         gain = gains[name]
