@@ -473,6 +473,12 @@ DIRECTION_REFUSED = (
     "with their --finger-param values (population.members in the JSON)")
 
 
+#: The population's dominant assumption, said wherever its ridge fraction has a spread (issue 31).
+RIDGE_FRACTION_NOTE = ("population: each member's ridge fraction (A_fr/A_g) is one number over every load -- an "
+                       "assumption: the literature gives 10-70 % over loads, changing with load in opposite directions "
+                       "in different studies, and no law per person; it drives much of the spread (--sensitivity)")
+
+
 def run_population(study: Study, population: Population,
                    quantiles: Sequence[float] = DEFAULT_QUANTILES, sensitivity: int | None = None) -> PopulationResult:
     """Predict every member of ``population`` on the study's texture (see the module docstring).
@@ -503,6 +509,8 @@ def run_population(study: Study, population: Population,
     nominal = run_study(study)
     curves, crit, full, states = predict_fingers(nominal, fingers)
     notes = list(population.notes)
+    if "ridge_fraction" in population.distributions and population.distributions["ridge_fraction"].spread:
+        notes.append(RIDGE_FRACTION_NOTE)
     if study.model == "both":
         notes.append("population: the BEM curves only (model both)")
     # Hertz (Eqs. 3.1-3.6) sees a layered skin as the half-space of its layer: a spread of the
