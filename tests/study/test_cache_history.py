@@ -92,7 +92,7 @@ def _study(cache, loads=None):
 
 
 def test_predict_after_a_population_run_is_bit_identical(tmp_path):
-    from fingerpad.study.population import population_from_table, run_population
+    from fingerpad.population import population_from_table, run_population
     from fingerpad.study.run import run_study
 
     with warnings.catch_warnings():

@@ -32,6 +32,9 @@ MODEL_VERSION = 8  # 4: threshold pivoting and re-ordered sums in the Newton sol
 # 7: Newton solves caught in a limit cycle or stagnating fail early (issue 23: some ramps take other steps);
 # 8: fold contact on the nearest closed base segment, its gap continuous (issue 31: ramps pass where the gap jumped);
 #    levels rounded to three significant digits
+#: The publications of the directional friction model (:mod:`fingerpad.references` keys): the
+#: measured direction dependence it explains (the thesis' Paper C), the elliptical hysteresis term.
+REFERENCES = ("sergachev2022", "greenwood1958")
 
 __all__ = ["DeflectionSettings", "EllipsoidGeometry", "GainCurve", "MODEL_VERSION", "PressureRamp", "RidgeGeometry",
            "Section", "SectionMaterials", "as_dataset", "directional_gain", "directional_gains", "section_for", "solve_section",
