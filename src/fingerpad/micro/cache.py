@@ -30,8 +30,10 @@ from filelock import FileLock, Timeout
 
 #: Bump when a solver change alters cached numbers (2: full contact = at most 1 % open; state
 #: brackets searched beyond the asked range; 3: unit cells stored modulus- and length-free,
-#: pressures over E* and lengths over the cell length, keyed without either).
-CACHE_VERSION = 3
+#: pressures over E* and lengths over the cell length, keyed without either; 4: a node's value a
+#: function of its pressure alone -- grid and refinement nodes solved cold, not warm-started from
+#: whichever nodes a run happened to solve -- so that a cached node is what a solve would give).
+CACHE_VERSION = 4
 
 
 class CacheWarning(UserWarning):
