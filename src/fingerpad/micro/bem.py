@@ -100,6 +100,7 @@ def valid_entry(entry: dict[str, Any]) -> bool:
             return False
     return True
 
+
 def _past_asperity(state: str) -> bool:
     """The transition is reached: the skin touches the texture's base level."""
     return state != "asperity"
