@@ -63,7 +63,7 @@ from .greens import FFTOperator, preconditioner, stiffness_operator
 from .interaction import Interaction
 from .result import ContactResult, contact_state
 
-__all__ = ["AdhesiveRun", "adhesive_cg", "solve_adhesive"]
+__all__ = ["AdhesiveRun", "AdhesiveSetup", "adhesive_cg", "adhesive_energy", "solve_adhesive"]
 
 #: Gaps beyond this many ranges carry an attraction below exp(-30) ~ 1e-13 of the peak
 #: (exponential law; the Maugis-Dugdale law has none beyond one range).
@@ -536,7 +536,7 @@ def _result(solver: Any, run: AdhesiveRun, mode: str, value: float, approach: fl
     nx, ny = tex.shape
     sx = run.sx if run.sx is not None else setup.op(run.x)
     if setup.periodic:
-        mean_p = value if mode == "pressure" else -run.multiplier
+        mean_p = value if mode == "pressure" else run.multiplier
         p = sx + setup.sh(solver) + mean_p
         gap = run.x
         g_np = be.to_numpy(gap)
@@ -580,3 +580,21 @@ def _result(solver: Any, run: AdhesiveRun, mode: str, value: float, approach: fl
         tol=solver.tol,
         adhesion=adhesion,
     )
+
+
+def adhesive_energy(solver: Any, gap: np.ndarray, mean_pressure: float) -> float:
+    """The energy an adhesive load-controlled solve of a periodic cell minimises, per unit area
+    (J/m^2, up to a constant): ``(1/n) [1/2 g.S g + (S h).g + p_mean sum g + sum phi(g)]``, the
+    elastic energy of the skin, the work of the mean pressure and the interaction energy, at the
+    gap ``gap`` (m, the cell's grid, ``>= 0``). Its gradient is ``p + phi'(g)`` (module docstring):
+    a converged solution is a local minimum of it over gaps ``>= 0`` (checked by the tests)."""
+    if not solver.texture.periodic or solver.interaction is None:
+        raise FingerpadError("adhesive_energy needs a periodic cell and an interaction")
+    setup = solver._adhesive_setup()
+    be = solver.backend
+    g = be.asarray(gap)
+    sg = setup.op(g)
+    xp = be.xp
+    total = 0.5 * float(xp.sum(g * sg)) + float(xp.sum(setup.sh(solver) * g)) + mean_pressure * float(xp.sum(g)) \
+        + float(xp.sum(solver.interaction.energy(g)))
+    return total / math.prod(solver.texture.shape)
