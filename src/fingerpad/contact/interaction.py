@@ -45,7 +45,7 @@ __all__ = ["COHESIVE_PIXELS", "INTERACTION_LAWS", "Exponential", "Interaction", 
 
 #: Pixels the cohesive zone ``l_c = (pi/4) E* rho^2 / w`` spans at the range :func:`resolved_range`
 #: chooses (docs/model.md, section 6.6: the convergence study behind this number).
-COHESIVE_PIXELS = 2.0
+COHESIVE_PIXELS = 1.0
 
 
 @dataclass(frozen=True)
