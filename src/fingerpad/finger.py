@@ -30,6 +30,7 @@ from .macro import GROSS_MODELS, DzidekArea, GrossAreaModel, HertzArea, PowerLaw
 from .macro._base import PAD_MODULUS, PAD_RADIUS
 from .macro.pressure import disc_average, pad_pressure
 from .contact.interaction import INTERACTION_LAWS
+from .friction import DEFAULT_LAW, FRICTION_LAWS, FrictionLaw, law_of
 from .materials import DEFAULT_SKIN_MODULUS, DEFAULT_SKIN_POISSON, reduced_modulus
 from .meso import (
     RIDGE_MODELS,
@@ -100,6 +101,11 @@ FINGER_PARAMS: tuple[Param, ...] = (
     Param("adhesion_law", "choice", "adhesive interaction law: exponential (smooth) or maugis (Maugis-Dugdale, a "
           "constant attraction within the range)", ADHESION_LAWS[0], ADHESION_LAWS, label="adhesion law",
           symbol="law"),
+    # The friction law (fingerpad.friction: one file per law): the thesis's tau0 + alpha p_re
+    # adhesion plus hysteresis reads tau0, alpha, beta and the pad's radius and modulus.
+    Param("friction_law", "choice", "friction law (fingerpad.friction): thesis = adhesion (tau0 + alpha p) on A_re "
+          "plus hysteresis, Eqs. 2.1-2.4", DEFAULT_LAW, tuple(FRICTION_LAWS), label="friction law",
+          symbol="friction"),
 )
 
 #: The adhesion's fields (omitted from descriptions of a finger without adhesion).
@@ -193,6 +199,9 @@ class Finger:
         limit).
     adhesion_law
         ``"exponential"`` or ``"maugis"`` (Maugis-Dugdale).
+    friction_law
+        The friction law's name (:data:`fingerpad.friction.FRICTION_LAWS`; ``"thesis"``, Eqs.
+        2.1-2.4); :attr:`friction` is the law built from this finger's fields.
     name, description
         Labels.
     """
@@ -215,6 +224,7 @@ class Finger:
     work_of_adhesion: float = 0.0
     adhesion_range: float = ADHESION_RANGE
     adhesion_law: str = ADHESION_LAWS[0]
+    friction_law: str = DEFAULT_LAW
     name: str = "custom"
     description: str = field(default="", compare=False)
 
@@ -400,7 +410,13 @@ class Finger:
                 **{n: getattr(self, n) for n in LAYER_FIELDS if getattr(self, n) is not None}}),
             # the adhesion's keys only with adhesion: a non-adhesive finger's description is as it was
             **({n: getattr(self, n) for n in ADHESION_FIELDS} if self.work_of_adhesion > 0 else {}),
+            **({} if self.friction_law == DEFAULT_LAW else {"friction_law": self.friction_law}),
         }
+
+    @property
+    def friction(self) -> FrictionLaw:
+        """The finger's friction law (:mod:`fingerpad.friction`) built from its fields."""
+        return law_of(self)
 
     @property
     def adhesive(self) -> bool:

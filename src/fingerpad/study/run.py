@@ -435,8 +435,11 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
     directions = [float(study.direction), float(parallel), float(perpendicular)]
     # the sections of the three directions (two distinct ones at most) and their pressure levels
     # solved together, in worker processes (issue 23); the numbers do not depend on the count
-    gains = dict(zip(names, directional_gains(geometry, materials, directions, p_range, tau0=finger.tau0,
-                                              alpha=finger.alpha, cache=cache_arg, progress=notice,
+    # the deflection model's local shear fixed point is written for tau = tau0 + alpha p: the
+    # finger's friction law gives it (a law of another form refuses)
+    tau0, alpha = finger.friction.affine_shear()
+    gains = dict(zip(names, directional_gains(geometry, materials, directions, p_range, tau0=tau0,
+                                              alpha=alpha, cache=cache_arg, progress=notice,
                                               on_free_core=on_free_core)))
 
     def curve_at(name: str) -> tuple[Any, Any, float]:
@@ -446,7 +449,7 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
         # texture keeps the isotropic friction exactly.
         factor = 1.0 if gain.is_identity else geometry_hysteresis_factor(geometry, direction)
         textured = finger.with_overrides(beta=min(1.0, finger.beta * factor))
-        curve = predict_curve(loads, textured, DirectionalCell(cell, gain, finger.tau0, finger.alpha))
+        curve = predict_curve(loads, textured, DirectionalCell(cell, gain, tau0, alpha))
         reference = predict_curve(loads, finger, cell)  # the flat reference is isotropic
         curve = dataclasses.replace(curve, mu_ref=reference.mu_ref, mu_normalised=curve.mu / reference.mu_ref)
         return curve, gain, factor
@@ -467,7 +470,7 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
         g = curves[name][1]
         if g.is_identity:
             return [False] * len(centre)
-        cell_dir = DirectionalCell(cell, g, finger.tau0, finger.alpha)
+        cell_dir = DirectionalCell(cell, g, tau0, alpha)
         return [bool(v) for v in np.asarray(cell_dir.local_shear(np.asarray(centre, float)).saturated)]
 
     saturated = held("direction")
