@@ -6,8 +6,8 @@ from typing import Annotated, Any
 
 import typer
 
-from .common import (DEVICE_HELP, EXIT_INTERRUPTED, device_option, report_interrupt, rich_console, say,
-                     stderr_console, user_errors, warnings_to)
+from .common import (ADHESION_FIELDS, ADHESION_HELP, DEVICE_HELP, EXIT_INTERRUPTED, device_option, report_interrupt,
+                     rich_console, say, stderr_console, user_errors, warnings_to)
 
 _HELP = {
     "--out": "Zarr store of the results (default: the study file's name with .zarr). Rerunning the same sweep "
@@ -24,6 +24,7 @@ _HELP = {
                 "use their own FINGERPAD_DEVICE.",
     "--repair": "Mend a damaged store of this sweep: its unreadable chunks are computed again and its "
                 "metadata rewritten (a damaged store is refused without it).",
+    **{k: v + " Overrides the study file's [finger] value at every point." for k, v in ADHESION_HELP.items()},
 }
 
 
@@ -40,6 +41,12 @@ def sweep_command(
                                                    help=_HELP["--population"])] = None,
     quantiles: Annotated[str | None, typer.Option("--quantiles", metavar="Q,Q,...", help=_HELP["--quantiles"])] = None,
     device: Annotated[str | None, typer.Option("--device", metavar="cpu|cupy|torch", help=_HELP["--device"])] = None,
+    work_of_adhesion: Annotated[str | None, typer.Option("--work-of-adhesion", metavar="W",
+                                                         help=_HELP["--work-of-adhesion"])] = None,
+    adhesion_range: Annotated[str | None, typer.Option("--adhesion-range", metavar="RHO",
+                                                       help=_HELP["--adhesion-range"])] = None,
+    adhesion_law: Annotated[str | None, typer.Option("--adhesion-law", metavar="exponential|maugis",
+                                                     help=_HELP["--adhesion-law"])] = None,
 ) -> None:
     """Sweep texture, material or finger values of a study on Dask; results in a Zarr store.
 
@@ -66,6 +73,15 @@ def sweep_command(
         n = parse_int(workers, "--workers") if workers is not None else None
         with warnings_to(err):
             data = read_sweep_file(study)
+            given = {"--work-of-adhesion": work_of_adhesion, "--adhesion-range": adhesion_range,
+                     "--adhesion-law": adhesion_law}
+            if any(v is not None for v in given.values()):
+                from ..finger import finger_param
+
+                for option, value in given.items():
+                    if value is not None:  # checked by the finger's declaration, named by the option
+                        field = ADHESION_FIELDS[option]
+                        data.setdefault("finger", {})[field] = finger_param(field).parse(value, option)
             pop, levels = _population(population, data.get("population"), quantiles)
             spec = sweep_from_dict(data, population=pop, quantiles=levels)
         store = out if out is not None else str(Path(study).with_suffix(".zarr"))

@@ -558,16 +558,20 @@ def _result(solver: Any, run: AdhesiveRun, mode: str, value: float, approach: fl
         "tensile_fraction": float(np.count_nonzero(p_np < 0)) / p_np.size,
         "contact_tensile_fraction": float(np.count_nonzero(contact & (p_np < 0))) / p_np.size,
     }
-    mean_gap = float(g_np.mean())
+    # a lifted-off skin has no equilibrium: no gap to report
+    mean_gap = math.nan if run.detached else float(g_np.mean())
+    # under load control of a periodic cell the mean pressure is the constraint itself (its
+    # field's mean differs from it by rounding only)
+    mean_pressure = value if (setup.periodic and mode == "pressure") else float(p_np.mean())
     return ContactResult(
         pressure=p_np,
         gap=g_np,
         displacement=disp,
-        mean_pressure=float(p_np.mean()),
+        mean_pressure=mean_pressure,
         approach=float(approach),
         contact_fraction=frac,
         real_contact_area=frac * tex.area,
-        max_pressure=float(p_np.max()),
+        max_pressure=math.nan if run.detached else float(p_np.max()),
         mean_gap=mean_gap,
         iterations=run.iterations,
         residual=run.residual,

@@ -63,7 +63,7 @@ def _with_gap(res: ContactResult, gap: np.ndarray) -> ContactResult:
     return replace(res, gap=gap)
 
 
-__all__ = ["AdhesiveUnitCell", "adhesion_key"]
+__all__ = ["AdhesiveUnitCell", "adhesion_key", "pull_apart"]
 
 #: The loading branch starts its node grid at this fraction of ``w / Lx`` (below, psi is its
 #: zero-load value to within its interpolation error).
@@ -76,6 +76,44 @@ MAX_SEPARATION_SOLVES = 600
 MAX_REFINE = 40
 #: Version of what an adhesive cell stores (part of its key).
 ADHESIVE_CELL_VERSION = 1
+
+
+def pull_apart(solver: HalfSpaceSolver, start: ContactResult, step: float) -> dict[str, Any]:
+    """The skin pulled off ``solver``'s texture from ``start`` (an adhesive solution): its mean gap
+    raised (its approach lowered) by ``step`` (m, in the solver's units) per solve, each from the
+    last, until no pixel touches and the tension has fallen below 1e-3 of the largest met (at
+    most :data:`MAX_SEPARATION_SOLVES` solves, the step doubled every 100 past 200).
+
+    Returns ``pull_off`` (the least mean pressure, <= 0: the pull-off pressure of load control),
+    ``work`` (the area under ``-p`` against the approach: the work of separation per unit area),
+    the tensile branch up to the least pressure (``pressure``, ``contact_fraction``, ``mean_gap``,
+    ``max_pressure``, ``contact_state``), ``let_go`` and ``solves``; in the solver's units."""
+    d = start.approach
+    res = start
+    curve = [(d, start.mean_pressure, start.contact_fraction, start.mean_gap, start.max_pressure,
+              start.contact_state)]
+    least = start.mean_pressure
+    for i in range(MAX_SEPARATION_SOLVES):
+        if i >= 200 and i % 100 == 0:
+            step *= 2.0
+        d -= step
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
+            res = solver.solve_approach(d, initial=res)
+        curve.append((d, res.mean_pressure, res.contact_fraction, res.mean_gap, res.max_pressure, res.contact_state))
+        least = min(least, res.mean_pressure)
+        if res.contact_fraction == 0 and abs(res.mean_pressure) <= 1e-3 * abs(least):
+            break
+    ds = np.array([c[0] for c in curve])
+    ps = np.array([c[1] for c in curve])
+    fr = np.array([c[2] for c in curve])
+    i = int(np.argmin(ps))
+    # the work of separation: int -p d(approach) from the start to the let-go (trapezoids)
+    work = float(np.sum(-0.5 * (ps[1:] + ps[:-1]) * (ds[:-1] - ds[1:])))
+    return {"pull_off": float(min(ps[i], 0.0)), "work": work, "pressure": ps[: i + 1].tolist(),
+            "contact_fraction": fr[: i + 1].tolist(), "mean_gap": [c[3] for c in curve[: i + 1]],
+            "max_pressure": [c[4] for c in curve[: i + 1]], "contact_state": [c[5] for c in curve[: i + 1]],
+            "let_go": bool(fr[-1] == 0), "solves": len(curve) - 1}
 
 
 def adhesion_key(law: str, work: float, range_: float) -> dict[str, Any]:
@@ -315,39 +353,10 @@ class AdhesiveUnitCell:
         return res
 
     def _pull_apart(self, start: ContactResult) -> dict[str, Any]:
-        """The mean gap raised from ``start`` in steps of :data:`SEPARATION_STEP` ranges until the
-        skin has let go: the least mean pressure (the pull-off pressure, units of E*), the work of
-        separation (area under ``-p`` against the approach, units of E* Lx) and the tensile
-        branch (mean pressure and contact fraction up to the least pressure)."""
-        step = SEPARATION_STEP * self.law.range
-        d = start.approach
-        res = start
-        curve = [(d, start.mean_pressure, start.contact_fraction, start.mean_gap, start.max_pressure,
-                  start.contact_state)]
-        least = start.mean_pressure
-        for i in range(MAX_SEPARATION_SOLVES):
-            if i >= 200 and i % 100 == 0:
-                step *= 2.0
-            d -= step
-            with warnings.catch_warnings():
-                warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
-                res = self.solver.solve_approach(d, initial=res)
-            self.solves += 1
-            curve.append((d, res.mean_pressure, res.contact_fraction, res.mean_gap, res.max_pressure,
-                          res.contact_state))
-            least = min(least, res.mean_pressure)
-            if res.contact_fraction == 0 and abs(res.mean_pressure) <= 1e-3 * abs(least):
-                break
-        ds = np.array([c[0] for c in curve])
-        ps = np.array([c[1] for c in curve])
-        fr = np.array([c[2] for c in curve])
-        i = int(np.argmin(ps))
-        # work of separation: int -p d(approach) from the start to let-go (trapezoids)
-        work = float(np.sum(-0.5 * (ps[1:] + ps[:-1]) * (ds[:-1] - ds[1:])))
-        return {"pull_off": float(min(ps[i], 0.0)), "work": work, "pressure": ps[: i + 1].tolist(),
-                "contact_fraction": fr[: i + 1].tolist(), "mean_gap": [c[3] for c in curve[: i + 1]],
-                "max_pressure": [c[4] for c in curve[: i + 1]], "contact_state": [c[5] for c in curve[: i + 1]],
-                "let_go": bool(fr[-1] == 0), "solves": len(curve) - 1}
+        """:func:`pull_apart` of the unit cell from ``start`` (units of E* and Lx)."""
+        out = pull_apart(self.solver, start, SEPARATION_STEP * self.law.range)
+        self.solves += out["solves"]
+        return out
 
     # ---------------------------------------------------------------- reading
 
