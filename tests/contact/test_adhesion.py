@@ -333,3 +333,33 @@ def test_solver_refuses_bad_interaction_and_pressures() -> None:
         HalfSpaceSolver(cell, 4e5).solve_pressure(-1.0)  # non-adhesive: as before
     with pytest.raises(FingerpadError, match="mean pressure must be finite"):
         HalfSpaceSolver(cell, 4e5, interaction=Exponential(0.05, 1e-6)).solve_pressure(math.nan)
+
+
+# --------------------------------------------------------------------------------------------
+# JKR sphere (slow: a fine grid)
+
+
+@pytest.mark.slow
+def test_jkr_sphere_pull_off_and_contact_radius() -> None:
+    """One paraboloid on a finite patch of 224^2 (the doubled grid 448^2), the exponential law at
+    the resolved range (the cohesive zone over COHESIVE_PIXELS pixel, Maugis's lambda 4.6), JKR's
+    pull-off contact radius over 32 pixels: the pull-off force within 3 % of 1.5 pi w R and the
+    contact radius on JKR's a(F) within 3 % at -0.9, 1 and 10 times the pull-off force (measured:
+    +1.6 %, and -0.8, -1.2, +0.0 %)."""
+    from fingerpad.macro.jkr import jkr_contact_radius
+
+    n, radius, e, a_po = 224, 4000.0, 1.0, 32.0
+    w = a_po**3 * 8 * e / (9 * math.pi * radius**2)
+    law = Exponential(w, resolved_range(w, e, 1.0))
+    assert tabor_parameter(w, law.range, e, radius) > 4
+    solver = HalfSpaceSolver(sphere_patch(n, radius), e, interaction=law, tol=1e-7)
+    scale = (math.pi**2 * w**2 * radius / (4 / 3 * e) ** 2) ** (1 / 3)
+    f_po = 1.5 * math.pi * w * radius
+    assert sphere_pull_off(solver, 2.0 * scale) == pytest.approx(f_po, rel=0.03)
+    area = solver.texture.area
+    res = None
+    for ratio in (10.0, 1.0, -0.9):  # the loading branch down: each load from the last
+        res = solver.solve_pressure(ratio * f_po / area, initial=res)
+        assert res.converged
+        a = math.sqrt(res.contact_fraction * area / math.pi)
+        assert a == pytest.approx(float(jkr_contact_radius(ratio * f_po, radius, e, w)), rel=0.03)

@@ -65,9 +65,6 @@ from .result import ContactResult, contact_state
 
 __all__ = ["AdhesiveRun", "AdhesiveSetup", "adhesive_cg", "adhesive_energy", "solve_adhesive"]
 
-#: Gaps beyond this many ranges carry an attraction below exp(-30) ~ 1e-13 of the peak
-#: (exponential law; the Maugis-Dugdale law has none beyond one range).
-_FAR = 30.0
 #: Most evaluations of the slope in one line search.
 _LINE_EVALS = 40
 #: The line search stops at |f'(tau)| <= this fraction of |f'(0)|.
@@ -133,8 +130,7 @@ def adhesive_cg(
     if mean is not None:
         m = float(xp.mean(x))
         x = x * (mean / m) if m > 0 else xp.full(x.shape, mean, dtype=xp.float64)
-    rho = interaction.range
-    far = rho if interaction.name == "maugis" else _FAR * rho
+    far = interaction.reach * _FAR_REACHES  # the attraction beyond: below 1e-17 of its peak
     sx = op(x)
     d = xp.zeros_like(x)
     z_old = None
@@ -143,30 +139,30 @@ def adhesive_cg(
     residual = math.inf
     it = 0
     while True:
-        att = xp.where(on, interaction.traction(x), 0.0)
-        free = (~on) | (x > 0)
-        g_el = sx + e
-        r = g_el + att
+        near = on & (x < far) if patch is not None else x < far
+        r = sx + e
+        r += _masked(xp, near, interaction.traction, x)  # the gradient: traction plus attraction
+        free = x > 0 if patch is None else (~on) | (x > 0)
         if mean is not None:
             nfree = int(xp.count_nonzero(free))
             lam = -float(xp.sum(xp.where(free, r, 0.0))) / max(nfree, 1)
-            r = r + lam
-        bound_r = xp.where(free, 0.0, xp.minimum(r, 0.0))
-        rf = xp.where(free, r, 0.0)
-        residual = math.sqrt(float(xp.sum(rf * rf) + xp.sum(bound_r * bound_r)) / n_patch) / scale
+            r += lam
+        # KKT: zero gradient where free, none pointing into the gap where closed
+        kkt = xp.where(free, r, xp.minimum(r, 0.0))
+        residual = math.sqrt(float(xp.sum(kkt * kkt)) / n_patch) / scale
+        del kkt
         if callback is not None:
             callback(it, residual)
         if residual < tol:
             return AdhesiveRun(x, it, residual, True, lam, sx=sx)
-        if load is not None and load < 0 and mean is None and not bool(xp.any(on & (x <= 0))) \
-                and float(xp.min(xp.where(on, x, math.inf))) > far:
+        if load is not None and load < 0 and mean is None and not bool(xp.any(near)):
             # no contact, no attraction left, a tension applied: the skin has lifted off
             return AdhesiveRun(x, it, residual, False, lam, detached=True, sx=sx)
         if it >= max_iter:
             return AdhesiveRun(x, it, residual, False, lam, sx=sx)
         it += 1
-        release = (~free) & (r < 0)
-        work = free | release
+        work = free | (r < 0)  # free points and closed ones the gradient would open
+        entering = bool(xp.any(work & ~free))
         nwork = int(xp.count_nonzero(work))
         if nwork == 0:
             return AdhesiveRun(x, it, residual, False, lam, sx=sx)
@@ -178,7 +174,6 @@ def adhesive_cg(
         if mean is not None:
             z = xp.where(work, z - float(xp.sum(z)) / nwork, 0.0)
         rz = float(xp.sum(rw * z))
-        entering = bool(xp.any(release))
         beta = 0.0
         if z_old is not None and not entering and rz_old > 0:
             beta = max(0.0, (rz - float(xp.sum(rw * z_old))) / rz_old)  # Polak-Ribiere+
@@ -196,18 +191,46 @@ def adhesive_cg(
         if not dsd > 0:
             return AdhesiveRun(x, it, residual, False, lam, sx=sx)
         cap = _trust(xp, interaction, x, d, on)
-        tau, capped = _line_search(xp, interaction, x, d, on, float(xp.sum(g_el * d)) + lam * float(xp.sum(d)),
-                                   slope0, dsd, cap)
+        # the pixels the interaction can act on within the capped step: the line search's own
+        xa, da = _within_reach(xp, interaction, x, d, on, cap)
+        tau, capped = _line_search(interaction, xa, da, slope0, dsd, cap)
         if capped:
             z_old = None  # a step short of the line's minimum: conjugacy restarts
         x = x + tau * d
-        x = xp.where(on, xp.maximum(x, 0.0), x)
+        x = xp.maximum(x, 0.0) if patch is None else xp.where(on, xp.maximum(x, 0.0), x)
         if mean is not None:
             total = float(xp.mean(x))
             if total > 0:
                 x = x * (mean / total)
         sx = None  # release the old S x before the transform allocates the new one
         sx = op(x)
+
+
+#: Beyond this many reaches a gap feels no attraction worth counting (exponential: 40 ranges,
+#: exp(-40) ~ 4e-18 of the peak; Maugis-Dugdale: exactly none beyond one range).
+_FAR_REACHES = 4.0
+
+
+def _masked(xp: Any, mask: Any, f: Callable[[Any], Any], x: Any) -> Any:
+    """``f(x)`` where ``mask``, 0 elsewhere, evaluating ``f`` on the masked points only (NumPy;
+    other namespaces evaluate it everywhere)."""
+    if isinstance(x, np.ndarray):
+        out = np.zeros_like(x)
+        out[mask] = f(x[mask])
+        return out
+    return xp.where(mask, f(x), 0.0)
+
+
+def _within_reach(xp: Any, law: Interaction, x: Any, d: Any, on: Any, cap: float) -> tuple[Any, Any]:
+    """The gaps and directions (1-D) of the patch's points that are, or can come, within the
+    interaction's reach in a step of at most ``cap``: the only ones whose attraction changes
+    along the step by more than ~1e-4 of its peak (the line search neglects the others' change)."""
+    lowest = x + cap * xp.minimum(d, 0.0) if math.isfinite(cap) else xp.where(d < 0, -math.inf, x)
+    sel = on & (lowest < law.reach) & (d != 0)
+    if isinstance(x, np.ndarray):
+        return x[sel], d[sel]
+    idx = xp.nonzero(xp.reshape(sel, (-1,)))[0]
+    return xp.take(xp.reshape(x, (-1,)), idx), xp.take(xp.reshape(d, (-1,)), idx)
 
 
 def _trust(xp: Any, law: Interaction, x: Any, d: Any, on: Any) -> float:
@@ -220,42 +243,54 @@ def _trust(xp: Any, law: Interaction, x: Any, d: Any, on: Any) -> float:
     nearest equilibrium, the branch a quasi-static load increment reaches."""
     reach = law.reach
     step = TRUST_RANGES * law.range
-    move = xp.abs(d)
-    # room before a gap comes within reach (closing gaps only), then the step inside it
-    room = xp.where((d < 0) & (x > reach), x - reach, 0.0) + step
-    with np.errstate(divide="ignore", invalid="ignore"):
-        limit = xp.where(on & (move > 0), room / xp.where(move > 0, move, 1.0), math.inf)
-    return float(xp.min(limit))
+    inside = on & (x <= reach)
+    # a closing gap outside the reach may first travel to its edge (an opening one is free)
+    closing = on & (x > reach) & (d < 0)
+    if isinstance(x, np.ndarray):
+        moves = d[inside]
+        fastest = float(np.max(np.abs(moves))) if moves.size else 0.0
+        cap = step / fastest if fastest > 0 else math.inf
+        far_x, far_d = x[closing], d[closing]
+        if far_x.size:
+            cap = min(cap, float(np.min((far_x - reach + step) / -far_d)))
+        return cap
+    fastest = float(xp.max(xp.where(inside, xp.abs(d), 0.0)))
+    cap = step / fastest if fastest > 0 else math.inf
+    if bool(xp.any(closing)):
+        room = xp.where(closing, (x - reach + step) / xp.where(closing, -d, 1.0), math.inf)
+        cap = min(cap, float(xp.min(room)))
+    return cap
 
 
 #: Gaps within the interaction's reach move by at most this many ranges per iteration (:func:`_trust`).
 TRUST_RANGES = 4.0
 
 
-def _line_search(xp: Any, law: Interaction, x: Any, d: Any, on: Any, slope_el: float, slope0: float,
-                 dsd: float, cap: float = math.inf) -> tuple[float, bool]:
-    """A step ``tau > 0`` along ``d`` at which the energy's slope ``f'(tau)`` has risen to within
-    :data:`_LINE_TOL` of ``|f'(0)|`` of zero from below, and the energy has fallen.
+def _line_search(law: Interaction, xa: Any, da: Any, slope0: float, dsd: float,
+                 cap: float = math.inf) -> tuple[float, bool]:
+    """A step ``tau > 0`` along the direction at which the energy's slope ``f'(tau)`` has risen to
+    within :data:`_LINE_TOL` of ``|f'(0)|`` of zero from below, and the energy has fallen.
 
-    ``f'(tau) = slope_el + tau d.S d + sum_patch d phi'(x + tau d)`` (the elastic part is a
-    quadratic of known coefficients), ``f'(0) = slope0 < 0``. A Newton step starts it; a
+    ``f'(tau) = f'(0) + tau d.S d + sum d [phi'(x + tau d) - phi'(x)]`` (the elastic part is a
+    quadratic of known coefficients; the sum runs over the points within the interaction's reach,
+    ``xa``, ``da``: :func:`_within_reach`), ``f'(0) = slope0 < 0``. A Newton step starts it; a
     bracket ``f'(lo) < 0 <= f'(hi)`` is then narrowed by regula falsi with the Illinois
     modification (bisection where it stalls). The attraction is bounded, so ``f'`` rises without
     bound: a bracket always exists. The step is at most ``cap`` (:func:`_trust`); the second
     value returned says whether that bound was taken instead of the line's minimum.
     """
-    dp = xp.where(on, d, 0.0)
-    xs = x  # only the patch's values matter (dp is zero elsewhere)
+    t0 = law.traction(xa)
+    e0 = law.energy(xa)
 
     def slope(tau: float) -> float:
-        return slope_el + tau * dsd + float(xp.sum(dp * law.traction(xs + tau * dp)))
+        return slope0 + tau * dsd + float(np.sum(da * (law.traction(xa + tau * da) - t0)))
 
     def drop(tau: float) -> float:
-        # f(tau) - f(0): the quadratic plus the change of the interaction energy on the patch
-        change = xp.where(on, law.energy(xs + tau * dp) - law.energy(xs), 0.0)
-        return tau * slope_el + 0.5 * tau * tau * dsd + float(xp.sum(change))
+        # f(tau) - f(0): the quadratic plus the interaction's change beyond its first order
+        extra = law.energy(xa + tau * da) - e0 - tau * da * t0
+        return tau * slope0 + 0.5 * tau * tau * dsd + float(np.sum(extra))
 
-    curv = dsd + float(xp.sum(dp * dp * law.curvature(xs)))
+    curv = dsd + float(np.sum(da * da * law.curvature(xa)))
     tau = min(-slope0 / (curv if curv > 0.25 * dsd else dsd), cap)
     lo, f_lo = 0.0, slope0
     f_tau = slope(tau)
@@ -270,7 +305,6 @@ def _line_search(xp: Any, law: Interaction, x: Any, d: Any, on: Any, slope_el: f
         f_tau = slope(tau)
         evals += 1
     hi, f_hi = tau, f_tau
-    best = hi
     side = 0
     while evals < _LINE_EVALS and f_hi > -_LINE_TOL * slope0 and abs(f_lo) > _LINE_TOL * abs(slope0):
         t = hi - f_hi * (hi - lo) / (f_hi - f_lo) if f_hi != f_lo else 0.5 * (lo + hi)
