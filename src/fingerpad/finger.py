@@ -477,6 +477,15 @@ FINGER_PRESETS: dict[str, Finger] = {
         skin_substrate_modulus=40e3 * (1 - DEFAULT_SKIN_POISSON**2),
         description="default pad with a layered skin: stratum corneum 0.3 mm, E_1 0.3 MPa on tissue E_2* 40 kPa",
     ),
+    # Adhesion (docs/model.md 6.6): every other preset has none (w = 0). A dry finger's work of
+    # adhesion is at most ~0.24-0.40 J/m^2, an UPPER BOUND from a whole finger's 15 mN pull-off
+    # on smooth epoxy (Spinner et al. 2016, R_fp 8-10 mm; JKR 1.5 pi w R gives 0.32-0.40, DMT
+    # 2 pi w R 0.24-0.30), none measurable on clean glass (Persson et al.); no measured w of skin
+    # on glass or polymers was found. 0.05 J/m^2 is an assumed moderate value inside that bound.
+    "adhesive": _DEFAULT.with_overrides(
+        name="adhesive", work_of_adhesion=0.05,
+        description="default pad with adhesion: w 0.05 J/m2 (assumed; a dry finger's is at most ~0.3-0.4)",
+    ),
 }
 
 

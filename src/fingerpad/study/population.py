@@ -498,6 +498,10 @@ def run_population(study: Study, population: Population,
     levels = tuple(sorted(set(levels)))  # the band runs from the first level to the last
     if study.direction is not None:
         raise FingerpadError(DIRECTION_REFUSED)
+    if study.finger.adhesive or "work_of_adhesion" in population.distributions:
+        from .members import ADHESION_REFUSED
+
+        raise FingerpadError(ADHESION_REFUSED)
     members = population.sample()
     fingers = [member_finger(study.finger, m) for m in members]  # bounds checked before any solve
     nominal = run_study(study)
