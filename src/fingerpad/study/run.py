@@ -537,13 +537,13 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
     study.check()
     tex = study.build_texture()
     if study.direction is not None:
+        if study.finger.adhesive:
+            raise FingerpadError("directional friction (--direction) with a work of adhesion is not modelled: "
+                                 "drop one of them")
         # directional friction needs the family's deflection model: refuse before solving the cell
         from ..micro.deflection import texture_geometry
 
         texture_geometry(tex)
-        if study.finger.adhesive:
-            raise FingerpadError("directional friction (--direction) with a work of adhesion is not modelled: "
-                                 "drop one of them")
     finger = study.finger
     e1 = study.reduced_modulus
     loads = study.loads
