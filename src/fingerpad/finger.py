@@ -91,7 +91,7 @@ FINGER_PARAMS: tuple[Param, ...] = (
     # Adhesion (docs/model.md 6.6, 7.6): the work of adhesion of the skin on the counter-surface
     # where they touch. 0 (the default) is the non-adhesive model, exactly. A dry finger's is at
     # most ~0.3-0.4 J/m^2 (an upper bound from a whole finger's 15 mN pull-off on smooth epoxy,
-    # Spinner et al. 2016), none measurable on clean glass (Persson et al.).
+    # Spinner et al. 2016), none measurable on clean glass (Tiwari, Wang, Persson 2020).
     Param("work_of_adhesion", "surface energy", "work of adhesion w of skin on the texture's material "
           "(0: no adhesion; a dry finger's is at most ~0.3-0.4 J/m2, docs/model.md 6.6)", 0.0, low=0, high=10.0,
           example="0.05J/m2", label="work of adhesion w", symbol="w"),
@@ -480,7 +480,7 @@ FINGER_PRESETS: dict[str, Finger] = {
     # Adhesion (docs/model.md 6.6): every other preset has none (w = 0). A dry finger's work of
     # adhesion is at most ~0.24-0.40 J/m^2, an UPPER BOUND from a whole finger's 15 mN pull-off
     # on smooth epoxy (Spinner et al. 2016, R_fp 8-10 mm; JKR 1.5 pi w R gives 0.32-0.40, DMT
-    # 2 pi w R 0.24-0.30), none measurable on clean glass (Persson et al.); no measured w of skin
+    # 2 pi w R 0.24-0.30), none measurable on clean glass (Tiwari, Wang, Persson 2020); no measured w of skin
     # on glass or polymers was found. 0.05 J/m^2 is an assumed moderate value inside that bound.
     "adhesive": _DEFAULT.with_overrides(
         name="adhesive", work_of_adhesion=0.05,

@@ -602,7 +602,7 @@ def _result(solver: Any, run: AdhesiveRun, mode: str, value: float, approach: fl
         gap=g_np,
         displacement=disp,
         mean_pressure=mean_pressure,
-        approach=float(approach),
+        approach=math.nan if run.detached else float(approach),
         contact_fraction=frac,
         real_contact_area=frac * tex.area,
         max_pressure=math.nan if run.detached else float(p_np.max()),

@@ -28,7 +28,7 @@ __all__ = ["MaterialsSpec", "SolveJob", "SolveOutcome", "build_solve_job", "pars
 
 #: Units of the per-pressure results (CSV headers).
 SUMMARY_UNITS = {"mean_pressure": "Pa", "real_contact_area": "m2", "max_pressure": "Pa", "mean_gap": "m",
-                 "approach": "m", "seconds": "s"}
+                 "approach": "m", "seconds": "s", "work_of_adhesion": "J/m2", "adhesion_range": "m"}
 
 
 def _parse_float(text: str, name: str) -> float:
