@@ -50,6 +50,7 @@ from ..errors import FingerpadError
 from .bem import DEFAULT_RTOL, MAX_PSI_STEP, STATE_SEARCH_CAP
 from .layered_cell import _round, unit_layer
 from .loadcurve import Progress
+from .psi_curve import piecewise_pchip
 from .unit_key import POINTS_PER_DECADE, unit_cell_key, unit_texture
 
 if TYPE_CHECKING:
@@ -196,15 +197,10 @@ class AdhesiveUnitCell:
         layer: Layer | None = None,
         curve_tol: float | None = None,
     ) -> None:
-        from ..materials import check_modulus
-        from .bem import CURVE_TOL
+        from .bem import CURVE_TOL, periodic_cell
         from .cache import CurveCache
 
-        if not texture.periodic:
-            raise FingerpadError("a unit-cell response needs a periodic texture (use --periodic or periodize)")
-        self.texture = texture
-        self.modulus = check_modulus(modulus, "reduced modulus E*")
-        self.length = float(texture.size[0])
+        self.texture, self.modulus, self.length = periodic_cell(texture, modulus)
         w = float(work_of_adhesion)
         if not (math.isfinite(w) and w > 0):
             raise FingerpadError(f"work of adhesion must be a positive number of J/m^2, got {work_of_adhesion!r}")
@@ -410,23 +406,12 @@ class AdhesiveUnitCell:
             raise FingerpadError("adhesive unit cell not prepared: call prepare() first")
 
     def _build(self) -> Any:
-        from scipy.interpolate import PchipInterpolator
-
         ps, psi = self._nodes()
         scale = LOW_NODE * self.law.work
         x = np.arcsinh(ps / scale)  # linear near zero, logarithmic far from it, both signs
         # pieces split at steps of psi that stayed steep (jumps of the branch: linear across)
         cuts = np.flatnonzero(np.diff(psi) > MAX_PSI_STEP)
-        pieces = np.split(np.arange(ps.size), cuts + 1)
-        parts = [(x[i[0]], x[i[-1]], PchipInterpolator(x[i], psi[i])) for i in pieces if i.size >= 2]
-
-        def interp(xq: np.ndarray) -> np.ndarray:
-            out = np.interp(xq, x, psi)
-            for a, b, f in parts:
-                sel = (xq >= a) & (xq <= b)
-                out[sel] = f(xq[sel])
-            return out
-
+        interp = piecewise_pchip(x, psi, np.split(np.arange(ps.size), cuts + 1))
         return interp, scale, ps[0], ps[-1], psi[-1]
 
     def contact_fraction(self, p: "np.ndarray | float") -> np.ndarray:
