@@ -363,3 +363,16 @@ def test_jkr_sphere_pull_off_and_contact_radius() -> None:
         assert res.converged
         a = math.sqrt(res.contact_fraction * area / math.pi)
         assert a == pytest.approx(float(jkr_contact_radius(ratio * f_po, radius, e, w)), rel=0.03)
+
+
+def test_adhesive_solve_on_the_array_api() -> None:
+    # the adhesive iteration written against the Array API: array_api_strict (what a GPU
+    # namespace runs) gives the NumPy solve's contact and pressures
+    xp = pytest.importorskip("array_api_strict")
+    cell = spherical_caps(radius=100e-6, height=20e-6, spacing=175e-6, grid=32)
+    law = Exponential(0.05, resolved_range(0.05, 4e5, cell.spacing[0]))
+    a = HalfSpaceSolver(cell, 4e5, interaction=law).solve_pressure(1e3)
+    b = HalfSpaceSolver(cell, 4e5, interaction=law, xp=xp).solve_pressure(1e3)
+    assert b.converged and a.iterations == b.iterations
+    assert np.array_equal(a.contact, b.contact)
+    assert np.max(np.abs(a.pressure - b.pressure)) < 1e-9 * a.max_pressure

@@ -58,6 +58,10 @@ FINGER_LABELS = {
     "skin_substrate_modulus": "skin substrate modulus E_2",
     "skin_substrate_poisson": "skin substrate Poisson ratio",
     "skin_base": "skin layer base",
+    "work_of_adhesion": "work of adhesion w",
+    "adhesion_range": "adhesion range rho",
+    "adhesion_law": "adhesion law (exponential, maugis)",
+    "friction_law": "friction law",
 }
 
 #: Labels of the other fields: (section, key) -> label.

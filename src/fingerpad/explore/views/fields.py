@@ -22,7 +22,7 @@ from ..inputs import FINGER_LABELS, family_examples, field_label
 __all__ = ["Field", "Form", "css_name"]
 
 MEASURED = "measured map (upload)"
-_DIM_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "none": "-"}
+_DIM_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "none": "-", "surface energy": "J/m2"}
 
 
 def css_name(fid: str) -> str:
