@@ -437,6 +437,20 @@ def _predict_adhesive(f: np.ndarray, finger: Finger, cell: Any, reference: bool,
     )
 
 
+def model_references(finger: Finger, *cells: Any) -> tuple[str, ...]:
+    """The publications of the model a prediction on ``finger`` with the unit cells ``cells``
+    uses (:mod:`fingerpad.references` keys): the finger's pad and ridge models (Eq. 2.5's Hertz
+    pad without one), the friction law, a layered skin's compliance, each cell's model (``None``
+    skipped), an adhesive pad's JKR. The thesis and the package are always among them."""
+    from .macro.hertz import HertzArea
+    from .macro.jkr import JKRArea
+    from .references import keys_of
+
+    adhesive = any(getattr(c, "adhesive", False) for c in cells)
+    return keys_of(finger.gross if finger.gross is not None else HertzArea, finger.ridges, finger.friction,
+                   "fingerpad-layered" if finger.layer is not None else None, JKRArea if adhesive else None, *cells)
+
+
 __all__ = [
     "DEFAULT_LOAD_RANGE",
     "CouplingResult",
@@ -446,6 +460,7 @@ __all__ = [
     "couple",
     "critical_load",
     "disc_ratio",
+    "model_references",
     "local_shear_strength",
     "pad_pressure",
     "predict_curve",

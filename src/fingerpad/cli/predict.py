@@ -339,7 +339,7 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
                 figures["sensitivity.png"] = figure_sensitivity(result.sensitivity)
                 figures["sensitivity.csv"] = result.sensitivity.csv_text()
         paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures, population=result)
-    payload = to_jsonable(prediction_json(pred))
+    payload = to_jsonable(prediction_json(pred, result))
     if result is not None:
         payload["population"] = to_jsonable(result.as_dict())
         pred.notes.extend(result.notes)

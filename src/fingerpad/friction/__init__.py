@@ -60,6 +60,9 @@ discover_laws()
 
 #: The default law (the thesis's).
 DEFAULT_LAW = "thesis"
+#: The publications of the default law (:mod:`fingerpad.references` keys; each law declares its
+#: own as ``REFERENCES``, which the outputs cite through :attr:`fingerpad.finger.Finger.friction`).
+REFERENCES = ("greenwood1958",)
 
 
 def law_of(finger: Any) -> FrictionLaw:
@@ -169,6 +172,7 @@ def normalised_friction(mu_texture: ArrayLike, mu_reference: ArrayLike) -> float
 
 __all__ = [
     "DEFAULT_LAW",
+    "REFERENCES",
     "FRICTION_LAWS",
     "FrictionLaw",
     "LawSpec",

@@ -11,7 +11,7 @@ SI units (m, N, Pa).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -43,6 +43,10 @@ class ThesisFriction:
     radius, modulus
         The pad's R_fp (m) and E_fp* (Pa) of Eq. 2.4.
     """
+
+    #: The publications of the law (:mod:`fingerpad.references` keys): adhesion is the thesis'
+    #: Eqs. 2.1-2.3, the hysteresis term Greenwood-Tabor's, Eq. 2.4.
+    REFERENCES: ClassVar[tuple[str, ...]] = ("greenwood1958",)
 
     tau0: float
     alpha: float

@@ -72,6 +72,8 @@ class JKRArea:
     """
 
     PARAMS: ClassVar[tuple[Param, ...]] = (PAD_RADIUS, PAD_MODULUS, PAD_WORK_OF_ADHESION)
+    #: The publications of this model (:mod:`fingerpad.references` keys).
+    REFERENCES: ClassVar[tuple[str, ...]] = ("johnson1971",)
 
     radius: float
     modulus: float

@@ -218,6 +218,9 @@ class AdhesiveUnitCell:
         resolved = resolved_range(unit_work, 1.0, 1.0 / nx)
         unit_range = _round(max(rho / self.length, resolved))
         self.law = make_interaction(law, unit_work, unit_range)
+        #: The publications of this model (:mod:`fingerpad.references` keys): the solver of its
+        #: nodes, adhesive contact with the gap as the unknown, the JKR limit, the Maugis-Dugdale law.
+        self.REFERENCES = ("polonsky1999", "rey2017", "johnson1971") + (("maugis1992",) if law == "maugis" else ())
         #: The range the solves use (m): ``max(adhesion_range, resolved range)``.
         self.adhesion_range = unit_range * self.length
         self.regularised = unit_range > rho / self.length
