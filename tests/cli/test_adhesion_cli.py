@@ -91,6 +91,18 @@ def test_predict_without_adhesion_is_unchanged(tmp_path) -> None:
     assert "adhesion" not in plain and "adhesive_share" not in plain["results"][0]
 
 
+def test_solve_without_adhesion_is_unchanged() -> None:
+    base = ["solve", *CAPS, *MATERIAL, "--pressure", "1kPa:30kPa:3", "--json", "-"]
+    plain = json.loads(invoke(*base).stdout)
+    zero = json.loads(invoke(*base, "--work-of-adhesion", "0J/m2").stdout)
+    for doc in (plain, zero):
+        doc.pop("timings", None)
+        for row in doc["results"]:
+            row.pop("seconds")
+    assert zero == plain  # the same numbers to the bit, not a key more
+    assert "pull_off_pressure" not in plain and "adhesion" not in plain["results"][0]
+
+
 def test_predict_reports_pull_off_share_and_threshold(tmp_path) -> None:
     base = ["predict", *CAPS, *MATERIAL, "--loads", "0.05N:2N:4", "--model", "bem", "--cache", str(tmp_path)]
     plain = json.loads(invoke(*base, "--json", "-").stdout)

@@ -28,7 +28,7 @@ import numpy as np
 from ..checks import ArrayLike, as_loads, scalar_out
 from ..errors import FingerpadError
 from ._base import FrictionLaw, LawSpec
-from .power_law import PowerLaw, PowerLawFit, fit_power_law
+from .power_law import PowerLaw, PowerLawFit, fit_inputs, fit_power_law
 from .thesis import adhesion_term, hysteresis_term
 
 if TYPE_CHECKING:
@@ -180,6 +180,7 @@ __all__ = [
     "PowerLawFit",
     "adhesion_force",
     "discover_laws",
+    "fit_inputs",
     "fit_power_law",
     "friction_coefficient",
     "friction_force",

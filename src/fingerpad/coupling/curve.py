@@ -20,13 +20,13 @@ from typing import Any
 
 import numpy as np
 
-from .checks import ArrayLike, as_areas, as_loads, scalar_out
-from .errors import FingerpadError
-from .finger import Finger
-from .friction import mu_checked
-from .macro.pressure import disc_average, pad_pressure
-from .micro.hertz import HertzUnitCell
-from .micro.response import (
+from ..checks import ArrayLike, as_areas, as_loads, scalar_out
+from ..errors import FingerpadError
+from ..finger import Finger
+from ..friction import mu_checked
+from ..macro.pressure import disc_average, pad_pressure
+from ..micro.hertz import HertzUnitCell
+from ..micro.response import (
     DEFAULT_LOAD_RANGE,
     RidgeArea,
     UnitCellResponse,
@@ -389,8 +389,8 @@ def _predict_adhesive(f: np.ndarray, finger: Finger, cell: Any, reference: bool,
     adhesion over the ridges, the cell's loading branch under its pressures (Eqs. 3.15-3.18,
     :mod:`fingerpad.micro.adhesive_pad`), the friction law on that real area; the flat reference
     is the same pad adhering with ``(A_fr / A_g) w`` (a flat's work of separation is ``w``)."""
-    from .macro.jkr import JKRArea
-    from .micro.adhesive_pad import adhesion_threshold, adhesive_pad, plain_real_area
+    from ..macro.jkr import JKRArea
+    from ..micro.adhesive_pad import adhesion_threshold, adhesive_pad, plain_real_area
 
     pad = adhesive_pad(finger, cell)
     gross, ridge = pad.areas(f)
@@ -442,9 +442,9 @@ def model_references(finger: Finger, *cells: Any) -> tuple[str, ...]:
     uses (:mod:`fingerpad.references` keys): the finger's pad and ridge models (Eq. 2.5's Hertz
     pad without one), the friction law, a layered skin's compliance, each cell's model (``None``
     skipped), an adhesive pad's JKR. The thesis and the package are always among them."""
-    from .macro.hertz import HertzArea
-    from .macro.jkr import JKRArea
-    from .references import keys_of
+    from ..macro.hertz import HertzArea
+    from ..macro.jkr import JKRArea
+    from ..references import keys_of
 
     adhesive = any(getattr(c, "adhesive", False) for c in cells)
     return keys_of(finger.gross if finger.gross is not None else HertzArea, finger.ridges, finger.friction,
