@@ -376,3 +376,40 @@ def test_adhesive_solve_on_the_array_api() -> None:
     assert b.converged and a.iterations == b.iterations
     assert np.array_equal(a.contact, b.contact)
     assert np.max(np.abs(a.pressure - b.pressure)) < 1e-9 * a.max_pressure
+
+
+# --------------------------------------------------------------------------------------------
+# The layered kernel
+
+
+def test_adhesion_on_the_layered_kernel_spans_its_two_half_spaces() -> None:
+    """The adhesive solve takes the layered skin's stiffness: a layer far thicker than the cell is
+    the layer's half-space, a vanishing one the substrate's (the same contact to the pixel, the
+    same mean gap to the tolerance), and a layer as thick as a cap is high lies between them."""
+    from fingerpad.contact.layered import Layer
+    from fingerpad.materials import reduced_modulus
+
+    cell = spherical_caps(radius=100e-6, height=20e-6, spacing=175e-6, lattice="square", grid=64)
+    e1, nu1, e2, nu2 = 1.2e6, 0.45, 0.12e6, 0.49  # a stiff layer on soft tissue
+    e1s, e2s = reduced_modulus(e1, nu1), reduced_modulus(e2, nu2)
+    law = Exponential(0.05, resolved_range(0.05, e2s, 175e-6 / 64))
+    p = 3e3
+    fractions = {}
+    for name, t, homogeneous in (("thick", 1e3, e1s), ("thin", 1e-12, e2s), ("cap-high", 20e-6, None)):
+        layer = Layer(t, e1, nu1, e2, nu2)
+        res = HalfSpaceSolver(cell, layer.reduced_modulus, layer=layer, tol=1e-9, interaction=law).solve_pressure(p)
+        assert res.converged and res.formulation == "adhesive"
+        fractions[name] = res.contact_fraction
+        if homogeneous is not None:
+            ref = HalfSpaceSolver(cell, homogeneous, tol=1e-9, interaction=law).solve_pressure(p)
+            assert np.array_equal(res.contact, ref.contact), name
+            assert res.mean_gap == pytest.approx(ref.mean_gap, rel=1e-5), name
+    assert fractions["thick"] < fractions["cap-high"] < fractions["thin"]
+    # a finite patch (the doubled grid's padded kernel) likewise, at a given approach
+    tex, law = sphere_patch(64, 1000.0), Exponential(1e-4, 0.05)
+    for t, homogeneous in ((1e9, reduced_modulus(1.0, 0.3)), (1e-12, reduced_modulus(0.1, 0.45))):
+        layer = Layer(t, 1.0, 0.3, 0.1, 0.45)
+        res = HalfSpaceSolver(tex, layer.reduced_modulus, layer=layer, tol=1e-9, interaction=law).solve_approach(0.3)
+        ref = HalfSpaceSolver(tex, homogeneous, tol=1e-9, interaction=law).solve_approach(0.3)
+        assert res.converged and np.array_equal(res.contact, ref.contact)
+        assert res.mean_pressure == pytest.approx(ref.mean_pressure, rel=1e-6)
