@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -142,3 +143,26 @@ def test_sweep_checks_the_adhesion_flags(tmp_path) -> None:
                      '[model]\ngrid = 32\n[sweep]\nspacing = ["150um", "200um"]\n')
     assert "--work-of-adhesion" in one_error(invoke("sweep", str(study), "--work-of-adhesion", "0.1um",
                                                     "--out", str(tmp_path / "r.zarr")))
+
+
+@pytest.mark.slow  # an adhesive cell inside a sweep worker: ~15 s on 2 cores
+def test_sweep_axis_of_the_work_of_adhesion(tmp_path) -> None:
+    pytest.importorskip("zarr")
+    xr = pytest.importorskip("xarray")
+    study = tmp_path / "s.toml"
+    study.write_text('[texture]\nname = "caps"\nradius = "100um"\nheight = "20um"\nspacing = "175um"\n'
+                     'lattice = "hexagonal"\n[material]\nmodulus = "0.5GPa"\npoisson = 0.4\n'
+                     '[model]\nkind = "bem"\ngrid = 32\n[sweep]\nloads = "0.1N:1N:3"\n'
+                     '[sweep.axes]\nwork_of_adhesion = ["0J/m2", "0.05J/m2"]\n')
+    store = tmp_path / "r.zarr"
+    result = invoke("sweep", str(study), "--out", str(store), "--workers", "1")
+    assert result.exit_code == 0, result.output
+    data = xr.open_zarr(store)
+    assert list(data["work_of_adhesion"].values) == [0.0, 0.05]
+    assert data["work_of_adhesion"].attrs["units"] == "J/m2"
+    mu = data["mu"].values
+    assert np.all(np.isfinite(mu)) and np.all(mu[1] > mu[0])  # adhesion raises friction at every load
+    # the w = 0 point is the plain prediction of the same finger and cell
+    plain = json.loads(invoke("predict", *CAPS, *MATERIAL, "--loads", "0.1N:1N:3", "--model", "bem",
+                              "--cache", str(tmp_path / "c"), "--json", "-").stdout)
+    assert mu[0].tolist() == pytest.approx([r["mu"] for r in plain["results"]], rel=1e-12)
