@@ -23,7 +23,7 @@ from .common import guard_choices
 __all__ = ["Field", "Form", "css_name"]
 
 MEASURED = "measured map (upload)"
-_DIM_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "none": "-"}
+_DIM_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "none": "-", "surface energy": "J/m2"}
 
 
 def css_name(fid: str) -> str:
