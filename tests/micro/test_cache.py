@@ -104,4 +104,9 @@ def test_a_damaged_entry_is_said_and_computed_again(tmp_path, content):
     assert len(said) == 1 and said[0].startswith(f"cache entry {str(entry)!r} cannot be read ("), said
     assert said[0].endswith("its unit-cell points are computed again and the entry is written anew")
     assert {k: v.tolist() for k, v in again.curve().items()} == expected  # the same numbers, whatever the cache held
-    assert BEMUnitCell(cell, 1e6, cache=cache).points  # and the entry is whole again
+    import json
+
+    from fingerpad.micro.bem import valid_entry
+
+    whole = json.loads(entry.read_text())  # and the entry is whole again
+    assert valid_entry(whole) and len(whole["points"]) >= len(ref.points)  # every node of the curve, at least
