@@ -194,6 +194,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("coupling", ("coupling",)),
     ("figures", ("plotting",)),
     ("jobs", ("study", "measure")),
+    ("perception", ("perception",)),
     ("design", ("design",)),
     ("explorer", ("explore",)),
     ("command line", ("cli",)),

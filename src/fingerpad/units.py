@@ -35,6 +35,10 @@ UNITS: dict[str, tuple[str, float]] = {
     # angle
     "deg": ("angle", math.pi / 180.0),
     "rad": ("angle", 1.0),
+    # speed (of a finger's stroke)
+    "m/s": ("speed", 1.0),
+    "cm/s": ("speed", 1e-2),
+    "mm/s": ("speed", 1e-3),
 }
 
 
@@ -50,10 +54,10 @@ def _decimal_exponent(factor: float) -> int | None:
 #: either way gives the same numbers, the same cache keys and the same file names.
 _EXPONENT = {unit: _decimal_exponent(factor) for unit, (_, factor) in UNITS.items()}
 
-SI_SYMBOL = {"length": "m", "pressure": "Pa", "force": "N", "angle": "rad"}
+SI_SYMBOL = {"length": "m", "pressure": "Pa", "force": "N", "angle": "rad", "speed": "m/s"}
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
-_QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*([A-Za-zµμ]*)\s*$")
+_QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*([A-Za-zµμ]*(?:/s)?)\s*$")
 
 
 def parse_quantity(text: str | float | int, dimension: str, *, name: str = "value") -> float:
@@ -64,7 +68,8 @@ def parse_quantity(text: str | float | int, dimension: str, *, name: str = "valu
     text
         A number (taken as SI) or a string such as ``"50um"``, ``"0.3 MPa"``, ``"2N"``, ``"1e-3"``.
     dimension
-        One of ``"length"``, ``"pressure"``, ``"force"``, ``"angle"``, or ``"none"``.
+        One of ``"length"``, ``"pressure"``, ``"force"``, ``"angle"``, ``"speed"`` (m/s:
+        ``20mm/s``), or ``"none"``.
     name
         The parameter's name, used in error messages.
 

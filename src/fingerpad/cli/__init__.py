@@ -37,7 +37,7 @@ from typer.core import TyperGroup
 
 from .._version import __version__
 from ..errors import one_line
-from . import deflection, design, explore, fingers, measure, predict, solve, sweep, textures
+from . import compare, deflection, design, explore, fingers, measure, predict, solve, sweep, textures
 from . import common
 from .common import EXIT_INTERRUPTED, EXIT_USER_ERROR, report_interrupt
 
@@ -102,7 +102,7 @@ class _OneLineErrors(TyperGroup):
 
 
 #: The command modules, in the order ``fingerpad --help`` lists their commands.
-_MODULES = (solve, textures, predict, fingers, measure, sweep, design, deflection, explore)
+_MODULES = (solve, textures, predict, compare, fingers, measure, sweep, design, deflection, explore)
 
 
 def _version_callback(value: bool) -> None:
