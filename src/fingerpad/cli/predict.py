@@ -34,7 +34,7 @@ from .solve import _HELP
 
 _SURFACE, _MATERIALS, _FINGER, _LOADS, _NUMERICS, _OUTPUT = "Surface", "Materials", "Finger", "Loads", "Numerics", "Output"
 
-_STUDY, _FINGER = "Study", "Finger"
+_STUDY, _FINGER, _PERCEPTION = "Study", "Finger", "Perception"
 
 _PREDICT_HELP = {
     "--texture": _HELP["--texture"],
@@ -91,6 +91,11 @@ _PREDICT_HELP = {
     "--sensitivity": "With a population: Sobol indices (first-order and total) of mu/mu_ref and the critical load "
                      "per parameter; N (d + 2) more fingers (docs/population.md).",
     "--sensitivity-samples": "Base samples N of the sensitivity design (default 256; a power of two).",
+    "--perception": "Add what a person feels (docs/perception.md): who tells the texture from the flat reference "
+                    "by friction, its vibration frequencies and channels along x and y (or --direction), an "
+                    "amplitude estimate and the roughness regime; JSON 'perception', perception.png.",
+    "--speed": "With --perception: stroke speed(s), one speed or LOW:HIGH, e.g. 20mm/s:100mm/s (the default).",
+    "--weber-fraction": "With --perception: the Weber fraction W of every finger (default 0.11).",
 }
 
 
@@ -276,13 +281,16 @@ def _print_population(payload: Mapping[str, Any]) -> None:
 
 def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path: str | None = None,
                    extra: Mapping[str, Any] | None = None, population: Any = None,
-                   quantiles: Sequence[float] | None = None, sensitivity: int | None = None) -> int:
+                   quantiles: Sequence[float] | None = None, sensitivity: int | None = None,
+                   perception: Mapping[str, Any] | None = None) -> int:
     """Run ``study``, write its outputs (all or none), report. Returns the exit code.
 
     ``out``: the output folder (replaced as a whole), or ``None`` for none; ``extra``: more
     figures for it (name -> callable returning a Figure); ``population``: a
     :class:`~fingerpad.study.population.Population` to predict as well (``quantiles``: its bands;
-    ``sensitivity``: the base samples of its Sobol indices, or ``None``).
+    ``sensitivity``: the base samples of its Sobol indices, or ``None``); ``perception``: the
+    single-texture verdicts against the flat reference
+    (:func:`fingerpad.perception.compare.against_flat`'s ``speeds``, ``directions``, ``weber``).
     """
     import warnings
 
@@ -293,6 +301,8 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
     pop_files = dict.fromkeys(("population.png", *POPULATION_CSV)) if population is not None else {}
     if population is not None and sensitivity is not None:
         pop_files.update({"sensitivity.png": None, "sensitivity.csv": None})
+    if perception is not None:
+        pop_files["perception.png"] = None
     check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {}), *pop_files}))  # before solving
     err = stderr_console()
     with warnings_to(err):
@@ -322,11 +332,23 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
 
                 figures["sensitivity.png"] = figure_sensitivity(result.sensitivity)
                 figures["sensitivity.csv"] = result.sensitivity.csv_text()
-        paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures, population=result)
+        verdicts = None
+        if perception is not None:
+            from ..perception.compare import against_flat
+
+            verdicts = against_flat(pred, result, **perception).as_dict()
+            if out is not None:
+                from ..plotting.perception import figure_comparison
+
+                figures["perception.png"] = figure_comparison(verdicts)
+        paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures, population=result,
+                              sections=None if verdicts is None else {"perception": verdicts})
     payload = to_jsonable(prediction_json(pred))
     if result is not None:
         payload["population"] = to_jsonable(result.as_dict())
         pred.notes.extend(result.notes)
+    if verdicts is not None:
+        payload["perception"] = to_jsonable(verdicts)
     if json_path == "-":
         sys.stdout.write(json_text(payload))
         sys.stdout.flush()
@@ -338,6 +360,10 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
             print_sensitivity(payload["population"]["sensitivity"])
     else:
         _print_prediction(payload)
+    if verdicts is not None and json_path != "-":
+        from .compare import print_comparison
+
+        print_comparison(payload["perception"])
     for note in pred.notes:
         say(err, f"note: {note}")
     cell = payload["cell"]
@@ -397,6 +423,9 @@ def predict(
     sensitivity: Annotated[bool, _popt("--sensitivity", panel=_FINGER)] = False,
     sensitivity_samples: Annotated[str | None, _popt("--sensitivity-samples", panel=_FINGER, metavar="N")] = None,
     device: Annotated[str | None, _popt("--device", panel=_NUMERICS, metavar="cpu|cupy|torch")] = None,
+    perception: Annotated[bool, _popt("--perception", panel=_PERCEPTION)] = False,
+    speed: Annotated[str | None, _popt("--speed", panel=_PERCEPTION, metavar="V|LOW:HIGH")] = None,
+    weber_fraction: Annotated[str | None, _popt("--weber-fraction", panel=_PERCEPTION, metavar="W")] = None,
 ) -> None:
     """Predict contact areas, contact zones and friction of a finger on a texture against load.
 
@@ -432,15 +461,32 @@ def predict(
             pop, levels = _population(population, sections["population"], quantiles)
         _refuse_overridden(pop, flags, finger_param or [])
         samples = sensitivity_samples_asked(sensitivity, sensitivity_samples, pop)
+        verdicts = _perception_options(perception, speed, weber_fraction, study)
         if out is None and json_path != "-":
             out = "out"  # files only where asked: with --json - and no --out, none
         code = run_prediction(study, out, json_path, csv_path, population=pop, quantiles=levels,
-                              sensitivity=samples)
+                              sensitivity=samples, perception=verdicts)
     if code:
         raise typer.Exit(code)
 
 
 
+
+
+def _perception_options(asked: bool, speed: str | None, weber: str | None, study: Any) -> dict[str, Any] | None:
+    """``--perception``'s options, checked before any solve (``--speed`` and ``--weber-fraction``
+    without it are refused); the stroke directions are the study's sliding direction, else 0 and 90."""
+    if not asked:
+        for name, value in (("--speed", speed), ("--weber-fraction", weber)):
+            if value is not None:
+                raise FingerpadError(f"{name} needs --perception")
+        return None
+    from ..perception.compare import DEFAULT_DIRECTIONS, weber_fractions
+    from .compare import parse_speeds
+
+    weber_fractions(weber, 1)
+    directions = DEFAULT_DIRECTIONS if study.direction is None else (float(study.direction),)
+    return {"speeds": parse_speeds(speed), "directions": directions, "weber": weber}
 
 
 def _refuse_overridden(pop: Any, flags: Mapping[str, Any], finger_param: Sequence[str]) -> None:

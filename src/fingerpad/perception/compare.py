@@ -39,7 +39,8 @@ from .vibration import (
 )
 
 __all__ = ["DEFAULT_DIRECTIONS", "DEFAULT_SPEEDS", "FLAT", "MAX_DIRECTIONS", "MAX_SPEEDS", "Comparison", "Surface",
-           "check_directions", "check_speeds", "compare", "surface_verdicts"]
+           "against_flat", "assemble", "check_directions", "check_speeds", "compare", "surface_verdicts",
+           "weber_fractions"]
 
 #: The name of the flat reference as surface B.
 FLAT = "flat"
@@ -370,7 +371,9 @@ def describe_short(pred: Any) -> str:
     return str(tex.name or tex.family or "texture")
 
 
-def _weber_values(weber: Any, size: int) -> np.ndarray:
+def weber_fractions(weber: Any, size: int) -> np.ndarray:
+    """Every member's Weber fraction: ``weber`` (a number or text, checked against
+    :data:`~.discrimination.WEBER_FRACTION`) or its default, for ``size`` members."""
     value = WEBER_FRACTION.default if weber is None else WEBER_FRACTION.check(
         WEBER_FRACTION.parse(weber, "--weber-fraction") if isinstance(weber, str) else float(weber),
         "--weber-fraction")
@@ -421,52 +424,78 @@ def compare(a: Any, b: Any, *, population: Any = None, speeds: Sequence[float] =
     if label_b == label_a:
         label_a, label_b = f"A:{label_a}", f"B:{label_b}"
     say = notice or (lambda text: None)
-    weber_n = None
+    members = population.sample() if population is not None else None
+    w = weber_fractions(weber, 1 if members is None else len(members))  # checked before the predictions
     if population is not None:
         from ..study.population import run_population
 
-        members = population.sample()
-        w = _weber_values(weber, len(members))  # checked before the predictions
         say(f"{label_a}: {len(members)} fingers of {population.name!r}")
         ra = run_population(a, population)
-        pred_a, mu_a = ra.nominal, ra.values("mu")
         notes.extend(ra.notes)
+        pred_a, mu_a = ra.nominal, ra.values("mu")
         if flat_b:
             pred_b, mu_b = None, ra.values("mu_ref")
         else:
             say(f"{label_b}: the same {len(members)} fingers")
             rb = run_population(b_study, population)
             pred_b, mu_b = rb.nominal, rb.values("mu")
-        pop = {"name": population.name, "size": len(members), "seed": population.seed, "method": population.method}
-        weber_n = w
     else:
-        members = None
-        w = _weber_values(weber, 1)
         say(f"{label_a}: the study's finger")
         pred_a = run_study(a)
-        curve = pred_a.primary
-        mu_a = np.asarray(curve.mu, float)[None, :]
+        mu_a = np.asarray(pred_a.primary.mu, float)[None, :]
         if flat_b:
-            pred_b, mu_b = None, np.asarray(curve.mu_ref, float)[None, :]
+            pred_b, mu_b = None, np.asarray(pred_a.primary.mu_ref, float)[None, :]
         else:
             say(f"{label_b}: the study's finger")
             pred_b = run_study(b_study)
             mu_b = np.asarray(pred_b.primary.mu, float)[None, :]
-        pop = None
-        weber_n = w
-    p = p_correct(mu_a, mu_b, weber_n[:, None])
-    surf_a, surf_b = Surface(label_a, pred_a), Surface(label_b, pred_b)
+    return assemble(Surface(label_a, pred_a), Surface(label_b, pred_b), mu_a, mu_b, w, members=members,
+                    population=population, speeds=speeds, directions=directions, notes=notes, notice=say)
+
+
+def against_flat(pred: Any, result: Any = None, *, speeds: Sequence[float] = DEFAULT_SPEEDS,
+                 directions: Sequence[float] = DEFAULT_DIRECTIONS, weber: Any = None) -> Comparison:
+    """The single-texture verdicts of ``predict --perception``: the prediction ``pred`` (and the
+    population's ``result``, :class:`~fingerpad.study.population.PopulationResult`) against the
+    flat reference, from the numbers already predicted (every finger's ``mu`` and ``mu_ref``);
+    only the amplitude estimate solves the cell (once per load)."""
+    speeds = check_speeds(speeds)
+    directions = check_directions(directions)
+    if result is not None:
+        mu_a, mu_b, members, population = result.values("mu"), result.values("mu_ref"), result.members, \
+            result.population
+    else:
+        curve = pred.primary
+        mu_a, mu_b = np.asarray(curve.mu, float)[None, :], np.asarray(curve.mu_ref, float)[None, :]
+        members, population = None, None
+    w = weber_fractions(weber, mu_a.shape[0])
+    return assemble(Surface(_label(pred.study, "texture"), pred), Surface(FLAT, None), mu_a, mu_b, w,
+                    members=members, population=population, speeds=speeds, directions=directions, notes=[])
+
+
+def assemble(a: Surface, b: Surface, mu_a: np.ndarray, mu_b: np.ndarray, weber: np.ndarray, *,
+             members: list[dict[str, float]] | None, population: Any, speeds: tuple[float, ...],
+             directions: tuple[float, ...], notes: list[str],
+             notice: Callable[[str], None] | None = None) -> Comparison:
+    """The :class:`Comparison` of two predicted surfaces: each member's P (Eqs. P.1-P.3) from its
+    friction on both, and each surface's periods, amplitude and roughness regime."""
+    say = notice or (lambda text: None)
+    loads = np.asarray(a.prediction.study.loads, float)
+    p = p_correct(mu_a, mu_b, np.asarray(weber, float)[:, None])
     per: dict[str, list[Periods]] = {}
     amp: dict[str, np.ndarray | None] = {}
     regimes: dict[str, list[dict[str, Any]]] = {}
-    for surface in (surf_a, surf_b):
+    for surface in (a, b):
         if surface.prediction is None:
-            per[surface.label], amp[surface.label] = [], np.zeros(len(a.loads))
-            regimes[surface.label] = [regime(math.inf, "full") for _ in a.loads]
+            per[surface.label], amp[surface.label] = [], np.zeros(loads.size)
+            regimes[surface.label] = [regime(math.inf, "full") for _ in loads]
             continue
         say(f"{surface.label}: vibration amplitude")
         per[surface.label], amp[surface.label], regimes[surface.label] = surface_verdicts(
             surface.prediction, directions, notes)
-    return Comparison(a=surf_a, b=surf_b, loads=np.asarray(a.loads, float), weber=weber_n, mu_a=mu_a, mu_b=mu_b,
-                      p=p, members=members, population=pop, speeds=speeds, directions=directions, periods=per,
-                      amplitude=amp, regimes=regimes, ridge_period=fingerprint_period(a.finger), notes=notes)
+    pop = None if population is None else {"name": population.name, "size": len(members or []),
+                                           "seed": population.seed, "method": population.method}
+    return Comparison(a=a, b=b, loads=loads, weber=np.asarray(weber, float), mu_a=mu_a, mu_b=mu_b, p=p,
+                      members=members, population=pop, speeds=speeds, directions=directions, periods=per,
+                      amplitude=amp, regimes=regimes, ridge_period=fingerprint_period(a.prediction.study.finger),
+                      notes=notes)

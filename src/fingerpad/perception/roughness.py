@@ -60,6 +60,6 @@ def regime(spacing: float, state: str) -> dict[str, Any]:
     elif coarse:
         verdict = f"coarse: roughness {rough}"
     else:
-        verdict = "fine: judged by its vibration"
+        verdict = f"fine: judged by its vibration ({state} contact)"
     return {"scale": "coarse" if coarse else "fine", "cue": cue, "roughness": rough, "felt_smooth": smooth,
             "spacing_m": float(spacing), "state": state, "verdict": verdict}

@@ -42,9 +42,10 @@ def figure_comparison(doc: Mapping[str, Any]) -> Any:
             from matplotlib.ticker import FuncFormatter
 
             ax.set_xscale("log")
-            plain = FuncFormatter(lambda v, _: f"{v:g}")
-            ax.xaxis.set_major_formatter(plain)
-            ax.xaxis.set_minor_formatter(plain if loads.max() / loads.min() < 30 else FuncFormatter(lambda v, _: ""))
+            ax.xaxis.set_minor_formatter(FuncFormatter(lambda v, _: ""))
+            ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+            if loads.size <= 8:  # the loads themselves, not decades
+                ax.set_xticks(loads)
         ax.set_xlabel("normal load F (N)")
     ax_mu.set_ylabel("μ")
     ax_mu.legend(fontsize=8)
@@ -56,7 +57,7 @@ def figure_comparison(doc: Mapping[str, Any]) -> Any:
     ax_p.axhline(0.5, color="0.6", lw=0.8, ls=":")
     ax_p.set_ylim(-0.02, 1.02)
     ax_p.set_ylabel("fraction / probability")
-    ax_p.legend(fontsize=8, loc="best")
+    ax_p.legend(fontsize=8, loc="lower left")
     _vibration_panel(ax_v, doc)
     w = doc["weber_fraction"]
     wtext = f"W = {w['value']:g}" if not w.get("drawn") else f"W {w['min']:.2g}-{w['max']:.2g} (drawn)"

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -341,6 +341,7 @@ def write_outputs(
     extra: dict[str, Any] | None = None,
     dpi: int = 110,
     population: Any = None,
+    sections: Mapping[str, Any] | None = None,
 ) -> list[Path]:
     """Write the outputs of a prediction, all of them or none.
 
@@ -358,6 +359,8 @@ def write_outputs(
         A :class:`~fingerpad.study.population.PopulationResult` of which ``pred`` is the nominal:
         the JSON gets its ``population`` entry, the NetCDF its ``member`` dimension, the folder
         :data:`POPULATION_CSV` (:mod:`.population_tables`).
+    sections
+        More top-level entries of the JSON (``perception`` of ``predict --perception``).
 
     Returns
     -------
@@ -378,6 +381,7 @@ def write_outputs(
     doc = prediction_json(pred)
     if population is not None:
         doc["population"] = to_jsonable(population.as_dict())
+    doc.update(to_jsonable(dict(sections or {})))
     text = json_text(doc)  # members one per line: the pure-Python indenting of 1000 of them was slow
     staging = fio.Staging()
     folder = fio.OutputFolder(out_dir, replaceable) if out_dir is not None else None
