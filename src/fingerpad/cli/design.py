@@ -85,7 +85,9 @@ def design_command(
                                                  "spacing=100um:400um; log-uniform unless LOW is 0.")],
     target: Annotated[list[str], typer.Option("--target", metavar="QUANTITY=VALUE@LOAD",
                                               help="A friction target (repeatable), e.g. mu_rel=0.5@1N; quantities: "
-                                                   "mu_rel, mu, mu_ref, area_ratio.")],
+                                                   "mu_rel, mu, mu_ref, area_ratio; or a perception target "
+                                                   "feels-like=REF@1N or feels-different-from=REF@1N, REF a study "
+                                                   "file or 'flat' (docs/perception.md).")],
     min_critical_load: Annotated[str | None, typer.Option(
         "--min-critical-load", metavar="LOAD", help="Stay in asperity contact up to this load, e.g. 4N.")] = None,
     min_feature: Annotated[str | None, typer.Option(
@@ -113,6 +115,9 @@ def design_command(
     quantile: Annotated[str | None, typer.Option(
         "--quantile", metavar="Q", help="With --population: this quantile of the fingers, in [0, 1], meets the "
                                         "targets, e.g. 0.5 (the median finger).")] = None,
+    weber_fraction: Annotated[str | None, typer.Option(
+        "--weber-fraction", metavar="W", help="With a perception target: the Weber fraction W of every finger "
+                                              "(default 0.11).")] = None,
 ) -> None:
     """Find textures of a family, within bounds, that give a wanted friction (inverse design).
 
@@ -137,7 +142,8 @@ def design_command(
             result = design_textures(study, vary, target, min_critical_load=min_critical_load,
                                      min_feature=min_feature, max_aspect=max_aspect, tolerance=tolerance,
                                      from_sweep=from_sweep, candidates=candidates, evaluations=evaluations,
-                                     progress=bar, population=population, coverage=coverage, quantile=quantile)
+                                     progress=bar, population=population, coverage=coverage, quantile=quantile,
+                                     weber=weber_fraction)
             bar.finish()  # the search may stop inside its --evaluations budget
     if json_path == "-":
         sys.stdout.write(json.dumps(result.document(), indent=2) + "\n")
@@ -154,8 +160,12 @@ def design_command(
 
 
 def _print_candidates(best: list, axes: list, targets: list) -> None:
+    """The candidates of a plain design: each target's value (P, the probability of telling the
+    texture from REF in a forced choice, for a perception target), the critical load, a verdict."""
     from rich import box
     from rich.table import Table
+
+    from ..design.perception_targets import is_perception
 
     table = Table(title="candidates (each a direct prediction), best first", box=box.SIMPLE_HEAD)
     for a in axes:
@@ -166,7 +176,8 @@ def _print_candidates(best: list, axes: list, targets: list) -> None:
         table.add_column(col, justify="right")
     for c in best:
         table.add_row(*[f"{a.display(c.params[a.name]):.4g}" for a in axes],
-                      *[f"{c.values.get(str(t), float('nan')):.4g}" for t in targets],
+                      *[("P " if is_perception(t) else "") + f"{c.values.get(str(t), float('nan')):.4g}"
+                        for t in targets],
                       f"{c.critical_load:.3g}", "yes" if c.meets else "no: " + "; ".join(c.violations or ["off target"]))
     stdout_console(120).print(table)
 
@@ -198,6 +209,9 @@ def _print_population_candidates(result: Any) -> None:
             continue
         cells = []
         for t in problem.targets:
+            if str(t) in pop.get("perception", {}):  # the fraction that tells it from REF
+                cells.append(f"{100 * pop['perception'][str(t)]['fraction_telling_apart']:.3g} % tell apart")
+                continue
             qs = pop["quantiles"][str(t)]
             cells.append(f"{qs[level]:.3g} [{qs['0.05']:.3g}-{qs['0.95']:.3g}]")
         verdict = "yes" if c.meets else "no: " + "; ".join(c.violations or ["off target"])

@@ -22,6 +22,7 @@ from ..errors import FingerpadError
 from ..study.population import Population
 from .axes import Axis
 from .inverse import XATOL, Candidate, DesignProblem, Target, parse_target, predict_candidate, rank_sweep, search
+from .perception_targets import PerceptionTarget, is_perception
 from .robust import PopulationGoal, population_candidate, population_goal, screen_candidate
 
 __all__ = ["DesignResult", "design_textures", "free_axes", "merge_close"]
@@ -85,7 +86,8 @@ class DesignResult:
             return None
         if self.goal is not None:
             return None if self.met else _population_shortfall(self.problem, self.goal, self.candidates)
-        what = ", ".join(f"{k} = {v:.3g}" for k, v in best.values.items()) if best else "nothing valid"
+        what = ", ".join(f"{k} = {'P ' if k in self.problem.references else ''}{v:.3g}"
+                         for k, v in best.values.items()) if best else "nothing valid"
         if best is not None and best.violations:
             what += f" ({'; '.join(best.violations)})"
         return (f"no texture in the box meets the target within {100 * self.problem.tolerance:g} %; "
@@ -194,6 +196,7 @@ def design_textures(
     population: str | Mapping[str, Any] | Population | None = None,
     coverage: str | float | None = None,
     quantile: str | float | None = None,
+    weber: str | float | None = None,
 ) -> DesignResult:
     """Find textures of the study's family, within bounds, that give a wanted friction.
 
@@ -234,6 +237,9 @@ def design_textures(
     quantile
         With ``population``: the quantile, in [0, 1], of the members' values that must meet the
         targets (0.5: the median finger); excludes ``coverage``.
+    weber
+        The Weber fraction W of every finger for perception targets (``feels-like=REF@LOAD``,
+        ``feels-different-from=REF@LOAD``; default 0.11, :mod:`fingerpad.perception`).
 
     Returns
     -------
@@ -266,9 +272,12 @@ def design_textures(
         name = "study" if isinstance(study, Mapping) else os.path.splitext(os.path.basename(study))[0]
         population = population_from_table(table, where="[population]", name=name)
     goal = population_goal(population, coverage, quantile)
-    parsed = [t if isinstance(t, Target) else parse_target(t) for t in targets]
+    parsed = [t if isinstance(t, (Target, PerceptionTarget)) else parse_target(t) for t in targets]
     if not parsed:
         raise FingerpadError("give at least one --target QUANTITY=VALUE@LOAD")
+    from .perception_targets import check_goal, reference_friction
+
+    check_goal(parsed, goal, from_sweep)
     n_cand = parse_int(candidates, "--candidates")
     n_eval = parse_int(evaluations, "--evaluations")
     if n_eval > MAX_EVALUATIONS:
@@ -280,6 +289,17 @@ def design_textures(
         max_aspect=_number(max_aspect, "none", "--max-aspect"),
         tolerance=parse_quantity(tolerance, "none", name="--tolerance"),
     )
+    if weber is not None and not any(is_perception(t) for t in parsed):
+        raise FingerpadError("--weber-fraction needs a perception target (feels-like=REF@LOAD or "
+                             "feels-different-from=REF@LOAD)")
+    if any(is_perception(t) for t in parsed):
+        from ..perception.compare import weber_fractions
+
+        size = 1 if goal is None else len(goal.population.sample())
+        problem.weber = weber_fractions(weber, size)
+        # REF predicted once, directly, on the same fingers; every candidate is compared with it
+        problem.references = reference_friction(parsed, data, None if goal is None else goal.population,
+                                                problem.weber)
     curve_loads = parse_range(DEFAULT_SWEEP_LOADS, "force", log=True)
     screen = None if goal is None else screen_candidate(problem, _checked_goal(goal, base, axes))
     if from_sweep is not None:
