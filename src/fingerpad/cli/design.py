@@ -34,6 +34,14 @@ def design_map_command(
         help="Draw the population the sweep ran (fingerpad sweep --population NAME|FILE, the same one): median "
              "colour, critical loads of the 10/50/90 % fingers, the region in asperity contact over the range "
              "for >= 90 % of fingers.")] = None,
+    tell_apart: Annotated[str | None, typer.Option(
+        "--tell-apart", metavar="REF", help="Contours of who tells each texture from REF at --at by friction: "
+                                            "'flat' or a study file; with --population the 10/50/90 % fractions "
+                                            "of fingers (flat only), else the study's finger's P = 0.75 "
+                                            "(docs/perception.md).")] = None,
+    weber_fraction: Annotated[str | None, typer.Option(
+        "--weber-fraction", metavar="W", help="With --tell-apart (no population): the finger's Weber fraction "
+                                              "(default 0.11).")] = None,
 ) -> None:
     """Draw the design map of a sweep: critical-load contours, mu/mu_ref, contact-state regions.
 
@@ -65,7 +73,9 @@ def design_map_command(
             ds = open_sweep(store).load()
             if population is not None:
                 check_store_population(ds, store, population)
-            data = map_data(ds, x, y, at=at_v, select=sel, quantity=quantity, population=population is not None)
+            tell = _tell_apart(ds, tell_apart, weber_fraction, at_v, population is not None)
+            data = map_data(ds, x, y, at=at_v, select=sel, quantity=quantity, population=population is not None,
+                            tell_apart=tell)
             fig = figure_design_map(data)
         with fio.OutputFolder(out, MAP_FILES) as folder:  # errors name the user's path
             fig.savefig(folder.path("design_map.png"), format="png", dpi=120)
@@ -74,6 +84,31 @@ def design_map_command(
             data.to_dataframe().reset_index().to_csv(folder.path("design_map.csv"), index=False)
             folder.commit()
         say(err, "wrote " + ", ".join(str(folder.final_path(n)) for n in MAP_FILES))
+
+
+def _tell_apart(ds: Any, reference: str | None, weber: str | None, at: float | None,
+                population: bool) -> dict[str, Any] | None:
+    """``--tell-apart REF``'s settings for :func:`fingerpad.design.designmap.map_data` (REF's
+    friction at the map's load predicted directly for a study file)."""
+    if reference is None:
+        if weber is not None:
+            raise FingerpadError("--weber-fraction needs --tell-apart")
+        return None
+    from ..perception.compare import weber_fractions
+
+    w = None if weber is None else float(weber_fractions(weber, 1)[0])
+    if reference.strip().lower() == "flat":
+        return {"reference": "flat", "mu": None, "weber": w}
+    from pathlib import Path
+
+    if not Path(reference).is_file():
+        raise FingerpadError(f"--tell-apart {reference!r}: neither 'flat' nor a study file")
+    if population:
+        return {"reference": Path(reference).stem, "mu": None, "weber": w}  # map_data refuses it, in one place
+    from ..design.designmap import default_at, reference_friction
+
+    at_v = at if at is not None else default_at(ds["load"].values)
+    return {"reference": Path(reference).stem, "mu": reference_friction(ds, reference, at_v), "weber": w}
 
 
 def design_command(

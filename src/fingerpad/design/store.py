@@ -29,7 +29,9 @@ from .._version import __version__
 from ..errors import FingerpadError
 from .evaluate import STATE_CODES
 from .spec import SweepSpec
+from ..perception.discrimination import WEBER_FRACTION
 from .store_population import (
+    POP_FRACTION_VARS,
     POP_LOAD_VARS,
     POP_QUANTILE_VARS,
     POPULATION_LAYOUT,
@@ -143,7 +145,8 @@ class SweepStore:
         if spec.population is not None:
             attrs.update({"fingerpad_sweep_population": POPULATION_LAYOUT,
                           "population": json.dumps(spec.population_description()),
-                          "population_name": spec.population.name, "population_size": spec.population.size})
+                          "population_name": spec.population.name, "population_size": spec.population.size,
+                          "weber_fraction": WEBER_FRACTION.default})
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
     def encoding(self) -> dict[str, Any]:
@@ -162,6 +165,7 @@ class SweepStore:
             for name in POP_QUANTILE_VARS:
                 enc[name] = {"chunks": (*lead, nq)}
             enc["state_probability"] = {"chunks": (*lead, len(STATE_CODES), spec.loads.size)}
+            enc.update({name: {"chunks": (*lead, spec.loads.size)} for name in POP_FRACTION_VARS})
             enc["asperity_over_range"] = {"chunks": lead}
         return enc
 
@@ -263,6 +267,7 @@ class SweepStore:
             block.update({n: np.full((*shape, nq, nl), np.nan) for n in POP_LOAD_VARS})
             block.update({n: np.full((*shape, nq), np.nan) for n in POP_QUANTILE_VARS})
             block["state_probability"] = np.full((*shape, len(STATE_CODES), nl), np.nan)
+            block.update({n: np.full((*shape, nl), np.nan) for n in POP_FRACTION_VARS})
             block["asperity_over_range"] = np.full(shape, np.nan)
         done = np.zeros(shape, bool)
         for index, res in results:
@@ -275,7 +280,8 @@ class SweepStore:
             block["converged"][local] = res["converged"]
             block["reason"][local] = str(res["reason"])[:200]
             if pop:
-                for name in (*POP_LOAD_VARS, *POP_QUANTILE_VARS, "state_probability", "asperity_over_range"):
+                for name in (*POP_LOAD_VARS, *POP_QUANTILE_VARS, *POP_FRACTION_VARS, "state_probability",
+                             "asperity_over_range"):
                     block[name][local] = res[name]
             done[local] = True
         for name, values in block.items():
@@ -289,7 +295,7 @@ class SweepStore:
 
 #: The variables a sweep computes (the others are its inputs: axis values, loads, pressures).
 _RESULT_VARS = {*_FLOAT_VARS, *_LOAD_VARS, "contact_state", "psi", "valid", "converged", "reason", "done",
-                *POP_LOAD_VARS, *POP_QUANTILE_VARS, "state_probability", "asperity_over_range"}
+                *POP_LOAD_VARS, *POP_QUANTILE_VARS, *POP_FRACTION_VARS, "state_probability", "asperity_over_range"}
 
 
 @dataclass
