@@ -35,34 +35,6 @@ _HELP = {
 }
 
 
-def parse_speeds(text: str | None) -> tuple[float, ...]:
-    """``--speed``: one speed, ``LOW:HIGH`` or ``START:STOP:COUNT`` (m/s; unit suffixes)."""
-    from ..perception.compare import DEFAULT_SPEEDS, MAX_SPEEDS, check_speeds
-    from ..units import parse_positive, parse_range
-
-    if text is None:
-        return DEFAULT_SPEEDS
-    parts = str(text).split(":")
-    if len(parts) == 2:
-        values = [parse_positive(p, "speed", name="--speed") for p in parts]
-    else:
-        values = parse_range(text, "speed", name="--speed", max_count=MAX_SPEEDS)
-    return check_speeds(values)
-
-
-def parse_directions(text: str | None) -> tuple[float, ...]:
-    """``--directions 0,90``: angles in degrees (or with ``deg``/``rad``)."""
-    from ..params import parse_angle
-    from ..perception.compare import DEFAULT_DIRECTIONS, check_directions
-
-    if text is None:
-        return DEFAULT_DIRECTIONS
-    items = [t for t in str(text).split(",")]
-    if any(not t.strip() for t in items):
-        raise FingerpadError(f"--directions: expected angles separated by commas, got {text!r}")
-    return check_directions([math.degrees(parse_angle(t, "--directions")) for t in items])
-
-
 def compare_command(
     a: Annotated[str, typer.Argument(metavar="A.toml", show_default=False, help="The study of surface A (its "
                                      "texture, material, finger and loads).")],
@@ -90,7 +62,7 @@ def compare_command(
     --loads 0.5N --loads 1N --loads 2N
     """
     from .. import io as fio
-    from ..perception.compare import compare
+    from ..perception.compare import compare, parse_directions, parse_speeds
     from .predict import _population, build_study
 
     with user_errors():

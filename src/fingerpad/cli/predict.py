@@ -481,8 +481,7 @@ def _perception_options(asked: bool, speed: str | None, weber: str | None, study
             if value is not None:
                 raise FingerpadError(f"{name} needs --perception")
         return None
-    from ..perception.compare import DEFAULT_DIRECTIONS, weber_fractions
-    from .compare import parse_speeds
+    from ..perception.compare import DEFAULT_DIRECTIONS, parse_speeds, weber_fractions
 
     weber_fractions(weber, 1)
     directions = DEFAULT_DIRECTIONS if study.direction is None else (float(study.direction),)

@@ -39,8 +39,8 @@ from .vibration import (
 )
 
 __all__ = ["DEFAULT_DIRECTIONS", "DEFAULT_SPEEDS", "FLAT", "MAX_DIRECTIONS", "MAX_SPEEDS", "Comparison", "Surface",
-           "against_flat", "assemble", "check_directions", "check_speeds", "compare", "surface_verdicts",
-           "weber_fractions"]
+           "against_flat", "assemble", "check_directions", "check_speeds", "compare", "parse_directions",
+           "parse_speeds", "surface_verdicts", "weber_fractions"]
 
 #: The name of the flat reference as surface B.
 FLAT = "flat"
@@ -71,6 +71,35 @@ def check_directions(directions: Sequence[float]) -> tuple[float, ...]:
     if not all(math.isfinite(v) for v in values):
         raise FingerpadError(f"--directions: directions must be finite angles, got {list(directions)}")
     return values
+
+
+def parse_speeds(text: str | None) -> tuple[float, ...]:
+    """Stroke speeds from text (``--speed``, the explorer's field): one speed, ``LOW:HIGH`` (the
+    two ends of a band) or ``START:STOP:COUNT``, m/s with unit suffixes (``20mm/s:100mm/s``);
+    ``None``: :data:`DEFAULT_SPEEDS`."""
+    from ..units import parse_positive, parse_range
+
+    if text is None:
+        return DEFAULT_SPEEDS
+    parts = str(text).split(":")
+    if len(parts) == 2:
+        values = [parse_positive(p, "speed", name="--speed") for p in parts]
+    else:
+        values = parse_range(text, "speed", name="--speed", max_count=MAX_SPEEDS)
+    return check_speeds(values)
+
+
+def parse_directions(text: str | None) -> tuple[float, ...]:
+    """Stroke directions from text (``--directions 0,90``): angles in degrees, or with ``deg`` or
+    ``rad``; ``None``: :data:`DEFAULT_DIRECTIONS`."""
+    from ..params import parse_angle
+
+    if text is None:
+        return DEFAULT_DIRECTIONS
+    items = str(text).split(",")
+    if any(not t.strip() for t in items):
+        raise FingerpadError(f"--directions: expected angles separated by commas, got {text!r}")
+    return check_directions([math.degrees(parse_angle(t, "--directions")) for t in items])
 
 
 @dataclass
@@ -340,11 +369,12 @@ def _spacing(per: Sequence[Periods]) -> float:
     return min(finite) if finite else math.inf
 
 
-def surface_verdicts(pred: Any, directions: Sequence[float], notes: list[str]) -> tuple[
+def surface_verdicts(pred: Any, directions: Sequence[float], notes: list[str], amplitudes: bool = True) -> tuple[
         list[Periods], np.ndarray | None, list[dict[str, Any]]]:
     """One surface's periods along ``directions``, its amplitude estimate per load (m p-p; the
-    unit cell solved at the mean ridge pressure ``F / A_fr`` of the nominal finger) and its
-    roughness regime per load; for a measured map, no periods and no amplitude (a note says so)."""
+    unit cell solved at the mean ridge pressure ``F / A_fr`` of the nominal finger; ``None``
+    without ``amplitudes``) and its roughness regime per load; for a measured map, no periods and
+    no amplitude (a note says so)."""
     states = pred.states()
     surface = Surface("", pred)
     if surface.flat:
@@ -358,6 +388,8 @@ def surface_verdicts(pred: Any, directions: Sequence[float], notes: list[str]) -
     # the spacing of the roughness verdicts: the shortest period along the cell's own axes
     axes = [periods(tex, d) for d in (0.0, 90.0)]
     spacing = _spacing(axes)
+    if not amplitudes:
+        return per, None, [regime(spacing, s) for s in states]
     study = pred.study
     loads = np.asarray(study.loads, float)
     pressures = loads / np.asarray(study.finger.ridge_area(loads), float)
@@ -454,11 +486,13 @@ def compare(a: Any, b: Any, *, population: Any = None, speeds: Sequence[float] =
 
 
 def against_flat(pred: Any, result: Any = None, *, speeds: Sequence[float] = DEFAULT_SPEEDS,
-                 directions: Sequence[float] = DEFAULT_DIRECTIONS, weber: Any = None) -> Comparison:
+                 directions: Sequence[float] = DEFAULT_DIRECTIONS, weber: Any = None,
+                 amplitudes: bool = True) -> Comparison:
     """The single-texture verdicts of ``predict --perception``: the prediction ``pred`` (and the
     population's ``result``, :class:`~fingerpad.study.population.PopulationResult`) against the
     flat reference, from the numbers already predicted (every finger's ``mu`` and ``mu_ref``);
-    only the amplitude estimate solves the cell (once per load)."""
+    only the amplitude estimate solves the cell (once per load; ``amplitudes=False``: none, the
+    explorer's quick view)."""
     speeds = check_speeds(speeds)
     directions = check_directions(directions)
     if result is not None:
@@ -470,13 +504,14 @@ def against_flat(pred: Any, result: Any = None, *, speeds: Sequence[float] = DEF
         members, population = None, None
     w = weber_fractions(weber, mu_a.shape[0])
     return assemble(Surface(_label(pred.study, "texture"), pred), Surface(FLAT, None), mu_a, mu_b, w,
-                    members=members, population=population, speeds=speeds, directions=directions, notes=[])
+                    members=members, population=population, speeds=speeds, directions=directions, notes=[],
+                    amplitudes=amplitudes)
 
 
 def assemble(a: Surface, b: Surface, mu_a: np.ndarray, mu_b: np.ndarray, weber: np.ndarray, *,
              members: list[dict[str, float]] | None, population: Any, speeds: tuple[float, ...],
              directions: tuple[float, ...], notes: list[str],
-             notice: Callable[[str], None] | None = None) -> Comparison:
+             notice: Callable[[str], None] | None = None, amplitudes: bool = True) -> Comparison:
     """The :class:`Comparison` of two predicted surfaces: each member's P (Eqs. P.1-P.3) from its
     friction on both, and each surface's periods, amplitude and roughness regime."""
     say = notice or (lambda text: None)
@@ -492,7 +527,7 @@ def assemble(a: Surface, b: Surface, mu_a: np.ndarray, mu_b: np.ndarray, weber: 
             continue
         say(f"{surface.label}: vibration amplitude")
         per[surface.label], amp[surface.label], regimes[surface.label] = surface_verdicts(
-            surface.prediction, directions, notes)
+            surface.prediction, directions, notes, amplitudes)
     pop = None if population is None else {"name": population.name, "size": len(members or []),
                                            "seed": population.seed, "method": population.method}
     return Comparison(a=a, b=b, loads=loads, weber=np.asarray(weber, float), mu_a=mu_a, mu_b=mu_b, p=p,

@@ -114,6 +114,7 @@ class PopulationPanel:
         if name == NONE:
             self.panel.visible = False
             self.result = None
+            self._changed()
             return
         self.panel.visible = True
         if name not in population_choices(self.extra):  # a forged choice: nothing is read, the choice is reset
@@ -188,3 +189,10 @@ class PopulationPanel:
         notes = "; ".join(result.notes)
         self._say(f"population {result.population.name}: the study shown, {len(result.members)} fingers"
                   + (f" ({notes})" if notes else ""), "fp-population-done")
+        self._changed()
+
+    def _changed(self) -> None:
+        """The view's perception section follows the population shown (issue 32)."""
+        perception = getattr(self.view, "perception", None)
+        if perception is not None:
+            perception.update()

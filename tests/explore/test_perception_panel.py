@@ -1,0 +1,57 @@
+"""The explorer's perception section (issue 32): the numbers of ``against_flat`` on the design shown,
+the library's messages for bad fields."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+pytest.importorskip("panel")
+
+from .test_inplace import _drain  # noqa: E402
+
+
+def test_the_section_shows_the_library_numbers(tmp_path):
+    import asyncio
+    import threading
+
+    from fingerpad.explore.app import ExplorerApp, ServerState
+    from fingerpad.perception.compare import against_flat
+
+    async def main() -> None:
+        app = ExplorerApp(ServerState(upload_dir=str(tmp_path)))
+        view = app.single
+        {f.fid: f for f in view.form.all_fields()}["model.kind"].widget.value = "hertz"
+        await _drain()
+        body = view.perception.body.object
+        assert view.pred is not None and "fp-perception-table" in body
+        want = against_flat(view.pred, speeds=(0.02, 0.1), weber=0.11, amplitudes=False)
+        # the forced-choice P of every load, in the table's data-value attributes
+        shown = [float(v) for v in re.findall(r'data-key="p" data-value="([^"]+)"', body)]
+        np.testing.assert_array_equal(shown, want.summary()["p_correct_median"])
+        # f = v / lambda along x of the hexagonal caps (spacing 175 um) at 20 mm/s
+        f = float(re.search(r'data-key="perception_f_0_1_20" data-value="([^"]+)"', body).group(1))
+        assert f == pytest.approx(0.02 / 175e-6)
+        view.perception.speed.value = "50mm/s"
+        await _drain()
+        assert 'data-key="perception_f_0_1_50"' in view.perception.body.object
+        view.perception.weber.value = "0"
+        await _drain()
+        assert "Weber fraction" in view.perception.message.object and "fp-error" in view.perception.message.object
+
+    errors: list[BaseException] = []
+
+    def run() -> None:
+        try:
+            asyncio.run(main())
+        except BaseException as exc:  # noqa: BLE001 -- reported below, in the test's thread
+            errors.append(exc)
+
+    worker = threading.Thread(target=run)
+    worker.start()
+    worker.join(300)
+    assert not worker.is_alive()
+    if errors:
+        raise errors[0]
