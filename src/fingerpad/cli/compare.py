@@ -148,8 +148,7 @@ def print_comparison(doc: Mapping[str, Any]) -> None:
     w = doc["weber_fraction"]
     wtext = f"W = {w['value']:g}" if not w["drawn"] else f"W {w['min']:.2g}-{w['max']:.2g}"
     who = f"{pop['size']} fingers of {pop['name']!r}" if pop else "the study's finger"
-    band = "; μ: median [5-95 %]" if many else ""
-    table = Table(title=f"{a} against {b}: {who}, {wtext}{band}", box=box.SIMPLE_HEAD, pad_edge=False)
+    table = Table(title=f"{a} against {b}: {who}, {wtext}", box=box.SIMPLE_HEAD, pad_edge=False)
     for col in ("load N", f"μ {a}", f"μ {b}", "tell apart", "median P"):
         table.add_column(col, justify="right", overflow="fold")
     fraction, median = doc["discrimination"]["fraction"], doc["discrimination"]["p_correct_median"]
@@ -157,8 +156,9 @@ def print_comparison(doc: Mapping[str, Any]) -> None:
         table.add_row(f"{float(load):.3g}", _mu_cell(doc["mu"][a], i, many), _mu_cell(doc["mu"][b], i, many),
                       f"{100 * fraction[key]:.3g} %", f"{median[key]:.3f}")
     console.print(table)
-    say_wrapped(console, "tell apart: the fraction of fingers choosing right in at least 75 % of forced choices "
-                         "by friction alone (docs/perception.md)")
+    say_wrapped(console, ("μ: median [5-95 %] over the fingers; " if many else "")
+                + "tell apart: the fraction of fingers choosing right in at least 75 % of forced choices by "
+                  "friction alone (docs/perception.md)")
     speeds = doc["speeds"]
     span = f"{1e3 * min(speeds):g}-{1e3 * max(speeds):g} mm/s" if len(speeds) > 1 else f"{1e3 * speeds[0]:g} mm/s"
     groups: dict[tuple[str, float, int], list[dict[str, Any]]] = {}
@@ -183,10 +183,25 @@ def print_comparison(doc: Mapping[str, Any]) -> None:
             say_wrapped(console, f"{label} amplitude estimate at {'/'.join(loads)} N: "
                                  f"{'/'.join(f'{1e6 * float(v):.3g}' for v in amp)} µm p-p (threshold 0.1 µm "
                                  "near 250 Hz, flat below 40 Hz)")
-        verdicts = [r["verdict"] for r in doc["roughness"][label]]
-        shown = verdicts[0] if len(set(verdicts)) == 1 else "; ".join(f"{f} N {v}" for f, v in zip(loads, verdicts,
-                                                                                                 strict=True))
-        say_wrapped(console, f"{label} roughness: {shown}")
+        say_wrapped(console, f"{label} roughness: {roughness_text(doc['roughness'][label], loads)}")
+
+
+def roughness_text(regimes: Sequence[Mapping[str, Any]], loads: Sequence[str]) -> str:
+    """The roughness regimes of one surface over the loads in one sentence: its scale and cue
+    once, then where the roughness stands (coarse) or the centre's contact state (fine), the
+    loads of each listed together."""
+    first = regimes[0]
+    if first.get("scale") in (None, "flat"):
+        return str(first["verdict"])
+    key = "roughness" if first["scale"] == "coarse" else "state"
+    groups: dict[str, list[str]] = {}
+    for f, r in zip(loads, regimes, strict=True):
+        groups.setdefault(str(r[key]), []).append(f)
+    where = "; ".join(f"{v} at {', '.join(fs)} N" for v, fs in groups.items())
+    head = ("coarse, judged by skin intrusion; roughness " if key == "roughness" else
+            "fine, judged by its vibration; pad centre in ")
+    tail = "; spacing below 160 µm: felt smooth" if first.get("felt_smooth") else ""
+    return head + where.replace(" at ", " contact at " if key == "state" else " at ") + tail
 
 
 def register(app: typer.Typer) -> None:

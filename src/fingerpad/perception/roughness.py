@@ -5,7 +5,7 @@
   vibration they excite, weighted by the Pacinian channel (Hollins and Bensmaia 2007; Bensmaia and
   Hollins 2005).
 * For shallow textures the felt roughness rises with the skin's intrusion and peaks where the
-  skin first touches the texture's floor (Drewing et al. 2016, 2018): the package's *transition*
+  skin first touches the texture's floor (Drewing 2016, 2018): the package's *transition*
   state at the pad centre (:func:`fingerpad.study.run.centre_state`). Below it (asperity contact)
   roughness is still rising, past full contact the skin follows the texture.
 * Spacings below 160 um were felt smooth (Massimiani et al., thesis ch. 1.3 and 2.1):
@@ -29,7 +29,7 @@ DUPLEX_PERIOD = 200e-6
 #: Spacings below this were felt smooth (Massimiani et al.), m.
 SMOOTH_SPACING = 160e-6
 
-#: The felt roughness against the contact state at the pad centre (Drewing et al.).
+#: The felt roughness against the contact state at the pad centre (Drewing 2016, 2018).
 STATE_ROUGHNESS = {
     "asperity": "rising (skin on the tops)",
     "transition": "near its peak (skin reaches the floor)",
