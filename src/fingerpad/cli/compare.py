@@ -13,7 +13,6 @@ from typing import Annotated, Any
 
 import typer
 
-from ..errors import FingerpadError
 from .common import ProgressBar, say, say_wrapped, stderr_console, stdout_console, user_errors, warnings_to
 
 #: The files of a compare folder (replaced as a whole).
@@ -202,6 +201,22 @@ def roughness_text(regimes: Sequence[Mapping[str, Any]], loads: Sequence[str]) -
             "fine, judged by its vibration; pad centre in ")
     tail = "; spacing below 160 µm: felt smooth" if first.get("felt_smooth") else ""
     return head + where.replace(" at ", " contact at " if key == "state" else " at ") + tail
+
+
+def perception_options(asked: bool, speed: str | None, weber: str | None, study: Any) -> dict[str, Any] | None:
+    """``--perception``'s options, checked before any solve (``--speed`` and ``--weber-fraction``
+    without it are refused); the stroke directions are the study's sliding direction, else 0 and 90."""
+    if not asked:
+        for name, value in (("--speed", speed), ("--weber-fraction", weber)):
+            if value is not None:
+                raise FingerpadError(f"{name} needs --perception")
+        return None
+    from ..errors import FingerpadError
+    from ..perception.compare import DEFAULT_DIRECTIONS, parse_speeds, weber_fractions
+
+    weber_fractions(weber, 1)
+    directions = DEFAULT_DIRECTIONS if study.direction is None else (float(study.direction),)
+    return {"speeds": parse_speeds(speed), "directions": directions, "weber": weber}
 
 
 def register(app: typer.Typer) -> None:

@@ -30,6 +30,7 @@ from .common import (
     warnings_to,
 )
 from ._sensitivity import sensitivity_samples_asked
+from .compare import perception_options
 from .solve import _HELP
 
 _SURFACE, _MATERIALS, _FINGER, _LOADS, _NUMERICS, _OUTPUT = "Surface", "Materials", "Finger", "Loads", "Numerics", "Output"
@@ -461,7 +462,7 @@ def predict(
             pop, levels = _population(population, sections["population"], quantiles)
         _refuse_overridden(pop, flags, finger_param or [])
         samples = sensitivity_samples_asked(sensitivity, sensitivity_samples, pop)
-        verdicts = _perception_options(perception, speed, weber_fraction, study)
+        verdicts = perception_options(perception, speed, weber_fraction, study)
         if out is None and json_path != "-":
             out = "out"  # files only where asked: with --json - and no --out, none
         code = run_prediction(study, out, json_path, csv_path, population=pop, quantiles=levels,
@@ -471,21 +472,6 @@ def predict(
 
 
 
-
-
-def _perception_options(asked: bool, speed: str | None, weber: str | None, study: Any) -> dict[str, Any] | None:
-    """``--perception``'s options, checked before any solve (``--speed`` and ``--weber-fraction``
-    without it are refused); the stroke directions are the study's sliding direction, else 0 and 90."""
-    if not asked:
-        for name, value in (("--speed", speed), ("--weber-fraction", weber)):
-            if value is not None:
-                raise FingerpadError(f"{name} needs --perception")
-        return None
-    from ..perception.compare import DEFAULT_DIRECTIONS, parse_speeds, weber_fractions
-
-    weber_fractions(weber, 1)
-    directions = DEFAULT_DIRECTIONS if study.direction is None else (float(study.direction),)
-    return {"speeds": parse_speeds(speed), "directions": directions, "weber": weber}
 
 
 def _refuse_overridden(pop: Any, flags: Mapping[str, Any], finger_param: Sequence[str]) -> None:

@@ -18,9 +18,10 @@ import lazy_loader
 
 __getattr__, __dir__, __all__ = lazy_loader.attach(
     __name__,
-    submodules=["compare", "discrimination", "roughness", "vibration"],
+    submodules=["compare", "discrimination", "result", "roughness", "vibration"],
     submod_attrs={
-        "compare": ["Comparison", "compare"],
+        "compare": ["compare"],
+        "result": ["Comparison"],
         "discrimination": ["WEBER_FRACTION", "p_correct"],
     },
 )
