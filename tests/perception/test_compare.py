@@ -121,3 +121,32 @@ def test_cli_bad_inputs_one_line(tmp_path, cache, args, fragment):
     lines = [line for line in res.stderr.splitlines() if line.strip()]
     assert len(lines) == 1 and lines[0].startswith("error: ") and fragment in lines[0], res.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_speeds_take_units():
+    from fingerpad.perception.compare import parse_directions, parse_speeds
+    from fingerpad.units import parse_quantity
+
+    assert parse_quantity("20mm/s", "speed") == 0.02 and parse_quantity("0.1m/s", "speed") == 0.1
+    assert parse_speeds("20mm/s:100mm/s") == (0.02, 0.1)
+    assert parse_speeds("50mm/s") == (0.05,)
+    assert parse_speeds("10mm/s:50mm/s:5") == pytest.approx((0.01, 0.02, 0.03, 0.04, 0.05))
+    assert parse_directions("0,90deg") == (0.0, 90.0)
+    with pytest.raises(Exception, match="16 allowed"):
+        parse_speeds("10mm/s:50mm/s:17")
+
+
+def test_predict_perception_cli(cache, tmp_path):
+    study = tmp_path / "s.toml"
+    _write(study, _study("175um", cache))
+    res = runner.invoke(app, ["predict", str(study), "--perception", "--speed", "50mm/s", "--json", "-"])
+    assert res.exit_code == 0, res.stderr
+    doc = json.loads(res.stdout)
+    perc = doc["perception"]
+    assert perc["b"]["label"] == "flat" and perc["speeds"] == [0.05]
+    mu = np.array([r["mu"] for r in doc["results"]])
+    mu_ref = np.array([r["mu_ref"] for r in doc["results"]])
+    p = np.array(perc["members"]["p_correct"], float)
+    assert np.array_equal(p[0], p_correct(mu, mu_ref, 0.11))  # the study's finger against its own mu_ref
+    res = runner.invoke(app, ["predict", str(study), "--speed", "50mm/s", "--json", "-"])
+    assert res.exit_code == 2 and "--speed needs --perception" in res.stderr

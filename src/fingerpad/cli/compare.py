@@ -206,12 +206,13 @@ def roughness_text(regimes: Sequence[Mapping[str, Any]], loads: Sequence[str]) -
 def perception_options(asked: bool, speed: str | None, weber: str | None, study: Any) -> dict[str, Any] | None:
     """``--perception``'s options, checked before any solve (``--speed`` and ``--weber-fraction``
     without it are refused); the stroke directions are the study's sliding direction, else 0 and 90."""
+    from ..errors import FingerpadError
+
     if not asked:
         for name, value in (("--speed", speed), ("--weber-fraction", weber)):
             if value is not None:
                 raise FingerpadError(f"{name} needs --perception")
         return None
-    from ..errors import FingerpadError
     from ..perception.compare import DEFAULT_DIRECTIONS, parse_speeds, weber_fractions
 
     weber_fractions(weber, 1)
