@@ -11,7 +11,9 @@ reference mu/mu_ref at a chosen load, and the contact-state region over the expl
 
 Literature markers (docs/model.md, design map): textures with a spacing below 160 um are felt
 smooth; the fingerprint ridge wavelength is 0.4-0.5 mm (the finger filters it out); ridges of
-33.5 um and more bring interlocking, dominant from 105 um.
+33.5 um and more bring interlocking, dominant from 105 um; a spacing of v / 250 Hz (200 um at
+50 mm/s) is felt at the Pacinian optimum (docs/perception.md). With ``tell_apart``, who tells
+each texture from a reference surface (:func:`map_data`).
 """
 
 from __future__ import annotations
