@@ -232,12 +232,14 @@ def against_flat(pred: Any, result: Any = None, *, speeds: Sequence[float] = DEF
                  amplitudes: bool = True) -> Comparison:
     """The single-texture verdicts of ``predict --perception``: the prediction ``pred`` (and the
     population's ``result``, :class:`~fingerpad.study.population.PopulationResult`) against the
-    flat reference, from the numbers already predicted (every finger's ``mu`` and ``mu_ref``);
+    flat reference, from the numbers already predicted (every finger's ``mu`` and ``mu_ref``; with
+    ``result``, its nominal prediction stands for ``pred``);
     only the amplitude estimate solves the cell (once per load; ``amplitudes=False``: none, the
     explorer's quick view)."""
     speeds = check_speeds(speeds)
     directions = check_directions(directions)
-    if result is not None:
+    if result is not None:  # the population's own nominal prediction: the same loads as its members
+        pred = result.nominal
         mu_a, mu_b, members, population = result.values("mu"), result.values("mu_ref"), result.members, \
             result.population
     else:

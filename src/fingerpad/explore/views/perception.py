@@ -18,14 +18,18 @@ import math
 from typing import Any
 
 import lazy_loader
+import numpy as np
 
 pn = lazy_loader.load("panel")
 
 from ...errors import FingerpadError, one_line
+from ..inputs import data_key
 from .common import html_table, num_span
 
 __all__ = ["PerceptionPanel"]
 
+#: Loads shown in the section's table (spread over the range).
+ROWS = 8
 #: The library's option names in its messages -> the fields of this section.
 _FIELDS = {"--weber-fraction": "Weber fraction W", "--speed": "stroke speeds"}
 
@@ -72,9 +76,11 @@ class PerceptionPanel:
             self.result = None
             self.body.object = "<div style='font-size:12px;color:#555'>shown once the design has a prediction</div>"
             return
-        pop = getattr(self.view.population, "result", None)
-        if pop is not None and pop.nominal is not pred:
-            pop = None  # the population of another design
+        shown = getattr(self.view.population, "result_key", None)
+        data = self.view.shown_data
+        # the population's fingers only when they are those of the design shown (not the last one's)
+        pop = self.view.population.result if shown is not None and data is not None and \
+            shown[0] == data_key(data) else None
         self.result = result = against_flat(pred, pop, speeds=speeds, weber=weber, amplitudes=False)
         self.body.object = _html(result.as_dict(), result)
 
@@ -85,7 +91,10 @@ def _html(doc: dict[str, Any], result: Any) -> str:
     many = result.p.shape[0] > 1
     rows = []
     s = result.summary()
-    for i, load in enumerate(doc["loads"]):
+    n = len(doc["loads"])
+    # at most ROWS loads, spread over the range (every load: predict --perception)
+    for i in sorted({int(round(j)) for j in np.linspace(0, n - 1, min(n, ROWS))}):
+        load = doc["loads"][i]
         row = {"load": float(load), "mu": float(result.mu_a[:, i].mean() if not many else doc["mu"][a]["0.5"][i]),
                "mu_flat": float(doc["mu"]["flat"]["0.5"][i]), "tell": float(s["fraction"][i]),
                "p": float(s["p_correct_median"][i]), "roughness": doc["roughness"][a][i]["verdict"]}
@@ -94,8 +103,9 @@ def _html(doc: dict[str, Any], result: Any) -> str:
     columns = [("load", "load (N)"), ("mu", "μ (median)" if many else "μ"), ("mu_flat", "μ flat"),
                ("tell", "fraction telling it from flat" if many else "tells it from flat (1 = yes)"),
                ("p", "median P" if many else "P (forced choice)"), ("roughness", "roughness")]
+    some = f"; {len(rows)} of the {n} loads" if len(rows) < n else ""
     parts = [f"<div style='font-size:12px;margin-bottom:4px'>against the flat reference, {html.escape(who)}, "
-             f"W = {num_span('perception_weber', float(result.weber[0]))}</div>",
+             f"W = {num_span('perception_weber', float(result.weber[0]))}{some}</div>",
              html_table(columns, rows, "fp-perception-table")]
     lines = []
     for e in doc["vibration"]:

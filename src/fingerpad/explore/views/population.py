@@ -95,6 +95,8 @@ class PopulationPanel:
         self.summary = pn.pane.HTML("", css_classes=["fp-population-summary"], sizing_mode="stretch_width")
         self.cards = {k: PlotCard(k, height=330) for k in _KEYS}
         self.result: Any = None
+        #: (the design's data key, the population's name) of :attr:`result`
+        self.result_key: tuple[str, str] | None = None
         self._token: object | None = None
         self.inputs = pn.Column(self.choice, self.message, self.help, sizing_mode="stretch_width")
         self.panel = pn.Column(
@@ -113,7 +115,7 @@ class PopulationPanel:
         self._token = token = object()
         if name == NONE:
             self.panel.visible = False
-            self.result = None
+            self.result = self.result_key = None
             self._changed()
             return
         self.panel.visible = True
@@ -131,7 +133,7 @@ class PopulationPanel:
         key = (data_key(data), name)
         hit = self.cache.get_key(key)
         if hit is not None:
-            self._show(hit)
+            self._show(hit, key)
             return
         self._say(f"population {name}: computing its fingers...", "fp-population-running")
         pn.state.execute(partial(self._compute, token, key, data, name))  # a coroutine function: awaited
@@ -159,18 +161,18 @@ class PopulationPanel:
                 self._clear()
                 self._say(f"population {name}: {self.view._words(error)}", "fp-population-error", "#b00020")
             elif result is not None:
-                self._show(result)
+                self._show(result, key)
 
         self.view._locked(apply)
 
     def _clear(self) -> None:
-        self.result = None
+        self.result = self.result_key = None
         self.summary.object = ""
         for card in self.cards.values():
             card.set(None)
 
-    def _show(self, result: Any) -> None:
-        self.result = result
+    def _show(self, result: Any, key: tuple[str, str] | None = None) -> None:
+        self.result, self.result_key = result, key
         set_cards((card, spec, None) for card, spec in zip(self.cards.values(), builders.population_specs(result),
                                                            strict=True))
         q = result.quantiles()["critical_load"]
