@@ -30,7 +30,8 @@ from .result import Comparison, Surface
 from .roughness import regime
 from .vibration import Periods, amplitude, fingerprint_period, periods
 
-__all__ = ["DEFAULT_DIRECTIONS", "DEFAULT_SPEEDS", "FLAT", "MAX_DIRECTIONS", "MAX_SPEEDS", "against_flat", "assemble", "check_directions", "check_speeds", "compare", "parse_directions",
+__all__ = ["DEFAULT_DIRECTIONS", "DEFAULT_SPEEDS", "FLAT", "MAX_DIRECTIONS", "MAX_SPEEDS", "Comparison", "Surface",
+           "against_flat", "assemble", "check_directions", "check_speeds", "compare", "parse_directions",
            "parse_speeds", "surface_verdicts", "weber_fractions"]
 
 #: The name of the flat reference as surface B.

@@ -39,7 +39,7 @@ __all__ = ["CHANNELS", "FINGERPRINT_PERIOD", "PACINIAN_BEST", "SIGNIFICANT", "TH
            "amplitude", "channel", "fingerprint_period", "periods", "threshold"]
 
 #: A plane wave of the height map counts when its amplitude is at least this fraction of the
-#: largest one (|c_k|, the mean removed): 1 %.
+#: largest one (``|c_k|``, the mean removed): 1 %.
 SIGNIFICANT = 0.01
 
 #: Receptor channels by vibration frequency (Hz): (lowest, highest, key, description). Bolanowski
