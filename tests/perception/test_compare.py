@@ -150,3 +150,22 @@ def test_predict_perception_cli(cache, tmp_path):
     assert np.array_equal(p[0], p_correct(mu, mu_ref, 0.11))  # the study's finger against its own mu_ref
     res = runner.invoke(app, ["predict", str(study), "--speed", "50mm/s", "--json", "-"])
     assert res.exit_code == 2 and "--speed needs --perception" in res.stderr
+
+
+def test_against_a_measured_map(cache, tmp_path):
+    """B a measured (periodic) map: its friction is compared; it has no lattice, so no vibration
+    entries and no roughness regime, said in a note."""
+    from fingerpad import textures
+
+    cell = textures.spherical_caps(radius=100e-6, height=20e-6, spacing=200e-6, grid=32)
+    heights = cell.heights + np.random.default_rng(0).normal(0.0, 0.2e-6, cell.heights.shape)
+    np.save(tmp_path / "map.npy", heights)
+    b = study_from_dict({"texture": {"surface": str(tmp_path / "map.npy"), "size": "200um,200um",
+                                     "height_unit": "m", "periodic": True},
+                         "material": {"modulus": "0.5GPa", "poisson": 0.4},
+                         "model": {"kind": "bem", "cache": str(cache)}})
+    res = compare(study_from_dict(_study("175um", cache)), b)
+    assert np.all(np.isfinite(res.p)) and np.all(res.p >= 0.5)
+    assert {e["texture"] for e in res.vibration()} == {res.a.label}
+    assert any("measured map has no lattice" in n for n in res.notes)
+    assert res.regimes[res.b.label][0]["verdict"].startswith("not estimated")
