@@ -42,9 +42,9 @@ TYPICAL_SPEED = 0.05
 #: Literature markers: (axis-name fragment, value in m, label); bands as (fragment, low, high, label).
 MARKERS = {
     "lines": [("spacing", 160e-6, "felt smooth below 160 µm"), ("height", 33.5e-6, "interlocking from 33.5 µm"),
+              ("height", 105e-6, "interlocking dominant from 105 µm"),
               # lambda = v / 250 Hz: the period felt at the Pacinian optimum at a typical stroke speed
-              ("spacing", TYPICAL_SPEED / PACINIAN_BEST[0], f"250 Hz at {1e3 * TYPICAL_SPEED:g} mm/s"),
-              ("height", 105e-6, "interlocking dominant from 105 µm")],
+              ("spacing", TYPICAL_SPEED / PACINIAN_BEST[0], f"250 Hz at {1e3 * TYPICAL_SPEED:g} mm/s")],
     "bands": [("spacing", 400e-6, 500e-6, "fingerprint ridge wavelength")],
 }
 
