@@ -183,8 +183,8 @@ def test_docs_refer_inside_the_repository():
 #: own modules and any part of a LOWER layer; parts of one layer do not import each other, except
 #: in the foundation, whose small modules form a chain (the cycle test keeps it acyclic).
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("foundation", ("errors", "_version", "units", "checks", "materials", "plausibility", "discover", "params",
-                    "encode", "io", "netcdf")),
+    ("foundation", ("errors", "_version", "extras", "references", "units", "checks", "materials", "plausibility",
+                    "discover", "params", "encode", "io", "netcdf")),
     ("surfaces", ("textures",)),
     ("contact engine", ("contact",)),
     ("macro scale", ("macro",)),
@@ -198,6 +198,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("design", ("design",)),
     ("explorer", ("explore",)),
     ("command line", ("cli",)),
+    ("python -m fingerpad", ("__main__",)),
 ]
 
 #: Heavy toolkits and the one part each may be imported in (at any depth, lazily too).

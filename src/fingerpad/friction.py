@@ -21,6 +21,10 @@ import numpy as np
 from .checks import ArrayLike, as_loads, scalar_out
 from .errors import FingerpadError
 
+#: The publications of the friction law (:mod:`fingerpad.references` keys): adhesion is the
+#: thesis' Eqs. 2.1-2.3, the hysteresis term Greenwood-Tabor's, Eq. 2.4.
+REFERENCES = ("greenwood1958",)
+
 if TYPE_CHECKING:
     from .finger import Finger
 

@@ -23,7 +23,9 @@ from typing import Annotated, Any
 import typer
 
 from ..errors import FingerpadError
+from ..extras import require
 from ..units import parse_int, parse_quantity
+from .common import missing_extra
 
 EXIT_USER_ERROR = 2
 _INPUT, _STROKES, _ANALYSIS, _OUTPUT = "Input", "Strokes", "Analysis", "Output"
@@ -42,6 +44,8 @@ def _user_errors() -> Iterator[None]:
         sys.stderr.write(f"error: {line}\n")
         sys.stderr.flush()
         raise typer.Exit(EXIT_USER_ERROR) from None
+    except ImportError as exc:
+        missing_extra(exc)
 
 
 def _opt(*names: str, panel: str, **kw: Any) -> Any:
@@ -162,6 +166,7 @@ def analyse_command(
     Example: fingerpad analyse data/ --reference flat --out results/
     """
     with _user_errors(), _measurement_warnings() as shown:
+        require("measure")  # before any file is read: the same line as analyse_study's
         from .. import measure as m
         from ..finger import get_finger
         from ..io import OutputFolder

@@ -344,7 +344,7 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
                 figures["perception.png"] = figure_comparison(verdicts)
         paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures, population=result,
                               sections=None if verdicts is None else {"perception": verdicts})
-    payload = to_jsonable(prediction_json(pred))
+    payload = to_jsonable(prediction_json(pred, result))
     if result is not None:
         payload["population"] = to_jsonable(result.as_dict())
         pred.notes.extend(result.notes)

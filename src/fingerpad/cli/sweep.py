@@ -6,6 +6,7 @@ from typing import Annotated, Any
 
 import typer
 
+from ..extras import require
 from .common import (DEVICE_HELP, EXIT_INTERRUPTED, device_option, report_interrupt, rich_console, say,
                      stderr_console, user_errors, warnings_to)
 
@@ -60,6 +61,7 @@ def sweep_command(
     from .predict import _population
 
     with user_errors(), device_option(device):
+        require("sweep")  # before any work: the same line as run_sweep's
         err = stderr_console()
         if workers is not None and scheduler is not None:
             raise_error("give --workers (a local cluster) or --scheduler (an existing one), not both")

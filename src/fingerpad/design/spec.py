@@ -107,6 +107,26 @@ class SweepSpec:
             return {a.name: a.values[i] for a, i in zip(self.axes, index, strict=True)}
         return {a.name: self.point_values[a.name][index[0]] for a in self.axes}
 
+    def references(self) -> tuple[str, ...]:
+        """The publications of the methods every point uses (:mod:`fingerpad.references` keys):
+        the base study's finger models and friction law, the BEM unit cell and its solver, the
+        layered skin where the base or an axis makes one, the population's correlated sampling."""
+        from ..contact.solver import solver_references
+        from ..coupling import model_references
+        from ..micro.bem import BEMUnitCell
+        from ..references import keys_of
+        from ..study.spec import study_from_dict
+
+        finger = study_from_dict(self.base).finger
+        layered = finger.layer is not None or any(
+            a.section == "finger" and (a.key == "skin" or a.key in LAYER_FIELDS) for a in self.axes)
+        sources: list[Any] = [model_references(finger, BEMUnitCell), solver_references(True, layered)]
+        if self.population is not None and self.population.correlations:
+            from ..study import population_correlations
+
+            sources.append(population_correlations)
+        return keys_of(*sources)
+
     def study_data(self, assignment: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
         """The study sections of one point: the base with the axis values written in."""
         data = copy.deepcopy(self.base)

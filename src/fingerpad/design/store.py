@@ -27,6 +27,8 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import FingerpadError
+from ..extras import require
+from ..references import netcdf_attribute
 from .evaluate import STATE_CODES
 from .spec import SweepSpec
 from ..perception.discrimination import WEBER_FRACTION
@@ -139,6 +141,7 @@ class SweepStore:
             "chunk": spec.chunk,
             "units_system": "SI",
             "fingerpad_version": __version__,
+            "references": netcdf_attribute(spec.references()),  # CF: the methods' publications
             # the same sweep without a population: a resume with another population is told apart
             "sweep_signature": spec.signature(population=False),
         }
@@ -485,8 +488,12 @@ def open_sweep(path: str | Path, check: bool = True) -> Any:
     ------
     FingerpadError
         When ``path`` is missing, not a fingerpad sweep store, or damaged.
+    MissingExtraError
+        Zarr not installed (the ``sweep`` extra).
     """
     import xarray as xr
+
+    require("sweep", modules=("zarr",))
 
     p = Path(path)
     if not p.exists():

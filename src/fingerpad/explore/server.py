@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from ..errors import FingerpadError
+from ..extras import require
 
 __all__ = ["DEFAULT_HOST", "MAX_UPLOAD_MB", "serve"]
 
@@ -26,11 +27,7 @@ MAX_UPLOAD_MB = 20
 
 
 def _check_installed() -> None:
-    import importlib.util
-
-    missing = [m for m in ("panel", "bokeh") if importlib.util.find_spec(m) is None]
-    if missing:
-        raise FingerpadError(f"the explorer needs {' and '.join(missing)}: pip install 'fingerpad[explore]'")
+    require("explore", modules=("panel", "bokeh"))
 
 
 def serve(

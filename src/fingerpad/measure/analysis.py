@@ -14,6 +14,7 @@ import pandas as pd
 
 from .._version import __version__
 from ..errors import FingerpadError
+from ..extras import require
 from .breakpoint import EDGE_FRACTION, Breakpoint, find_breakpoint
 from .clipping import Clip, clipping_warnings
 from .curves import fit_curves, fit_row, normalise, sense_ratio, spread_summary, spread_table
@@ -257,7 +258,10 @@ def analyse_study(
     BLAS runs on one thread: on the fits' small products a second one saves nothing, and its
     spinning between calls doubled the analysis's CPU (11 against 6 s, 150 recordings); one
     thread also makes the last bits of a fit independent of the machine's core count.
+
+    Needs the ``measure`` extra (:class:`~fingerpad.extras.MissingExtraError` without it).
     """
+    require("measure")
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
@@ -433,6 +437,29 @@ def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
         sensitivity=pd.DataFrame(sens_rows), warnings=notes, recordings=list(recordings), stroke_reports=reports,
         clipped_strokes=clipped_strokes, clipping=clipping,
     )
+
+
+#: The publications of the analysis's own statistics (:mod:`fingerpad.references` keys): the
+#: stroke outlier flag (robust z-score), the transition test that searches its location, and its
+#: early stop.
+REFERENCES = ("iglewicz1993", "davies1987", "besag1991")
+
+
+def study_references(result: StudyResult) -> tuple[str, ...]:
+    """The publications of the methods an analysis used (:mod:`fingerpad.references` keys): its
+    statistics, the friction law and the finger's models, and the micro-models of the E_s fits
+    (the textures' own, and the other one when the sensitivity refits ran)."""
+    from ..coupling import model_references
+    from ..micro.bem import BEMUnitCell
+    from ..micro.hertz import HertzUnitCell
+    from ..references import keys_of
+
+    cells = {"bem": BEMUnitCell, "hertz": HertzUnitCell}
+    used = {g.micro_model for g in result.textures.values() if g is not None}
+    if used and result.options.sensitivity:
+        used = set(cells)  # every E_s is refitted with the other micro-model
+    finger = resolve_finger(result.options.finger)
+    return keys_of(REFERENCES, model_references(finger, *(cells[name] for name in sorted(used))))
 
 
 def study_info(result: StudyResult) -> dict[str, Any]:

@@ -37,11 +37,12 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from .. import references
 from .._version import __version__
 from ..io import OutputFolder
 from ..plotting.measure import condition_label, participant_png, qc_inputs, qc_png, sample_png
 from ..plotting.render import load_drawing_modules
-from .analysis import StudyResult, study_info
+from .analysis import StudyResult, study_info, study_references
 from .htmlreport import html_report
 
 __all__ = ["EarlyQC", "curves_dataset", "html_report", "write_report"]
@@ -153,6 +154,7 @@ def curves_dataset(result: StudyResult):
             "reference_sample": result.options.reference,
             "confidence_level": result.options.level,
             "power_law": "mu = k F^(n-1)",
+            "references": references.netcdf_attribute(study_references(result)),
         },
     )
     units = {"bin_load": "N", "load": "N", "bin_low": "N", "bin_high": "N", "breakpoint_load": "N",
@@ -429,6 +431,7 @@ def write_report(
             "participants": _records(result.participants),
             "conditions": _records(result.conditions),
             "population_fits": _records(result.population_fits),
+            "references": references.metadata(study_references(result)),
         }
         (tmp / "summary.json").write_text(json.dumps(summary, indent=2, allow_nan=False), encoding="utf-8")
         written.append("summary.json")

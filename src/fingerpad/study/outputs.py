@@ -9,10 +9,12 @@ from typing import Any
 
 import numpy as np
 
+from .. import references
 from .._version import __version__
 from ..coupling import CurvePrediction
 from ..errors import FingerpadError
 from ..finger import skin_units
+from .citations import prediction_references
 from .run import Prediction
 
 __all__ = ["OUTPUT_FILES", "OUTPUT_UNITS", "load_output_modules", "prediction_dataset", "prediction_json",
@@ -49,7 +51,7 @@ OUTPUT_UNITS = {
 }
 
 
-def prediction_json(pred: Prediction) -> dict[str, Any]:
+def prediction_json(pred: Prediction, population: Any = None) -> dict[str, Any]:
     """The content of ``predict.json`` (SI units, listed in its ``units``; NaN and inf -> ``None``).
 
     * ``critical_load``: ``{"bem": F, "hertz": F}`` (N, ``None`` for a model not run);
@@ -64,6 +66,9 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
       critical asperity force (N) and transition pressure (Pa) of the Hertz cell;
     * ``zones``: zone radii (m) and centre state at ``inputs.zones_at``;
     * ``timings``: seconds for the unit cell and for the coupling; ``notes``: remarks;
+    * ``references``: the publications of the methods this run used (key, citation, DOI, what
+      for; :mod:`fingerpad.references`), those of ``population`` (the population result this
+      prediction is the nominal of) included;
     * ``results``: one entry per load with ``load``, ``gross_area``, ``ridge_area``,
       ``real_area``, ``area_ratio``, ``ridge_radius``, ``transition_radius``,
       ``full_contact_radius``, ``mu``, ``mu_ref``, ``mu_normalised``, ``contact_state`` (at the
@@ -182,14 +187,17 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
         "zones": pred.zones,
         "timings": {"cell": pred.timings["cell"], "coupling": pred.timings["coupling"]},
         "notes": list(pred.notes),
+        "references": references.metadata(prediction_references(pred, population)),
         "results": results,
     }
     return to_jsonable(payload)
 
 
-def prediction_dataset(pred: Prediction):
+def prediction_dataset(pred: Prediction, population: Any = None):
     """The :class:`xarray.Dataset` of ``predict.nc``: curves along ``load``, psi(p) along
-    ``cell_pressure``; every variable has a ``units`` attribute, inputs are global attributes."""
+    ``cell_pressure``; every variable has a ``units`` attribute, inputs are global attributes,
+    the publications of the methods used the CF ``references`` attribute (``population``'s
+    included)."""
     import xarray as xr
 
     from ..encode import flatten_attrs
@@ -251,7 +259,8 @@ def prediction_dataset(pred: Prediction):
                                                     {"units": "1", "long_name": "psi of the Hertz cell (analytic, sampled)"})
     payload = prediction_json(pred)
     attrs = {"title": "fingerpad prediction: areas and friction against load", "Conventions": "CF-1.8",
-             "source": f"fingerpad {__version__}", "units_system": "SI"}
+             "source": f"fingerpad {__version__}", "units_system": "SI",
+             "references": references.netcdf_attribute(prediction_references(pred, population))}
     attrs.update(flatten_attrs({
         "model": payload["model"],
         "critical_load": payload["critical_load"], "full_contact_load": payload["full_contact_load"],
@@ -378,7 +387,7 @@ def write_outputs(
     check_outputs(out_dir, json_path, csv_path, replaceable)
     from ..encode import json_text, to_jsonable
 
-    doc = prediction_json(pred)
+    doc = prediction_json(pred, population)
     if population is not None:
         doc["population"] = to_jsonable(population.as_dict())
     doc.update(to_jsonable(dict(sections or {})))
@@ -404,7 +413,8 @@ def write_outputs(
         if folder is not None:
             folder.write(OUTPUT_FILES[0], lambda tmp: fio.write_text(tmp, text))
             folder.write(OUTPUT_FILES[1], lambda tmp: netcdf.to_netcdf(
-                prediction_dataset(pred) if population is None else population.add_to_dataset(prediction_dataset(pred)),
+                prediction_dataset(pred) if population is None
+                else population.add_to_dataset(prediction_dataset(pred, population)),
                 tmp))
             if population is not None:
                 from .population_tables import band_table, member_table

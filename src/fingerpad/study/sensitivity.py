@@ -35,7 +35,7 @@ import math
 import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -152,6 +152,10 @@ class SensitivityResult:
     notes
         Remarks (a quantity left without indices and why).
     """
+
+    #: The publications of the indices (:mod:`fingerpad.references` keys): Sobol's indices,
+    #: Saltelli's design and first-order estimator, Jansen's total-index estimator.
+    REFERENCES: ClassVar[tuple[str, ...]] = ("sobol2001", "saltelli2010", "jansen1999")
 
     parameters: list[str]
     loads: np.ndarray
