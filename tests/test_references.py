@@ -33,6 +33,7 @@ def _declarations() -> dict[str, tuple[str, ...]]:
     from fingerpad.micro.bem import BEMUnitCell
     from fingerpad.micro.deflection import gain
     from fingerpad.micro.hertz import HertzUnitCell
+    from fingerpad.perception import discrimination, roughness, vibration
     from fingerpad.study import population_correlations
     from fingerpad.study.sensitivity import SensitivityResult
 
@@ -40,7 +41,8 @@ def _declarations() -> dict[str, tuple[str, ...]]:
     found.update({name: tuple(obj.REFERENCES) for name, obj in (
         ("friction", friction), ("BEMUnitCell", BEMUnitCell), ("HertzUnitCell", HertzUnitCell),
         ("deflection", gain), ("correlations", population_correlations), ("sensitivity", SensitivityResult),
-        ("analysis", analysis))})
+        ("analysis", analysis), ("discrimination", discrimination), ("vibration", vibration),
+        ("roughness", roughness))})
     for periodic in (True, False):
         for layered in (True, False):
             found[f"solver {periodic} {layered}"] = solver_references(periodic, layered)
@@ -85,6 +87,7 @@ def test_citation_and_bibtex_of_the_thesis():
 
 def test_keys_of_puts_thesis_and_package_first_and_dedupes():
     from fingerpad.micro.hertz import HertzUnitCell
+    from fingerpad.perception import discrimination, roughness, vibration
 
     assert refs.keys_of(HertzUnitCell, "johnson1985", None, ("polonsky1999",)) == (
         "sergachev2021", "fingerpad", "johnson1985", "polonsky1999")

@@ -90,6 +90,8 @@ def test_cli_json_summaries_recomputed_from_member_arrays(cache, tmp_path):
         assert doc["discrimination"]["fraction"][key] == np.mean(p[:, i] >= THRESHOLD)
         assert doc["discrimination"]["p_correct_median"][key] == np.median(p[:, i])
     assert doc["weber_fraction"] == {"value": 0.15, "drawn": False}
+    cited = runner.invoke(app, ["cite", str(out / "compare.json")])
+    assert cited.exit_code == 0 and "Gueorguiev" in cited.stdout, cited.stderr
     assert {"texture", "direction_deg", "wavelength_m", "speed_m_s", "frequency_hz", "channel"} <= set(
         doc["vibration"][0])
     import xarray as xr
@@ -148,6 +150,8 @@ def test_predict_perception_cli(cache, tmp_path):
     mu_ref = np.array([r["mu_ref"] for r in doc["results"]])
     p = np.array(perc["members"]["p_correct"], float)
     assert np.array_equal(p[0], p_correct(mu, mu_ref, 0.11))  # the study's finger against its own mu_ref
+    keys = [r["key"] for r in doc["references"]]
+    assert "gueorguiev2017" in keys and "greenwood1958" in keys  # the perception's and the prediction's
     res = runner.invoke(app, ["predict", str(study), "--speed", "50mm/s", "--json", "-"])
     assert res.exit_code == 2 and "--speed needs --perception" in res.stderr
 
@@ -169,3 +173,11 @@ def test_against_a_measured_map(cache, tmp_path):
     assert {e["texture"] for e in res.vibration()} == {res.a.label}
     assert any("measured map has no lattice" in n for n in res.notes)
     assert res.regimes[res.b.label][0]["verdict"].startswith("not estimated")
+
+
+def test_outputs_cite_the_perception_sources(cache):
+    res = compare(study_from_dict(_study("175um", cache)), "flat")
+    keys = [r["key"] for r in res.as_dict()["references"]]
+    for key in ("sergachev2021", "gueorguiev2017", "bolanowski1988", "verrillo1963", "hollins2007", "delhaye2012"):
+        assert key in keys
+    assert "Gueorguiev" in res.dataset().attrs["references"]

@@ -82,7 +82,8 @@ def compare_command(
             with ProgressBar(err, "compare") as bar:
                 result = compare(study_a, study_b, population=pop, speeds=speeds, directions=dirs,
                                  weber=weber_fraction, notice=bar.stage("predictions"))
-        doc = {"perception": result.as_dict()}
+        perception = result.as_dict()
+        doc = {"perception": perception, "references": perception["references"]}  # `fingerpad cite` reads these
         written = write_comparison(result, doc, out, json_path)
         if json_path == "-":
             from ..encode import json_text, to_jsonable

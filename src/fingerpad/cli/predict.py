@@ -342,14 +342,21 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
                 from ..plotting.perception import figure_comparison
 
                 figures["perception.png"] = figure_comparison(verdicts)
+        sections = None
+        if verdicts is not None:  # the JSON's references: the prediction's and the perception models'
+            from ..references import keys_of, metadata
+            from ..study.citations import prediction_references
+
+            keys = keys_of(prediction_references(pred, result), [r["key"] for r in verdicts["references"]])
+            sections = {"perception": verdicts, "references": metadata(keys)}
         paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures, population=result,
-                              sections=None if verdicts is None else {"perception": verdicts})
+                              sections=sections)
     payload = to_jsonable(prediction_json(pred, result))
     if result is not None:
         payload["population"] = to_jsonable(result.as_dict())
         pred.notes.extend(result.notes)
-    if verdicts is not None:
-        payload["perception"] = to_jsonable(verdicts)
+    if sections is not None:
+        payload.update(to_jsonable(sections))
     if json_path == "-":
         sys.stdout.write(json_text(payload))
         sys.stdout.flush()

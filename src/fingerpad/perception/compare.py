@@ -275,7 +275,17 @@ def assemble(a: Surface, b: Surface, mu_a: np.ndarray, mu_b: np.ndarray, weber: 
             surface.prediction, directions, notes, amplitudes)
     pop = None if population is None else {"name": population.name, "size": len(members or []),
                                            "seed": population.seed, "method": population.method}
+    from ..references import keys_of
+    from ..study.citations import prediction_references
+    from . import discrimination, roughness, vibration
+
+    sources: list[Any] = [discrimination, vibration, roughness]
+    sources += [prediction_references(s.prediction) for s in (a, b) if s.prediction is not None]
+    if getattr(population, "correlations", ()):
+        from ..study import population_correlations
+
+        sources.append(population_correlations)
     return Comparison(a=a, b=b, loads=loads, weber=np.asarray(weber, float), mu_a=mu_a, mu_b=mu_b, p=p,
                       members=members, population=pop, speeds=speeds, directions=directions, periods=per,
                       amplitude=amp, regimes=regimes, ridge_period=fingerprint_period(a.prediction.study.finger),
-                      notes=notes)
+                      notes=notes, references=keys_of(*sources))

@@ -34,6 +34,9 @@ from ..params import Param
 __all__ = ["THRESHOLD", "WEBER_FRACTION", "Z75", "discriminates", "log_ratio_threshold", "noise_sd",
            "p_correct", "summarise"]
 
+#: The publications this module rests on (:mod:`fingerpad.references`).
+REFERENCES = ("gueorguiev2017", "sahli2020", "fehlberg2022")
+
 #: The 75 % point of the standard normal distribution, Phi^-1(0.75) = 0.6745 (Eq. P.3).
 Z75: float = NormalDist().inv_cdf(0.75)
 

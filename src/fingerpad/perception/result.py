@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from ..references import metadata, netcdf_attribute
 from .discrimination import summarise
 from .vibration import CHANNELS, Periods, channel, threshold
 
@@ -84,6 +85,9 @@ class Comparison:
         The fingerprint's ridge period, m.
     notes
         Remarks.
+    references
+        The publications of the methods used (:mod:`fingerpad.references` keys): the perception
+        models' and both predictions'.
     """
 
     a: Surface
@@ -102,6 +106,7 @@ class Comparison:
     regimes: dict[str, list[dict[str, Any]]]
     ridge_period: float
     notes: list[str] = field(default_factory=list)
+    references: tuple[str, ...] = ()
 
     def summary(self) -> dict[str, np.ndarray]:
         """Per load: ``fraction`` of the members telling A from B and ``p_correct_median``."""
@@ -168,6 +173,7 @@ class Comparison:
             "channels": [{"channel": key, "low_hz": lo, "high_hz": hi, "meaning": text}
                          for lo, hi, key, text in CHANNELS],
             "notes": self.notes,
+            "references": metadata(self.references),
             "units": {"loads": "N", "mu": "1", "p_correct": "1 (probability of a correct forced choice)",
                       "fraction": "1 (fraction of the members with p_correct >= 0.75)", "weber_fraction": "1",
                       "wavelength_m": "m", "speed_m_s": "m/s", "frequency_hz": "Hz",
@@ -222,7 +228,8 @@ class Comparison:
         ds.attrs.update({"title": "fingerpad compare", "surface_a": self.a.label, "surface_b": self.b.label,
                          "description_a": self.a.description(), "description_b": self.b.description(),
                          "ridge_period_m": self.ridge_period, "threshold": 0.75,
-                         "population": self.population["name"] if self.population else "none"})
+                         "population": self.population["name"] if self.population else "none",
+                         "references": netcdf_attribute(self.references)})
         return ds
 
     def table_rows(self) -> list[dict[str, Any]]:

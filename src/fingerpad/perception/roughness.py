@@ -24,6 +24,9 @@ from typing import Any
 
 __all__ = ["DUPLEX_PERIOD", "SMOOTH_SPACING", "STATE_ROUGHNESS", "regime"]
 
+#: The publications this module rests on (:mod:`fingerpad.references`).
+REFERENCES = ("hollins2007", "drewing2016", "drewing2018")
+
 #: The duplex theory's boundary between spatially and vibrotactilely coded textures, m (~0.2 mm).
 DUPLEX_PERIOD = 200e-6
 #: Spacings below this were felt smooth (Massimiani et al.), m.

@@ -38,6 +38,9 @@ import numpy as np
 __all__ = ["CHANNELS", "FINGERPRINT_PERIOD", "PACINIAN_BEST", "SIGNIFICANT", "THRESHOLD_MIN", "Periods",
            "amplitude", "channel", "fingerprint_period", "periods", "threshold"]
 
+#: The publications this module rests on (:mod:`fingerpad.references`).
+REFERENCES = ("delhaye2012", "bolanowski1988", "verrillo1963")
+
 #: A plane wave of the height map counts when its amplitude is at least this fraction of the
 #: largest one (``|c_k|``, the mean removed): 1 %.
 SIGNIFICANT = 0.01
