@@ -92,8 +92,8 @@ class DesignProblem:
         Manufacturing limits (m; height / lateral feature), or ``None``.
     tolerance
         Relative deviation within which a target counts as met.
-    references
-        Per perception target (``str(target)``), the reference's friction per member at its load
+    reference_mu
+        Per perception target (``str(target)``), the reference surface's friction per member at its load
         (``None`` for the flat reference; :mod:`fingerpad.design.perception_targets`).
     weber
         The members' Weber fractions (one per member; the study's finger alone: one).
@@ -106,7 +106,7 @@ class DesignProblem:
     min_feature: float | None = None
     max_aspect: float | None = None
     tolerance: float = 0.05
-    references: dict[str, Any] = field(default_factory=dict)
+    reference_mu: dict[str, Any] = field(default_factory=dict)
     weber: Any = None
 
     def __post_init__(self) -> None:
@@ -244,7 +244,7 @@ def predict_candidate(problem: DesignProblem, params: Mapping[str, float], loads
         i = int(np.argmin(np.abs(f - t.load)))
         if isinstance(t, PerceptionTarget):  # the study's finger tells it from REF, or not
             verdict = member_verdicts(t, np.asarray(cur.mu)[i:i + 1], np.asarray(cur.mu_ref)[i:i + 1],
-                                      problem.references.get(str(t)), np.asarray(problem.weber, float)[:1],
+                                      problem.reference_mu.get(str(t)), np.asarray(problem.weber, float)[:1],
                                       problem.tolerance)
             cand.values[str(t)] = float(verdict["p_correct"][0])
             errors.append(float(verdict["score"][0]))

@@ -86,7 +86,7 @@ class DesignResult:
             return None
         if self.goal is not None:
             return None if self.met else _population_shortfall(self.problem, self.goal, self.candidates)
-        what = ", ".join(f"{k} = {'P ' if k in self.problem.references else ''}{v:.3g}"
+        what = ", ".join(f"{k} = {'P ' if k in self.problem.reference_mu else ''}{v:.3g}"
                          for k, v in best.values.items()) if best else "nothing valid"
         if best is not None and best.violations:
             what += f" ({'; '.join(best.violations)})"
@@ -298,7 +298,7 @@ def design_textures(
         size = 1 if goal is None else len(goal.population.sample())
         problem.weber = weber_fractions(weber, size)
         # REF predicted once, directly, on the same fingers; every candidate is compared with it
-        problem.references = reference_friction(parsed, data, None if goal is None else goal.population,
+        problem.reference_mu = reference_friction(parsed, data, None if goal is None else goal.population,
                                                 problem.weber)
     curve_loads = parse_range(DEFAULT_SWEEP_LOADS, "force", log=True)
     screen = None if goal is None else screen_candidate(problem, _checked_goal(goal, base, axes))

@@ -201,7 +201,7 @@ def _target_values(problem: DesignProblem, row: Any) -> tuple[dict[str, np.ndarr
     verdicts: dict[str, Any] = {}
     for t in problem.targets:
         if is_perception(t):
-            v = member_verdicts(t, row("mu", t.load), row("mu_ref", t.load), problem.references.get(str(t)),
+            v = member_verdicts(t, row("mu", t.load), row("mu_ref", t.load), problem.reference_mu.get(str(t)),
                                 problem.weber, problem.tolerance)
             verdicts[str(t)] = v
             values[str(t)] = v["p_correct"]

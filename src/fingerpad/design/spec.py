@@ -125,6 +125,10 @@ class SweepSpec:
             from ..study import population_correlations
 
             sources.append(population_correlations)
+        if self.population is not None:  # tell_flat: who tells each texture from the flat
+            from ..perception import discrimination
+
+            sources.append(discrimination)
         return keys_of(*sources)
 
     def study_data(self, assignment: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
