@@ -9,6 +9,7 @@ import warnings
 from pathlib import Path
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -34,8 +35,8 @@ def _declarations() -> dict[str, tuple[str, ...]]:
     from fingerpad.micro.deflection import gain
     from fingerpad.micro.hertz import HertzUnitCell
     from fingerpad.perception import discrimination, roughness, vibration
-    from fingerpad.study import population_correlations
-    from fingerpad.study.sensitivity import SensitivityResult
+    from fingerpad.population import correlations as population_correlations
+    from fingerpad.population.sobol import SensitivityResult
 
     found = {f"model {m.name}": tuple(m.factory.REFERENCES) for m in [*GROSS_MODELS.values(), *RIDGE_MODELS.values()]}
     found.update({name: tuple(obj.REFERENCES) for name, obj in (
@@ -137,13 +138,21 @@ def test_prediction_outputs_list_the_references(prediction, tmp_path):
 
 
 def test_population_adds_its_methods(prediction):
+    """A population result names its own methods (study/ imports nothing of population/): its
+    correlated sampling and its Sobol indices, when it used them."""
+    from fingerpad.population.distributions import Population
+    from fingerpad.population.run import PopulationResult
+    from fingerpad.population.sobol import SensitivityResult
     from fingerpad.study.citations import prediction_references
-    from fingerpad.study.sensitivity import SensitivityResult
 
-    bare = SimpleNamespace(population=SimpleNamespace(correlations=()), sensitivity=None)
-    assert prediction_references(prediction, bare) == prediction_references(prediction)
-    full = SimpleNamespace(population=SimpleNamespace(correlations=(("radius", "modulus", 0.3),)),
-                           sensitivity=SensitivityResult)
+    def result(correlations: tuple, sensitivity: object) -> PopulationResult:
+        pop = Population({}, size=1, correlations=correlations)
+        return PopulationResult(prediction, pop, [], [], np.zeros(0), np.zeros(0), [], (0.5,),
+                                sensitivity=sensitivity)
+
+    bare = result((), None)
+    assert bare.references() == () and prediction_references(prediction, bare) == prediction_references(prediction)
+    full = result((("radius", "modulus", 0.3),), SensitivityResult)
     added = set(prediction_references(prediction, full)) - set(prediction_references(prediction))
     assert added == {"kruskal1958", "sobol2001", "saltelli2010", "jansen1999"}
 

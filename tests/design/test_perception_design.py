@@ -13,7 +13,7 @@ from fingerpad.design.perception_targets import PerceptionTarget, member_verdict
 from fingerpad.design.proposal import design_textures
 from fingerpad.errors import FingerpadError
 from fingerpad.perception.compare import compare
-from fingerpad.study.population import population_from_table
+from fingerpad.population.distributions import population_from_table
 from fingerpad.study.spec import load_study_file
 
 POP = {"size": 16, "seed": 5, "skin_modulus": {"distribution": "uniform", "low": "0.2MPa", "high": "0.5MPa"},

@@ -15,7 +15,7 @@ from fingerpad.design.store import SweepStore
 from fingerpad.errors import FingerpadError
 from fingerpad.perception.compare import compare
 from fingerpad.perception.discrimination import p_correct
-from fingerpad.study.population import load_population
+from fingerpad.population.sources import load_population
 from fingerpad.study.spec import study_from_dict
 
 from .test_population_sweep import BASE, SPREAD, SWEEP, point, spec_for

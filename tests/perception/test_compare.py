@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 from fingerpad.cli import app
 from fingerpad.perception.compare import compare
 from fingerpad.perception.discrimination import THRESHOLD, p_correct
-from fingerpad.study.population import population_from_table
+from fingerpad.population.distributions import population_from_table
 from fingerpad.study.spec import study_from_dict
 
 runner = CliRunner()
@@ -44,7 +44,7 @@ def test_identical_surfaces_nobody_tells_apart(cache):
 
 
 def test_flat_reference_is_every_finger_mu_ref(cache):
-    from fingerpad.study.population import run_population
+    from fingerpad.population.run import run_population
 
     a = study_from_dict(_study("175um", cache))
     pop = population_from_table(POP)

@@ -62,7 +62,7 @@ def compare_command(
     """
     from .. import io as fio
     from ..perception.compare import compare, parse_directions, parse_speeds
-    from .predict import _population, build_study
+    from .predict import build_study
 
     with user_errors():
         err = stderr_console()
@@ -78,10 +78,10 @@ def compare_command(
         with warnings_to(err):
             study_a = build_study(ctx_args=[a], flags={"--loads": loads or None}, extra_sections=sections)
             study_b = b if b.strip().lower() == "flat" else build_study(ctx_args=[b])
-            pop, _ = _population(population, sections["population"], None)
             with ProgressBar(err, "compare") as bar:
-                result = compare(study_a, study_b, population=pop, speeds=speeds, directions=dirs,
-                                 weber=weber_fraction, notice=bar.stage("predictions"))
+                result = compare(study_a, study_b, population=population, table=sections["population"],
+                                 speeds=speeds, directions=dirs, weber=weber_fraction,
+                                 notice=bar.stage("predictions"))
         perception = result.as_dict()
         doc = {"perception": perception, "references": perception["references"]}  # `fingerpad cite` reads these
         written = write_comparison(result, doc, out, json_path)

@@ -11,7 +11,7 @@ finger meets the design when it meets every target.
 
 REF is predicted once, directly, on the same fingers (REF's texture, material and numerics, the
 design study's finger; every member of the population, by
-:func:`fingerpad.study.population.run_population`), at the targets' loads. A member's *margin*
+:func:`fingerpad.population.run.run_population`), at the targets' loads. A member's *margin*
 is ``m = |ln(mu / mu_REF)| / ln(1 + W)``: it tells the two apart exactly when ``m >= 1``. The
 search's score of a member for such a target is 0 when it meets it and ``(shortfall + tolerance)^2``
 otherwise (shortfall ``1 - m`` or ``m - 1``), so that, as for a friction target, a member's score
@@ -84,9 +84,10 @@ def reference_friction(targets: Sequence[Any], base: Mapping[str, Any], populati
             out[str(t)] = None
             continue
         ref = load_study_file(t.reference)
-        ref = dataclasses.replace(ref, finger=study.finger, loads=np.array([t.load]), zones_at=None)
+        ref = dataclasses.replace(ref, finger=study.finger, loads=np.array([t.load]), zones_at=None,
+                                  fixed=dict(study.fixed))
         if population is not None:
-            from ..study.population import run_population
+            from ..population.run import run_population
 
             out[str(t)] = run_population(ref, population).values("mu")[:, 0]
         else:

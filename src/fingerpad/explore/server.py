@@ -59,7 +59,7 @@ def serve(
     populations
         Populations the page may choose besides the presets: a preset name, a TOML file with a
         ``[population]`` table or a ``fingerpad analyse`` folder each
-        (:func:`~fingerpad.study.population.load_population`), read here, once; the page names
+        (:func:`~fingerpad.population.sources.load_population`), read here, once; the page names
         them by label only.
 
     Raises
@@ -129,8 +129,8 @@ def server_populations(sources: Sequence[str]) -> dict[str, Any]:
     """The populations of ``fingerpad explore --population`` by the label the page shows: the
     population's name (a file's stem, a preset's name), made unique against the presets and each
     other by a suffix. Read once, here: the page can only choose among them by label."""
-    from ..study.population import load_population
-    from ..study.population_presets import POPULATION_PRESETS
+    from ..population.sources import load_population
+    from ..population.presets import POPULATION_PRESETS
 
     out: dict[str, Any] = {}
     for source in sources:

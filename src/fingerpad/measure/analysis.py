@@ -18,11 +18,11 @@ from ..extras import require
 from .breakpoint import EDGE_FRACTION, Breakpoint, find_breakpoint
 from .clipping import Clip, clipping_warnings
 from .curves import fit_curves, fit_row, normalise, sense_ratio, spread_summary, spread_table
-from .models import Model, TextureGeometry, resolve_finger, texture_model
+from .micro_models import Model, TextureGeometry, resolve_finger, texture_model
 from .modulus import ModelTable, ModulusFit, estimate_skin_modulus, estimate_skin_modulus_joint
-from .population import population_curves, population_fits
+from .across_participants import population_curves, population_fits
 from .recordings import Recording
-from .sensitivity import Variants, sensitivity_rows, variant_tables
+from .modulus_sensitivity import Variants, sensitivity_rows, variant_tables
 from .strokes import StrokeOptions, StrokeReport
 from .tables import (
     GROUP,
@@ -74,10 +74,10 @@ class AnalysisOptions:
         Fit an amplitude factor with E_s (:func:`estimate_skin_modulus`).
     sensitivity
         Refit E_s with the other micro-model and with the friction parameters varied
-        (:mod:`.sensitivity`).
+        (:mod:`.modulus_sensitivity`).
     population
         Per-texture population summary and power-law fits across participants (mixed model or
-        two-stage, :mod:`.population`).
+        two-stage, :mod:`.across_participants`).
     """
 
     reference: str = "flat"
@@ -149,7 +149,7 @@ class StudyResult:
     population_curves, population_fits
         Per texture: the mean curve over participants with a between-person interval, and
         the power law across participants, from the mixed model or the two-stage estimate
-        (column ``source``; :mod:`.population`).
+        (column ``source``; :mod:`.across_participants`).
     sensitivity
         E_s refitted with the other micro-model and varied friction parameters.
     warnings

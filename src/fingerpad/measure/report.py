@@ -39,6 +39,7 @@ import pandas as pd
 
 from .. import references
 from .._version import __version__
+from ..encode import to_jsonable
 from ..io import OutputFolder
 from ..plotting.measure import condition_label, participant_png, qc_inputs, qc_png, sample_png
 from ..plotting.render import load_drawing_modules
@@ -176,24 +177,8 @@ def curves_dataset(result: StudyResult):
 # =============================================================================================
 
 
-def _jsonable(value: Any) -> Any:
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, (np.bool_, bool)):
-        return bool(value)
-    if isinstance(value, (np.integer,)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        return float(value) if math.isfinite(value) else None
-    if value is None or isinstance(value, (str, int)):
-        return value
-    return str(value)
-
-
 def _records(df: pd.DataFrame) -> list[dict[str, Any]]:
-    return [_jsonable(r) for r in df.to_dict("records")]
+    return [to_jsonable(r) for r in df.to_dict("records")]
 
 
 # =============================================================================================
@@ -426,7 +411,7 @@ def write_report(
         csv_file("population_fits.csv", result.population_fits)
         csv_file("sensitivity.csv", result.sensitivity)
         summary = {
-            "study": _jsonable(study_info(result)),
+            "study": to_jsonable(study_info(result)),
             "spread": _records(result.spread_summary),
             "participants": _records(result.participants),
             "conditions": _records(result.conditions),

@@ -103,7 +103,9 @@ def _under_fingers_of(b: Any, a: Any, notes: list[str]) -> Any:
     if b.finger != a.finger:
         notes.append(f"B's finger ({getattr(b.finger, 'name', 'its own')}) replaced by A's: both surfaces are "
                      "compared on the same fingers")
-    return dataclasses.replace(b, finger=a.finger, loads=np.asarray(a.loads, float), zones_at=None)
+    # A's fixed values too: B's own [finger] keys are replaced, so they fix nothing
+    return dataclasses.replace(b, finger=a.finger, loads=np.asarray(a.loads, float), zones_at=None,
+                               fixed=dict(a.fixed))
 
 
 def _spacing(per: Sequence[Periods]) -> float:
@@ -155,7 +157,7 @@ def weber_fractions(weber: Any, size: int) -> np.ndarray:
     return np.full(size, float(value))
 
 
-def compare(a: Any, b: Any, *, population: Any = None, speeds: Sequence[float] = DEFAULT_SPEEDS,
+def compare(a: Any, b: Any, *, population: Any = None, table: Any = None, speeds: Sequence[float] = DEFAULT_SPEEDS,
             directions: Sequence[float] = DEFAULT_DIRECTIONS, weber: Any = None,
             notice: Callable[[str], None] | None = None) -> Comparison:
     """Compare surface ``a`` with ``b`` on the same fingers (see the module docstring).
@@ -168,7 +170,11 @@ def compare(a: Any, b: Any, *, population: Any = None, speeds: Sequence[float] =
         Another study (its texture, material and numerics; A's finger and loads), or
         ``"flat"``: the flat reference, ``A_re = A_fr`` (every finger's ``mu_ref``).
     population
-        A :class:`~fingerpad.study.population.Population`, or ``None`` for the study's finger.
+        A population as :func:`fingerpad.population.rules.attach` takes it (a preset name, a
+        file, a table, a :class:`~fingerpad.population.distributions.Population`), or ``None``
+        for the study's finger (or A's own ``table``).
+    table
+        A's study file's own ``[population]`` table, if any (with units, as in a file).
     speeds
         Stroke speeds, m/s (default 20 and 100 mm/s).
     directions
@@ -199,20 +205,24 @@ def compare(a: Any, b: Any, *, population: Any = None, speeds: Sequence[float] =
     if label_b == label_a:
         label_a, label_b = f"A:{label_a}", f"B:{label_b}"
     say = notice or (lambda text: None)
-    members = population.sample() if population is not None else None
-    w = weber_fractions(weber, 1 if members is None else len(members))  # checked before the predictions
-    if population is not None:
-        from ..study.population import run_population
+    from ..population.rules import attach
 
+    plan = attach(a, population, table=table)  # every rule of a population on a study, before any work
+    members = None if plan is None else [dict(m) for m in plan.members]
+    w = weber_fractions(weber, 1 if members is None else len(members))  # checked before the predictions
+    if plan is not None:
+        from ..population.run import run_population
+
+        population = plan.population
         say(f"{label_a}: {len(members)} fingers of {population.name!r}")
-        ra = run_population(a, population)
+        ra = run_population(plan)
         notes.extend(ra.notes)
         pred_a, mu_a = ra.nominal, ra.values("mu")
         if flat_b:
             pred_b, mu_b = None, ra.values("mu_ref")
         else:
             say(f"{label_b}: the same {len(members)} fingers")
-            rb = run_population(b_study, population)
+            rb = run_population(attach(b_study, population))
             pred_b, mu_b = rb.nominal, rb.values("mu")
     else:
         say(f"{label_a}: the study's finger")
@@ -232,7 +242,7 @@ def against_flat(pred: Any, result: Any = None, *, speeds: Sequence[float] = DEF
                  directions: Sequence[float] = DEFAULT_DIRECTIONS, weber: Any = None,
                  amplitudes: bool = True) -> Comparison:
     """The single-texture verdicts of ``predict --perception``: the prediction ``pred`` (and the
-    population's ``result``, :class:`~fingerpad.study.population.PopulationResult`) against the
+    population's ``result``, :class:`~fingerpad.population.run.PopulationResult`) against the
     flat reference, from the numbers already predicted (every finger's ``mu`` and ``mu_ref``; with
     ``result``, its nominal prediction stands for ``pred``);
     only the amplitude estimate solves the cell (once per load; ``amplitudes=False``: none, the
@@ -282,9 +292,9 @@ def assemble(a: Surface, b: Surface, mu_a: np.ndarray, mu_b: np.ndarray, weber: 
     sources: list[Any] = [discrimination, vibration, roughness]
     sources += [prediction_references(s.prediction) for s in (a, b) if s.prediction is not None]
     if getattr(population, "correlations", ()):
-        from ..study import population_correlations
+        from ..population import correlations
 
-        sources.append(population_correlations)
+        sources.append(correlations)
     return Comparison(a=a, b=b, loads=loads, weber=np.asarray(weber, float), mu_a=mu_a, mu_b=mu_b, p=p,
                       members=members, population=pop, speeds=speeds, directions=directions, periods=per,
                       amplitude=amp, regimes=regimes, ridge_period=fingerprint_period(a.prediction.study.finger),

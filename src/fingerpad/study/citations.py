@@ -3,7 +3,7 @@
 Every model class declares its publications (``REFERENCES``, :mod:`fingerpad.references` keys),
 so do the friction law (:mod:`fingerpad.friction`), the solver
 (:func:`~fingerpad.contact.solver.solver_references`), the deflection model, the sensitivity
-indices and the correlated sampling; this module gathers those of the methods a run's inputs
+indices and the correlated sampling (a population result names its own); this module gathers those of the methods a run's inputs
 select (:func:`fingerpad.coupling.model_references` those of the model). The result depends on
 the inputs only: a unit cell read from the cache cites the solver that made it.
 """
@@ -26,9 +26,10 @@ def solve_references(texture: Any, layer: Any = None) -> tuple[str, ...]:
 
 
 def prediction_references(pred: Any, population: Any = None) -> tuple[str, ...]:
-    """A prediction (:class:`~fingerpad.study.run.Prediction`) and, when given, the population
-    result it is the nominal of (its correlated sampling, its sensitivity indices; the members
-    vary the nominal finger's parameters, not its models)."""
+    """A prediction (:class:`~fingerpad.study.run.Prediction`) and, when given, a result that
+    names its own publications by ``references()``, such as the population result it is the
+    nominal of (its correlated sampling, its sensitivity indices; the members vary the nominal
+    finger's parameters, not its models: :meth:`fingerpad.population.run.PopulationResult.references`)."""
     sources: list[Any] = [model_references(pred.study.finger, pred.cell, pred.hertz_cell)]
     if pred.cell is not None:  # the solver that made the BEM cell's nodes (a unit cell is periodic)
         from ..contact.solver import solver_references
@@ -38,11 +39,6 @@ def prediction_references(pred: Any, population: Any = None) -> tuple[str, ...]:
         from ..micro.deflection import gain
 
         sources.append(gain)
-    if population is not None:
-        if getattr(population.population, "correlations", ()):
-            from . import population_correlations
-
-            sources.append(population_correlations)
-        if population.sensitivity is not None:
-            sources.append(population.sensitivity)
+    if population is not None:  # the population names its own (study/ imports nothing of it)
+        sources.append(population.references())
     return keys_of(*sources)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -315,19 +315,6 @@ def prediction_rows(pred: Prediction) -> list[dict[str, Any]]:
     return [{header: row.get(key) for key, header in CSV_COLUMNS} for row in payload["results"]]
 
 
-#: The population's tables in the output folder (:mod:`.population_tables`).
-POPULATION_CSV = ("population_bands.csv", "population_members.csv")
-
-
-def _write_csv(path: Path, header: Sequence[str], rows: Sequence[Sequence[Any]]) -> None:
-    import csv
-
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(header)
-        writer.writerows(rows)
-
-
 def load_output_modules() -> None:
     """Import now what :func:`write_outputs` imports on its first call into a folder (matplotlib,
     Pillow, xarray, the NetCDF engine, Dask's modules that xarray consults): ~0.7 s on the 2-core
@@ -349,8 +336,9 @@ def write_outputs(
     csv_path: str | None = None,
     extra: dict[str, Any] | None = None,
     dpi: int = 110,
-    population: Any = None,
     sections: Mapping[str, Any] | None = None,
+    dataset: Callable[[Any], Any] | None = None,
+    cited: Any = None,
 ) -> list[Path]:
     """Write the outputs of a prediction, all of them or none.
 
@@ -364,12 +352,15 @@ def write_outputs(
         JSON path ``"-"`` is stdout, written by the caller).
     extra
         More figures for the folder: file name -> ``Figure``, or -> ``str`` for a text file.
-    population
-        A :class:`~fingerpad.study.population.PopulationResult` of which ``pred`` is the nominal:
-        the JSON gets its ``population`` entry, the NetCDF its ``member`` dimension, the folder
-        :data:`POPULATION_CSV` (:mod:`.population_tables`).
     sections
-        More top-level entries of the JSON (``perception`` of ``predict --perception``).
+        More top-level entries of the JSON (already JSON-ready), e.g. a population's
+        (:func:`fingerpad.population.outputs.write_population_outputs`).
+    dataset
+        Applied to ``predict.nc``'s dataset before it is written (a population adds its
+        ``member`` dimension).
+    cited
+        A further result whose publications are listed with the prediction's (an object with
+        ``references()``, e.g. a population's, :func:`.citations.prediction_references`).
 
     Returns
     -------
@@ -382,15 +373,13 @@ def write_outputs(
     from .. import netcdf
     from ..plotting.prediction import figure_areas, figure_friction, figure_zones
 
-    names = [*OUTPUT_FILES, *(extra or {}), *(POPULATION_CSV if population is not None else ())]
+    names = [*OUTPUT_FILES, *(extra or {})]
     replaceable = sorted({*FOLDER_FILES, *names})
     check_outputs(out_dir, json_path, csv_path, replaceable)
-    from ..encode import json_text, to_jsonable
+    from ..encode import json_text
 
-    doc = prediction_json(pred, population)
-    if population is not None:
-        doc["population"] = to_jsonable(population.as_dict())
-    doc.update(to_jsonable(dict(sections or {})))
+    doc = prediction_json(pred, cited)
+    doc.update(sections or {})
     text = json_text(doc)  # members one per line: the pure-Python indenting of 1000 of them was slow
     staging = fio.Staging()
     folder = fio.OutputFolder(out_dir, replaceable) if out_dir is not None else None
@@ -413,15 +402,8 @@ def write_outputs(
         if folder is not None:
             folder.write(OUTPUT_FILES[0], lambda tmp: fio.write_text(tmp, text))
             folder.write(OUTPUT_FILES[1], lambda tmp: netcdf.to_netcdf(
-                prediction_dataset(pred) if population is None
-                else population.add_to_dataset(prediction_dataset(pred, population)),
+                prediction_dataset(pred, cited) if dataset is None else dataset(prediction_dataset(pred, cited)),
                 tmp))
-            if population is not None:
-                from .population_tables import band_table, member_table
-
-                for name, table in zip(POPULATION_CSV, (band_table, member_table), strict=True):
-                    header, rows = table(population)
-                    folder.write(name, lambda tmp, header=header, rows=rows: _write_csv(tmp, header, rows))
             figures = dict(zip(OUTPUT_FILES[2:], (figure_areas(pred), figure_friction(pred), figure_zones(pred)),
                                strict=True))
             figures.update(extra or {})

@@ -14,9 +14,9 @@ from typer.testing import CliRunner
 
 from fingerpad.cli import app
 from fingerpad.errors import FingerpadError
-from fingerpad.study.population import population_from_table, run_population
+from fingerpad.population import population_from_table, run_population
 from fingerpad.study.run import run_study
-from fingerpad.study.sensitivity import population_sensitivity, saltelli_points, sobol_indices
+from fingerpad.population.sobol import population_sensitivity, saltelli_points, sobol_indices
 from fingerpad.study.spec import DEFAULT_STUDY, study_from_dict
 
 
