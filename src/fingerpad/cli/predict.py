@@ -30,7 +30,7 @@ from .common import (
     warnings_to,
 )
 from ._sensitivity import sensitivity_asked
-from .compare import perception_options
+from ._perception import perception_options
 from .solve import _HELP
 
 _SURFACE, _MATERIALS, _FINGER, _LOADS, _NUMERICS, _OUTPUT = "Surface", "Materials", "Finger", "Loads", "Numerics", "Output"
@@ -96,7 +96,9 @@ _PREDICT_HELP = {
                     "by friction, its vibration frequencies and channels along x and y (or --direction), an "
                     "amplitude estimate and the roughness regime; JSON 'perception', perception.png.",
     "--speed": "With --perception: stroke speed(s), one speed or LOW:HIGH, e.g. 20mm/s:100mm/s (the default).",
-    "--weber-fraction": "With --perception: the Weber fraction W of every finger (default 0.11).",
+    "--weber-fraction": "With --perception: the person's Weber fraction W, for every finger (the study file's "
+                        "[perception] weber_fraction; default 0.11, or each member's own where the population "
+                        "draws it).",
 }
 
 
@@ -295,7 +297,8 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
     figures for it (name -> callable returning a Figure); ``population``: a
     :class:`~fingerpad.population.rules.PopulationStudy` of ``study`` to predict as well;
     ``perception``: the single-texture verdicts against the flat reference
-    (:func:`fingerpad.perception.compare.against_flat`'s ``speeds``, ``directions``, ``weber``).
+    (:func:`fingerpad.perception.compare.against_flat`'s ``speeds`` and ``directions``; the
+    Weber fraction is the study's, or each member's own).
     """
     import warnings
 
@@ -342,11 +345,12 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
             from ..references import keys_of, metadata
             from ..study.citations import prediction_references
 
-            verdicts = to_jsonable(against_flat(pred, result, **perception).as_dict())
-            if out is not None:
+            doc = against_flat(pred, result, **perception).as_dict()
+            if out is not None:  # from the numbers themselves (the JSON writes infinities as null)
                 from ..plotting.perception import figure_comparison
 
-                figures["perception.png"] = figure_comparison(verdicts)
+                figures["perception.png"] = figure_comparison(doc)
+            verdicts = to_jsonable(doc)
             # the JSON's references: the prediction's (and its population's) and the perception models'
             keys = keys_of(prediction_references(pred, result), [r["key"] for r in verdicts["references"]])
             sections = {"perception": verdicts, "references": to_jsonable(metadata(keys))}
@@ -373,7 +377,7 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
     else:
         _print_prediction(payload)
     if verdicts is not None and json_path != "-":
-        from .compare import print_comparison
+        from ._perception import print_comparison
 
         print_comparison(payload["perception"])
     for note in pred.notes:
@@ -465,7 +469,7 @@ def predict(
         "--skin-base": skin_base,
         "--loads": loads or None, "--zones-at": zones_at, "--model": model, "--grid": grid,
         "--accuracy": accuracy, "--direction": direction,
-        "--tol": tol, "--max-iter": max_iter, "--cache": cache,
+        "--tol": tol, "--max-iter": max_iter, "--cache": cache, "--weber-fraction": weber_fraction,
     }
     with user_errors(), device_option(device):
         flags["--periodic"] = flag_pair(periodic, no_periodic, "--periodic", "--no-periodic")
@@ -474,11 +478,11 @@ def predict(
         with warnings_to(stderr_console()):
             study = build_study(ctx_args=list(ctx.args), flags=flags, finger_param=finger_param or [],
                                 options=command_options(ctx), extra_sections=sections)
+            verdicts = perception_options(perception, speed, weber_fraction, study)
             from ..population.rules import attach
 
             plan = attach(study, population, table=sections["population"], quantiles=quantiles,
                           sensitivity=sensitivity_asked(sensitivity, sensitivity_samples))
-        verdicts = perception_options(perception, speed, weber_fraction, study)
         if out is None and json_path != "-":
             out = "out"  # files only where asked: with --json - and no --out, none
         code = run_prediction(study, out, json_path, csv_path, population=plan, perception=verdicts)

@@ -60,7 +60,12 @@ def figure_comparison(doc: Mapping[str, Any]) -> Any:
     ax_p.legend(fontsize=8, loc="lower left")
     _vibration_panel(ax_v, doc)
     w = doc["weber_fraction"]
-    wtext = f"W = {w['value']:g}" if not w.get("drawn") else f"W {w['min']:.2g}-{w['max']:.2g} (drawn)"
+    if w.get("drawn"):  # each finger's own W: its median [5-95 %]
+        ws = np.asarray(doc["members"]["weber_fraction"], float)
+        wtext = f"each finger's own W, median {np.median(ws):.2f} [{np.quantile(ws, 0.05):.2f}-" \
+                f"{np.quantile(ws, 0.95):.2f}]"
+    else:
+        wtext = f"W = {w['value']:g}"
     pop = doc.get("population")
     who = f"{pop['size']} fingers of {pop['name']!r}" if pop else "the study's finger"
     fig.suptitle(f"{a} against {b}: {who}, {wtext}", fontsize=11)
