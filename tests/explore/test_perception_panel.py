@@ -46,11 +46,19 @@ def test_the_section_shows_the_library_numbers(tmp_path):
         await _drain()
         pop = view.population.result
         assert pop is not None and view.population.result_key[0] == data_key(view.shown_data)
-        want = against_flat(view.pred, pop, speeds=(0.05,), weber=0.11, amplitudes=False)
+        # adults draws each finger's W: the field left empty takes the members' own
+        want = against_flat(view.pred, pop, speeds=(0.05,), amplitudes=False)
+        assert np.array_equal(want.weber, [m["weber_fraction"] for m in pop.members])
         body = view.perception.body.object
         fractions = [float(v) for v in re.findall(r'data-key="tell" data-value="([^"]+)"', body)]
         np.testing.assert_array_equal(fractions, want.summary()["fraction"][index])
         assert "1000 fingers of adults" in body
+        # a W typed beside it: the population's rule, named by the field, and no stale verdicts
+        view.perception.weber.value = "0.2"
+        await _drain()
+        message = view.perception.message.object
+        assert "Weber fraction W: the population &#x27;adults&#x27; draws weber_fraction" in message, message
+        assert view.perception.result is None and view.perception.body.object == ""
         view.perception.weber.value = "0"
         await _drain()
         assert "Weber fraction" in view.perception.message.object and "fp-error" in view.perception.message.object

@@ -96,9 +96,9 @@ def _tell_apart(ds: Any, reference: str | None, weber: str | None, at: float | N
         if weber is not None:
             raise FingerpadError("--weber-fraction needs --tell-apart")
         return None
-    from ..perception.compare import weber_fractions
+    from ..perception.compare import parse_weber
 
-    w = None if weber is None else float(weber_fractions(weber, 1)[0])
+    w = parse_weber(weber)
     if reference.strip().lower() == "flat":
         return {"reference": "flat", "mu": None, "weber": w}
     from pathlib import Path
@@ -153,8 +153,9 @@ def design_command(
         "--quantile", metavar="Q", help="With --population: this quantile of the fingers, in [0, 1], meets the "
                                         "targets, e.g. 0.5 (the median finger).")] = None,
     weber_fraction: Annotated[str | None, typer.Option(
-        "--weber-fraction", metavar="W", help="With a perception target: the Weber fraction W of every finger "
-                                              "(default 0.11).")] = None,
+        "--weber-fraction", metavar="W", help="With a perception target: the person's Weber fraction W, for every "
+                                              "finger (default: the study's [perception] weber_fraction, 0.11, or "
+                                              "each member's own where the population draws it).")] = None,
 ) -> None:
     """Find textures of a family, within bounds, that give a wanted friction (inverse design).
 

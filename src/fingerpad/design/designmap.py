@@ -165,7 +165,10 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
                                      "they were stored): run the sweep again")
             stored_w = float(ds.attrs.get("weber_fraction", math.nan))
             if tell_apart.get("weber") is not None and float(tell_apart["weber"]) != stored_w:
-                raise FingerpadError(f"--weber-fraction: this sweep stored its fractions with W = {stored_w:g}")
+                raise FingerpadError(
+                    f"--weber-fraction: this sweep stored its fractions with W = {stored_w:g}" if math.isfinite(stored_w)
+                    else "--weber-fraction: this sweep's population draws each finger's W; its fractions are those "
+                         "of the members' own")
             names.append("tell_flat")
         else:
             names += ["mu", "mu_ref"]
@@ -212,12 +215,12 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
                 units="1", long_name=f"fraction of fingers telling it from the flat reference at {at:g} N "
                                      "(interpolated in log load)")
         else:
-            from ..perception.compare import weber_fractions
-            from ..perception.discrimination import p_correct
+            from ..perception.discrimination import WEBER_FRACTION, p_correct
 
             mu = at_load(data["mu"])
             ref_mu = at_load(data["mu_ref"]) if ref == "flat" else float(tell_apart["mu"])
-            p = p_correct(mu.values, np.asarray(ref_mu), weber_fractions(tell_apart.get("weber"), 1)[0])
+            weber = tell_apart.get("weber")
+            p = p_correct(mu.values, np.asarray(ref_mu), WEBER_FRACTION.default if weber is None else float(weber))
             out["tell_apart"] = mu.copy(data=p).where(ok).assign_attrs(
                 units="1", long_name=f"probability that the study's finger tells it from {ref} at {at:g} N")
     if population:

@@ -276,10 +276,10 @@ def _population_bands(pred: Any, population: Mapping[str, Any]) -> dict[str, Any
     out["state_probability"] = np.array([np.mean(values.states == code, axis=0) for code in STATE_CODES.values()])
     out["asperity_over_range"] = float(np.mean(np.all(values.states == STATE_CODES["asperity"], axis=1)))
     # who tells the texture from the flat reference by friction (docs/perception.md, Eqs. P.1-P.3)
-    from ..perception.compare import weber_fractions
+    from ..perception.compare import member_weber
     from ..perception.discrimination import p_correct, summarise
 
-    weber = weber_fractions(None, len(fingers))
+    weber = member_weber(pred.study, population["members"])  # a member's own W where the population draws it
     out["tell_flat"] = summarise(p_correct(values.mu, values.mu_ref, weber[:, None]))["fraction"]
     out["solves_population"] = after - before
     return out

@@ -263,8 +263,13 @@ def design_textures(
         data = read_study_file(study, extra_sections=("sweep", "population"))
         data.pop("sweep", None)
     table = data.pop("population", None)
-    base = study_from_dict(data)  # the base must be a valid study
+    if weber is not None:  # the person's W, for every candidate's study: a value the user fixed
+        from ..perception.compare import parse_weber
+
+        data["perception"] = {**data.get("perception", {}), "weber_fraction": parse_weber(weber)}
+    base = study_from_dict(data, {("perception", "weber_fraction"): "--weber-fraction"} if weber is not None else None)
     axes = free_axes(vary, data.get("texture", {}).get("name"))
+    members = None
     if population is not None or (table is not None and (coverage is not None or quantile is not None)):
         # the population, else the study file's own [population] table (as predict uses it),
         # checked against the study and the free parameters by the one set of rules
@@ -273,6 +278,7 @@ def design_textures(
         plan = attach(base, population, table=table if population is None else None,
                       fixed={a.key: f"--vary {a.name}" for a in axes if a.section == "finger"})
         population = None if plan is None else plan.population
+        members = None if plan is None else plan.members
     goal = population_goal(population, coverage, quantile)
     parsed = [t if isinstance(t, (Target, PerceptionTarget)) else parse_target(t) for t in targets]
     if not parsed:
@@ -295,10 +301,10 @@ def design_textures(
         raise FingerpadError("--weber-fraction needs a perception target (feels-like=REF@LOAD or "
                              "feels-different-from=REF@LOAD)")
     if any(is_perception(t) for t in parsed):
-        from ..perception.compare import weber_fractions
+        from ..perception.compare import member_weber
 
-        size = 1 if goal is None else len(goal.population.sample())
-        problem.weber = weber_fractions(weber, size)
+        # every finger's W: a member's own where the population draws it, else the study's person's
+        problem.weber = member_weber(base, None if goal is None else members)
         # REF predicted once, directly, on the same fingers; every candidate is compared with it
         problem.reference_mu = reference_friction(parsed, data, None if goal is None else goal.population,
                                                 problem.weber)

@@ -151,7 +151,9 @@ class SweepStore:
             attrs.update({"fingerpad_sweep_population": POPULATION_LAYOUT,
                           "population": json.dumps(spec.population_description()),
                           "population_name": spec.population.name, "population_size": spec.population.size,
-                          "weber_fraction": WEBER_FRACTION.default,
+                          # the W of tell_flat: the study's person's, NaN where the members draw their own
+                          "weber_fraction": math.nan if "weber_fraction" in spec.population.distributions else
+                          float(WEBER_FRACTION.parse(spec.base.get("perception", {}).get("weber_fraction", WEBER_FRACTION.default))),
                           # how the sweep named it: the flags a resume or a repair must repeat
                           "population_source": spec.population_source or ""})
         return xr.Dataset(data, coords=coords, attrs=attrs)

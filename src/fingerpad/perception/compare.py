@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -31,8 +31,8 @@ from .roughness import regime
 from .vibration import Periods, amplitude, fingerprint_period, periods
 
 __all__ = ["DEFAULT_DIRECTIONS", "DEFAULT_SPEEDS", "FLAT", "MAX_DIRECTIONS", "MAX_SPEEDS", "Comparison", "Surface",
-           "against_flat", "assemble", "check_directions", "check_speeds", "compare", "parse_directions",
-           "parse_speeds", "surface_verdicts", "weber_fractions"]
+           "against_flat", "assemble", "check_directions", "check_speeds", "compare", "member_weber", "parse_directions", "parse_weber",
+           "parse_speeds", "surface_verdicts", "with_weber"]
 
 #: The name of the flat reference as surface B.
 FLAT = "flat"
@@ -148,13 +148,33 @@ def describe_short(pred: Any) -> str:
     return str(tex.name or tex.family or "texture")
 
 
-def weber_fractions(weber: Any, size: int) -> np.ndarray:
-    """Every member's Weber fraction: ``weber`` (a number or text, checked against
-    :data:`~.discrimination.WEBER_FRACTION`) or its default, for ``size`` members."""
-    value = WEBER_FRACTION.default if weber is None else WEBER_FRACTION.check(
-        WEBER_FRACTION.parse(weber, "--weber-fraction") if isinstance(weber, str) else float(weber),
-        "--weber-fraction")
-    return np.full(size, float(value))
+def parse_weber(weber: Any, label: str = "--weber-fraction") -> float | None:
+    """A Weber fraction W given by a user (a number, or text such as ``"0.15"``), read and checked
+    through :data:`fingerpad.person.WEBER_FRACTION`'s declaration; ``None`` stays ``None``."""
+    if weber is None:
+        return None
+    return float(WEBER_FRACTION.parse(weber, label) if isinstance(weber, str) else WEBER_FRACTION.check(weber, label))
+
+
+def with_weber(study: Any, weber: Any, label: str = "--weber-fraction") -> Any:
+    """``study`` with its person's Weber fraction set to ``weber`` (a number, or text read through
+    :data:`fingerpad.person.WEBER_FRACTION`'s declaration; ``None``: ``study`` as it is). The value
+    is one the user fixed, named ``label``: a population that draws W is then refused with it
+    (:func:`fingerpad.population.rules.attach`)."""
+    value = parse_weber(weber, label)
+    if value is None:
+        return study
+    return dataclasses.replace(study, weber_fraction=value, fixed={**study.fixed, "weber_fraction": label})
+
+
+def member_weber(study: Any, members: Sequence[Mapping[str, float]] | None = None) -> np.ndarray:
+    """Every finger's Weber fraction W: a member's own where its population draws W, else the
+    study's person's (:attr:`fingerpad.study.spec.Study.weber`: the value given, or 0.11). One
+    value without ``members`` (the study's finger)."""
+    own = study.weber
+    if not members:
+        return np.array([own])
+    return np.array([float(m.get("weber_fraction", own)) for m in members])
 
 
 def compare(a: Any, b: Any, *, population: Any = None, table: Any = None, speeds: Sequence[float] = DEFAULT_SPEEDS,
@@ -180,8 +200,9 @@ def compare(a: Any, b: Any, *, population: Any = None, table: Any = None, speeds
     directions
         Stroke directions, degrees from the texture's x axis (default 0 and 90).
     weber
-        The Weber fraction W of every member (``None``: :data:`~.discrimination.WEBER_FRACTION`'s
-        default, 0.11).
+        The person's Weber fraction W, fixed for every finger (:func:`with_weber`; a population
+        that draws W is then refused); ``None``: A's study's (``[perception] weber_fraction``),
+        else each member's own where the population draws it, else 0.11.
     notice
         Called with a short text before each prediction.
 
@@ -195,6 +216,7 @@ def compare(a: Any, b: Any, *, population: Any = None, table: Any = None, speeds
 
     speeds = check_speeds(speeds)
     directions = check_directions(directions)
+    a = with_weber(a, weber)
     notes: list[str] = []
     flat_b = isinstance(b, str)
     if flat_b and b.strip().lower() != FLAT:
@@ -209,7 +231,7 @@ def compare(a: Any, b: Any, *, population: Any = None, table: Any = None, speeds
 
     plan = attach(a, population, table=table)  # every rule of a population on a study, before any work
     members = None if plan is None else [dict(m) for m in plan.members]
-    w = weber_fractions(weber, 1 if members is None else len(members))  # checked before the predictions
+    w = member_weber(a, members)
     if plan is not None:
         from ..population.run import run_population
 
@@ -246,7 +268,8 @@ def against_flat(pred: Any, result: Any = None, *, speeds: Sequence[float] = DEF
     flat reference, from the numbers already predicted (every finger's ``mu`` and ``mu_ref``; with
     ``result``, its nominal prediction stands for ``pred``);
     only the amplitude estimate solves the cell (once per load; ``amplitudes=False``: none, the
-    explorer's quick view)."""
+    explorer's quick view). ``weber``: the person's W fixed for every finger (:func:`with_weber`;
+    refused with a population that draws W); ``None``: the study's, or each member's own."""
     speeds = check_speeds(speeds)
     directions = check_directions(directions)
     if result is not None:  # the population's own nominal prediction: the same loads as its members
@@ -257,7 +280,12 @@ def against_flat(pred: Any, result: Any = None, *, speeds: Sequence[float] = DEF
         curve = pred.primary
         mu_a, mu_b = np.asarray(curve.mu, float)[None, :], np.asarray(curve.mu_ref, float)[None, :]
         members, population = None, None
-    w = weber_fractions(weber, mu_a.shape[0])
+    study = with_weber(pred.study, weber)
+    if population is not None and weber is not None:  # the population was attached without it: the rule now
+        from ..population.rules import refuse_fixed
+
+        refuse_fixed(population, study)
+    w = member_weber(study, members)
     return assemble(Surface(_label(pred.study, "texture"), pred), Surface(FLAT, None), mu_a, mu_b, w,
                     members=members, population=population, speeds=speeds, directions=directions, notes=[],
                     amplitudes=amplitudes)

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..person import WEBER_SPREAD
+
 __all__ = ["POPULATION_PRESETS"]
 
 POPULATION_PRESETS: dict[str, dict[str, Any]] = {
@@ -36,6 +38,11 @@ POPULATION_PRESETS: dict[str, dict[str, Any]] = {
         # ASSUMED: no value in docs/model.md; 0.05-0.2 about the assumed default 0.1 (friction
         # "mostly adhesive", so the hysteresis term stays small).
         "beta": {"distribution": "uniform", "low": 0.05, "high": 0.2},
+        # ASSUMED shape around published values: the Weber fraction of friction, lognormal with
+        # its median at 0.11 (Gueorguiev et al. 2017) and 0.2 (Fehlberg et al. 2022) at the 95th
+        # percentile; no study reports W person by person (fingerpad.person.WEBER_SPREAD). Drawn
+        # from a sequence of its own: the fingers above are those of the table without it.
+        "weber_fraction": dict(WEBER_SPREAD),
         # no "correlations": docs/model.md (the thesis and its literature) gives no correlation
         # between any two of these parameters, so they are drawn independently.
     },

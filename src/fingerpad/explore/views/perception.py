@@ -41,8 +41,9 @@ class PerceptionPanel:
         self.view = view
         self.speed = pn.widgets.TextInput(label="stroke speeds", value="20mm/s:100mm/s", width=300,
                                           css_classes=["fp-perception-speed"])
-        self.weber = pn.widgets.TextInput(label="Weber fraction W", value="0.11", width=300,
-                                          css_classes=["fp-perception-weber"])
+        # empty: the person's default 0.11, or each member's own W where the population draws it
+        self.weber = pn.widgets.TextInput(label="Weber fraction W", value="", placeholder="0.11, or the population's",
+                                          width=300, css_classes=["fp-perception-weber"])
         self.message = pn.pane.HTML("", css_classes=["fp-perception-msg"], sizing_mode="stretch_width")
         self.inputs = pn.Column(
             self.speed, self.weber, self.message,
@@ -58,31 +59,41 @@ class PerceptionPanel:
 
     def update(self) -> None:
         """Recompute from the prediction (and the population result) shown; called with the view."""
-        from ...perception.compare import against_flat, parse_speeds, weber_fractions
+        from ...perception.compare import parse_speeds, parse_weber
 
-        pred = self.view.pred
         try:
             speeds = parse_speeds(self.speed.value.strip() or None)
-            weber = weber_fractions(self.weber.value.strip() or None, 1)[0]
+            weber = parse_weber(self.weber.value.strip() or None)
+            result = self._verdicts(speeds, weber)
         except FingerpadError as exc:
             text = self.view._words(one_line(str(exc)))
             for option, field in _FIELDS.items():  # the page's fields, not the command's options
                 text = text.replace(option, field)
             self.message.object = (f'<div class="fp-error" style="font-size:12px;color:#b00020">'
                                    f"{html.escape(text)}</div>")
+            self.result, self.body.object = None, ""  # no verdicts of another W left shown
             return
         self.message.object = ""
-        if pred is None:
-            self.result = None
+        self.result = result
+        if result is None:
             self.body.object = "<div style='font-size:12px;color:#555'>shown once the design has a prediction</div>"
             return
+        self.body.object = _html(result.as_dict(), result)
+
+    def _verdicts(self, speeds: tuple[float, ...], weber: float | None) -> Any:
+        """:func:`~fingerpad.perception.compare.against_flat` on what is shown, or ``None`` before a
+        prediction; a W typed beside a population that draws W is refused by the population's rule."""
+        from ...perception.compare import against_flat
+
+        pred = self.view.pred
+        if pred is None:
+            return None
         shown = getattr(self.view.population, "result_key", None)
         data = self.view.shown_data
         # the population's fingers only when they are those of the design shown (not the last one's)
         pop = self.view.population.result if shown is not None and data is not None and \
             shown[0] == data_key(data) else None
-        self.result = result = against_flat(pred, pop, speeds=speeds, weber=weber, amplitudes=False)
-        self.body.object = _html(result.as_dict(), result)
+        return against_flat(pred, pop, speeds=speeds, weber=weber, amplitudes=False)
 
 
 def _html(doc: dict[str, Any], result: Any) -> str:
