@@ -10,7 +10,7 @@ import pytest
 
 from fingerpad.design.inverse import parse_target
 from fingerpad.design.perception_targets import PerceptionTarget, member_verdicts
-from fingerpad.design.proposal import design_textures
+from fingerpad.design.inverse_design import design_textures
 from fingerpad.errors import FingerpadError
 from fingerpad.perception.compare import compare
 from fingerpad.population.distributions import population_from_table
