@@ -10,13 +10,10 @@ import pytest
 
 pytest.importorskip("panel")
 
-from .test_inplace import _drain  # noqa: E402
+from .test_inplace import _drain, _run_page  # noqa: E402
 
 
 def test_the_section_shows_the_library_numbers(tmp_path):
-    import asyncio
-    import threading
-
     from fingerpad.explore.app import ExplorerApp, ServerState
     from fingerpad.explore.inputs import data_key
     from fingerpad.perception.compare import against_flat
@@ -63,17 +60,4 @@ def test_the_section_shows_the_library_numbers(tmp_path):
         await _drain()
         assert "Weber fraction" in view.perception.message.object and "fp-error" in view.perception.message.object
 
-    errors: list[BaseException] = []
-
-    def run() -> None:
-        try:
-            asyncio.run(main())
-        except BaseException as exc:  # noqa: BLE001 -- reported below, in the test's thread
-            errors.append(exc)
-
-    worker = threading.Thread(target=run)
-    worker.start()
-    worker.join(300)
-    assert not worker.is_alive()
-    if errors:
-        raise errors[0]
+    _run_page(main)
