@@ -53,3 +53,27 @@ def test_map_view_colours_by_it_and_draws_the_perception_lines(store):
     # the interlocking height 33.5 um on the height axis (10-40 um)
     assert [s.location for s in lines if s.dimension == "width"] == pytest.approx([33.5])
     assert not [a for a in fig.center if isinstance(a, BoxAnnotation)]  # the ridge band (400-500 um) is off the map
+
+
+def test_the_sweep_studys_w_is_the_maps(store):
+    """A sweep study's [perception] weber_fraction is the W of both maps (the explorer's and
+    ``design-map --tell-apart flat``), read by one function."""
+    import json
+
+    from fingerpad.design.designmap import map_data
+    from fingerpad.explore import sweepdata as sd
+    from fingerpad.perception.discrimination import p_correct
+    from synthetic_sweep import BASE_STUDY
+
+    ds = sd.open_sweep(store)
+    ds.attrs["study"] = json.dumps({**BASE_STUDY, "perception": {"weber_fraction": 0.3}})
+    md = sd.map_data(ds, "spacing", "height", at=1.0)
+    at = md.attrs["at"]
+    mu = ds["mu"].sel(load=at).transpose("height", "spacing").values
+    ref = ds["mu_ref"].sel(load=at).transpose("height", "spacing").values
+    valid = md["valid"].values
+    assert np.array_equal(md["tell_flat"].values[valid], p_correct(mu, ref, 0.3)[valid])
+    assert not np.array_equal(p_correct(mu, ref, 0.3)[valid], p_correct(mu, ref, 0.11)[valid])
+    cmd = map_data(ds, "spacing", "height", at=at, tell_apart={"reference": "flat", "mu": None, "weber": None})
+    got = cmd["tell_apart"].transpose("height", "spacing").values
+    assert np.allclose(got[valid], p_correct(mu, ref, 0.3)[valid], rtol=0, atol=1e-12)

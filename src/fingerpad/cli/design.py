@@ -41,7 +41,8 @@ def design_map_command(
                                             "(docs/perception.md).")] = None,
     weber_fraction: Annotated[str | None, typer.Option(
         "--weber-fraction", metavar="W", help="With --tell-apart (no population): the finger's Weber fraction "
-                                              "(default 0.11).")] = None,
+                                              "(default: the sweep study's [perception] weber_fraction, "
+                                              "0.11).")] = None,
 ) -> None:
     """Draw the design map of a sweep: critical-load contours, mu/mu_ref, contact-state regions.
 

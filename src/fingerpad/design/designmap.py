@@ -49,6 +49,19 @@ MARKERS = {
 }
 
 
+def study_weber(ds: Any) -> float:
+    """The Weber fraction W of a sweep's person: its base study's ``[perception] weber_fraction``,
+    else the default 0.11 (a population that draws W stores its members' fractions instead)."""
+    from ..perception.discrimination import WEBER_FRACTION
+
+    try:
+        base = json.loads(ds.attrs.get("study") or "{}")
+    except (TypeError, ValueError):
+        base = {}
+    value = (base.get("perception") or {}).get("weber_fraction") if isinstance(base, dict) else None
+    return WEBER_FRACTION.default if value is None else float(WEBER_FRACTION.parse(value, "[perception] weber_fraction"))
+
+
 def swept_axes(ds: Any) -> list[str]:
     """The axes of a sweep store, in order."""
     return list(json.loads(ds.attrs["axes"]))
@@ -215,12 +228,12 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
                 units="1", long_name=f"fraction of fingers telling it from the flat reference at {at:g} N "
                                      "(interpolated in log load)")
         else:
-            from ..perception.discrimination import WEBER_FRACTION, p_correct
+            from ..perception.discrimination import p_correct
 
             mu = at_load(data["mu"])
             ref_mu = at_load(data["mu_ref"]) if ref == "flat" else float(tell_apart["mu"])
-            weber = tell_apart.get("weber")
-            p = p_correct(mu.values, np.asarray(ref_mu), WEBER_FRACTION.default if weber is None else float(weber))
+            weber = tell_apart.get("weber")  # --weber-fraction, else the sweep study's W
+            p = p_correct(mu.values, np.asarray(ref_mu), study_weber(ds) if weber is None else float(weber))
             out["tell_apart"] = mu.copy(data=p).where(ok).assign_attrs(
                 units="1", long_name=f"probability that the study's finger tells it from {ref} at {at:g} N")
     if population:

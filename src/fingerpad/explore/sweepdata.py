@@ -161,16 +161,11 @@ def tell_flat(sub: Any, at: float) -> Any:
         return sub["tell_flat"].sel(load=at)
     if "mu" not in sub or "mu_ref" not in sub:
         return None
-    from ..perception.discrimination import WEBER_FRACTION, p_correct
+    from ..design.designmap import study_weber
+    from ..perception.discrimination import p_correct
 
-    try:
-        study = json.loads(sub.attrs.get("study") or "{}")
-    except (TypeError, ValueError):
-        study = {}
-    w = (study.get("perception") or {}).get("weber_fraction", WEBER_FRACTION.default) if isinstance(study, dict) \
-        else WEBER_FRACTION.default
     mu, ref = sub["mu"].sel(load=at), sub["mu_ref"].sel(load=at)
-    return mu.copy(data=p_correct(mu.values, ref.values, float(WEBER_FRACTION.parse(w, "weber_fraction"))))
+    return mu.copy(data=p_correct(mu.values, ref.values, study_weber(sub)))
 
 
 def _plain(v: Any) -> Any:
