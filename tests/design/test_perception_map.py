@@ -26,16 +26,20 @@ def cache(tmp_path_factory, monkeypatch):
     monkeypatch.setenv("FINGERPAD_CACHE", str(tmp_path_factory.getbasetemp() / "perception-map-cache"))
 
 
-def test_stored_fraction_is_a_direct_comparison_with_flat():
+@pytest.mark.parametrize("people", [SPREAD, {**SPREAD, "weber_fraction": {"distribution": "lognormal",
+                                                                         "median": 0.11, "sigma": 0.36}}],
+                         ids=["one W", "each member's own W"])
+def test_stored_fraction_is_a_direct_comparison_with_flat(people):
     from fingerpad.design.spec import sweep_from_dict
 
-    spec = sweep_from_dict({**BASE, "model": {**BASE["model"], "kind": "hertz"}, "sweep": SWEEP}, population=SPREAD)
+    spec = sweep_from_dict({**BASE, "model": {**BASE["model"], "kind": "hertz"}, "sweep": SWEEP}, population=people)
     res = point(spec, (1, 0))
     data = spec.study_data(spec.assignment((1, 0)))
     data["loads"] = {"values": [float(f) for f in spec.loads]}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        direct = compare(study_from_dict(data), "flat", population=load_population(SPREAD))
+        direct = compare(study_from_dict(data), "flat", population=load_population(people))
+    assert direct.as_dict()["weber_fraction"]["drawn"] is ("weber_fraction" in people)
     np.testing.assert_array_equal(res["tell_flat"], direct.summary()["fraction"])
     assert 0 < res["tell_flat"].max() and res["tell_flat"].min() < 1  # not a trivial case
 
