@@ -53,16 +53,20 @@ def test_member_verdicts_meet_exactly_where_p_says():
         assert np.array_equal(v["score"] <= 0.05**2, v["ok"])
 
 
-def test_feels_like_round_trip(tmp_path):
+@pytest.mark.parametrize("people", [POP, {**POP, "weber_fraction": {"distribution": "lognormal", "median": 0.11,
+                                                                    "sigma": 0.36}}],
+                         ids=["one W", "each member's own W"])
+def test_feels_like_round_trip(tmp_path, people):
     """The proposed texture's direct comparison with REF on the same fingers meets the coverage."""
     cache = tmp_path / "cells"
     ref = _write_study(tmp_path / "ref.toml", "175um", cache)
     study = _write_study(tmp_path / "study.toml", "175um", cache)
-    pop = population_from_table(POP)
+    pop = population_from_table(people)
     result = design_textures(study, ["spacing=150um:300um"], [f"feels-like={ref}@1N"], population=pop,
                              coverage=0.9, evaluations=8, candidates=1)
     best = result.candidates[0]
     assert best.meets, result.shortfall()
+    assert np.array_equal(result.problem.weber, [m.get("weber_fraction", 0.11) for m in pop.sample()])
     reported = best.population["perception"][f"feels-like={ref}@1N"]["fraction_telling_apart"]
     assert reported <= 0.1 + 1e-12
     # the direct comparison: the candidate's study against REF, on the same members
