@@ -325,7 +325,7 @@ def population_sensitivity(
         # a listed parameter without spread explains no variance: its indices are 0 by definition
         zero = np.zeros(np.shape(y)[1:]) if y.ndim > 1 else 0.0
         for p in unvaried:
-                indices[quantity][p] = {k: zero for k in ("first", "total", "first_conf", "total_conf")}
+            indices[quantity][p] = {k: zero for k in ("first", "total", "first_conf", "total_conf")}
     note = first_above_total_note(indices, confidence)
     if note:
         notes.append(note)
