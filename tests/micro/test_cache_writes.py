@@ -23,9 +23,9 @@ def test_prepare_writes_the_cache_once_with_the_nodes_of_a_cache_free_cell(tmp_p
     updates: list[dict] = []
     real = cache.CurveCache.update
 
-    def counted(self, key, new):
+    def counted(self, key, new, check=None):
         updates.append(new)
-        return real(self, key, new)
+        return real(self, key, new, check)
 
     monkeypatch.setattr(cache.CurveCache, "update", counted)
     store = cache.CurveCache(tmp_path / "cells")

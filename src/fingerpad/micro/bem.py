@@ -62,9 +62,53 @@ CURVE_TOL = 1e-7
 STATE_SEARCH_CAP = 10.0
 
 
+def periodic_cell(texture: "Texture", modulus: float) -> tuple["Texture", float, float]:
+    """A unit cell's texture (checked periodic), reduced modulus E* (Pa, checked) and length Lx
+    (m): what every unit-cell response starts from."""
+    from ..materials import check_modulus
+
+    if not texture.periodic:
+        raise FingerpadError("a unit-cell response needs a periodic texture (use --periodic or periodize)")
+    return texture, check_modulus(modulus, "reduced modulus E*"), float(texture.size[0])
+
+
 def _grid_pressure(k: int) -> float:
     """Node ``k`` of the global grid of normalised pressures, ``p / E* = 10**(k / POINTS_PER_DECADE)``."""
     return 10 ** (k / POINTS_PER_DECADE)
+
+
+def valid_entry(entry: dict[str, Any]) -> bool:
+    """Whether a cache entry holds what :class:`BEMUnitCell` writes (nodes: a pressure in units
+    of E* -> its solve's numbers; state brackets: two numbers or none). A file edited by hand or
+    written by something else is refused whole (and computed again) rather than read into a
+    traceback or, worse, into the curve."""
+    import numbers
+
+    def number(v: Any) -> bool:
+        return isinstance(v, numbers.Real) and not isinstance(v, bool) and math.isfinite(v)
+
+    points = entry.get("points", {})
+    if not isinstance(points, dict):
+        return False
+    for p, row in points.items():
+        try:
+            q = float(p)
+        except (TypeError, ValueError):
+            return False
+        if not (math.isfinite(q) and q > 0 and isinstance(row, dict)):
+            return False
+        if not (all(number(row.get(k)) for k in ("contact_fraction", "mean_gap", "max_pressure"))
+                and 0 <= row["contact_fraction"] <= 1 and isinstance(row.get("contact_state"), str)
+                and isinstance(row.get("converged"), bool) and isinstance(row.get("iterations"), int)):
+            return False
+    for key in ("transition", "full"):  # [lo, hi] in units of E* (hi inf: beyond the search's cap)
+        bracket = entry.get(key)
+        if bracket is not None and not (isinstance(bracket, list) and len(bracket) == 2
+                                        and number(bracket[0]) and bracket[0] >= 0
+                                        and (number(bracket[1]) or bracket[1] == math.inf)
+                                        and bracket[0] <= bracket[1]):
+            return False
+    return True
 
 
 def _past_asperity(state: str) -> bool:
@@ -129,15 +173,10 @@ class BEMUnitCell(InterpolatedCurve):
         layer: Layer | None = None,
         curve_tol: float | None = None,
     ) -> None:
-        from ..materials import check_modulus
         from .cache import CurveCache
 
-        if not texture.periodic:
-            raise FingerpadError("a unit-cell response needs a periodic texture (use --periodic or periodize)")
-        self.texture = texture
-        self.modulus = check_modulus(modulus, "reduced modulus E*")
         #: The cell's length Lx (m): the unit of the stored lengths.
-        self.length = float(texture.size[0])
+        self.texture, self.modulus, self.length = periodic_cell(texture, modulus)
         self.unit = unit_texture(texture)
         if layer is not None and not isinstance(layer, Layer):
             raise FingerpadError("layer must be a fingerpad.contact.layered.Layer or None")
@@ -176,7 +215,7 @@ class BEMUnitCell(InterpolatedCurve):
         #: What prepare() computed and has not yet written to the cache (None outside prepare()).
         self._pending: dict[str, Any] | None = None
         if self.cache is not None:
-            self._absorb(self.cache.load(self.key))
+            self._absorb(self.cache.load(self.key, valid_entry))
 
     # ---------------------------------------------------------------- cache plumbing
 
@@ -266,7 +305,7 @@ class BEMUnitCell(InterpolatedCurve):
         if self.cache is None:
             return
         if self._pending is None:
-            self._absorb(self.cache.update(self.key, payload))
+            self._absorb(self.cache.update(self.key, payload, valid_entry))
             return
         # Inside prepare(): held until its end, then written in one update (see _flush).
         for k, v in payload.items():
@@ -284,7 +323,7 @@ class BEMUnitCell(InterpolatedCurve):
         each update's was before; the values are the same floats (JSON round-trips them)."""
         pending, self._pending = self._pending, None
         if pending and self.cache is not None:
-            self._absorb(self.cache.update(self.key, pending))
+            self._absorb(self.cache.update(self.key, pending, valid_entry))
 
     @staticmethod
     def _row(res: ContactResult) -> dict[str, Any]:
