@@ -1,30 +1,36 @@
-"""Text drawn by Agg from glyphs rasterised once: the same pixels, a third less time per figure.
+"""Text laid out and rasterised once per string and glyph: the same pixels, less time per figure.
 
-matplotlib's Agg renderer lays out every string it draws (FreeType's shaping of the string
-into glyphs and their offsets) and rasterises each glyph again at every draw: a QC figure
-draws ~60 tick labels, titles and legend entries, most of them the same strings in every
-recording's figure, and this was ~40 % of its time (issue 23). :func:`cache_glyphs` makes a
-renderer keep both:
+matplotlib lays out every string it draws and rasterises each glyph again at every draw: a
+QC figure draws ~60 tick labels, titles and legend entries, most of them the same strings in
+every recording's figure, and this was ~40 % of its time (issue 23). Three caches keep what
+does not change from one draw to the next:
 
-* the layout of a string, keyed by everything the layout reads (the font files, size, dpi,
-  string, hinting; strings with OpenType features or a language set are left to matplotlib);
+* a text's layout (:func:`laid_out_once`, around a draw: the box of each line relative to the
+  text's anchor), keyed by everything ``Text._get_layout`` reads: the string, the resolved font
+  files and properties, size, dpi, hinting, line spacing, alignment and rotation; texts with
+  mathtext, TeX or wrapping are left to matplotlib;
+* a string's glyphs and their offsets (FreeType's shaping), keyed by font files, size, dpi,
+  string and hinting (:func:`cache_glyphs`; strings with OpenType features or a language set
+  are left to matplotlib);
 * each glyph's bitmap, keyed by the glyph, its size, the rotation and the position's fraction
-  of a pixel (1/64 px, FreeType's unit): the same glyph at a whole number of pixels away is
-  the same outline shifted by whole pixels, which FreeType rasterises to the same bitmap,
-  shifted. So the cached bitmap is drawn where matplotlib would have drawn a new one, byte for
-  byte (tests: every measurement figure's PNG is identical with and without the cache).
+  of a pixel (1/64 px, FreeType's unit): the same glyph a whole number of pixels away is the
+  same outline shifted by whole pixels, which FreeType rasterises to the same bitmap, shifted.
 
-It relies on private methods of matplotlib's Agg renderer and fonts (``_prepare_font``,
-``FT2Font._layout``, ``_set_transform``, ``_render_glyph``, from matplotlib 3.11 on); with an
-older matplotlib, which draws text another way, the renderer is left as it is.
+So a figure is drawn with the same pixels, byte for byte (tests: every measurement figure's PNG
+is identical with and without the caches). It relies on private methods of matplotlib's text
+and Agg renderer (``Text._get_layout``, ``_prepare_font``, ``FT2Font._layout``,
+``_set_transform``, ``_render_glyph``, from matplotlib 3.11 on); with an older matplotlib,
+which draws text another way, nothing is cached.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
+from collections.abc import Iterator
 from typing import Any
 
-__all__ = ["cache_glyphs"]
+__all__ = ["cache_glyphs", "laid_out_once"]
 
 #: Entries kept at most (strings laid out; glyph bitmaps, each a few hundred bytes): reached,
 #: a cache starts again empty.
@@ -33,8 +39,9 @@ MAX_GLYPHS = 65536
 
 _LAYOUTS: dict[tuple[Any, ...], list[tuple[Any, int, float, float]]] = {}
 _GLYPHS: dict[tuple[Any, ...], tuple[Any, int, int]] = {}
-#: Glyphs drawn from the cache and rasterised (for the tests).
-counts = {"hits": 0, "misses": 0}
+_TEXTS: dict[tuple[Any, ...], tuple[Any, list[Any], Any]] = {}
+#: Glyphs drawn from the cache and rasterised, texts laid out from it and anew (for the tests).
+counts = {"hits": 0, "misses": 0, "layouts": 0, "new_layouts": 0}
 
 
 def _supported(renderer: Any) -> bool:
@@ -120,3 +127,60 @@ def _draw_glyphs(renderer: Any, gc: Any, x: float, y: float, angle: float, size:
         # draw_text_image's y is downwards and the bitmap's bottom side
         renderer._renderer.draw_text_image(buffer, left + (gx >> 6), int(height) - (top + (gy >> 6)) + buffer.shape[0],
                                            0, gc)
+
+
+def _text_key(text: Any, renderer: Any) -> tuple[Any, ...] | None:
+    """What ``Text._get_layout`` reads (matplotlib 3.11), or ``None`` for a text it cannot be
+    cached for (wrapped, TeX, mathtext)."""
+    from matplotlib import cbook, rcParams
+    from matplotlib.font_manager import fontManager
+
+    string = text.get_text()
+    if text.get_wrap() or text.get_usetex() or (text.get_parse_math() and cbook.is_math_text(string)):
+        return None
+    fp = text.get_fontproperties()
+    return (type(renderer), renderer.dpi, text.get_figure(root=True).dpi, string,
+            tuple(fontManager._find_fonts_by_props(fp)), tuple(fp.get_family()), fp.get_style(), fp.get_variant(),
+            fp.get_weight(), fp.get_stretch(), fp.get_size_in_points(), fp.get_file(), fp.get_math_fontfamily(),
+            rcParams["text.hinting"], rcParams["text.hinting_factor"], text._linespacing,
+            text._get_multialignment(), text.get_rotation(), text._horizontalalignment,
+            text._verticalalignment, text.get_rotation_mode())
+
+
+@contextlib.contextmanager
+def laid_out_once() -> Iterator[None]:
+    """While in the block, every plain text is laid out from this module's cache (the box of
+    each line relative to its anchor, in pixels): the same layout as matplotlib's own, worked out
+    once per string, font, size, alignment and rotation. Not for several threads at once."""
+    from matplotlib.text import Text
+
+    layout = Text.__dict__.get("_get_layout")
+    if layout is None or getattr(layout, "_fingerpad", False):  # an older matplotlib, or inside the block
+        yield
+        return
+
+    def cached_layout(self: Any, renderer: Any) -> Any:
+        key = _text_key(self, renderer)
+        if key is None:
+            return layout(self, renderer)
+        found = _TEXTS.get(key)
+        if found is None:
+            counts["new_layouts"] += 1
+            box, lines, corner = layout(self, renderer)
+            found = (box.frozen(), list(lines), corner)
+            if len(_TEXTS) >= MAX_LAYOUTS:
+                _TEXTS.clear()
+            _TEXTS[key] = found
+        else:
+            counts["layouts"] += 1
+        box, lines, corner = found
+        from matplotlib.transforms import Bbox
+
+        return Bbox(box.get_points().copy()), list(lines), corner
+
+    cached_layout._fingerpad = True  # type: ignore[attr-defined]
+    Text._get_layout = cached_layout
+    try:
+        yield
+    finally:
+        Text._get_layout = layout
