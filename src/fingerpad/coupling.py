@@ -298,7 +298,8 @@ class CurvePrediction:
 
 
 def predict_curve(
-    loads: ArrayLike, finger: Finger, cell: UnitCellResponse, reference: bool = True, n_rings: int = 16
+    loads: ArrayLike, finger: Finger, cell: UnitCellResponse, reference: bool = True, n_rings: int = 16,
+    *, critical_loads: bool = True,
 ) -> CurvePrediction:
     """Predict areas and friction of ``finger`` on the texture described by ``cell``.
 
@@ -318,6 +319,10 @@ def predict_curve(
         Also compute the flat-reference friction and the normalised friction.
     n_rings
         Quadrature density, see :func:`couple`.
+    critical_loads
+        Find the critical loads (two root searches, some 20 % of a curve's time); ``False``
+        leaves ``critical_load`` NaN and ``critical_load_hertz`` ``None`` (callers that read the
+        friction alone, e.g. the E_s fits' model tables); the other fields are the same.
     """
     if not isinstance(finger, Finger):
         raise FingerpadError(f"finger must be a Finger, got {type(finger).__name__}")
@@ -334,6 +339,12 @@ def predict_curve(
         mu_ref = mu_checked(f, ridge, finger)  # on the flat the real area is the ridge area
         mu_norm = mu / mu_ref
 
+    if not critical_loads:
+        return CurvePrediction(
+            load=f, gross_area=gross, ridge_area=ridge, real_area=res.real_area, area_ratio=res.area_ratio,
+            real_pressure=res.real_pressure, ridge_radius=res.ridge_radius, transition_radius=res.transition_radius,
+            full_contact_radius=res.full_contact_radius, centre_past_transition=res.centre_past_transition,
+            mu=mu, mu_ref=mu_ref, mu_normalised=mu_norm, critical_load=math.nan, critical_load_hertz=None)
     # the root finders call A_fr(F) some 25 times each: the law builds the gross-area model once
     # (the numbers of finger.ridge_area, without checking each trial load again)
     ridge_law = finger.ridge_area_law()
