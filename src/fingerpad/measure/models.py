@@ -415,6 +415,16 @@ class ModelTable:
         self._spline = CubicSpline(self.log_moduli, self.table, axis=0)
         self._rows: dict[tuple[Any, ...], np.ndarray] = {}
 
+    def detached(self) -> ModelTable:
+        """The table without its model: what it holds, for another process (a model may be a
+        closure, which does not pickle); calling it interpolates as before."""
+        import copy
+
+        table = copy.copy(self)
+        table.model = None  # type: ignore[assignment]
+        table._rows = {}
+        return table
+
     def log_rows(self, log_moduli: np.ndarray) -> np.ndarray:
         """``log model`` at the table's loads (columns) for each ``log E_s`` of ``log_moduli``
         (rows, clipped to the table's range): the spline's rows. The last few scans asked for are
