@@ -1,6 +1,9 @@
-"""The same sweep on an external Dask scheduler with N local workers: how it scales with N.
+"""The same sweep on an external Dask scheduler with N local workers: how it scales with N; and
+the sweep's plan timed on its own.
 
-The grid sweep of ``bench_sweep.py`` (caps, spacing x height, grid 48, 20 loads; ``--points``,
+First the plan (:func:`fingerpad.design.plan.plan_sweep`: every point's study and cell key, the
+cell and chunk tasks; no cluster, no solve) of a ``--plan-points`` sweep (10,000 by default, 100 x
+100 over spacing and height): wall and CPU seconds, per point. Then the grid sweep of ``bench_sweep.py`` (caps, spacing x height, grid 48, 20 loads; ``--points``,
 64 by default) run by ``fingerpad sweep --scheduler`` against a ``dask scheduler`` started for
 the purpose on 127.0.0.1, with ``dask worker --nworkers N --nthreads 1`` (for N in
 ``--workers``, 1 and 2 by default; 4-16 where a larger machine is lent), each N with an empty
@@ -12,6 +15,7 @@ alternate, ``--rounds`` times (1 by default); medians are reported, with the spe
 workers over one on each side and the load average before each run.
 
     python benchmarks/bench_sweep_scheduler.py [--points 64] [--workers 1,2] [--rounds 1] [--grid 48]
+        [--plan-points 10000]
 
 Output: a table on stdout (Markdown, for docs/benchmarks.md), JSON in
 ``out/bench/sweep_scheduler.json`` (its ``issue34`` row is read by ``benchmarks/report.py``).
@@ -104,14 +108,36 @@ def sweep(study: Path, store: Path, cache: Path, *, scheduler: str | None = None
     return {"seconds": time.perf_counter() - t, "load_before": load}
 
 
+def time_plan(points: int, grid: int) -> dict[str, float]:
+    """Wall and CPU seconds of planning a near-square ``points`` sweep of the study above."""
+    import tomllib
+
+    from fingerpad.design.plan import plan_sweep
+    from fingerpad.design.spec import sweep_from_dict
+
+    side = max(2, round(points ** 0.5))
+    spec = sweep_from_dict(tomllib.loads(STUDY.format(grid=grid, n_spacing=side, n_height=side)))
+    plan_sweep(sweep_from_dict(tomllib.loads(STUDY.format(grid=grid, n_spacing=2, n_height=2))))  # imports
+    t, c = time.perf_counter(), time.process_time()
+    plan = plan_sweep(spec)
+    wall, cpu = time.perf_counter() - t, time.process_time() - c
+    return {"points": spec.size, "cells": len(plan.cells), "chunks": len(plan.chunks), "wall_s": wall, "cpu_s": cpu,
+            "load": os.getloadavg()[0]}
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--points", type=int, default=64, help="points of the sweep (a near-square grid)")
     parser.add_argument("--grid", type=int, default=48, help="grid points along x of each cell")
     parser.add_argument("--workers", default="1,2", help="numbers of workers, comma-separated (default 1,2)")
     parser.add_argument("--rounds", type=int, default=1, help="alternating rounds (medians reported)")
+    parser.add_argument("--plan-points", type=int, default=10000, help="points of the sweep whose plan is timed")
     parser.add_argument("--json", type=Path, default=DEFAULT_OUT, help="JSON report")
     args = parser.parse_args(argv)
+    plan = time_plan(args.plan_points, args.grid)
+    print(f"plan of a {plan['points']}-point sweep (grid {args.grid}; {plan['cells']} cells, {plan['chunks']} chunks): "
+          f"{plan['wall_s']:.2f} s wall, {plan['cpu_s']:.2f} s CPU, {1e3 * plan['cpu_s'] / plan['points']:.2f} ms of "
+          f"CPU per point (load average {plan['load']:.1f})")
     counts = [int(n) for n in args.workers.split(",") if n.strip()]
     n_spacing = max(2, round(args.points ** 0.5))
     n_height = max(1, args.points // n_spacing)
@@ -161,7 +187,7 @@ def main(argv: list[str] | None = None) -> int:
            "load": ", ".join(f"{r['load_before']:.1f}" for by_n in runs.values() for rs in by_n.values() for r in rs)}
     args.json.parent.mkdir(parents=True, exist_ok=True)
     args.json.write_text(json.dumps({"date": time.strftime("%Y-%m-%dT%H:%M:%S"), "cores": os.cpu_count(),
-                                     "points": points, "grid": args.grid, "runs": runs, "issue34": [row]},
+                                     "points": points, "grid": args.grid, "runs": runs, "plan": plan, "issue34": [row]},
                                     indent=2) + "\n")
     return 0
 
