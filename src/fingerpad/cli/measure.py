@@ -349,11 +349,8 @@ def simulate_command(
                                       help="Range of the participants' E_s.")] = "0.25MPa:0.4MPa",
     sampling_rate: Annotated[str, _opt("--sampling-rate", panel=_INPUT, metavar="HZ")] = "200",
     samples: Annotated[str | None, _opt("--samples", panel=_INPUT, metavar="CSV",
-                                        help="Texture table of several textured samples, in the format "
-                                             "`analyse --samples` reads (sample,radius,height,spacing and "
-                                             "optional material_modulus, micro_model, full_contact_ratio); "
-                                             "replaces --texture, --radius, --height, --spacing, --micro-model "
-                                             "and --full-contact-ratio.")] = None,
+                                        help="Several textures: a sample table as `analyse --samples` reads "
+                                             "it; replaces --texture and its geometry options.")] = None,
 ) -> None:
     """Write synthetic tribometer recordings with known skin modulus and friction law.
 
