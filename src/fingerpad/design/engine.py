@@ -29,8 +29,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError, one_line
+from ..extras import require
 from .evaluate import evaluate_chunk, prepare_cell
-from .executor import Executor
+from .executor import Executor, _close_quietly
 from .plan import SweepPlan, plan_sweep
 from .spec import SweepSpec
 from .store import SweepStore, pressure_grid
@@ -220,16 +221,6 @@ def _worker_start() -> Iterator[None]:
         yield
 
 
-def _close_quietly(client: Any) -> None:
-    """Close a Client whose constructor failed, so that its ``__del__`` has nothing left to do."""
-    import contextlib
-
-    with contextlib.suppress(Exception):
-        client.close(timeout=2)
-    with contextlib.suppress(Exception):
-        client.status = "closed"
-
-
 def run_sweep(
     spec: SweepSpec,
     store_path: str | Path,
@@ -256,7 +247,10 @@ def run_sweep(
     FingerpadError
         A store of another sweep without ``overwrite``, a damaged store without ``repair``, a
         scheduler that does not answer, a bad ``FINGERPAD_FFT`` setting.
+    MissingExtraError
+        Dask or Zarr not installed (the ``sweep`` extra).
     """
+    require("sweep")
     from ..contact.greens import Backend
     from .executor import DaskExecutor
 

@@ -157,8 +157,16 @@ class DaskExecutor:
                 yield Done(given[future.key], error=future.exception())
 
     def close(self) -> None:
-        from .engine import _close_quietly
-
         _close_quietly(self.client)
         if self.cluster is not None:
             self.cluster.close()
+
+
+def _close_quietly(client: Any) -> None:
+    """Close a Client whose constructor failed, so that its ``__del__`` has nothing left to do."""
+    import contextlib
+
+    with contextlib.suppress(Exception):
+        client.close(timeout=2)
+    with contextlib.suppress(Exception):
+        client.status = "closed"

@@ -16,7 +16,7 @@ import lazy_loader
 
 pn = lazy_loader.load("panel")
 
-from ...finger import FINGER_FIELDS, FINGER_PRESETS
+from ...finger import FINGER_FIELDS, FINGER_PARAMS, FINGER_PRESETS
 from ..inputs import FINGER_LABELS, family_examples, field_label
 
 __all__ = ["Field", "Form", "css_name"]
@@ -115,8 +115,10 @@ class Form:
         self.preset = Field("finger.preset", "finger preset", kind="choice", value="default",
                             options=list(FINGER_PRESETS),
                             doc="; ".join(f"{k}: {f.description}" for k, f in FINGER_PRESETS.items()))
-        self.finger = {k: Field(f"finger.{k}", f"{FINGER_LABELS[k]} ({_DIM_UNIT[dim]})", doc=f"overrides the preset's {k}")
-                       for k, dim in FINGER_FIELDS.items()}
+        # titles from the declarations: a choice lists its choices, a number its unit
+        self.finger = {p.name: Field(f"finger.{p.name}", f"{FINGER_LABELS[p.name]} ("
+                                     f"{', '.join(p.choices) if p.choices else _DIM_UNIT[p.dimension]})",
+                                     doc=f"overrides the preset's {p.name}") for p in FINGER_PARAMS}
         self.loads = {
             "range": Field("loads.range", "loads (N)", value="0.1N:4N:40", placeholder="0.1N:4N:40",
                            doc="START:STOP:COUNT, or one load"),
