@@ -26,6 +26,8 @@ from .errors import FingerpadError
 REFERENCES = ("greenwood1958",)
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from .finger import Finger
 
 
@@ -86,8 +88,14 @@ def hysteresis_force(load: ArrayLike, radius: float, modulus: float, beta: float
     return scalar_out(_hysteresis(as_loads(load), radius, modulus, beta))
 
 
+def _hysteresis_coefficient(radius: float, beta: float) -> float:
+    """``beta (9 / (128 R))^(2/3)`` of Eq. 2.4 (a Python float: the same bits for one finger and
+    for a stack of them, :func:`mu_stacked`)."""
+    return beta * (9.0 / (128.0 * radius)) ** (2.0 / 3.0)
+
+
 def _hysteresis(f: np.ndarray, radius: float, modulus: float, beta: float) -> np.ndarray:
-    return beta * (9.0 / (128.0 * radius)) ** (2.0 / 3.0) * np.cbrt(f**4 / modulus)
+    return _hysteresis_coefficient(radius, beta) * np.cbrt(f**4 / modulus)
 
 
 def friction_force(load: ArrayLike, real_area: ArrayLike, finger: Finger) -> float | np.ndarray:
@@ -122,6 +130,21 @@ def mu_checked(f: np.ndarray, real_area: np.ndarray, finger: Finger) -> np.ndarr
     """``mu = F_f / F`` on loads (> 0) and real areas already checked: the path of
     :func:`fingerpad.coupling.predict_curve`, which checks its loads once at its entry."""
     return _friction(f, real_area, finger) / f
+
+
+def mu_stacked(f: np.ndarray, real_area: np.ndarray, fingers: Sequence[Finger]) -> np.ndarray:
+    """:func:`mu_checked` of many fingers at once: ``f`` and ``real_area`` are ``(fingers, loads)``
+    arrays, row ``i`` that of ``fingers[i]``; each entry the bits of ``mu_checked`` on its finger
+    alone (the finger's constants as column arrays, the field-only factor of Eq. 2.4 as Python
+    floats, as there)."""
+    def column(values: list[float]) -> np.ndarray:
+        return np.array(values, dtype=float).reshape(-1, *([1] * (f.ndim - 1)))
+
+    tau0 = column([fg.tau0 for fg in fingers])
+    alpha = column([fg.alpha for fg in fingers])
+    modulus = column([fg.modulus for fg in fingers])
+    coef = column([_hysteresis_coefficient(fg.radius, fg.beta) for fg in fingers])
+    return (_adhesion(f, real_area, tau0, alpha) + coef * np.cbrt(f**4 / modulus)) / f  # type: ignore[arg-type]
 
 
 def normalised_friction(mu_texture: ArrayLike, mu_reference: ArrayLike) -> float | np.ndarray:

@@ -23,14 +23,14 @@ from typing import Any
 import numpy as np
 
 from ..coupling import CurvePrediction, predict_curve
-from ..coupling.members import predict_members
+from ..coupling.members import FingerStack, centre_loads, predict_members
 from ..errors import FingerpadError
 from ..finger import FINGER_FIELDS, LAYER_FIELDS, Finger
 from ..meso import ConstantFractionRidges
 from ..micro.bem import BEMUnitCell
 from ..study.run import P_HIGH, P_LOW, Prediction, load_at_centre_pressure
 
-__all__ = ["STATES", "MemberValues", "evaluate_members", "member_cells", "member_finger",
+__all__ = ["STATES", "MemberValues", "evaluate_members", "member_cells", "member_finger", "member_fingers",
            "member_full_contact_loads", "member_quantiles", "predict_fingers"]
 
 #: Contact states at the pad centre, in the order of their codes (0, 1, 2).
@@ -57,12 +57,37 @@ def member_finger(finger: Finger, params: Mapping[str, float]) -> Finger:
     return finger.with_overrides(**values) if values else finger
 
 
-def member_full_contact_loads(fingers: Sequence[Finger], pressures: Sequence[float]) -> np.ndarray:
+#: How many (finger, members) pairs :func:`member_fingers` keeps (a sweep's points share one).
+MEMBER_SETS_KEPT = 4
+_member_sets: dict[Any, tuple[tuple[Finger, ...], FingerStack]] = {}
+
+
+def member_fingers(finger: Finger, members: Sequence[Mapping[str, float]]) -> tuple[tuple[Finger, ...], FingerStack]:
+    """``[member_finger(finger, m) for m in members]`` and their :class:`~fingerpad.coupling.members.FingerStack`,
+    kept for the last :data:`MEMBER_SETS_KEPT` pairs asked (keyed by the finger and the members'
+    values): a sweep's points with one finger share its members, and building 1,000 checked
+    fingers took longer than coupling them. The fingers are immutable and equal to fresh ones,
+    so what is kept changes no number."""
+    key = (finger, tuple(tuple(sorted(m.items())) for m in members))
+    found = _member_sets.get(key)
+    if found is None:
+        fingers = tuple(member_finger(finger, m) for m in members)
+        found = (fingers, FingerStack(fingers))
+        while len(_member_sets) >= MEMBER_SETS_KEPT:
+            del _member_sets[next(iter(_member_sets))]
+        _member_sets[key] = found
+    return found
+
+
+def member_full_contact_loads(fingers: Sequence[Finger], pressures: Sequence[float],
+                              stack: FingerStack | None = None) -> np.ndarray:
     """Per finger, the load (N) at which its pad-centre pressure ``1.5 F / A_fr(F)`` reaches its
-    cell's full-contact pressure ``pressures[i]`` (Pa): :func:`~fingerpad.study.run.load_at_centre_pressure`
-    with the finger's area law called directly (``inf`` for an infinite pressure, NaN if none)."""
-    return np.array([load_at_centre_pressure(finger, float(p), ridge_area=finger.ridge_area_law())
-                     for finger, p in zip(fingers, pressures, strict=True)], dtype=float)
+    cell's full-contact pressure ``pressures[i]`` (Pa), all fingers in one search
+    (:func:`~fingerpad.coupling.members.centre_loads`; ``inf`` for an infinite pressure, NaN if
+    none): :func:`~fingerpad.study.run.load_at_centre_pressure` per finger to within its own
+    tolerance (``rtol`` 1e-12, ``xtol`` 2e-12 N; tests). ``stack``: the fingers' stack if one is
+    at hand."""
+    return centre_loads(FingerStack(fingers) if stack is None else stack, np.asarray(pressures, dtype=float))
 
 
 def _member_moduli(study: Any, fingers: Sequence[Finger]) -> list[float]:
@@ -72,7 +97,8 @@ def _member_moduli(study: Any, fingers: Sequence[Finger]) -> list[float]:
 
 
 def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger],
-                 progress: Callable[[int, int], None] | None = None) -> list[Any]:
+                 progress: Callable[[int, int], None] | None = None,
+                 stack: FingerStack | None = None) -> list[Any]:
     """The BEM cell of each finger on the study's (prepared) ``cell``, prepared over what that
     finger's loads ask for: ``cell`` itself over the union of the fingers' pressures in units of
     E* (no solve when that lies inside what is cached), read at each finger's E1*; a layered
@@ -82,15 +108,19 @@ def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger],
     A sweep's cell task calls this for every point sharing a cell before any of them is
     predicted (:func:`fingerpad.design.evaluate.prepare_shared_cell`): :func:`predict_fingers`
     then solves nothing. ``progress(done, total)`` after each layered finger's cell (a cell of its
-    own takes seconds to solve). Returns one response per finger."""
+    own takes seconds to solve); ``stack``: the fingers' :class:`~fingerpad.coupling.members.FingerStack`
+    if one is at hand. Returns one response per finger."""
     loads = study.loads
     moduli = _member_moduli(study, fingers)
     if not cell.flat:
         # the pressures every finger asks for, in units of E*: one prepare covers them all
+        # every finger's A_fr at the loads in one evaluation (FingerStack: each row the bits of
+        # finger.ridge_area(loads))
+        f_rows = np.tile(np.asarray(loads, dtype=float), (len(fingers), 1))
+        p_rows = f_rows / (FingerStack(fingers) if stack is None else stack).ridge_area(f_rows)
         lo, hi = math.inf, 0.0
-        for f, e in zip(fingers, moduli, strict=True):
-            p = loads / np.asarray(f.ridge_area(loads), float)
-            lo, hi = min(lo, P_LOW * float(p.min()) / e), max(hi, P_HIGH * float(p.max()) / e)
+        for row, e in zip(p_rows, moduli, strict=True):
+            lo, hi = min(lo, P_LOW * float(row.min()) / e), max(hi, P_HIGH * float(row.max()) / e)
         cell.prepare(lo * cell.modulus, hi * cell.modulus)
     cells: list[Any] = []
     layered = sum(1 for f in fingers if not (f.layer is None and cell.layer is None))
@@ -107,27 +137,11 @@ def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger],
     return cells
 
 
-def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,
+def _predict_codes(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,
                     progress: Callable[[int, int], None] | None = None,
-                    stats: dict[str, int] | None = None) -> tuple[
-        list[CurvePrediction], np.ndarray, np.ndarray, list[list[str]]]:
-    """Every finger on the texture of a study already predicted (``nominal``, its cell reused).
-
-    The BEM cell is prepared over the union of the fingers' pressures in units of E* (no solve
-    when that lies inside what is cached: psi depends on p/E* only) and read at each finger's E1*
-    (Eq. 3.4); with the Hertz model each finger gets its own per-asperity cell (no solve).
-    ``full_contact=False`` skips the search of the full-contact loads (NaN then; the robust
-    design's screen does not use them). ``progress``: as for :func:`member_cells`; ``stats``, if
-    given, gets ``own_cells`` (members on a BEM cell of their own) and ``solves`` (unit-cell
-    solves the members added, 0 when the cache held them).
-
-    Returns
-    -------
-    curves, critical_load, full_contact_load, states
-        Per finger: its :class:`~fingerpad.coupling.CurvePrediction`, its critical and
-        full-contact loads (N; ``inf`` if never reached, full contact NaN for Hertz) and the
-        contact state at the pad centre at each load.
-    """
+                    stats: dict[str, int] | None = None, stack: FingerStack | None = None) -> tuple[
+        list[CurvePrediction], np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`predict_fingers` with the centre states as their codes, ``(members, loads)`` int8."""
     from ..micro.hertz import hertz_cell_for
 
     study = nominal.study
@@ -136,7 +150,8 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_cont
     cell = nominal.cell
     if nominal.bem is not None:
         before = int(getattr(cell, "solves", 0) or 0)
-        cells = member_cells(study, cell, fingers, progress)
+        stack = FingerStack(fingers) if stack is None else stack
+        cells = member_cells(study, cell, fingers, progress, stack)
         own = {i for i, c in enumerate(cells) if isinstance(c, BEMUnitCell)}
         if stats is not None:
             stats["own_cells"] = len(own)
@@ -144,7 +159,8 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_cont
         shared = [i for i in range(len(fingers)) if i not in own]
         curves = [None] * len(fingers)
         if shared:
-            done = predict_members(loads, [fingers[i] for i in shared], cell, [moduli[i] for i in shared])
+            done = predict_members(loads, [fingers[i] for i in shared], cell, [moduli[i] for i in shared],
+                                   stack=stack if len(shared) == len(fingers) else stack.subset(shared))
             for i, curve in zip(shared, done, strict=True):
                 curves[i] = curve
         for i in sorted(own):
@@ -153,7 +169,7 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_cont
         if cell.flat:
             full = np.zeros(len(fingers))
         elif full_contact:
-            full = member_full_contact_loads(fingers, [c.full_contact_pressure for c in cells])
+            full = member_full_contact_loads(fingers, [c.full_contact_pressure for c in cells], stack)
         else:
             full = np.full(len(fingers), math.nan)
     else:
@@ -165,9 +181,38 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_cont
     peak = np.array([1.5 * curve.load / curve.ridge_area for curve in curves])
     pt = np.array([[float(c.transition_pressure)] for c in cells])
     pf = np.array([[float(c.full_contact_pressure)] for c in cells])
-    codes = np.where(peak >= pf, 2, np.where(peak >= pt, 1, 0))
-    states = [[STATES[k] for k in row] for row in codes.tolist()]
-    return curves, np.asarray(crit, float), np.asarray(full, float), states
+    codes = np.where(peak >= pf, 2, np.where(peak >= pt, 1, 0)).astype(np.int8)
+    return curves, np.asarray(crit, float), np.asarray(full, float), codes
+
+
+def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,
+                    progress: Callable[[int, int], None] | None = None,
+                    stats: dict[str, int] | None = None, stack: FingerStack | None = None) -> tuple[
+        list[CurvePrediction], np.ndarray, np.ndarray, list[list[str]]]:
+    """Every finger on the texture of a study already predicted (``nominal``, its cell reused).
+
+    The BEM cell is prepared over the union of the fingers' pressures in units of E* (no solve
+    when that lies inside what is cached: psi depends on p/E* only) and read at each finger's E1*
+    (Eq. 3.4); with the Hertz model each finger gets its own per-asperity cell (no solve).
+    ``full_contact=False`` skips the search of the full-contact loads (NaN then; the robust
+    design's screen does not use them). ``progress``: as for :func:`member_cells`; ``stats``, if
+    given, gets ``own_cells`` (members on a BEM cell of their own) and ``solves`` (unit-cell
+    solves the members added, 0 when the cache held them); ``stack``: the fingers' stack if one
+    is at hand (:func:`member_fingers`).
+
+    Returns
+    -------
+    curves, critical_load, full_contact_load, states
+        Per finger: its :class:`~fingerpad.coupling.CurvePrediction` (equal to
+        :func:`~fingerpad.coupling.predict_curve`'s, the critical load to
+        :data:`~fingerpad.coupling.members.LOAD_RTOL`), its critical and full-contact loads (N;
+        ``inf`` if never reached, full contact NaN for Hertz; all members' in one search,
+        :func:`~fingerpad.coupling.members.centre_loads`) and the contact state at the pad
+        centre at each load.
+    """
+    curves, crit, full, codes = _predict_codes(nominal, fingers, full_contact=full_contact, progress=progress,
+                                               stats=stats, stack=stack)
+    return curves, crit, full, [[STATES[k] for k in row] for row in codes.tolist()]
 
 
 @dataclass
@@ -195,7 +240,7 @@ class MemberValues:
     states: np.ndarray
 
 
-def evaluate_members(nominal: Prediction, fingers: Sequence[Finger]) -> MemberValues:
+def evaluate_members(nominal: Prediction, fingers: Sequence[Finger], stack: FingerStack | None = None) -> MemberValues:
     """The members' numbers on the nominal prediction's texture as arrays (a sweep point's
     population): :func:`predict_fingers`, so every member's numbers are those of a plain
     :func:`~fingerpad.coupling.predict_curve` of that member, bit for bit.
@@ -207,19 +252,19 @@ def evaluate_members(nominal: Prediction, fingers: Sequence[Finger]) -> MemberVa
         prepared over the members' pressures, solving only what they add).
     fingers
         The members' fingers (:func:`member_finger`).
+    stack
+        Their :class:`~fingerpad.coupling.members.FingerStack` if one is at hand (:func:`member_fingers`).
 
     Returns
     -------
     MemberValues
     """
-    curves, crit, full, states = predict_fingers(nominal, fingers)
-    codes = {s: i for i, s in enumerate(STATES)}
+    curves, crit, full, codes = _predict_codes(nominal, fingers, stack=stack)
 
     def rows(name: str) -> np.ndarray:
         return np.array([np.asarray(getattr(c, name), float) for c in curves])
 
-    return MemberValues(rows("area_ratio"), rows("mu"), rows("mu_ref"), rows("mu_normalised"), crit, full,
-                        np.array([[codes[s] for s in row] for row in states], dtype=np.int8))
+    return MemberValues(rows("area_ratio"), rows("mu"), rows("mu_ref"), rows("mu_normalised"), crit, full, codes)
 
 
 def member_quantiles(values: np.ndarray, levels: Sequence[float], drop_nan: bool = False) -> np.ndarray:
@@ -242,6 +287,8 @@ def member_quantiles(values: np.ndarray, levels: Sequence[float], drop_nan: bool
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # inf - inf inside numpy's interpolation
         res = np.quantile(v, q, axis=0)
+    if not np.isnan(res).any():  # nothing to mend (the two quantiles below cost as much again)
+        return res
     lower = np.quantile(v, q, axis=0, method="lower")
     upper = np.quantile(v, q, axis=0, method="higher")
     pos = q * (v.shape[0] - 1)
