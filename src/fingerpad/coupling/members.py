@@ -32,7 +32,7 @@ from ..friction import mu_stacked
 from ..micro.response import DEFAULT_LOAD_RANGE, check_cell
 from .curve import CurvePrediction, disc_ratio, predict_curve
 
-__all__ = ["BLOCK", "LOAD_RTOL", "FingerStack", "centre_loads", "predict_members"]
+__all__ = ["BLOCK", "LOAD_RTOL", "FingerStack", "MemberCurves", "centre_loads", "member_curves", "predict_members"]
 
 #: Members per NumPy block (10 psi evaluations per member and load: 100 k pressures per block
 #: at 40 loads, bounded memory).
@@ -216,8 +216,47 @@ def _zone_radius(a: np.ndarray, peak: np.ndarray, p_zone: np.ndarray) -> np.ndar
     return np.where(np.isfinite(p_zone), radius, 0.0)
 
 
-def _block(f: np.ndarray, stack: FingerStack, cells: Sequence[Any], base: Any, factors: np.ndarray,
-           reference: bool) -> list[CurvePrediction]:
+@dataclasses.dataclass(frozen=True)
+class MemberCurves:
+    """Many fingers' :class:`~.curve.CurvePrediction` as ``(members, loads)`` arrays (row ``i``
+    that of finger ``i``; ``load`` 1-D, ``critical_load`` per member): what :func:`member_curves`
+    computes, :meth:`curve` one member's prediction (views of the rows)."""
+
+    load: np.ndarray
+    gross_area: np.ndarray
+    ridge_area: np.ndarray
+    real_area: np.ndarray
+    area_ratio: np.ndarray
+    real_pressure: np.ndarray
+    ridge_radius: np.ndarray
+    transition_radius: np.ndarray
+    full_contact_radius: np.ndarray
+    centre_past_transition: np.ndarray
+    mu: np.ndarray
+    mu_ref: np.ndarray | None
+    mu_normalised: np.ndarray | None
+    critical_load: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.ridge_area.shape[0])
+
+    def curve(self, i: int) -> CurvePrediction:
+        """Member ``i``'s prediction."""
+        return CurvePrediction(
+            load=self.load, gross_area=self.gross_area[i], ridge_area=self.ridge_area[i],
+            real_area=self.real_area[i], area_ratio=self.area_ratio[i], real_pressure=self.real_pressure[i],
+            ridge_radius=self.ridge_radius[i], transition_radius=self.transition_radius[i],
+            full_contact_radius=self.full_contact_radius[i], centre_past_transition=self.centre_past_transition[i],
+            mu=self.mu[i], mu_ref=None if self.mu_ref is None else self.mu_ref[i],
+            mu_normalised=None if self.mu_normalised is None else self.mu_normalised[i],
+            critical_load=float(self.critical_load[i]), critical_load_hertz=None)
+
+    def curves(self) -> list[CurvePrediction]:
+        """Every member's prediction, in order."""
+        return [self.curve(i) for i in range(len(self))]
+
+
+def _block(f: np.ndarray, stack: FingerStack, base: Any, factors: np.ndarray, reference: bool) -> MemberCurves:
     """The curves of one block of members, each on ``base`` read at its ``factors[i]``."""
     fingers = stack.fingers
     n, m = len(fingers), f.size
@@ -225,9 +264,9 @@ def _block(f: np.ndarray, stack: FingerStack, cells: Sequence[Any], base: Any, f
     gross, ridge = stack.areas(ff)
     if np.any(ridge <= 0):
         raise FingerpadError("the finger's ridge contact area must be positive at every load")
-    states = [check_cell(c) for c in cells]
-    pt_m = np.array([s[0] for s in states])
-    pf_m = np.array([s[1] for s in states])
+    # ScaledResponse's state pressures (base x factor), each checked as check_cell checks it
+    pt_base, pf_base, _ = check_cell(base)
+    pt_m, pf_m = pt_base * factors, pf_base * factors
     pt, pf = pt_m[:, None], pf_m[:, None]
     p_mean = ff / ridge
     peak = 1.5 * p_mean
@@ -238,7 +277,6 @@ def _block(f: np.ndarray, stack: FingerStack, cells: Sequence[Any], base: Any, f
     real = ratio * ridge
     with np.errstate(divide="ignore"):
         p_re = np.where(real > 0, ff / np.where(real > 0, real, 1.0), np.inf)
-    t_radius, f_radius = _zone_radius(a, peak, pt), _zone_radius(a, peak, pf)
     mu = mu_stacked(ff, real, fingers)
     mu_ref = mu_norm = None
     if reference:
@@ -248,13 +286,34 @@ def _block(f: np.ndarray, stack: FingerStack, cells: Sequence[Any], base: Any, f
     # transition; NaN: no crossing in the load range, as predict_curve reports them)
     crit = centre_loads(stack, np.where(np.isinf(pt_m), np.nan, pt_m))
     crit[np.isinf(pt_m)] = math.inf
-    past = peak >= pt
-    return [CurvePrediction(
-        load=f, gross_area=gross[i], ridge_area=ridge[i], real_area=real[i], area_ratio=ratio[i],
-        real_pressure=p_re[i], ridge_radius=a[i], transition_radius=t_radius[i], full_contact_radius=f_radius[i],
-        centre_past_transition=past[i], mu=mu[i], mu_ref=None if mu_ref is None else mu_ref[i],
-        mu_normalised=None if mu_norm is None else mu_norm[i], critical_load=float(crit[i]), critical_load_hertz=None,
-    ) for i in range(n)]
+    return MemberCurves(f, gross, ridge, real, ratio, p_re, a, _zone_radius(a, peak, pt), _zone_radius(a, peak, pf),
+                        peak >= pt, mu, mu_ref, mu_norm, crit)
+
+
+def member_curves(loads: ArrayLike, stack: FingerStack, cell: Any, moduli: ArrayLike, *,
+                  reference: bool = True) -> MemberCurves:
+    """:func:`predict_members` on a BEM ``cell`` as arrays (see there): every member of
+    ``stack`` on ``cell`` read at its E1* ``moduli[i]`` (Pa), in blocks of :data:`BLOCK`."""
+    f = as_loads(loads, "loads", strict=True).ravel()
+    if f.size == 0:
+        raise FingerpadError("no loads given")
+    e = np.asarray(moduli, dtype=float).ravel()
+    if e.size != len(stack):
+        raise FingerpadError(f"{e.size} moduli for {len(stack)} fingers")
+    # cell.at_modulus(E).factor for every member (and its check)
+    factors = np.array([cell.at_modulus(float(x)).factor for x in e], dtype=float)
+    parts = []
+    for start in range(0, len(stack), BLOCK):
+        stop = min(start + BLOCK, len(stack))
+        block = stack if (start, stop) == (0, len(stack)) else stack.subset(range(start, stop))
+        parts.append(_block(f, block, cell, factors[start:stop], reference))
+    if len(parts) == 1:
+        return parts[0]
+    joined = {}
+    for field in dataclasses.fields(MemberCurves):
+        values = [getattr(p, field.name) for p in parts]
+        joined[field.name] = values[0] if field.name == "load" or values[0] is None else np.concatenate(values)
+    return MemberCurves(**joined)
 
 
 def predict_members(
@@ -296,19 +355,9 @@ def predict_members(
                 for finger, c in zip(fingers, cells, strict=True)]
     if len(moduli) != len(fingers):
         raise FingerpadError(f"{len(moduli)} moduli for {len(fingers)} fingers")
-    f = as_loads(loads, "loads", strict=True).ravel()
-    if f.size == 0:
-        raise FingerpadError("no loads given")
     if int(n_rings) < 2:
         raise FingerpadError(f"n_rings must be at least 2, got {n_rings!r}")
-    cells = [cell.at_modulus(float(e)) for e in moduli]
-    factors = np.array([c.factor for c in cells], dtype=float)
     whole = FingerStack(fingers) if stack is None else stack
     if len(whole) != len(fingers):
         raise FingerpadError(f"a stack of {len(whole)} fingers for {len(fingers)} fingers")
-    curves: list[CurvePrediction] = []
-    for start in range(0, len(fingers), BLOCK):
-        part = slice(start, start + BLOCK)
-        block = whole if len(fingers) <= BLOCK else whole.subset(range(start, min(start + BLOCK, len(fingers))))
-        curves.extend(_block(f, block, cells[part], cell, factors[part], reference))
-    return curves  # type: ignore[return-value]
+    return member_curves(loads, whole, cell, moduli, reference=reference).curves()

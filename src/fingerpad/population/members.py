@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from ..coupling import CurvePrediction, predict_curve
-from ..coupling.members import FingerStack, centre_loads, predict_members
+from ..coupling.members import FingerStack, MemberCurves, centre_loads, member_curves, predict_members
 from ..errors import FingerpadError
 from ..finger import FINGER_FIELDS, LAYER_FIELDS, Finger
 from ..meso import ConstantFractionRidges
@@ -140,8 +140,9 @@ def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger],
 def _predict_codes(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,
                     progress: Callable[[int, int], None] | None = None,
                     stats: dict[str, int] | None = None, stack: FingerStack | None = None) -> tuple[
-        list[CurvePrediction], np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`predict_fingers` with the centre states as their codes, ``(members, loads)`` int8."""
+        _Rows, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`predict_fingers` with the curves as rows of arrays and the centre states as their
+    codes, ``(members, loads)`` int8."""
     from ..micro.hertz import hertz_cell_for
 
     study = nominal.study
@@ -157,15 +158,21 @@ def _predict_codes(nominal: Prediction, fingers: Sequence[Finger], *, full_conta
             stats["own_cells"] = len(own)
             stats["solves"] = int(getattr(cell, "solves", 0) or 0) - before + sum(int(cells[i].solves) for i in own)
         shared = [i for i in range(len(fingers)) if i not in own]
-        curves = [None] * len(fingers)
-        if shared:
-            done = predict_members(loads, [fingers[i] for i in shared], cell, [moduli[i] for i in shared],
-                                   stack=stack if len(shared) == len(fingers) else stack.subset(shared))
-            for i, curve in zip(shared, done, strict=True):
-                curves[i] = curve
-        for i in sorted(own):
-            curves[i] = predict_curve(loads, fingers[i], cells[i])
-        crit = [c.critical_load for c in curves]
+        table: MemberCurves | None = None
+        curves: list[Any] | None = None
+        if not own:  # every member on the one cell: arrays throughout
+            table = member_curves(loads, stack, cell, moduli)
+            crit = table.critical_load
+        else:
+            curves = [None] * len(fingers)
+            if shared:
+                done = predict_members(loads, [fingers[i] for i in shared], cell, [moduli[i] for i in shared],
+                                       stack=stack.subset(shared))
+                for i, curve in zip(shared, done, strict=True):
+                    curves[i] = curve
+            for i in sorted(own):
+                curves[i] = predict_curve(loads, fingers[i], cells[i])
+            crit = [c.critical_load for c in curves]
         if cell.flat:
             full = np.zeros(len(fingers))
         elif full_contact:
@@ -175,14 +182,35 @@ def _predict_codes(nominal: Prediction, fingers: Sequence[Finger], *, full_conta
     else:
         cells = [hertz_cell_for(nominal.texture, e)[0] for e in moduli]
         curves = predict_members(loads, fingers, cells)
+        table = None
         crit = [c.critical_load_hertz if c.critical_load_hertz is not None else math.nan for c in curves]
         full = np.full(len(fingers), math.nan)
     # centre_state's comparisons (peak >= pf: full, >= pt: transition), on arrays
-    peak = np.array([1.5 * curve.load / curve.ridge_area for curve in curves])
+    if table is not None:
+        peak = 1.5 * table.load / table.ridge_area
+    else:
+        peak = np.array([1.5 * curve.load / curve.ridge_area for curve in curves])  # type: ignore[union-attr]
     pt = np.array([[float(c.transition_pressure)] for c in cells])
     pf = np.array([[float(c.full_contact_pressure)] for c in cells])
     codes = np.where(peak >= pf, 2, np.where(peak >= pt, 1, 0)).astype(np.int8)
-    return curves, np.asarray(crit, float), np.asarray(full, float), codes
+    return _Rows(table, curves), np.asarray(crit, float), np.asarray(full, float), codes
+
+
+class _Rows:
+    """The members' curves, as the arrays of :func:`~fingerpad.coupling.members.member_curves`
+    (all members on one cell) or as a list (members on cells of their own, Hertz cells)."""
+
+    def __init__(self, table: MemberCurves | None, curves: list[Any] | None) -> None:
+        self.table, self._curves = table, curves
+
+    def curves(self) -> list[CurvePrediction]:
+        return self._curves if self._curves is not None else self.table.curves()  # type: ignore[union-attr]
+
+    def rows(self, name: str) -> np.ndarray:
+        """``(members, loads)`` array of a per-load field."""
+        if self.table is not None:
+            return np.asarray(getattr(self.table, name), float)
+        return np.array([np.asarray(getattr(c, name), float) for c in self._curves])  # type: ignore[union-attr]
 
 
 def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,
@@ -210,9 +238,9 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_cont
         :func:`~fingerpad.coupling.members.centre_loads`) and the contact state at the pad
         centre at each load.
     """
-    curves, crit, full, codes = _predict_codes(nominal, fingers, full_contact=full_contact, progress=progress,
-                                               stats=stats, stack=stack)
-    return curves, crit, full, [[STATES[k] for k in row] for row in codes.tolist()]
+    rows, crit, full, codes = _predict_codes(nominal, fingers, full_contact=full_contact, progress=progress,
+                                             stats=stats, stack=stack)
+    return rows.curves(), crit, full, [[STATES[k] for k in row] for row in codes.tolist()]
 
 
 @dataclass
@@ -259,12 +287,9 @@ def evaluate_members(nominal: Prediction, fingers: Sequence[Finger], stack: Fing
     -------
     MemberValues
     """
-    curves, crit, full, codes = _predict_codes(nominal, fingers, stack=stack)
-
-    def rows(name: str) -> np.ndarray:
-        return np.array([np.asarray(getattr(c, name), float) for c in curves])
-
-    return MemberValues(rows("area_ratio"), rows("mu"), rows("mu_ref"), rows("mu_normalised"), crit, full, codes)
+    table, crit, full, codes = _predict_codes(nominal, fingers, stack=stack)
+    return MemberValues(table.rows("area_ratio"), table.rows("mu"), table.rows("mu_ref"), table.rows("mu_normalised"),
+                        crit, full, codes)
 
 
 def member_quantiles(values: np.ndarray, levels: Sequence[float], drop_nan: bool = False) -> np.ndarray:
