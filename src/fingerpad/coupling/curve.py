@@ -34,6 +34,7 @@ from ..micro.response import (
     checked_psi,
     solve_load,
 )
+from .loads import FingerStack, centre_loads
 
 
 def _zone_radius(a: np.ndarray, peak: np.ndarray, p_zone: float) -> np.ndarray:
@@ -269,8 +270,10 @@ class CurvePrediction:
     mu_ref, mu_normalised
         On the flat reference (``A_re = A_fr``) and ``mu / mu_ref``; ``None`` without a reference.
     critical_load
-        Load (N) at which the centre reaches the cell's transition (:func:`critical_load`) with
-        the finger's ``A_fr(F)``; NaN when there is none in :data:`DEFAULT_LOAD_RANGE`.
+        Load (N) at which the centre reaches the cell's transition with the finger's ``A_fr(F)``
+        (:func:`~fingerpad.coupling.loads.centre_loads`, the same root as :func:`critical_load`'s
+        to 1e-12); NaN when there is none in :data:`DEFAULT_LOAD_RANGE`, inf for a cell that
+        never reaches its transition.
     critical_load_hertz
         Eq. 3.6 solved with ``A_fr(F)`` when the cell is a :class:`HertzUnitCell`, else ``None``
         (NaN when no solution lies in the range).
@@ -345,18 +348,15 @@ def predict_curve(
             real_pressure=res.real_pressure, ridge_radius=res.ridge_radius, transition_radius=res.transition_radius,
             full_contact_radius=res.full_contact_radius, centre_past_transition=res.centre_past_transition,
             mu=mu, mu_ref=mu_ref, mu_normalised=mu_norm, critical_load=math.nan, critical_load_hertz=None)
-    # the root finders call A_fr(F) some 25 times each: the law builds the gross-area model once
-    # (the numbers of finger.ridge_area, without checking each trial load again)
-    ridge_law = finger.ridge_area_law()
-    if math.isinf(float(cell.transition_pressure)):
-        f_crit = math.inf  # the cell never reaches its transition (a state search found none)
-    else:
-        try:
-            f_crit = critical_load(cell, ridge_law)
-        except FingerpadError:  # no crossing in the (very wide) load range: report as NaN
-            f_crit = math.nan
+    # the package's one search of 1.5 F / A_fr(F) = p_t (a population's members take the same,
+    # all at once: a member's critical load is the bits of its finger predicted alone); inf: the
+    # cell never reaches its transition, NaN: no crossing in the (very wide) load range
+    pt = float(check_cell(cell)[0])
+    f_crit = float(centre_loads(FingerStack([finger]), [pt])[0]) if pt > 0 else math.nan
     f_hertz: float | None = None
     if isinstance(cell, HertzUnitCell):
+        # Eq. 3.6's own solver; A_fr(F) built once for its ~25 calls
+        ridge_law = finger.ridge_area_law()
         try:
             f_hertz = cell.critical_load(ridge_law)
         except FingerpadError:

@@ -23,12 +23,13 @@ from typing import Any
 import numpy as np
 
 from ..coupling import CurvePrediction, predict_curve
-from ..coupling.members import FingerStack, MemberCurves, centre_loads, member_curves, predict_members
+from ..coupling.loads import FingerStack, centre_loads
+from ..coupling.members import MemberCurves, member_curves, predict_members
 from ..errors import FingerpadError
 from ..finger import FINGER_FIELDS, LAYER_FIELDS, Finger
 from ..meso import ConstantFractionRidges
 from ..micro.bem import BEMUnitCell
-from ..study.run import P_HIGH, P_LOW, Prediction, load_at_centre_pressure
+from ..study.run import P_HIGH, P_LOW, Prediction
 
 __all__ = ["STATES", "MemberValues", "evaluate_members", "member_cells", "member_finger", "member_fingers",
            "member_full_contact_loads", "member_quantiles", "predict_fingers"]
@@ -83,10 +84,9 @@ def member_full_contact_loads(fingers: Sequence[Finger], pressures: Sequence[flo
                               stack: FingerStack | None = None) -> np.ndarray:
     """Per finger, the load (N) at which its pad-centre pressure ``1.5 F / A_fr(F)`` reaches its
     cell's full-contact pressure ``pressures[i]`` (Pa), all fingers in one search
-    (:func:`~fingerpad.coupling.members.centre_loads`; ``inf`` for an infinite pressure, NaN if
-    none): :func:`~fingerpad.study.run.load_at_centre_pressure` per finger to within its own
-    tolerance (``rtol`` 1e-12, ``xtol`` 2e-12 N; tests). ``stack``: the fingers' stack if one is
-    at hand."""
+    (:func:`~fingerpad.coupling.loads.centre_loads`; ``inf`` for an infinite pressure, NaN if
+    none): :func:`~fingerpad.study.run.load_at_centre_pressure` of each finger, bit for bit.
+    ``stack``: the fingers' stack if one is at hand."""
     return centre_loads(FingerStack(fingers) if stack is None else stack, np.asarray(pressures, dtype=float))
 
 
@@ -232,11 +232,10 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_cont
     -------
     curves, critical_load, full_contact_load, states
         Per finger: its :class:`~fingerpad.coupling.CurvePrediction` (equal to
-        :func:`~fingerpad.coupling.predict_curve`'s, the critical load to
-        :data:`~fingerpad.coupling.members.LOAD_RTOL`), its critical and full-contact loads (N;
-        ``inf`` if never reached, full contact NaN for Hertz; all members' in one search,
-        :func:`~fingerpad.coupling.members.centre_loads`) and the contact state at the pad
-        centre at each load.
+        :func:`~fingerpad.coupling.predict_curve`'s, bit for bit), its critical and full-contact
+        loads (N; ``inf`` if never reached, full contact NaN for Hertz; all members' in one
+        search, :func:`~fingerpad.coupling.loads.centre_loads`, the one a prediction takes) and
+        the contact state at the pad centre at each load.
     """
     rows, crit, full, codes = _predict_codes(nominal, fingers, full_contact=full_contact, progress=progress,
                                              stats=stats, stack=stack)
