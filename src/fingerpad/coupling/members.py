@@ -49,38 +49,33 @@ def _zone_radius(a: np.ndarray, peak: np.ndarray, p_zone: np.ndarray) -> np.ndar
 
 @dataclasses.dataclass(frozen=True)
 class MemberCurves:
-    """Many fingers' :class:`~.curve.CurvePrediction` as ``(members, loads)`` arrays (row ``i``
-    that of finger ``i``; ``load`` 1-D, ``critical_load`` per member): what :func:`member_curves`
-    computes, :meth:`curve` one member's prediction (views of the rows)."""
+    """Many fingers' :class:`~.curve.CurvePrediction` as arrays: what :func:`member_curves`
+    computes; :meth:`curve` is one member's prediction (views of its rows).
+
+    Attributes
+    ----------
+    load
+        The loads, N (1-D).
+    rows
+        Every per-load field of :class:`~.curve.CurvePrediction` by its name, a ``(members,
+        loads)`` array, row ``i`` that of finger ``i`` (``mu_ref`` and ``mu_normalised`` absent
+        without a reference).
+    critical_load
+        Per member, N.
+    """
 
     load: np.ndarray
-    gross_area: np.ndarray
-    ridge_area: np.ndarray
-    real_area: np.ndarray
-    area_ratio: np.ndarray
-    real_pressure: np.ndarray
-    ridge_radius: np.ndarray
-    transition_radius: np.ndarray
-    full_contact_radius: np.ndarray
-    centre_past_transition: np.ndarray
-    mu: np.ndarray
-    mu_ref: np.ndarray | None
-    mu_normalised: np.ndarray | None
+    rows: dict[str, np.ndarray]
     critical_load: np.ndarray
 
     def __len__(self) -> int:
-        return int(self.ridge_area.shape[0])
+        return int(self.critical_load.shape[0])
 
     def curve(self, i: int) -> CurvePrediction:
         """Member ``i``'s prediction."""
-        return CurvePrediction(
-            load=self.load, gross_area=self.gross_area[i], ridge_area=self.ridge_area[i],
-            real_area=self.real_area[i], area_ratio=self.area_ratio[i], real_pressure=self.real_pressure[i],
-            ridge_radius=self.ridge_radius[i], transition_radius=self.transition_radius[i],
-            full_contact_radius=self.full_contact_radius[i], centre_past_transition=self.centre_past_transition[i],
-            mu=self.mu[i], mu_ref=None if self.mu_ref is None else self.mu_ref[i],
-            mu_normalised=None if self.mu_normalised is None else self.mu_normalised[i],
-            critical_load=float(self.critical_load[i]), critical_load_hertz=None)
+        row = {name: values[i] for name, values in self.rows.items()}
+        return CurvePrediction(load=self.load, **{"mu_ref": None, "mu_normalised": None, **row},
+                               critical_load=float(self.critical_load[i]), critical_load_hertz=None)
 
     def curves(self) -> list[CurvePrediction]:
         """Every member's prediction, in order."""
@@ -109,15 +104,16 @@ def _block(f: np.ndarray, stack: FingerStack, base: Any, factors: np.ndarray, re
     with np.errstate(divide="ignore"):
         p_re = np.where(real > 0, ff / np.where(real > 0, real, 1.0), np.inf)
     mu = mu_stacked(ff, real, fingers)
-    mu_ref = mu_norm = None
-    if reference:
-        mu_ref = mu_stacked(ff, ridge, fingers)
-        mu_norm = mu / mu_ref
     # the critical loads of every member in one search, predict_curve's (inf: a cell that never
     # reaches its transition; NaN: none in the load range, or a flat cell's 0 Pa)
     crit = centre_loads(stack, pt_m)
-    return MemberCurves(f, gross, ridge, real, ratio, p_re, a, _zone_radius(a, peak, pt), _zone_radius(a, peak, pf),
-                        peak >= pt, mu, mu_ref, mu_norm, crit)
+    rows = {"gross_area": gross, "ridge_area": ridge, "real_area": real, "area_ratio": ratio, "real_pressure": p_re,
+            "ridge_radius": a, "transition_radius": _zone_radius(a, peak, pt),
+            "full_contact_radius": _zone_radius(a, peak, pf), "centre_past_transition": peak >= pt, "mu": mu}
+    if reference:  # on the flat the real area is the ridge area
+        rows["mu_ref"] = mu_stacked(ff, ridge, fingers)
+        rows["mu_normalised"] = mu / rows["mu_ref"]
+    return MemberCurves(f, rows, crit)
 
 
 def member_curves(loads: ArrayLike, stack: FingerStack, cell: Any, moduli: ArrayLike, *,
@@ -139,11 +135,8 @@ def member_curves(loads: ArrayLike, stack: FingerStack, cell: Any, moduli: Array
         parts.append(_block(f, block, cell, factors[start:stop], reference))
     if len(parts) == 1:
         return parts[0]
-    joined = {}
-    for field in dataclasses.fields(MemberCurves):
-        values = [getattr(p, field.name) for p in parts]
-        joined[field.name] = values[0] if field.name == "load" or values[0] is None else np.concatenate(values)
-    return MemberCurves(**joined)
+    return MemberCurves(f, {name: np.concatenate([p.rows[name] for p in parts]) for name in parts[0].rows},
+                        np.concatenate([p.critical_load for p in parts]))
 
 
 def predict_members(

@@ -187,7 +187,7 @@ def _predict_codes(nominal: Prediction, fingers: Sequence[Finger], *, full_conta
         full = np.full(len(fingers), math.nan)
     # centre_state's comparisons (peak >= pf: full, >= pt: transition), on arrays
     if table is not None:
-        peak = 1.5 * table.load / table.ridge_area
+        peak = 1.5 * table.load / table.rows["ridge_area"]
     else:
         peak = np.array([1.5 * curve.load / curve.ridge_area for curve in curves])  # type: ignore[union-attr]
     pt = np.array([[float(c.transition_pressure)] for c in cells])
@@ -209,7 +209,7 @@ class _Rows:
     def rows(self, name: str) -> np.ndarray:
         """``(members, loads)`` array of a per-load field."""
         if self.table is not None:
-            return np.asarray(getattr(self.table, name), float)
+            return np.asarray(self.table.rows[name], float)
         return np.array([np.asarray(getattr(c, name), float) for c in self._curves])  # type: ignore[union-attr]
 
 
