@@ -28,7 +28,8 @@ map, so the cells' cost per point of a larger map is assumed the same).
     python benchmarks/bench_population_sweep.py [--population adults] [--grid 32] [--repeat 5]
                                                 [--sweep 16] [--sweep-grid 48] [--sweep-rounds 1]
 
-Output: a table on stdout with the load average beside it, JSON in ``out/bench/population_sweep.json``.
+Output: a table on stdout with the load average beside it, JSON in ``out/bench/population_sweep.json``
+(its ``issue34`` rows are read by ``benchmarks/report.py``).
 """
 
 from __future__ import annotations
@@ -198,9 +199,30 @@ def main() -> None:
     from fingerpad.design.evaluate import limit_threads
 
     limit_threads()  # one thread per process, as a sweep's workers run
-    out = {"point": point_part(args)}
+    out: dict = {"point": point_part(args)}
+    p = out["point"]
+    rows = [{"row": "members' coupling against its floor (the same arithmetic in one NumPy expression)",
+             "script": "bench_population_sweep.py", "today": "not measured",
+             "now": f"{p['cpu_s']['members'] * 1e3:.0f} ms CPU against {p['cpu_s']['floor'] * 1e3:.0f} ms "
+                    f"({args.population}, 40 loads, grid {args.grid})",
+             "ratio": p["ratios_cpu"]["members / floor"], "ratio_of": "members / floor, CPU", "goal": "<= 3x",
+             "met": p["ratios_cpu"]["members / floor"] <= 3, "load": f"{p['load_average']:.1f}"}]
     if args.sweep > 0:
-        out["sweep"] = sweep_part(args)
+        out["sweep"] = w = sweep_part(args)
+        rows.insert(0, {
+            "row": f"a {w['points']}-point sweep with `{args.population}` against the same sweep without a population",
+            "script": "bench_population_sweep.py", "today": "2.1x",
+            "now": f"{w['cpu_s_per_point']['population'] * 1e3:.0f} against {w['cpu_s_per_point']['nominal'] * 1e3:.0f} "
+                   f"ms CPU a point (grid {w['grid']}, in one process)",
+            "ratio": w["ratio_cpu"], "ratio_of": "population / nominal, CPU", "goal": "<= 1.3x",
+            "met": w["ratio_cpu"] <= 1.3, "load": f"{w['load_average']:.1f}"})
+        rows.append({
+            "row": f"`{args.population}` sweep of {w['points']} points extrapolated to {MAP_POINTS:,} points on "
+                   f"{CORES} cores", "script": "bench_population_sweep.py", "today": "~1.5 h",
+            "now": f"{w['map_minutes_2_cores']:.1f} min (CPU a point x {MAP_POINTS:,} / {CORES})",
+            "ratio": 90.0 / w["map_minutes_2_cores"], "ratio_of": "issue 34's 90 min / now", "goal": "<= 10 min",
+            "met": w["map_minutes_2_cores"] <= 10, "load": f"{w['load_average']:.1f}"})
+    out["issue34"] = rows
     path = Path("out/bench/population_sweep.json")
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(out, indent=1))
