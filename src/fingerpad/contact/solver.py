@@ -370,8 +370,9 @@ class HalfSpaceSolver:
         start = time.perf_counter()
         if initial is not None and initial.pressure.shape != self.texture.shape:
             raise FingerpadError("initial solution has a different grid")
-        # _jit_disabled last: it asks the import system for Numba (~1 ms, a tenth of a grid-48
-        # solve when it ran before every solve), needed only once the work calls for compiled loops
+        # _jit_disabled last: it asks the import system for Numba (~50 us, ~7 ms of a grid-48
+        # sweep point's 140 solves when it ran before every one), needed only once the work
+        # calls for compiled loops
         if (self._kernels_choice == "auto" and self.backend.is_numpy and not self._compiled
                 and (self._work >= COMPILED_AFTER_WORK or math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS)
                 and not _jit_disabled()):
