@@ -273,6 +273,9 @@ def test_inverse_design_round_trip(swept):
                                "--loads", f"{load_1}N", "--cache", str(cache), "--json", "-"])
     got = json.loads(pred.stdout)["results"][0]["mu_normalised"]
     assert got == pytest.approx(goal, rel=0.05)
+    # the design names the publications of the methods its predictions used, as predict does
+    assert [r["key"] for r in out["references"]] == [r["key"] for r in json.loads(pred.stdout)["references"]]
+    assert "polonsky1999" in [r["key"] for r in out["references"]]
     # the Python API gives the command's document (the command parses, calls it once, prints)
     from fingerpad.design.inverse_design import design_textures
 

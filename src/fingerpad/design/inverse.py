@@ -140,6 +140,9 @@ class Candidate:
     #: For a design for a population of fingers: its coverage and quantiles
     #: (:func:`fingerpad.design.robust.population_candidate`); empty otherwise.
     population: dict[str, Any] = field(default_factory=dict)
+    #: The publications of the methods its prediction used (:mod:`fingerpad.references` keys;
+    #: gathered into the result document's ``references``, not repeated per candidate).
+    references: tuple[str, ...] = ()
 
     def as_dict(self) -> dict[str, Any]:
         out = {"params": self.params, "values": self.values, "critical_load": self.critical_load,
@@ -222,6 +225,9 @@ def predict_candidate(problem: DesignProblem, params: Mapping[str, float], loads
     except FingerpadError as exc:
         cand.reason = str(exc)
         return cand
+    from ..study.citations import prediction_references
+
+    cand.references = prediction_references(pred)
     cur = pred.primary
     f = np.asarray(cur.load)
     series = {"mu": cur.mu, "mu_ref": cur.mu_ref, "mu_rel": cur.mu_normalised, "area_ratio": cur.area_ratio}

@@ -63,6 +63,7 @@ class DesignResult:
     def document(self) -> dict[str, Any]:
         """The result as plain data (JSON-ready; SI units, stated under ``units``)."""
         from ..encode import to_jsonable
+        from ..references import keys_of, metadata
 
         p = self.problem
         doc = {
@@ -71,6 +72,8 @@ class DesignResult:
             "max_aspect": p.max_aspect, "tolerance": p.tolerance, "source": self.source,
             "met": self.met, "candidates": [c.as_dict() for c in self.candidates],
             "units": {"params": "SI (m, Pa, rad)", "critical_load": "N", "feature": "m", "curve.load": "N"},
+            # the publications of the methods the reported candidates' predictions used
+            "references": metadata(keys_of(*(c.references for c in self.candidates))),
         }
         if self.goal is not None:
             doc["population"] = self.goal.as_dict()

@@ -321,6 +321,9 @@ def population_candidate(problem: DesignProblem, goal: PopulationGoal, params: M
     except FingerpadError as exc:
         cand.reason = str(exc)
         return cand
+    from ..study.citations import prediction_references
+
+    cand.references = prediction_references(res.nominal, res)
     f = np.asarray(study.loads, float)
     values = {}
     for t in problem.targets:
