@@ -20,7 +20,7 @@ import numpy as np
 
 from ..checks import ArrayLike
 from ..errors import FingerpadError
-from ..finger import Finger
+from ..finger import Finger, _model_area
 from ..micro.response import DEFAULT_LOAD_RANGE
 
 __all__ = ["LOAD_RTOL", "MAX_TRIALS", "FingerStack", "centre_loads"]
@@ -59,12 +59,6 @@ def _stacked_model(models: Sequence[Any], ndim: int) -> Any | None:
     return stacked
 
 
-def _area(model: Any, *arrays: np.ndarray) -> np.ndarray:
-    """:func:`fingerpad.finger._model_area` (its ``area_checked`` core where it has one)."""
-    core = getattr(model, "area_checked", None)
-    return np.asarray(core(*arrays) if core is not None else model.area(*arrays), dtype=float)
-
-
 class FingerStack:
     """Many fingers' pad and ridge areas as one: :meth:`Finger.areas_checked` of each finger on
     its row of a ``(fingers, ...)`` load array, to the bit. Fingers whose gross-area and ridge
@@ -74,6 +68,7 @@ class FingerStack:
 
     def __init__(self, fingers: Sequence[Finger]) -> None:
         self.fingers = list(fingers)
+        self._gross: list[Any] | None = None  # Finger.gross_model builds (and checks) a model per call: once
         self._models: dict[int, tuple[Any, Any] | None] = {}
 
     def __len__(self) -> int:
@@ -81,7 +76,7 @@ class FingerStack:
 
     def _stacked(self, ndim: int) -> tuple[Any, Any] | None:
         if ndim not in self._models:
-            if not self._models:  # Finger.gross_model builds (and checks) a model per call: once
+            if self._gross is None:
                 self._gross = [f.gross_model for f in self.fingers]
             gross = _stacked_model(self._gross, ndim)
             ridges = _stacked_model([f.ridges for f in self.fingers], ndim) if gross is not None else None
@@ -99,9 +94,9 @@ class FingerStack:
             raise FingerpadError(f"{f.shape[0]} rows of loads for {len(self.fingers)} fingers")
         models = self._stacked(f.ndim)
         if models is not None:
-            gross = _area(models[0], f)
+            gross = _model_area(models[0], f)
             ff, ag = (f, gross) if gross.shape == f.shape else np.broadcast_arrays(f, gross)
-            return gross, _area(models[1], ff, ag)
+            return gross, _model_area(models[1], ff, ag)
         gross = np.empty_like(f)
         ridge = np.empty_like(f)
         for i, finger in enumerate(self.fingers):

@@ -44,6 +44,13 @@ _TEXTS: dict[tuple[Any, ...], tuple[Any, list[Any], Any]] = {}
 counts = {"hits": 0, "misses": 0, "layouts": 0, "new_layouts": 0}
 
 
+def _keep(cache: dict[Any, Any], key: Any, value: Any, cap: int) -> None:
+    """Store ``value`` under ``key``; a cache holding ``cap`` entries starts again empty."""
+    if len(cache) >= cap:
+        cache.clear()
+    cache[key] = value
+
+
 def _supported(renderer: Any) -> bool:
     from matplotlib.backends import backend_agg
 
@@ -78,9 +85,7 @@ def cache_glyphs(renderer: Any) -> None:
             font = renderer._prepare_font(prop)
             items = [(item.ft_object, item.glyph_index, item.x, item.y)
                      for item in font._layout(s, flags=flags, features=None, language=None)]
-            if len(_LAYOUTS) >= MAX_LAYOUTS:
-                _LAYOUTS.clear()
-            _LAYOUTS[key] = items
+            _keep(_LAYOUTS, key, items, MAX_LAYOUTS)
         _draw_glyphs(renderer, gc, x, y, angle, size, items, flags, RenderMode)
 
     renderer.draw_text = cached_draw_text
@@ -118,9 +123,7 @@ def _draw_glyphs(renderer: Any, gc: Any, x: float, y: float, angle: float, size:
                 buffer *= 0xff
             # the bitmap's corner relative to the whole pixel of the origin
             cached = (buffer, bitmap.left - (gx >> 6), bitmap.top - (gy >> 6))
-            if len(_GLYPHS) >= MAX_GLYPHS:
-                _GLYPHS.clear()
-            _GLYPHS[key] = cached
+            _keep(_GLYPHS, key, cached, MAX_GLYPHS)
         else:
             counts["hits"] += 1
         buffer, left, top = cached
@@ -168,9 +171,7 @@ def laid_out_once() -> Iterator[None]:
             counts["new_layouts"] += 1
             box, lines, corner = layout(self, renderer)
             found = (box.frozen(), list(lines), corner)
-            if len(_TEXTS) >= MAX_LAYOUTS:
-                _TEXTS.clear()
-            _TEXTS[key] = found
+            _keep(_TEXTS, key, found, MAX_LAYOUTS)
         else:
             counts["layouts"] += 1
         box, lines, corner = found
