@@ -15,7 +15,8 @@ exploration loads, timed in this one process, alternating the sides, median of `
 * ``floor``: the same arithmetic in one NumPy expression, written out for the population's
   models (Hertz pad, constant ridge fraction, Eqs. 2.1-2.5, 3.7, 3.11): the cell's exact disc
   integral at every member's pressures, the friction, and the critical and full-contact loads
-  in closed form (no root search at all: a stricter floor than the same search).
+  in closed form (no root search at all: a stricter floor than the same search), the states;
+  like ``members``, no quantiles.
 
 Part 2 (``--sweep N``, 16 by default, 0 skips it): an N-point spacing x height map of caps at
 grid 48 (``--sweep-grid``), run in this process (the sweep's plan on the in-process executor: the
@@ -105,8 +106,7 @@ def point_part(args: argparse.Namespace) -> dict:
         mu = (col["tau0"] * ratio * ridge + col["alpha"] * loads + hyst) / loads  # Eqs. 2.1-2.3
         mu_ref = (col["tau0"] * ridge + col["alpha"] * loads + hyst) / loads
         k = frac * math.pi * (3.0 * r / (4.0 * e)) ** (2.0 / 3.0) / 1.5  # 1.5 F / A_fr = F^(1/3) / k
-        np.quantile(np.concatenate([mu, mu_ref, mu / mu_ref, ratio], axis=1), [0.05, 0.5, 0.95], axis=0)
-        ((pt * k) ** 3, (pf * k) ** 3, np.where(peak >= pf, 2, np.where(peak >= pt, 1, 0)))
+        (mu / mu_ref, (pt * k) ** 3, (pf * k) ** 3, np.where(peak >= pf, 2, np.where(peak >= pt, 1, 0)))
 
     sides = {
         "point": lambda: evaluate_point(data, spec.loads, pressures),
