@@ -117,12 +117,12 @@ def centre_loads(stack: FingerStack, pressures: ArrayLike,
     ``load_range`` (the centre pressure on the same side at both ends) and where a trial load
     gives an area that is not positive. The search runs in ``u = ln F`` on
     ``h(u) = ln(1.5 F / A_fr(F)) - ln p`` (a straight line for power-law areas such as Hertz's):
-    regula falsi with the Illinois weighting, each trial kept at least a tolerance inside the
-    bracket, bisection when a step would not halve it within three trials, until the bracket is
-    narrower than ``4 eps max(|u|, 1)``; the end with the smaller ``|h|`` is the root. Each
+    regula falsi with the Illinois weighting, each trial kept at least ``tol = 4 eps max(|u|, 1)``
+    inside the bracket, a bisection after two trials in a row that did not halve it, until the
+    bracket is at most ``2 tol`` wide; the end with the smaller ``|h|`` is the root. Each
     finger's iterates are elementwise, so its load does not depend on the others in the stack
-    (the same bits alone or in any company). Agrees with :func:`~.curve.critical_load` (Brent per
-    finger) to :data:`LOAD_RTOL` (tests).
+    (the same bits alone or in any company). Agrees with :func:`~fingerpad.coupling.critical_load`
+    (Brent's method) to :data:`LOAD_RTOL` (tests).
     """
     p = np.asarray(pressures, dtype=float).ravel()
     n = len(stack)
