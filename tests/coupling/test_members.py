@@ -176,3 +176,25 @@ def test_finger_stack_rows_equal_each_finger_bit_for_bit():
                 g, r = finger.areas_checked(loads[i])
                 np.testing.assert_array_equal(stacked_g[i], g, err_msg=f"{gname}/{rname} gross")
                 np.testing.assert_array_equal(stacked_r[i], r, err_msg=f"{gname}/{rname} ridge")
+
+
+class _PatchRidges:
+    """Half the gross area, refused above 1e3 N (as a fingerprint patch too small for the load)."""
+
+    def area(self, load, gross_area):
+        if np.any(np.asarray(load) > 1e3):
+            raise FingerpadError("the gross contact reaches the edge of the patch")
+        return 0.5 * np.asarray(gross_area, float)
+
+
+def test_centre_loads_of_a_finger_without_an_area_at_some_load():
+    """A model that refuses a trial load (the bracket reaches 1e9 N) gives that finger no load, as
+    a single finger's search reports it, and leaves the others' bits as they are alone."""
+    fingers = _fingers(3, seed=8)
+    patch = fingers[1].with_overrides(ridges=_PatchRidges())
+    stack = FingerStack([fingers[0], patch, fingers[2]])
+    got = centre_loads(stack, [2e4, 2e4, 2e4])
+    assert np.isnan(got[1])
+    assert math.isnan(centre_loads(FingerStack([patch]), [2e4])[0])
+    for i in (0, 2):
+        assert got[i] == centre_loads(FingerStack([fingers[i]]), [2e4])[0]

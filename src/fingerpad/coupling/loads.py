@@ -139,10 +139,25 @@ def centre_loads(stack: FingerStack, pressures: ArrayLike,
     sub = stack if todo.size == n else stack.subset(todo)
     log_p = np.log(p[todo])
 
+    def areas(f: np.ndarray) -> np.ndarray:
+        try:
+            return sub.ridge_area(f)
+        except FingerpadError:
+            # a model that cannot give an area at some trial load (a fingerprint patch too small
+            # for 1e9 N, say): finger by finger, NaN for the ones that fail (no load for them, as
+            # a single finger's search reports it)
+            out = np.full(f.shape, np.nan)
+            for i in range(f.shape[0]):
+                try:
+                    out[i] = sub.subset([i]).ridge_area(f[i:i + 1])[0]
+                except FingerpadError:
+                    pass
+            return out
+
     def h(u: np.ndarray) -> np.ndarray:
         f = np.exp(u)
         with np.errstate(divide="ignore", invalid="ignore"):
-            area = sub.ridge_area(f)
+            area = areas(f)
             value = np.log(1.5 * f / area) - log_p
         return np.where(np.isfinite(area) & (area > 0), value, np.nan)
 
