@@ -37,7 +37,7 @@ bytecode:
 # The job writes the bytecode of the modules it imports into .venv (where the environment sets
 # PYTHONDONTWRITEBYTECODE, as pip would have written it): later starts read it.
 run: $(CORE)
-	env -u PYTHONDONTWRITEBYTECODE $(VENV)/bin/fingerpad run-default --out out
+	env -u PYTHONDONTWRITEBYTECODE $(VENV)/bin/fingerpad run-default --out out/run
 
 test: $(STAMP)
 	$(PY) -m pytest -q -m "not slow"
@@ -60,6 +60,7 @@ bench: $(STAMP) bytecode
 	$(PY) benchmarks/bench_sweep.py
 	$(PY) benchmarks/bench_population_sweep.py
 	$(PY) benchmarks/bench_analyse.py
+	$(PY) benchmarks/bench_adhesion.py
 	$(PY) benchmarks/bench_deflection.py
 	test ! -f benchmarks/bench_explorer.py || $(PY) benchmarks/bench_explorer.py
 	$(PY) benchmarks/report.py

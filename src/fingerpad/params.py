@@ -33,6 +33,7 @@ KINDS: dict[str, tuple[str, str, str | None]] = {
     "length": ("m", "LENGTH", "length"),
     "pressure": ("Pa", "PRESSURE", "pressure"),
     "force": ("N", "FORCE", "force"),
+    "surface energy": ("J/m2", "ENERGY", "surface energy"),
     "angle": ("deg", "ANGLE", "angle"),
     "count": ("1", "INT", None),
     "ratio": ("1", "NUMBER", "none"),
@@ -43,7 +44,7 @@ KINDS: dict[str, tuple[str, str, str | None]] = {
 
 #: Kinds whose bare numbers are SI values of a physical dimension: a sweep axis refuses them
 #: without a unit (``spacing = 7`` would be 7 m).
-DIMENSIONAL = frozenset({"length", "pressure", "force"})
+DIMENSIONAL = frozenset({"length", "pressure", "force", "surface energy"})
 
 
 class _Required:
@@ -75,7 +76,8 @@ class Param:
     name
         Keyword of the generator or model field (``--name-with-dashes`` on the command line).
     kind
-        ``"length"`` (m), ``"pressure"`` (Pa), ``"force"`` (N), ``"angle"`` (degrees by default
+        ``"length"`` (m), ``"pressure"`` (Pa), ``"force"`` (N), ``"surface energy"`` (J/m^2, a
+        work of adhesion), ``"angle"`` (degrees by default
         from user input, radians in SI), ``"count"`` (integer), ``"ratio"`` (dimensionless
         number), ``"choice"`` (one of ``choices``), ``"size"`` (``LX[,LY]``, m) or ``"grid"``
         (grid points, given as ``--grid``).
@@ -262,6 +264,8 @@ class Param:
             # needs_unit: text typed without a unit (a number from TOML or Python is SI, as a
             # sweep axis passes its values)
             typed = self.needs_unit and isinstance(value, str)
+            if _is_bare_number(value) and not math.isfinite(float(str(value).strip())):
+                raise FingerpadError(f"{label}: must be a finite number, got {value!r}")  # not "nanm has no unit"
             if (require_unit or typed) and _is_bare_number(value) and float(str(value).strip()) != 0:
                 units = ", ".join(u for u, (dim, _) in UNITS.items() if dim == self.dimension and u.isascii())
                 raise FingerpadError(
@@ -275,7 +279,11 @@ class Param:
         if self.kind == "angle":
             return self.check(parse_angle(value, label), label)
         if self.kind in ("count", "grid"):
+            from .units import MAX_INT_DIGITS, parse_int
+
             text = str(value).strip()
+            if text.lstrip("+-").isdigit():  # digits: read exactly, however many (a 5000-digit one is refused)
+                return self.check(parse_int(text, label, -10**MAX_INT_DIGITS), label)
             try:
                 number = float(text)
             except ValueError:

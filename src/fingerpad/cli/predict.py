@@ -14,6 +14,7 @@ import typer
 
 from ..errors import FingerpadError
 from .common import (
+    ADHESION_HELP,
     DEVICE_HELP,
     EXIT_UNCONVERGED,
     EXTRA_ARGS,
@@ -24,6 +25,7 @@ from .common import (
     flag_pair,
     option,
     say,
+    say_wrapped,
     stderr_console,
     stdout_console,
     user_errors,
@@ -60,6 +62,7 @@ _PREDICT_HELP = {
                                 "or 'rigid' (as --skin-base rigid).",
     "--skin-substrate-poisson": "Poisson ratio of the tissue under the layer (default: the skin's).",
     "--skin-base": "What the layer rests on: elastic (the tissue, default), rigid or rigid-frictionless.",
+    **ADHESION_HELP,
     "--finger": "Finger preset (default 'default'); see fingerpad.finger.FINGER_PRESETS.",
     "--finger-param": "Finger override NAME=VALUE (radius, modulus, beta, tau0, alpha, skin_modulus, "
                       "skin_poisson, skin_layer_thickness, ...: see `fingerpad fingers`; ridge_fraction: "
@@ -168,6 +171,17 @@ def _fmt(value: Any, spec: str) -> str:
     return "-" if value is None else format(value, spec)
 
 
+def _adhesion_text(adhesion: Mapping[str, Any]) -> str:
+    """The adhesion's lines under the table: pull-off, works of adhesion, the threshold load."""
+    threshold = adhesion.get("threshold_load")
+    bound = adhesion.get("threshold_load_bound", "exact")
+    where = "(not computed)" if threshold is None else f"{threshold:.3g} N" if bound == "exact" else \
+        f"{threshold:.3g} N or more" if bound == "at least" else f"{threshold:.3g} N or less"
+    return (f"adhesion ({adhesion['law']}, w {adhesion['work_of_adhesion']:.3g} J/m2): pull-off force "
+            f"{adhesion['pull_off_force'] * 1e3:.3g} mN (pad w {adhesion['pad_work_of_adhesion']:.3g} J/m2, cell pull-off "
+            f"{adhesion['pull_off_pressure']:.4g} Pa); adhesion changes A_re by more than 10 % below {where}")
+
+
 def _print_prediction(payload: Mapping[str, Any]) -> None:
     """The per-load table (fitted to the terminal: fewer columns below 110) and the state loads."""
     from rich import box
@@ -206,21 +220,31 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
         if model not in crit or (crit[model] is None and model != payload["model"]):
             continue
         if crit[model] is not None:
-            texts.append(f"{label} {crit[model]:.4g} N")
+            error = (payload.get("critical_load_error") or {}).get(model)
+            texts.append(f"{label} {crit[model]:.4g} N" + _plus_minus(error))
         elif model == "bem" and "transition" in brackets:
             texts.append(f"{label}: the cell never reaches its transition up to 10 E*")
         else:
             texts.append(f"{label}: none")
     if texts:
-        say(console, "critical load (pad centre reaches the transition): " + ", ".join(texts))
+        say_wrapped(console, "critical load (pad centre reaches the transition): " + ", ".join(texts))
     if "full" in brackets:
         p_lo, p_hi = brackets["full"]["pressure"]
         if full is not None:
-            say(console, f"full contact at the pad centre (at most 1 % open) from: {full:.4g} N "
-                         f"(cell pressure {p_lo / 1e3:.4g}-{p_hi / 1e3:.4g} kPa)")
+            st = brackets["full"]
+            grids = ""
+            if st.get("grid") and st.get("coarse_grid"):
+                grids = f", grid {'x'.join(map(str, st['grid']))} against {'x'.join(map(str, st['coarse_grid']))}"
+            say_wrapped(console, f"full contact at the pad centre (at most 1 % open) from: {full:.4g} N"
+                         f"{_plus_minus((payload.get('full_contact_load_error') or {}).get('bem'))} "
+                         f"(cell pressure {p_lo / 1e3:.4g}-{p_hi / 1e3:.4g} kPa"
+                         f"{_plus_minus(st.get('pressure_error'))}{grids})")
         else:
             say(console, f"full contact at the pad centre: not reached up to {p_lo / 1e3:.4g} kPa "
                          f"(the last node below 10 E*)")
+    adhesion = payload.get("adhesion")
+    if adhesion:
+        say(console, _adhesion_text(adhesion))
     directional = payload.get("directional")
     if directional and payload["results"] and "mu_perpendicular_over_parallel" in payload["results"][0]:
         ratios = [r["mu_perpendicular_over_parallel"] for r in payload["results"]]
@@ -232,8 +256,17 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
     res = (payload.get("cell") or {}).get("resolution")
     if res and res.get("area_ratio_error") is not None:
         grid = "x".join(str(g) for g in res["grid"])
-        say(console, f"unit cell {grid} px ({res['chosen']}): estimated error of A_re/A_fr "
+        chosen = str(res["chosen"]).split(" (")[0]  # "automatic", "given", "the map's own"
+        say(console, f"unit cell {grid} px ({chosen}): estimated error of A_re/A_fr "
                      f"{100 * res['area_ratio_error']:.2g} %")
+
+
+def _plus_minus(error: Any) -> str:
+    """`` ± X %`` for a relative error estimate (nothing when there is none)."""
+    if error is None or not isinstance(error, (int, float)) or error != error:
+        return ""
+    # beyond 100 % the number says only that the grid does not resolve it
+    return " ± >100 %" if error > 1.0 else f" ± {100 * error:.2g} %"
 
 
 def _band(q: Mapping[str, Any], name: str, i: int) -> str:
@@ -384,6 +417,9 @@ def predict(
                                                         metavar="NU")] = None,
     skin_base: Annotated[str | None, _popt("--skin-base", panel=_MATERIALS,
                                            metavar="elastic|rigid|rigid-frictionless")] = None,
+    work_of_adhesion: Annotated[str | None, _popt("--work-of-adhesion", panel=_FINGER, metavar="W")] = None,
+    adhesion_range: Annotated[str | None, _popt("--adhesion-range", panel=_FINGER, metavar="RHO")] = None,
+    adhesion_law: Annotated[str | None, _popt("--adhesion-law", panel=_FINGER, metavar="exponential|maugis")] = None,
     finger: Annotated[str | None, _popt("--finger", panel=_FINGER, metavar="PRESET")] = None,
     finger_param: Annotated[list[str] | None, _popt("--finger-param", panel=_FINGER, metavar="NAME=VALUE")] = None,
     loads: Annotated[list[str] | None, _popt("--loads", "-F", panel=_LOADS, metavar="START:STOP:COUNT")] = None,
@@ -426,6 +462,7 @@ def predict(
         "--skin-layer-thickness": skin_layer_thickness, "--skin-layer-modulus": skin_layer_modulus,
         "--skin-substrate-modulus": skin_substrate_modulus, "--skin-substrate-poisson": skin_substrate_poisson,
         "--skin-base": skin_base,
+        "--work-of-adhesion": work_of_adhesion, "--adhesion-range": adhesion_range, "--adhesion-law": adhesion_law,
         "--loads": loads or None, "--zones-at": zones_at, "--model": model, "--grid": grid,
         "--accuracy": accuracy, "--direction": direction,
         "--tol": tol, "--max-iter": max_iter, "--cache": cache,

@@ -33,7 +33,7 @@ from ..params import Param
 
 __all__ = ["Axis", "resolve_axis"]
 
-_SI_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "angle": "rad", "none": ""}
+_SI_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "angle": "rad", "none": "", "surface energy": "J/m2"}
 
 
 @dataclass(frozen=True)
@@ -111,7 +111,7 @@ class Axis:
 
 
 _KIND = {"length": "length", "pressure": "pressure", "force": "force", "angle": "angle", "count": "count",
-         "ratio": "none", "choice": "choice"}
+         "ratio": "none", "choice": "choice", "surface energy": "surface energy"}
 
 #: The sliding direction (``[model] direction``), degrees from the texture's x axis.
 _DIRECTION = Param("direction", "angle", "sliding direction, from the texture's x axis", None)
@@ -121,8 +121,9 @@ def _axis(name: str, section: str, key: str, param: Param) -> Axis:
     return Axis(name, section, key, _KIND[param.kind], param.choices, param=param)
 
 
-def resolve_axis(name: str, texture_family: str | None) -> Axis:
-    """The :class:`Axis` (without values) that ``name`` stands for.
+def resolve_axis(name: str, texture_family: str | None, where: str = "[sweep] axis") -> Axis:
+    """The :class:`Axis` (without values) that ``name`` stands for; ``where`` names what gave it
+    in messages (``[sweep] axis``, ``--vary``).
 
     Raises
     ------
@@ -164,5 +165,5 @@ def resolve_axis(name: str, texture_family: str | None) -> Axis:
     known = sorted({*params, "texture", "material_modulus", "material_poisson", "finger", "direction",
                     *(f for f in finger if f not in ("radius", "modulus")), "finger.radius", "finger.modulus"})
     fam_text = f" of texture {family.name!r}" if family is not None else ""
-    raise FingerpadError(f"[sweep] axis {name!r} is not a parameter{fam_text} nor a material or finger value "
+    raise FingerpadError(f"{where} {name!r} is not a parameter{fam_text} nor a material or finger value "
                          f"(axes: {', '.join(known)})")

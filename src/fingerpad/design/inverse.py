@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FingerpadError
+from ..errors import FingerpadError, SetupError
 from .axes import Axis
 
 __all__ = ["QUANTITIES", "XATOL", "Candidate", "DesignProblem", "Target", "candidate_study", "critical_penalty",
@@ -222,6 +222,8 @@ def predict_candidate(problem: DesignProblem, params: Mapping[str, float], loads
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             pred = run_study(study)
+    except SetupError:
+        raise  # the machine's setting, not this texture's: every candidate would fail alike
     except FingerpadError as exc:
         cand.reason = str(exc)
         return cand

@@ -143,6 +143,8 @@ def _predict_codes(nominal: Prediction, fingers: Sequence[Finger], *, full_conta
         _Rows, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`predict_fingers` with the curves as rows of arrays and the centre states as their
     codes, ``(members, loads)`` int8."""
+    if nominal.adhesion is not None or any(f.adhesive for f in fingers):
+        raise FingerpadError(ADHESION_REFUSED)
     from ..micro.hertz import hertz_cell_for
 
     study = nominal.study
@@ -211,6 +213,13 @@ class _Rows:
         if self.table is not None:
             return np.asarray(self.table.rows[name], float)
         return np.array([np.asarray(getattr(c, name), float) for c in self._curves])  # type: ignore[union-attr]
+
+
+#: Why a population (or a robust design) with a work of adhesion is refused.
+ADHESION_REFUSED = (
+    "a population of fingers with a work of adhesion: not supported yet. Each member's w / E* makes "
+    "its own adhesive unit cell (a continuation of ~120 solves, ~15 s at grid 128), not one cell read at "
+    "every member's modulus; predict single fingers with --work-of-adhesion (docs/model.md 6.6)")
 
 
 def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,

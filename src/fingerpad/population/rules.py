@@ -16,7 +16,8 @@ with the same message:
    layered finger given in the study: they are how a layered skin is declared at all (with a
    half-space preset); the population then draws its own values for every member, and a note
    says so.
-3. **No sliding direction** (:data:`DIRECTION_REFUSED` says why).
+3. **No sliding direction** (:data:`DIRECTION_REFUSED` says why), **no work of adhesion** on the
+   study's finger or drawn by the population (:data:`~.members.ADHESION_REFUSED` says why).
 4. **Quantile levels** (:func:`quantile_levels`): numbers in [0, 1], each once, ascending, at most
    :data:`MAX_QUANTILES`; they need a population.
 5. **Sobol indices** (:func:`sensitivity_samples`): they need a population whose parameters are
@@ -45,11 +46,11 @@ from ..errors import FingerpadError
 from ..finger import LAYER_FIELDS, Finger
 from ..study.spec import Study
 from .distributions import Population, members_plausible, population_from_table
-from .members import member_finger
+from .members import ADHESION_REFUSED, member_finger
 from .sources import load_population
 
-__all__ = ["DEFAULT_QUANTILES", "DIRECTION_REFUSED", "MAX_QUANTILES", "PopulationStudy", "attach",
-           "quantile_levels", "resolve_population", "sensitivity_samples"]
+__all__ = ["DEFAULT_QUANTILES", "DIRECTION_REFUSED", "MAX_QUANTILES", "PopulationStudy", "RIDGE_FRACTION_NOTE",
+           "attach", "quantile_levels", "resolve_population", "sensitivity_samples"]
 
 #: Quantiles reported by default.
 DEFAULT_QUANTILES: tuple[float, ...] = (0.05, 0.25, 0.5, 0.75, 0.95)
@@ -63,6 +64,10 @@ DIRECTION_REFUSED = (
     "member would need its own directional ramps (a population of solves, not one cell); run the population "
     "without the direction for the bands, then predict --direction for the members of interest with their "
     "--finger-param values (population.members in the JSON)")
+#: The population's dominant assumption, said wherever its ridge fraction has a spread (issue 31).
+RIDGE_FRACTION_NOTE = ("population: each member's ridge fraction (A_fr/A_g) is one number over every load -- an "
+                       "assumption: the literature gives 10-70 % over loads, changing with load in opposite directions "
+                       "in different studies, and no law per person; it drives much of the spread (--sensitivity)")
 #: The layer values that declare a layered skin on a half-space preset (rule 2's exception).
 DECLARING_LAYER = ("skin_layer_thickness", "skin_layer_modulus", "skin_substrate_modulus")
 #: Fewest members for which the default outer bands (5 % and 95 %) are more than the panel's
@@ -192,6 +197,8 @@ def _notes(population: Population, study: Study, quantiles: Sequence[float]) -> 
     if not population.distributions and not population.measured:
         notes.append(f"population {population.name!r}: its table draws no parameter, so its {population.size} "
                      "members are copies of the study's finger")
+    if "ridge_fraction" in population.distributions and population.distributions["ridge_fraction"].spread:
+        notes.append(RIDGE_FRACTION_NOTE)
     if study.model == "both":
         notes.append("population: the BEM curves only (model both)")
     # Hertz (Eqs. 3.1-3.6) sees a layered skin as the half-space of its layer: a spread of the
@@ -212,9 +219,10 @@ def _notes(population: Population, study: Study, quantiles: Sequence[float]) -> 
     outer = [q for q in quantiles if min(q, 1 - q) * n < 1]
     if population.measured and n < FEW_MEMBERS and outer:
         shown = ", ".join(f"{100 * q:g} %" for q in outer)
-        notes.append(f"population {population.name!r}: {n} people; the {shown} bands lie beyond what {n} people "
-                     f"show (fewer than one person outside them): they are the range of the panel, not of the "
-                     "population it was drawn from")
+        people = "1 person" if n == 1 else f"{n} people"
+        notes.append(f"population {population.name!r}: {people}; the {shown} bands lie beyond what {people} "
+                     f"{'shows' if n == 1 else 'show'} (fewer than one person outside them): they are the range of "
+                     "the panel, not of the population it was drawn from")
     return notes
 
 
@@ -262,6 +270,8 @@ def attach(study: Study, population: Population | Mapping[str, Any] | str | Path
         raise FingerpadError(f"[sweep.axes] direction: {DIRECTION_REFUSED}")
     if study.direction is not None:
         raise FingerpadError(f"--direction ([model] direction) with --population: {DIRECTION_REFUSED}")
+    if study.finger.adhesive or "work_of_adhesion" in pop.distributions:
+        raise FingerpadError(ADHESION_REFUSED)
     notes = _refuse_fixed(pop, study, fixed or {})
     members = pop.sample()
     fingers = tuple(member_finger(study.finger, m) for m in members)  # bounds checked before any solve

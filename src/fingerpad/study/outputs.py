@@ -51,11 +51,22 @@ OUTPUT_UNITS = {
 }
 
 
+#: Units of the adhesion's outputs (only in the outputs of an adhesive prediction).
+ADHESION_UNITS = {
+    "work_of_adhesion": "J/m^2", "pad_work_of_adhesion": "J/m^2", "work_of_separation": "J/m^2 (of nominal area)",
+    "adhesion_range": "m", "adhesion_range_used": "m", "pull_off_force": "N", "pull_off_pressure": "Pa",
+    "threshold_load": "N", "reference_load": "N", "real_area_without_adhesion": "m^2",
+    "adhesive_share": "1 (1 - A_re without adhesion / A_re)", "zero_load_contact_fraction": "1",
+}
+
+
 def prediction_json(pred: Prediction, population: Any = None) -> dict[str, Any]:
     """The content of ``predict.json`` (SI units, listed in its ``units``; NaN and inf -> ``None``).
 
     * ``critical_load``: ``{"bem": F, "hertz": F}`` (N, ``None`` for a model not run);
       ``full_contact_load``: ``{"bem": F}``, load at which the pad centre reaches full contact;
+      ``critical_load_error``, ``full_contact_load_error``: ``{"bem": e}``, the relative error
+      estimate of each (its state pressure's grid convergence, ``state_brackets``);
     * ``model``: the model of ``results`` (``bem`` when run, else ``hertz``);
     * ``inputs``: texture (name, description, params, size, grid, periodic, source file),
       material, finger, E1* (``reduced_modulus``), loads, model, numerics, cache, zones_at;
@@ -97,6 +108,11 @@ def prediction_json(pred: Prediction, population: Any = None) -> dict[str, Any]:
             "mu_normalised": None if cur.mu_normalised is None else cur.mu_normalised[i],
             "contact_state": states[i],
         }
+        if pred.adhesion is not None and "adhesive_share" in pred.adhesion:
+            # the real area without adhesion (the finger's own pad on the non-adhesive cell) and
+            # the share of A_re that adhesion adds
+            row["real_area_without_adhesion"] = pred.adhesion["real_area_without_adhesion"][i]
+            row["adhesive_share"] = pred.adhesion["adhesive_share"][i]
         if pred.directional is not None:
             d = pred.directional
             row["mu_parallel"] = d["mu_parallel"][i]
@@ -172,15 +188,23 @@ def prediction_json(pred: Prediction, population: Any = None) -> dict[str, Any]:
         "zones_at": study.zone_load,
         "fingerpad_version": __version__,
     }
+    errors = {state: (pred.state_brackets.get(state) or {}).get("load_error") for state in ("transition", "full")}
     payload = {
         "critical_load": dict(pred.critical_load),
+        # beside each state load, its estimated error (relative; the state's own grid convergence)
+        "critical_load_error": {"bem": errors["transition"]} if pred.cell is not None else {},
         "full_contact_load": dict(pred.full_contact_load),
+        "full_contact_load_error": {"bem": errors["full"]} if pred.cell is not None else {},
         "state_brackets": pred.state_brackets,
         "directional": None if pred.directional is None else {
             k: v for k, v in pred.directional.items() if not k.startswith(("mu_", "area_ratio_"))},
         "model": pred.primary_model,
+        # with adhesion: its block (the per-load arrays are in the results' rows)
+        **({} if pred.adhesion is None else {"adhesion": {k: v for k, v in pred.adhesion.items()
+                                                          if k not in ("real_area_without_adhesion", "adhesive_share")}}),
         # a layered skin's fields (inputs.finger) with their units; a half-space's units as before
-        "units": {**OUTPUT_UNITS, **({} if study.finger.layer is None else skin_units())},
+        "units": {**OUTPUT_UNITS, **({} if study.finger.layer is None else skin_units()),
+                  **({} if pred.adhesion is None else ADHESION_UNITS)},
         "inputs": inputs,
         "cell": cell,
         "hertz_cell": hertz_cell,
@@ -231,6 +255,12 @@ def prediction_dataset(pred: Prediction, population: Any = None):
         add("hertz_", pred.hertz, ["real_area", "area_ratio", "transition_radius", "mu", "mu_normalised"], "hertz")
         data["hertz_contact_state"] = xr.Variable(("load",), np.array(pred.states("hertz"), dtype=object),
                                                   {"units": "1", "long_name": "contact state at the pad centre (hertz)"})
+    if pred.adhesion is not None and "adhesive_share" in pred.adhesion:
+        data["real_area_without_adhesion"] = xr.Variable(
+            ("load",), np.asarray(pred.adhesion["real_area_without_adhesion"], float),
+            {"units": "m^2", "long_name": "real contact area without adhesion (the same finger's own pad, non-adhesive cell)"})
+        data["adhesive_share"] = xr.Variable(("load",), np.asarray(pred.adhesion["adhesive_share"], float),
+                                             {"units": "1", "long_name": "share of A_re that adhesion adds"})
     if pred.directional is not None:
         d = pred.directional
         for name, long_name in (("mu_parallel", "friction coefficient sliding along the asperities' long axis"),
@@ -264,10 +294,14 @@ def prediction_dataset(pred: Prediction, population: Any = None):
     attrs.update(flatten_attrs({
         "model": payload["model"],
         "critical_load": payload["critical_load"], "full_contact_load": payload["full_contact_load"],
+        "critical_load_error": payload["critical_load_error"],
+        "full_contact_load_error": payload["full_contact_load_error"],
+        "state_brackets": payload["state_brackets"],
         "cell": {k: v for k, v in payload["cell"].items()},
         "inputs": {k: v for k, v in payload["inputs"].items() if k != "loads"},
         "notes": payload["notes"],
         **({} if pred.study.finger.layer is None else {"units": skin_units()}),
+        **({} if "adhesion" not in payload else {"adhesion": payload["adhesion"]}),
     }))
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
@@ -298,7 +332,7 @@ def check_outputs(out_dir: str | os.PathLike[str] | None, json_path: str | None 
         fio.OutputFolder.check(out_dir, names)
     targets = {}
     for option, path, suffixes in (("--json", json_path, JSON_SUFFIXES), ("--csv", csv_path, CSV_SUFFIXES)):
-        if path is None or path == "-":
+        if path is None or (option == "--json" and path == "-"):  # (--json - is stdout; a CSV is a file)
             continue
         fio.check_writable(path, option, suffixes)
         key = os.path.abspath(path)

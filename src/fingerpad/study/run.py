@@ -59,10 +59,13 @@ class Prediction:
         reach full contact up to :data:`~fingerpad.micro.bem.STATE_SEARCH_CAP` E*).
     state_brackets
         For the BEM cell, per state (``transition``, ``full``): the bracket of the cell pressure
-        (Pa), the loads (N) it maps to, and its relative width.
+        (Pa), the loads (N) it maps to, its relative width, and the state's own grid and error
+        estimate (``grid``, ``coarse_grid``, ``pressure_error``, ``load_error``, ``history``;
+        :func:`fingerpad.micro.resolution.choose_state_grids`): the state pressures are chosen
+        and estimated apart from the curve, so they do not depend on the loads asked for.
     resolution
-        The BEM cell's grid and the estimated discretisation error of A_re/A_fr and of the state
-        pressures (:func:`fingerpad.micro.resolution.choose_grid`).
+        The BEM cell's grid and the estimated discretisation error of A_re/A_fr
+        (:func:`fingerpad.micro.resolution.choose_grid`) and of the state pressures.
     directional
         With a sliding direction: the friction at that direction and across and along the
         asperities' long axis, their ratio, and the deflection model's flags
@@ -93,6 +96,9 @@ class Prediction:
     pressure_range: tuple[float, float]
     timings: dict[str, float]
     notes: list[str] = field(default_factory=list)
+    #: With a work of adhesion: the adhesive cell's and pad's numbers (pull-off force and
+    #: pressure, works of adhesion and separation, the threshold load; SI), ``None`` without.
+    adhesion: dict[str, Any] | None = None
 
     @property
     def primary(self) -> CurvePrediction:
@@ -111,6 +117,11 @@ class Prediction:
         """Contact state at the pad centre for each load (``asperity``/``transition``/``full``)."""
         curve, cell = (self.hertz, self.hertz_cell) if which == "hertz" else (self.primary, self.primary_cell)
         assert curve is not None and cell is not None
+        if getattr(cell, "adhesive", False):
+            from ..micro.adhesive_pad import adhesive_pad  # the adhesive pad's centre (Eq. 3.17)
+
+            centre = adhesive_pad(self.study.finger, cell).centre_pressure(curve.load, curve.ridge_area)
+            return [centre_state(p, cell) for p in centre]
         return [centre_state(p, cell) for p in 1.5 * curve.load / curve.ridge_area]
 
     @property
@@ -174,10 +185,77 @@ def pad_layer_note(finger: Finger, load: float) -> str | None:
             "E_fp*; set the finger's modulus to the skin's for one skin through the scales")
 
 
+def _centre_load(finger: Finger, cell: Any) -> Callable[[float], float]:
+    """``pressure -> load`` (N) at which the pad centre reaches ``pressure`` (Pa): the Hertz
+    pad's ``1.5 F / A_fr`` (:func:`load_at_centre_pressure`), or with an adhesive cell the
+    adhesive pad's centre pressure (Eq. 3.17)."""
+    if not getattr(cell, "adhesive", False):
+        return lambda p: load_at_centre_pressure(finger, p)
+    from ..micro.adhesive_pad import adhesive_pad
+    from ..micro.response import DEFAULT_LOAD_RANGE, solve_load
+
+    pad = adhesive_pad(finger, cell)
+
+    def centre(load: float) -> float:
+        f = np.array([load])
+        return float(pad.centre_pressure(f, pad.areas(f)[1])[0])
+
+    def load_at(p: float) -> float:
+        if math.isinf(p):
+            return math.inf
+        if not math.isfinite(p):
+            return math.nan
+        if p <= centre(0.0):
+            return 0.0
+        try:
+            return solve_load(lambda f: centre(f) - p, DEFAULT_LOAD_RANGE, "load", lambda lo, hi: "")
+        except FingerpadError:
+            return math.nan
+
+    return load_at
+
+
+def _threshold_pressures(finger: Finger, p_range: tuple[float, float]) -> tuple[float, float]:
+    """The local pressures (Pa) a non-adhesive cell is prepared over for the threshold load's
+    search (:data:`fingerpad.micro.adhesive_pad.THRESHOLD_RANGE`), with those of the study."""
+    from ..micro.adhesive_pad import threshold_loads
+
+    f = threshold_loads()
+    p_mean = f / np.asarray(finger.ridge_area(f), dtype=float)
+    return min(P_LOW * float(p_mean.min()), p_range[0]), max(P_HIGH * float(p_mean.max()), p_range[1])
+
+
+def _adhesion_report(curve: CurvePrediction, finger: Finger, notes: list[str]) -> dict[str, Any]:
+    """The adhesion block of a prediction (SI) and its notes."""
+    info = dict(curve.adhesion or {})
+    notes.extend(info.pop("notes", []))
+    threshold = info.get("threshold_load")
+    if threshold is not None:
+        from ..micro.adhesive_pad import THRESHOLD_CHANGE, THRESHOLD_RANGE
+
+        lo, hi = THRESHOLD_RANGE
+        # a threshold outside the range searched is reported as that end and which side it lies on
+        info["threshold_load_bound"] = "exact"
+        if math.isnan(threshold):
+            info["threshold_load"], info["threshold_load_bound"] = lo, "at most"
+            notes.append(f"adhesion changes the real area by less than {100 * THRESHOLD_CHANGE:g} % down to {lo:g} N")
+        elif math.isinf(threshold):
+            info["threshold_load"], info["threshold_load_bound"] = hi, "at least"
+            notes.append(f"adhesion changes the real area by more than {100 * THRESHOLD_CHANGE:g} % up to {hi:g} N "
+                         "(the skin pulled onto the texture's base past the transition, not only the light touch)")
+    if info.get("range_regularised"):
+        notes.append(f"adhesion: the range {finger.adhesion_range:.3g} m is below a pixel; the JKR limit is solved "
+                     f"with the range {info['adhesion_range_used']:.3g} m, whose cohesive zone spans a pixel "
+                     "(docs/model.md 6.6)")
+    return info
+
+
 def _zones(study: Study, cell: Any, hertz_cell: Any) -> dict[str, Any]:
     """Zone radii of the ridge-contact disc at the zone load (primary cell; Hertz radius too)."""
     from ..coupling import couple
 
+    if getattr(cell, "adhesive", False):
+        return _adhesive_zones(study, cell)
     f = study.zone_load
     ar = float(study.finger.ridge_area(f))
     res = couple(f, ar, cell)
@@ -196,6 +274,23 @@ def _zones(study: Study, cell: Any, hertz_cell: Any) -> dict[str, Any]:
     if hertz_cell is not None and hertz_cell is not cell:
         out["hertz_transition_radius"] = float(couple(f, ar, hertz_cell).transition_radius)
     return out
+
+
+def _adhesive_zones(study: Study, cell: Any) -> dict[str, Any]:
+    """:func:`_zones` with the adhesive pad (Eq. 3.17)."""
+    from ..coupling import predict_curve
+    from ..micro.adhesive_pad import adhesive_pad
+
+    f = study.zone_load
+    curve = predict_curve([f], study.finger, cell, reference=False)
+    pad = adhesive_pad(study.finger, cell)
+    ar = float(curve.ridge_area[0])
+    peak = float(pad.centre_pressure(np.array([f]), np.array([ar]))[0])
+    return {"load": f, "ridge_area": ar, "ridge_radius": float(curve.ridge_radius[0]),
+            "transition_radius": float(curve.transition_radius[0]),
+            "full_contact_radius": float(curve.full_contact_radius[0]), "mean_pressure": f / ar,
+            "peak_pressure": peak, "area_ratio": float(curve.area_ratio[0]),
+            "contact_state": centre_state(peak, cell), "hertz_transition_radius": None}
 
 
 def bem_pressure_range(study: Study) -> tuple[float, float]:
@@ -221,7 +316,10 @@ def prepare_bem_cell(study: Study) -> Any:
     """
     study.check()
     tex = study.build_texture()
-    return _resolved_cell(study, tex, study.reduced_modulus, bem_pressure_range(study), None, estimate=False)
+    choice = _resolved_cell(study, tex, study.reduced_modulus, bem_pressure_range(study), None, estimate=False)
+    _, solves = _state_choices(study, tex, study.reduced_modulus, choice)
+    choice.solves += solves
+    return choice
 
 
 def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, float],
@@ -251,8 +349,94 @@ def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, 
     )
 
 
-def _resolution_report(choice: Any, study: Study) -> dict[str, Any]:
-    pressures = choice.state_pressure_errors()
+def _state_choices(study: Study, tex: Texture, e1: float, choice: Any) -> tuple[dict[str, Any], int]:
+    """The grid of each state pressure (:func:`~fingerpad.micro.resolution.choose_state_grids`):
+    chosen by the study's accuracy from the starting grid where the curve's grid is chosen
+    automatically, else the curve's own grid (given, or a measured map's). The loads asked for
+    do not enter. Returns the choices and the solves they added."""
+    from ..micro.resolution import choose_state_grids
+    from .texture import TextureSpec
+
+    generated = isinstance(study.texture, TextureSpec) and study.texture.name is not None
+    make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
+    automatic = study.grid is None and make is not None
+    start = tex if automatic else choice.cell.texture
+    return choose_state_grids(
+        make, start, e1, target=study.accuracy if automatic else None,
+        cell_options={"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache(),
+                      "layer": study.finger.layer},
+        cells=choice.cells,
+    )
+
+
+def _state_report(states: dict[str, Any], finger: Finger) -> dict[str, Any]:
+    """Per state: its grid, the half grid's, the pressure's and the load's estimated errors."""
+    out = {}
+    for name, st in states.items():
+        p, pc = st.pressure, st.coarse_pressure
+        f, fc = load_at_centre_pressure(finger, p), load_at_centre_pressure(finger, pc)
+        with np.errstate(all="ignore"):
+            load_error = abs(f / fc - 1.0) if math.isfinite(f) and math.isfinite(fc) and fc > 0 else \
+                (math.nan if math.isnan(st.error) else math.inf)
+        if not math.isnan(st.error) and math.isfinite(load_error):
+            load_error = max(load_error, _load_floor(finger, st))
+        out[name] = {
+            "grid": list(st.cell.texture.shape),
+            "coarse_grid": list(st.coarse.texture.shape) if st.coarse is not None else None,
+            "pressure_error": st.error,
+            "load_error": load_error,
+            "coarse_pressure": pc,
+            "target": st.target,
+            "met": st.met,
+            "history": [{"grid": g, "pressure_error": e} for g, e in st.history],
+            "method": "relative change from the half grid, |p_N / p_{N/2} - 1| (at least the bracket's width); "
+                      "the load's: the same change carried through the pad, |F(p_N) / F(p_{N/2}) - 1|",
+        }
+    return out
+
+
+def _load_floor(finger: Finger, st: Any) -> float:
+    """The load change of a pressure change of the bracket's relative width (the estimate's floor)."""
+    p = st.pressure
+    f, f2 = load_at_centre_pressure(finger, p), load_at_centre_pressure(finger, p * (1.0 + st.cell.rtol))
+    return abs(f2 / f - 1.0) if math.isfinite(f) and math.isfinite(f2) and f > 0 else 0.0
+
+
+#: The automatic grid of an adhesive cell stops at this many points along x: each of its ~120
+#: solves is a continuation step (grid 128: ~15 s on one core, 256: ~1.5 min; measured on the
+#: default cell), and the estimate is reported where it stays above the accuracy.
+MAX_ADHESIVE_GRID = 256
+
+
+def _adhesive_resolved_cell(study: Study, grid: int, e1: float, progress: Callable[[int, int], None] | None,
+                            estimate: bool = True) -> Any:
+    """The adhesive cell (:class:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell`) of the study's
+    texture, from the grid ``grid`` the non-adhesive cell took, doubled while the estimate of its
+    A_re/A_fr error (the adhesive pad's, the range following the pixel) exceeds the accuracy."""
+    from ..coupling import predict_curve
+    from ..micro.adhesive_cell import AdhesiveUnitCell
+    from ..micro.resolution import choose_grid
+    from .texture import TextureSpec
+
+    finger = study.finger
+    loads = np.append(study.loads, study.zone_load)
+    generated = isinstance(study.texture, TextureSpec) and study.texture.name is not None
+    make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
+    tex = make(grid) if make is not None else study.build_texture()
+    target = None if study.grid is not None or make is None else study.accuracy
+    ratio = (lambda cell: predict_curve(loads, finger, cell, reference=False).area_ratio) \
+        if estimate or target is not None else (lambda cell: np.full(loads.size, np.nan))
+    return choose_grid(
+        make, tex, e1, (0.0, 0.0), ratio, target=target, max_grid=MAX_ADHESIVE_GRID,
+        cell_options={"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache(),
+                      "layer": finger.layer, "work_of_adhesion": finger.work_of_adhesion,
+                      "adhesion_range": finger.adhesion_range, "law": finger.adhesion_law},
+        progress=progress, cell_type=AdhesiveUnitCell,
+    )
+
+
+def _resolution_report(choice: Any, study: Study, states: dict[str, Any] | None = None) -> dict[str, Any]:
+    pressures = {k: v.error for k, v in states.items()} if states else choice.state_pressure_errors()
     return {
         "grid": list(choice.cell.texture.shape),
         "coarse_grid": list(choice.coarse.texture.shape) if choice.coarse is not None else None,
@@ -266,6 +450,18 @@ def _resolution_report(choice: Any, study: Study) -> dict[str, Any]:
         "solves": choice.solves,
         "method": "relative change from the half grid, |r_N / r_{N/2} - 1| (first-order convergence)",
     }
+
+
+def directional_settings(finger: Finger, cell: Any, centre: Any) -> Any:
+    """The deflection settings of ``predict --direction``: the ramps go as far as the coupling
+    needs, past every fixed point (*) at the pad-centre pressures ``centre`` (Pa) for gains up to
+    :data:`~fingerpad.micro.deflection.fixedpoint.GAIN_BOUND`
+    (:func:`~fingerpad.micro.deflection.needed_shear`; issue 31: a ramp to the deflection
+    command's default 1.5 was three times the work for a fixed point of 0.2)."""
+    from ..micro.deflection import DeflectionSettings, needed_shear
+
+    centre = np.asarray(centre, float)
+    return DeflectionSettings(mu_max=needed_shear(centre, cell.contact_fraction(centre), finger.tau0, finger.alpha))
 
 
 def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str],
@@ -302,9 +498,13 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
     directions = [float(study.direction), float(parallel), float(perpendicular)]
     # the sections of the three directions (two distinct ones at most) and their pressure levels
     # solved together, in worker processes (issue 23); the numbers do not depend on the count
-    gains = dict(zip(names, directional_gains(geometry, materials, directions, p_range, tau0=finger.tau0,
-                                              alpha=finger.alpha, cache=cache_arg, progress=notice,
-                                              on_free_core=on_free_core)))
+    settings = directional_settings(finger, cell, centre)
+    # the deflection model's local shear fixed point is written for tau = tau0 + alpha p: the
+    # finger's friction law gives it (a law of another form refuses)
+    tau0, alpha = finger.friction.affine_shear()
+    gains = dict(zip(names, directional_gains(geometry, materials, directions, p_range, tau0=tau0,
+                                              alpha=alpha, settings=settings, cache=cache_arg,
+                                              progress=notice, on_free_core=on_free_core)))
 
     def curve_at(name: str) -> tuple[Any, Any, float]:
         gain = gains[name]
@@ -313,7 +513,7 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
         # texture keeps the isotropic friction exactly.
         factor = 1.0 if gain.is_identity else geometry_hysteresis_factor(geometry, direction)
         textured = finger.with_overrides(beta=min(1.0, finger.beta * factor))
-        curve = predict_curve(loads, textured, DirectionalCell(cell, gain, finger.tau0, finger.alpha))
+        curve = predict_curve(loads, textured, DirectionalCell(cell, gain, tau0, alpha))
         reference = predict_curve(loads, finger, cell)  # the flat reference is isotropic
         curve = dataclasses.replace(curve, mu_ref=reference.mu_ref, mu_normalised=curve.mu / reference.mu_ref)
         return curve, gain, factor
@@ -334,7 +534,7 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
         g = curves[name][1]
         if g.is_identity:
             return [False] * len(centre)
-        cell_dir = DirectionalCell(cell, g, finger.tau0, finger.alpha)
+        cell_dir = DirectionalCell(cell, g, tau0, alpha)
         return [bool(v) for v in np.asarray(cell_dir.local_shear(np.asarray(centre, float)).saturated)]
 
     saturated = held("direction")
@@ -391,6 +591,9 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
     study.check()
     tex = study.build_texture()
     if study.direction is not None:
+        if study.finger.adhesive:
+            raise FingerpadError("directional friction (--direction) with a work of adhesion is not modelled: "
+                                 "drop one of them")
         # directional friction needs the family's deflection model: refuse before solving the cell
         from ..micro.deflection import texture_geometry
 
@@ -416,10 +619,11 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
         if note:
             notes.append(note)
 
-    cell = bem = hertz = None
+    cell = bem = hertz = plain = None
     directional: dict[str, Any] | None = None
     timings_extra: dict[str, float] = {}
     resolution: dict[str, Any] | None = None
+    states: dict[str, Any] = {}
     t_cell = t_coupling = 0.0
     if study.model in ("bem", "both"):
         t0 = time.perf_counter()
@@ -428,21 +632,44 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
 
             start_fork_server()  # the ramps' worker server starts beside the cell's solve
         choice = _resolved_cell(study, tex, e1, p_range, progress)
+        states, state_solves = _state_choices(study, tex, e1, choice)
+        choice.solves += state_solves
         cell, tex = choice.cell, choice.cell.texture
-        resolution = _resolution_report(choice, study)
+        if not cell.flat:
+            cell.adopt_states(states["transition"].cell, states["full"].cell)
+        solves_before = 0
+        if finger.adhesive:
+            # the same texture without adhesion (A_re without it, over the threshold's loads too),
+            # then the adhesive cell from its grid: the prediction's cell (its state brackets are
+            # its own, so the plain cell's state grids are not reported for it)
+            plain = cell
+            plain.prepare(*_threshold_pressures(finger, p_range))
+            solves_before = choice.solves
+            choice = _adhesive_resolved_cell(study, tex.shape[0], e1, progress)
+            cell, tex = choice.cell, choice.cell.texture
+        resolution = _resolution_report(choice, study, None if finger.adhesive else states)
+        resolution["solves"] += solves_before
+        what = "A_re/A_fr (with adhesion)" if finger.adhesive else "A_re/A_fr"
         if study.grid is None and choice.met is False:
-            notes.append(f"the estimated discretisation error of A_re/A_fr, {100 * choice.error:.2g} %, exceeds "
+            notes.append(f"the estimated discretisation error of {what}, {100 * choice.error:.2g} %, exceeds "
                          f"the target {100 * choice.target:g} % at the largest automatic grid")
         elif study.grid is not None and not math.isnan(choice.error) and choice.error > study.accuracy:
-            notes.append(f"grid {study.grid}: estimated discretisation error of A_re/A_fr {100 * choice.error:.2g} % "
+            notes.append(f"grid {study.grid}: estimated discretisation error of {what} {100 * choice.error:.2g} % "
                          f"(above {100 * study.accuracy:g} %; leave the grid to the default to reach it)")
         elif choice.target is None and study.grid is None and not math.isnan(choice.error) \
                 and choice.error > study.accuracy:
             notes.append(f"measured map at its own grid: A_re/A_fr changes by {100 * choice.error:.2g} % from the map "
                          f"averaged 2 x 2 (pixel-scale roughness resolved by the pixels alone)")
+        # (an adhesive cell's state brackets are its own: the plain cell's state grids not reported)
+        for name, label in () if finger.adhesive else (("transition", "transition"), ("full", "full-contact")):
+            st = states[name]
+            if st.met is False and math.isfinite(st.error):
+                notes.append(f"the estimated error of the {label} pressure, {100 * st.error:.2g} %, exceeds the target "
+                             f"{100 * st.target:g} % at the largest grid for the state pressures "
+                             f"({st.cell.texture.shape[0]} points along x)")
         t_cell = time.perf_counter() - t0
         t0 = time.perf_counter()
-        bem = predict_curve(loads, finger, cell)
+        bem = predict_curve(loads, finger, cell, plain=plain if finger.adhesive else None)
         t_coupling += time.perf_counter() - t0
         if study.direction is not None:
             t0 = time.perf_counter()
@@ -462,16 +689,19 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
     }
     full: dict[str, float | None] = {"bem": None}
     brackets: dict[str, Any] = {}
+    state_report = _state_report(states, finger) if cell is not None and not cell.flat and not finger.adhesive else {}
+    centre_load = _centre_load(finger, cell)
     if cell is not None and not cell.flat:
-        full["bem"] = load_at_centre_pressure(finger, cell.full_contact_pressure)
+        full["bem"] = centre_load(cell.full_contact_pressure)
         for state, bracket in (("transition", cell.transition), ("full", cell.full)):
             lo, hi = (float(b) for b in bracket)
             brackets[state] = {
                 "pressure": [lo, hi],
-                "load": [load_at_centre_pressure(finger, lo), load_at_centre_pressure(finger, hi)],
+                "load": [centre_load(lo), centre_load(hi)],
                 "relative_width": (hi - lo) / hi if math.isfinite(hi) else None,
+                **(state_report.get(state, {})),
             }
-        for name, f in (("critical", crit["bem"]), ("full-contact", full["bem"])):
+        for name, f in (("critical", crit["bem"]), ("full-contact", full["bem"])):  # noqa: B007
             if f is not None and math.isfinite(f) and f > FINGER_LOAD_LIMIT:
                 notes.append(f"BEM {name} load {f:.4g} N lies beyond the loads a finger exerts "
                              f"(above {FINGER_LOAD_LIMIT:g} N)")
@@ -481,12 +711,16 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
     elif cell is not None:
         full["bem"] = 0.0
     primary_cell = cell if cell is not None else hertz_cell
+    adhesion = None
+    if bem is not None and bem.adhesion is not None:
+        adhesion = _adhesion_report(bem, finger, notes)
     pred = Prediction(
         study=study, texture=tex, reduced_modulus=e1, bem=bem, hertz=hertz, cell=cell, hertz_cell=hertz_cell,
         critical_load=crit, full_contact_load=full, state_brackets=brackets, resolution=resolution,
         directional=directional,
         zones=_zones(study, primary_cell, hertz_cell),
         pressure_range=p_range, timings={"cell": t_cell, "coupling": t_coupling, **timings_extra}, notes=notes,
+        adhesion=adhesion,
     )
     if pred.unconverged:
         notes.append(f"{pred.unconverged} unit-cell solve(s) did not reach the tolerance {study.tol:g}")

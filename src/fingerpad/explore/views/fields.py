@@ -18,11 +18,12 @@ pn = lazy_loader.load("panel")
 
 from ...finger import FINGER_FIELDS, FINGER_PARAMS, FINGER_PRESETS
 from ..inputs import FINGER_LABELS, family_examples, field_label
+from .common import guard_choices
 
 __all__ = ["Field", "Form", "css_name"]
 
 MEASURED = "measured map (upload)"
-_DIM_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "none": "-"}
+_DIM_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "none": "-", "surface energy": "J/m2"}
 
 
 def css_name(fid: str) -> str:
@@ -48,8 +49,9 @@ class Field:
         self.fid = fid
         css = css_name(fid)
         if kind == "choice":
-            self.widget = pn.widgets.Select(label=title, options=list(options), value=value, css_classes=[css],
-                                            description=doc or None, sizing_mode="stretch_width")
+            self.widget = guard_choices(pn.widgets.Select(label=title, options=list(options), value=value,
+                                                          css_classes=[css], description=doc or None,
+                                                          sizing_mode="stretch_width"))
         elif kind == "bool":
             self.widget = pn.widgets.Checkbox(label=title, value=bool(value), css_classes=[css])
         else:
