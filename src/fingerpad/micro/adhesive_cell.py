@@ -467,6 +467,12 @@ class AdhesiveUnitCell:
         lo, hi = bracket
         return 0.0 if hi <= 0 else self.modulus * math.sqrt(lo * hi) if lo > 0 else self.modulus * hi
 
+    def own_state_pressure(self, name: str) -> float:
+        """Pressure (Pa) of state ``name`` (``"transition"`` or ``"full"``) on this cell's loading
+        branch, as :meth:`fingerpad.micro.bem.BEMUnitCell.own_state_pressure` gives it for the
+        grid-convergence estimate of the state pressures (an adhesive cell adopts no other's)."""
+        return self._state_pressure(name)
+
     @property
     def transition_pressure(self) -> float:
         """Mean pressure (Pa) at which the loading branch first touches the texture's base

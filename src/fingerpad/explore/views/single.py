@@ -26,6 +26,7 @@ from ..jobs import Job, contact_at, run_data
 from . import exports
 from .common import PlotCard, download, html_table, num_span, set_cards
 from .fields import MEASURED, Field, Form
+from .perception import PerceptionPanel
 from .population import PopulationPanel
 from ..uploads import StoredUpload, page_message
 from .upload import Upload
@@ -98,6 +99,7 @@ class SingleView:
         for w in self.exports.objects[1:]:
             w.width = 120
         self.population = PopulationPanel(self)
+        self.perception = PerceptionPanel(self)
         self._watch_form()
         self.panel = self._layout()
         self.refresh()
@@ -118,6 +120,7 @@ class SingleView:
             self._card("Loads", *(x.panel for x in f.loads.values())),
             self._card("Model", *(x.panel for x in f.model.values())),
             self._card("Population", self.population.inputs),
+            self._card("Perception", self.perception.inputs),
             width=340, css_classes=["fp-inputs"], styles={"overflow-y": "auto"}, margin=(0, 8, 0, 0),
         )
         bem = pn.Row(self.run_button, self.cancel_button, self.progress, self.job_status, self.auto_bem,
@@ -129,6 +132,7 @@ class SingleView:
                        ncols=2, sizing_mode="stretch_width"),
             c["friction-directional"].panel,
             self.population.panel,
+            self.perception.panel,
             pn.pane.HTML("<h4 style='margin:6px 0'>Unit cell</h4>"),
             pn.Row(self.pressure.panel, width=340),
             pn.GridBox(c["height-map"].panel, c["pressure-map"].panel, c["contact-map"].panel, ncols=3,
@@ -375,6 +379,7 @@ class SingleView:
             self._show_numbers(pred)
         set_cards(updates)
         self.population.update()
+        self.perception.update()
         pn.state.execute(self._update_contact)  # psi was drawn above with the contact map's pressure
 
     def _derived(self, pred: Any, what: Any, make: Any) -> Any:
