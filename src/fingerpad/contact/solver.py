@@ -398,8 +398,12 @@ class HalfSpaceSolver:
         if self.interaction is not None:
             # the interaction is a term of the energy the gap form minimises: its own iteration
             return self._solve_adhesive(mode, value, initial)
-        if (self._kernels_choice == "auto" and self.backend.is_numpy and not self._compiled and not _jit_disabled()
-                and (self._work >= COMPILED_AFTER_WORK or math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS)):
+        # _jit_disabled last: it asks the import system for Numba (~50 us, ~7 ms of a grid-48
+        # sweep point's 140 solves when it ran before every one), needed only once the work
+        # calls for compiled loops
+        if (self._kernels_choice == "auto" and self.backend.is_numpy and not self._compiled
+                and (self._work >= COMPILED_AFTER_WORK or math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS)
+                and not _jit_disabled()):
             # a long curve or table, or one very long solve: the compiled loops' load pays back
             self._use_compiled()
         if form is None:
