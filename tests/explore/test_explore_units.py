@@ -11,6 +11,7 @@ import json
 import math
 import subprocess
 import sys
+import threading
 import tomllib
 from pathlib import Path
 
@@ -18,6 +19,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from fingerpad.cancel import CancelToken, Cancelled
 from fingerpad.cli import app
 from fingerpad.explore import builders
 from fingerpad.explore.inputs import study_data, to_toml, validate
@@ -396,3 +398,128 @@ def test_switching_families_watches_each_field_once(tmp_path, monkeypatch):
     for name in ("caps", MEASURED, "ridges", MEASURED, "caps", MEASURED):
         view.form.family.widget.value = name
     assert counts() == first, (first, counts())
+
+
+# ---------------------------------------------------------------------------------------------
+# superseded work stops (issue 37)
+
+
+class _SlowToken(CancelToken):
+    """A cancellation token whose checks (one per solver iteration) wait ``delay`` s: a solve made
+    slow on purpose; ``reached`` is set after ``after`` checks, ``at_cancel`` counts the checks
+    made when it was cancelled."""
+
+    __slots__ = ("after", "at_cancel", "checks", "delay", "reached")
+
+    def __init__(self, delay: float, after: int) -> None:
+        super().__init__()
+        self.delay, self.after, self.checks, self.at_cancel = delay, after, 0, None
+        self.reached = threading.Event()
+
+    def check(self) -> None:
+        self.checks += 1
+        if self.checks >= self.after:
+            self.reached.set()
+        threading.Event().wait(self.delay)
+        super().check()
+
+    def cancel(self) -> None:
+        if self.at_cancel is None:
+            self.at_cancel = self.checks
+        super().cancel()
+
+
+def test_superseded_contact_map_stops_and_is_not_remembered():
+    from fingerpad.explore.jobs import LRU, remembered_contact
+
+    pred = run_data(HERTZ)
+    cache = LRU(4)
+    token = _SlowToken(0.01, 3)
+    out = []
+
+    def work() -> None:
+        try:
+            out.append(contact_at(pred.texture, pred.reduced_modulus, 20e3, cache=cache, token=token))
+        except Cancelled as exc:
+            out.append(exc)
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    assert token.reached.wait(60)
+    token.cancel()
+    worker.join(60)
+    assert isinstance(out[0], Cancelled)
+    assert token.checks <= token.at_cancel + 1  # within one iteration
+    assert len(cache) == 0 and remembered_contact(pred.texture, pred.reduced_modulus, 20e3, cache=cache) is None
+    res = contact_at(pred.texture, pred.reduced_modulus, 20e3, cache=cache)  # not superseded: remembered
+    assert res.converged and token.checks < res.iterations + 100
+    assert remembered_contact(pred.texture, pred.reduced_modulus, 20e3, cache=cache) is res
+
+
+def test_superseded_bem_job_stops_mid_solve_and_stores_nothing_partial(tmp_path):
+    """A BEM run cancelled in the middle of a contact solve (each iteration made slow) ends
+    within one iteration; every node it left in the cache is the node an uninterrupted run
+    stores, bit for bit (nothing partial), and a run afterwards gives the numbers of a run on an
+    empty cache."""
+    def rows(folder):
+        return {(p.name, q): row for p in folder.rglob("*.json") for q, row in json.loads(p.read_text())
+                .get("points", {}).items()}
+
+    data = {**copy.deepcopy(DEFAULT_STUDY), "model": {"kind": "bem", "grid": 32, "cache": str(tmp_path / "a")}}
+    token = _SlowToken(0.002, 400)  # the coarse cell done, the fine one in the middle of a solve
+    job = Job(data, token=token)
+    assert token.reached.wait(300), job.state
+    job.cancel()
+    assert job.wait(60) and job.state == "cancelled" and job.result is None
+    assert token.checks <= token.at_cancel + 1
+    left = rows(tmp_path / "a")
+    assert left  # the coarse cell's nodes, complete before the cancel
+    fresh = Job({**data, "model": {**data["model"], "cache": str(tmp_path / "b")}})
+    assert fresh.wait(300) and fresh.state == "done"
+    full = rows(tmp_path / "b")
+    assert len(left) < len(full) and all(full[k] == row for k, row in left.items())
+    again = Job(data)
+    assert again.wait(300) and again.state == "done"
+    assert again.result.critical_load["bem"] == fresh.result.critical_load["bem"]
+    assert np.array_equal(again.result.bem.area_ratio, fresh.result.bem.area_ratio)
+
+
+# ---------------------------------------------------------------------------------------------
+# scanning a number field (issue 37): steps, units, limits and slider ranges from the Param
+
+
+def test_scan_steps_in_the_declared_unit_and_stays_in_the_limits():
+    from fingerpad.errors import FingerpadError
+    from fingerpad.explore.scan import ZONE_LOAD, scan_for, slider_text, step_text
+    from fingerpad.finger import finger_param
+    from fingerpad.materials import MATERIAL_MODULUS, MATERIAL_POISSON
+    from fingerpad.textures import get_family
+
+    spacing = scan_for(get_family("caps").param("spacing"), "spacing", slider=True)
+    assert (spacing.unit, spacing.step, spacing.hint) == ("um", 10.0, "↑↓ 10 µm (Shift ×10)")
+    assert step_text(spacing, "175um", 1) == "185um" and step_text(spacing, "175um", -10) == "75um"
+    assert step_text(spacing, "0.175mm", 2) == "195um"  # read as the field reads it, written in um
+    assert step_text(spacing, "15um", -3) == "5um"  # a length is positive: the last step above zero
+    assert spacing.slider == (50.0, 700.0)  # 175 um / 4 .. x 4 on the 10 um grid
+    assert slider_text(spacing, 183.3) == "180um" and slider_text(spacing, 1e9) == "700um"
+    with pytest.raises(FingerpadError, match="cannot read"):
+        step_text(spacing, "abc", 1)  # what the field refuses is not stepped
+    with pytest.raises(FingerpadError):
+        step_text(spacing, "175um", 10**6)  # a forged count of steps
+    with pytest.raises(FingerpadError):
+        slider_text(spacing, float("nan"))
+    beta = scan_for(finger_param("beta"), "beta")  # in [0, 1], closed
+    assert (beta.unit, beta.step) == ("", 0.01)
+    assert step_text(beta, "0.95", 10) == "1" and step_text(beta, "1", 1) == "1" and step_text(beta, "0.05", -10) == "0"
+    poisson = scan_for(MATERIAL_POISSON, "material Poisson ratio")  # in (-1, 0.5]
+    assert step_text(poisson, "0.4", 1) == "0.41" and step_text(poisson, "0.45", 10) == "0.5"
+    assert step_text(poisson, "-0.99", -1) == "-0.99"  # -1 is open: the last step short of it
+    modulus = scan_for(MATERIAL_MODULUS, "material modulus")
+    assert (modulus.unit, modulus.step) == ("MPa", 10.0) and step_text(modulus, "0.5GPa", 1) == "510MPa"
+    with pytest.raises(FingerpadError):
+        step_text(modulus, "rigid", 1)
+    pad = scan_for(finger_param("radius"), "pad radius")
+    assert (pad.unit, pad.step) == ("mm", 0.1) and step_text(pad, "9mm", -1) == "8.9mm"
+    zone = scan_for(ZONE_LOAD, "zone-map load", fallback=4.0).with_slider(0.1, 4.0)
+    assert zone.slider == (0.1, 4.0) and step_text(zone, "0.1N", -1) == "0.1N" and step_text(zone, "2N", 3) == "2.3N"
+    assert scan_for(get_family("caps").param("lattice"), "lattice") is None  # a choice: no steps

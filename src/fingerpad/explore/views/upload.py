@@ -62,14 +62,22 @@ class Upload:
         self.limit = limit
         self.on_change = on_change
         self.current: StoredUpload | None = None
-        self.dropper = bounded_dropper(
-            limit, self._started, self._refused, max_file_size=f"{max(1, limit // 2**20)}MB", multiple=False,
-            css_classes=["fp-upload"], sizing_mode="stretch_width", layout="compact")
-        self.dropper.param.watch(self._changed, "value")
+        self.dropper: Any = None  # made when first shown: its drop zone redraws on every frame
         self.panel = pn.Column(
             pn.pane.HTML(f"<div style='font-size:12px'>measured height map (at most {limit / 2**20:.0f} MiB): "
                          "text, .npy or instrument files</div>"),
-            self.dropper, sizing_mode="stretch_width", margin=0)
+            sizing_mode="stretch_width", margin=0, visible=False)
+
+    def show(self, visible: bool) -> None:
+        """Show or hide the drop zone (made on first showing: FilePond's animation loop reads the
+        page's layout on every frame, hidden or not, a few per cent of a core for nothing)."""
+        if visible and self.dropper is None:
+            self.dropper = bounded_dropper(
+                self.limit, self._started, self._refused, max_file_size=f"{max(1, self.limit // 2**20)}MB",
+                multiple=False, css_classes=["fp-upload"], sizing_mode="stretch_width", layout="compact")
+            self.dropper.param.watch(self._changed, "value")
+            self.panel.append(self.dropper)
+        self.panel.visible = visible
 
     @property
     def original_name(self) -> str | None:
