@@ -30,8 +30,16 @@ figure has a paint pending (``benchmarks/_explorer_browser.py`` says how). The s
 on the served explorer (``fingerpad explore``), the BEM cells from the disk cache the server-side
 runs filled. Its medians are the ``issue23`` row of the report (the server-side numbers beside).
 
+**At a designer's pace** (issue 37, ``benchmarks/_explorer_hands.py``; in the browser, on by
+default): the first change after the page opened, going back and forth between two computed
+designs without a pause, a computed design right after a new one, bursts of changes 0.3 s apart,
+a slider dragged over 20 values in 3 s, and the server's CPU time spent on designs no longer
+shown; printed as issue 37's goal table, with the issue's numbers of the code before it.
+``--server-path DIR`` serves another source tree (``PYTHONPATH=DIR``, e.g. a checkout of the
+code before) for these cases.
+
 Usage: ``.venv/bin/python benchmarks/bench_explorer.py [--repeats 6] [--busy 0] [--no-browser]
-[--browser-only]``.
+[--browser-only] [--hands-only] [--no-hands] [--first-runs 3] [--server-path DIR]``.
 """
 
 from __future__ import annotations
@@ -161,8 +169,16 @@ def main() -> None:
     ap.add_argument("--browser", action=argparse.BooleanOptionalAction, default=True,
                     help="also time the page in headless Chromium (default: where it is installed)")
     ap.add_argument("--browser-only", action="store_true", help="only the browser's timings")
+    ap.add_argument("--hands", action=argparse.BooleanOptionalAction, default=True,
+                    help="the cases at a designer's pace (issue 37), in the browser")
+    ap.add_argument("--hands-only", action="store_true", help="only the cases at a designer's pace")
+    ap.add_argument("--first-runs", type=int, default=3, help="fresh servers for the first change")
+    ap.add_argument("--first-wait", type=float, default=10.0, help="seconds from the page's opening to its first change")
+    ap.add_argument("--server-path", default=None, help="serve this source tree (PYTHONPATH) for the designer's cases")
     ap.add_argument("--out", default="out/bench/explorer.json")
     args = ap.parse_args()
+    if args.hands_only:
+        args.browser_only, args.hands = True, True
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     import _explorer_browser as eb
 
@@ -176,18 +192,28 @@ def main() -> None:
     burners = _burn(args.busy)
     try:
         load0 = os.getloadavg()
-        asyncio.run(_run("rebuild", cache, 1))  # warm-up: imports, and the BEM cells into the disk cache
+        if not args.hands_only:
+            asyncio.run(_run("rebuild", cache, 1))  # warm-up: imports, and the BEM cells into the disk cache
         rebuild = None if args.browser_only else asyncio.run(_run("rebuild", cache, args.repeats))
         in_place = None if args.browser_only else asyncio.run(_run("in place", cache, args.repeats))
         load1 = os.getloadavg()
-        browser = None
-        if why_not is None:
+        browser = hands = None
+        if why_not is None and not args.hands_only:
             try:
                 browser = eb.run(cache, args.repeats)
             except Exception as exc:  # noqa: BLE001 -- the server side's numbers are kept
                 why_not = f"failed: {type(exc).__name__}: {str(exc)[:300]}"
                 print(f"browser timings {why_not}")
         load2 = os.getloadavg()
+        if why_not is None and args.hands:
+            import _explorer_hands as eh
+
+            try:
+                hands = eh.run(cache, first_runs=args.first_runs, first_wait=args.first_wait,
+                               server_path=args.server_path)
+            except Exception as exc:  # noqa: BLE001 -- the other numbers are kept
+                print(f"designer's cases failed: {type(exc).__name__}: {str(exc)[:300]}")
+        load3 = os.getloadavg()
     finally:
         for p in burners:
             p.kill()
@@ -220,10 +246,21 @@ def main() -> None:
                   f"{b['settled_s']:.3f} (max {b['settled_s_max']:.3f}) | {b['numbers_frame_s']:.3f} | "
                   f"{b['apply_s']:.3f} | {b['paint_s']:.3f} | {b['style_s'] + b['layout_s']:.3f} | "
                   f"{b['server_cpu_s']:.2f} / {b['chromium_cpu_s']:.2f} | <= {goal} |")
+    if hands is not None:
+        import _explorer_hands as eh
+
+        where = f", server code from {args.server_path}" if args.server_path else ""
+        print(f"\nat a designer's pace (issue 37; headless Chromium, default page, spacing field): cores "
+              f"{os.cpu_count()}, load average {load2[0]:.2f} before, {load3[0]:.2f} after{busy}{where}")
+        print("| what the designer does | issue 37: before | now | goal | met |")
+        print("|---|---|---|---|---|")
+        for case, today, now, goal, met in eh.rows(hands):
+            print(f"| {case} | {today} | {now} | {goal} | {'-' if met is None else 'yes' if met else '**no**'} |")
     report: dict[str, Any] = {"cpu_count": os.cpu_count(), "loadavg_before": load0, "loadavg_after": load1,
                               "busy_processes": args.busy, "repeats": args.repeats, "goals_s": GOALS,
                               "in_place": in_place, "rebuild": rebuild, "browser": browser,
                               "browser_skipped": why_not, "sched_fifo": os.sched_getscheduler(0) == os.SCHED_FIFO,
+                              "hands": hands, "loadavg_hands": [load2, load3],
                               "issue23": [_row(in_place, browser, busy, load0, load2)]}
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)

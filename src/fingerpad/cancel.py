@@ -19,6 +19,7 @@ opens its own scope (``with cancellable(token): ...``) around the work it runs.
 from __future__ import annotations
 
 import threading
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -34,15 +35,21 @@ class Cancelled(BaseException):
 
 
 class CancelToken:
-    """A flag one thread sets (:meth:`cancel`) and the threads of the work read (thread-safe)."""
+    """A flag one thread sets (:meth:`cancel`) and the threads of the work read (thread-safe).
 
-    __slots__ = ("_event",)
+    ``cancelled_at``: :func:`time.monotonic` of the first :meth:`cancel` (``None`` before), so
+    that the work can tell how long it took to stop."""
+
+    __slots__ = ("_event", "cancelled_at")
 
     def __init__(self) -> None:
         self._event = threading.Event()
+        self.cancelled_at: float | None = None
 
     def cancel(self) -> None:
         """Ask the work of this token to stop at its next check."""
+        if self.cancelled_at is None:
+            self.cancelled_at = time.monotonic()
         self._event.set()
 
     @property

@@ -165,7 +165,7 @@ class Job:
         finally:
             self.seconds = time.monotonic() - self.started
             if self._log is not None:
-                self._log.add("bem", time.thread_time() - cpu, self.token.cancelled)
+                self._log.add("bem", time.thread_time() - cpu, self.token.cancelled, self.token)
 
     def cancel(self) -> None:
         """Stop the job: the contact solve under way ends within one iteration."""
@@ -208,10 +208,14 @@ class WorkLog:
         if path:
             open(path, "a", encoding="utf-8").close()  # there from the start: this server keeps a log
 
-    def add(self, kind: str, cpu_s: float, superseded: bool) -> None:
-        """Record ``cpu_s`` seconds of ``kind`` work (``superseded``: its design no longer shown)."""
+    def add(self, kind: str, cpu_s: float, superseded: bool, token: CancelToken | None = None) -> None:
+        """Record ``cpu_s`` seconds of ``kind`` work (``superseded``: its design no longer shown;
+        ``token``: the work's, whose cancellation time gives how long the work took to stop)."""
         import json
 
+        stopped = None
+        if token is not None and token.cancelled_at is not None:
+            stopped = time.monotonic() - token.cancelled_at
         with self._lock:
             self.cpu_s += cpu_s
             if superseded:
@@ -220,8 +224,8 @@ class WorkLog:
             self.counts[key] = self.counts.get(key, 0) + 1
             if self.path:
                 with open(self.path, "a", encoding="utf-8") as fh:
-                    fh.write(json.dumps({"t": time.time(), "kind": kind, "cpu_s": cpu_s,
-                                         "superseded": superseded}) + "\n")
+                    fh.write(json.dumps({"t": time.time(), "kind": kind, "cpu_s": cpu_s, "superseded": superseded,
+                                         "stopped_s": stopped}) + "\n")
 
 
 def contact_at(texture: Any, modulus: float, pressure: float, *, tol: float = 1e-8, max_iter: int = 5000,

@@ -87,8 +87,6 @@ def serve(
                         sweep_path=None if sweep is None else os.path.abspath(sweep), extra_populations=extra)
 
     def page() -> Any:
-        # FilePond's script with the page: the upload's drop zone is made when first shown
-        pn.extension("filedropper")
         return ExplorerApp(state).page
 
     options: dict[str, Any] = {

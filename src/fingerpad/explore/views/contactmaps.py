@@ -83,7 +83,7 @@ class ContactMaps:
             try:
                 return contact_at(*args, **opts, cache=view.app.contacts, token=token, workers=1)
             finally:
-                log.add("contact maps", time.thread_time() - cpu, token.cancelled)
+                log.add("contact maps", time.thread_time() - cpu, token.cancelled, token)
 
         try:
             res = await asyncio.get_running_loop().run_in_executor(None, work)

@@ -166,7 +166,7 @@ class PopulationPanel:
             except FingerpadError as exc:
                 return None, one_line(str(exc))
             finally:
-                self.view.app.worklog.add("population", time.thread_time() - cpu, token.cancelled)
+                self.view.app.worklog.add("population", time.thread_time() - cpu, token.cancelled, token)
             self.cache.put_key(key, result)
             return result, None
 

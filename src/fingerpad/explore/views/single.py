@@ -10,9 +10,9 @@ chosen pressure is one :class:`~fingerpad.contact.HalfSpaceSolver` solve, in a w
 The numbers of a change come first: the background work of a design (its contact maps, a BEM run
 on every change, its population) starts once the design has stayed shown for :data:`QUIET_S`, and
 a change to another design cancels all of it within one solver iteration (:mod:`fingerpad.cancel`).
-Changes in quick succession (each within :data:`QUIET_S` of the one before: arrow keys held, a
-slider dragged, two designs compared) show their numbers at once and the figures once they pause:
-the browser's drawing of designs passed over would otherwise hold the next numbers back.
+Changes in quick succession (each within :data:`SEQUENCE_S` of the one before: arrow keys held, a
+slider dragged, two designs compared) show their numbers at once and the figures once they pause
+as long: the browser's drawing of designs passed over would otherwise hold the next numbers back.
 """
 
 from __future__ import annotations
@@ -42,12 +42,18 @@ from .population import PopulationPanel
 from ..uploads import StoredUpload, page_message
 from .upload import Upload
 
-__all__ = ["QUIET_S", "SingleView"]
+__all__ = ["QUIET_S", "SEQUENCE_S", "SingleView"]
 
 #: Seconds a design stays shown before its background work starts (contact maps, a BEM run on
 #: every change, a population): longer than the pause between the values of a designer who
 #: steps or drags through them, short beside the work itself.
 QUIET_S = 0.4
+#: A change within SEQUENCE_S of the one before belongs to a sequence (a key held, a slider
+#: dragged, two designs compared back and forth): its numbers are shown at once, the figures once
+#: the sequence has paused this long. Longer than QUIET_S: on a loaded machine the page takes a
+#: few tenths of a second to show numbers, and a designer who answers them at once must still
+#: count as one sequence.
+SEQUENCE_S = 0.7
 
 _RESULT_COLUMNS = (
     ("load", "load F (N)"), ("gross_area", "A_g (m²)"), ("ridge_area", "A_fr (m²)"), ("real_area", "A_re (m²)"),
@@ -292,14 +298,14 @@ class SingleView:
         now = time.monotonic()
         # another design within QUIET_S of the last: a designer stepping, dragging or going back
         # and forth; what a browser draws of a design passed over would delay the next numbers
-        self._rapid, self._changed_at = now - self._changed_at < QUIET_S, now
+        self._rapid, self._changed_at = now - self._changed_at < SEQUENCE_S, now
         self.bem.supersede(bem_data(data))
         self.maps.cancel()
         self.population.cancel()
 
-    def after_quiet(self, fn: Callable[[], None]) -> None:
+    def after_quiet(self, fn: Callable[[], None], seconds: float = QUIET_S) -> None:
         """Call ``fn`` (holding the document) once the design shown now has stayed shown for
-        :data:`QUIET_S`; never if another design is shown first. At once without a session."""
+        ``seconds``; never if another design is shown first. At once without a session."""
         generation = self._generation
 
         def run() -> None:
@@ -307,7 +313,7 @@ class SingleView:
                 fn()
 
         if self.doc is not None and self.doc.session_context is not None:
-            self.doc.add_timeout_callback(run, int(1000 * QUIET_S))
+            self.doc.add_timeout_callback(run, int(1000 * seconds))
         else:
             run()
 
@@ -359,7 +365,7 @@ class SingleView:
         else:
             self._show_numbers(pred)
         if self._rapid:  # changes in quick succession: their numbers at once, the figures once they pause
-            self.after_quiet(self._show_figures)
+            self.after_quiet(self._show_figures, SEQUENCE_S)
         else:
             self._show_figures()
 
