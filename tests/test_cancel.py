@@ -4,39 +4,12 @@ never cancelled gives the same bits as one outside any scope."""
 
 from __future__ import annotations
 
-import threading
-
 import numpy as np
 import pytest
 
 from fingerpad.cancel import CancelToken, Cancelled, cancellable, check, current
 from fingerpad.contact import HalfSpaceSolver
 from fingerpad.textures import spherical_caps
-
-
-class CountingToken(CancelToken):
-    """A token that counts the checks (the solver's iterations) and, with ``delay``, makes each
-    one slow: a solve made slow on purpose, long enough to be cancelled in its middle."""
-
-    __slots__ = ("checks", "delay", "at_cancel", "reached", "_after")
-
-    def __init__(self, delay: float = 0.0, cancel_after: int | None = None) -> None:
-        super().__init__()
-        self.checks, self.delay, self.at_cancel = 0, delay, None
-        self.reached = threading.Event()
-        self._after = cancel_after
-
-    def check(self) -> None:
-        self.checks += 1
-        if self._after is not None and self.checks >= self._after:
-            self.reached.set()
-        if self.delay:
-            threading.Event().wait(self.delay)
-        super().check()
-
-    def cancel(self) -> None:
-        self.at_cancel = self.checks
-        super().cancel()
 
 
 def _cell(grid: int = 128):
@@ -78,11 +51,11 @@ def test_cancelled_is_not_an_error_that_fallbacks_catch():
     assert not issubclass(Cancelled, Exception)  # `except Exception` in a fallback lets it through
 
 
-def test_a_scope_never_cancelled_changes_no_bit():
+def test_a_scope_never_cancelled_changes_no_bit(slow_token):
     """The check is a read of a flag: the solve inside a scope is the solve outside it."""
     tex = _cell(64)
     plain = HalfSpaceSolver(tex, 1e6).solve_pressure(20e3)
-    token = CountingToken()
+    token = slow_token(0.0, 10**9)
     with cancellable(token):
         scoped = HalfSpaceSolver(tex, 1e6).solve_pressure(20e3)
     assert token.checks >= plain.iterations > 0  # checked once per iteration (nested levels too)
@@ -91,27 +64,12 @@ def test_a_scope_never_cancelled_changes_no_bit():
     assert plain.iterations == scoped.iterations
 
 
-def test_a_superseded_solve_stops_within_one_iteration():
+def test_a_superseded_solve_stops_within_one_iteration(cancel_midway):
     """A solve made slow on purpose (each iteration waits), cancelled from another thread after a
     few iterations: it raises Cancelled at its next iteration, long before it would converge."""
     tex = _cell(128)
     full = HalfSpaceSolver(tex, 1e6, tol=1e-10).solve_pressure(20e3)
-    token = CountingToken(delay=0.01, cancel_after=3)
-    out: list[BaseException | object] = []
-
-    def run() -> None:
-        try:
-            with cancellable(token):
-                out.append(HalfSpaceSolver(tex, 1e6, tol=1e-10).solve_pressure(20e3))
-        except Cancelled as exc:
-            out.append(exc)
-
-    worker = threading.Thread(target=run)
-    worker.start()
-    assert token.reached.wait(60)
-    token.cancel()
-    worker.join(60)
-    assert not worker.is_alive()
-    assert len(out) == 1 and isinstance(out[0], Cancelled)  # no result came back
+    out, token = cancel_midway(lambda: HalfSpaceSolver(tex, 1e6, tol=1e-10).solve_pressure(20e3), 0.01, 3)
+    assert isinstance(out, Cancelled)  # no result came back
     assert token.checks <= token.at_cancel + 1  # stopped at the first check after the cancel
     assert token.checks < full.iterations  # before the solve's end (nested levels included)

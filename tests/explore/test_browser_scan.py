@@ -195,3 +195,26 @@ def test_a_change_cancels_the_bem_run_of_the_design_before(page):
     assert not any("fp-job-failed" in t for t in job_status_texts(page)), job_status_texts(page)
     set_field(page, "model.grid", "")
     set_field(page, "texture.spacing", "175um")
+
+
+def test_the_upload_script_comes_with_the_first_upload(browser_context, explorer):
+    """FilePond (the drop zone's library) runs an animation loop from the moment its script is in
+    the page: a fresh page has none of it until *measured map (upload)* is chosen, then the drop
+    zone is there, its script from 127.0.0.1."""
+    from playwright.sync_api import expect
+
+    page = browser_context.new_page()
+    requested = []
+    page.on("request", lambda r: requested.append(r.url))
+    try:
+        page.goto(explorer.url)
+        page.wait_for_selector(".fp-results td")
+        assert page.evaluate("() => typeof window.FilePond") == "undefined"
+        assert not any("filepond" in u for u in requested)
+        page.locator(f"{css('model.kind')} select").select_option("both")
+        page.locator(f"{css('texture.name')} select").select_option("measured map (upload)")
+        expect(page.locator(".fp-upload input[type=file]")).to_have_count(1, timeout=60_000)
+        assert page.evaluate("() => typeof window.FilePond") == "object"
+        assert all(u.startswith(("http://127.0.0.1", "ws://127.0.0.1", "data:", "blob:")) for u in requested)
+    finally:
+        page.close()

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import hashlib
 import threading
+from contextlib import nullcontext
 import time
 import warnings
 from collections import OrderedDict
@@ -236,8 +237,8 @@ def contact_at(texture: Any, modulus: float, pressure: float, *, tol: float = 1e
 
     With ``cache``, a contact solved before (same heights, grid, size, modulus, pressure, tolerance
     and iteration cap) is returned without a solve: a design seen before costs nothing. With
-    ``token``, the solve stops within one iteration once the token is cancelled
-    (:class:`~fingerpad.cancel.Cancelled` is raised; nothing is remembered). ``workers``: the FFT
+    ``token`` (else the caller's cancellation scope), the solve stops within one iteration once the
+    token is cancelled (:class:`~fingerpad.cancel.Cancelled` is raised; nothing is remembered). ``workers``: the FFT
     threads (default: all cores).
     """
     from ..contact import HalfSpaceSolver
@@ -247,7 +248,7 @@ def contact_at(texture: Any, modulus: float, pressure: float, *, tol: float = 1e
         hit = cache.get_key(key)
         if hit is not None:
             return hit
-    with warnings.catch_warnings(), cancellable(token if token is not None else CancelToken()):
+    with warnings.catch_warnings(), (cancellable(token) if token is not None else nullcontext()):
         warnings.simplefilter("ignore")
         res = HalfSpaceSolver(texture, modulus, tol=tol, max_iter=max_iter,
                               workers=workers).solve_pressure(pressure)
