@@ -105,7 +105,8 @@ export function render({ model, el }) {
     lo.textContent = model.start_text
     hi.textContent = model.end_text
     range.disabled = model.disabled
-    if (!dragging && model.position !== null) range.value = model.position
+    // the field's value (typed, stepped) moves the thumb, not while the hand's own are on their way
+    if (!dragging && inflight === 0 && pending === null && model.position !== null) range.value = model.position
   }
   // the latest only: at most two positions on their way (the server computes one while the page
   // shows the other); those passed meanwhile are dropped, and the release is sent at once
@@ -130,6 +131,7 @@ export function render({ model, el }) {
     if (!(msg && msg.ack)) return
     inflight = Math.max(0, inflight - 1)
     if (pending !== null) { const v = pending; pending = null; send(v) }
+    else if (inflight === 0) show()
   })
   model.on(["start", "end", "step", "start_text", "end_text", "disabled", "position"], show)
   show()

@@ -10,17 +10,15 @@ chosen pressure is one :class:`~fingerpad.contact.HalfSpaceSolver` solve, in a w
 The numbers of a change come first: the background work of a design (its contact maps, a BEM run
 on every change, its population) starts once the design has stayed shown for :data:`QUIET_S`, and
 a change to another design cancels all of it within one solver iteration (:mod:`fingerpad.cancel`).
-Changes in quick succession (each within :data:`SEQUENCE_S` of the one before: arrow keys held, a
-slider dragged, two designs compared) show their numbers at once and the figures once they pause
-as long: the browser's drawing of designs passed over would otherwise hold the next numbers back.
+Changes in quick succession (arrow keys held, a slider dragged, two designs compared as soon as
+their numbers show) show their numbers at once and the figures once they pause (:mod:`.sequence`):
+the browser's drawing of designs passed over would otherwise hold the next numbers back.
 """
 
 from __future__ import annotations
 
 import copy
 import html
-import math
-import time
 from collections.abc import Callable
 from functools import partial
 from typing import Any
@@ -37,23 +35,18 @@ from . import exports
 from .bemrun import BemRun, bem_data
 from .common import PlotCard, download, html_pane, html_table, num_span, set_cards
 from .contactmaps import ContactMaps
+from .sequence import Sequence
 from .fields import MEASURED, Field, Form
 from .population import PopulationPanel
 from ..uploads import StoredUpload, page_message
 from .upload import Upload
 
-__all__ = ["QUIET_S", "SEQUENCE_S", "SingleView"]
+__all__ = ["QUIET_S", "SingleView"]
 
 #: Seconds a design stays shown before its background work starts (contact maps, a BEM run on
 #: every change, a population): longer than the pause between the values of a designer who
 #: steps or drags through them, short beside the work itself.
 QUIET_S = 0.4
-#: A change within SEQUENCE_S of the one before belongs to a sequence (a key held, a slider
-#: dragged, two designs compared back and forth): its numbers are shown at once, the figures once
-#: the sequence has paused this long. Longer than QUIET_S: on a loaded machine the page takes a
-#: few tenths of a second to show numbers, and a designer who answers them at once must still
-#: count as one sequence.
-SEQUENCE_S = 0.7
 
 _RESULT_COLUMNS = (
     ("load", "load F (N)"), ("gross_area", "A_g (m²)"), ("ridge_area", "A_fr (m²)"), ("real_area", "A_re (m²)"),
@@ -83,8 +76,6 @@ class SingleView:
         self.texture: Any = None
         self._design: str | None = None  # the design the background work is for (its data key)
         self._generation = 0  # designs shown so far: background work waits for a quiet one
-        self._changed_at = -math.inf  # when the design shown last changed (time.monotonic)
-        self._rapid = False  # it changed within QUIET_S of the change before
         self._loading = False
         self.doc = pn.state.curdoc  # the session's document: async work changes it on its next tick
 
@@ -116,6 +107,7 @@ class SingleView:
             w.width = 120
         self.population = PopulationPanel(self)
         self.maps = ContactMaps(self)
+        self.sequence = Sequence(self)
         self._watch_form()
         self.panel = self._layout()
         self.refresh()
@@ -156,7 +148,7 @@ class SingleView:
             self.table,
             sizing_mode="stretch_width",
         )
-        return pn.Row(inputs, results, sizing_mode="stretch_width", css_classes=["fp-single"])
+        return pn.Row(inputs, results, self.sequence.panel, sizing_mode="stretch_width", css_classes=["fp-single"])
 
     def _changed(self, event: Any) -> None:
         if not self._loading:
@@ -295,13 +287,15 @@ class SingleView:
             return
         self._design = key
         self._generation += 1
-        now = time.monotonic()
-        # another design within QUIET_S of the last: a designer stepping, dragging or going back
-        # and forth; what a browser draws of a design passed over would delay the next numbers
-        self._rapid, self._changed_at = now - self._changed_at < SEQUENCE_S, now
+        self.sequence.change()
         self.bem.supersede(bem_data(data))
         self.maps.cancel()
         self.population.cancel()
+
+    @property
+    def generation(self) -> int:
+        """How many designs the view has shown (a new one for every change of design)."""
+        return self._generation
 
     def after_quiet(self, fn: Callable[[], None], seconds: float = QUIET_S) -> None:
         """Call ``fn`` (holding the document) once the design shown now has stayed shown for
@@ -364,10 +358,8 @@ class SingleView:
             self.notes.object = ""
         else:
             self._show_numbers(pred)
-        if self._rapid:  # changes in quick succession: their numbers at once, the figures once they pause
-            self.after_quiet(self._show_figures, SEQUENCE_S)
-        else:
-            self._show_figures()
+        self.sequence.numbers_sent()
+        self.sequence.figures(self._show_figures)  # in a sequence: once it pauses
 
     def _show_figures(self) -> None:
         """The figures of the prediction shown (and its population, its contact maps)."""
@@ -418,10 +410,12 @@ class SingleView:
         z = payload["zones"]
         parts.append(f"at {num_span('zones_load', z['load'], 'N')}: A_re/A_fr = "
                      f"{num_span('zones_area_ratio', z['area_ratio'])}, centre {html.escape(z['contact_state'])}")
-        self.summary.object = '<div style="font-size:13px;line-height:1.6">' + " &middot; ".join(parts) + "</div>"
+        # each pane's change goes to the page as a message of its own: the table first, the
+        # summary last, so that a page whose summary shows a design has its table too
+        self.table.object = html_table(_RESULT_COLUMNS, payload["results"], "fp-results")
         self.notes.object = "".join(f'<div style="font-size:12px;color:#555">note: {html.escape(self._words(n))}</div>'
                                     for n in payload["notes"])
-        self.table.object = html_table(_RESULT_COLUMNS, payload["results"], "fp-results")
+        self.summary.object = '<div style="font-size:13px;line-height:1.6">' + " &middot; ".join(parts) + "</div>"
 
     def _contact_pressure(self) -> float | None:
         """The pressure of the contact map: the field's value, else the centre pressure at the zone load."""
