@@ -7,8 +7,8 @@ CPU time of this process, the latter less sensitive to a shared machine's load):
 
 * ``point``: :func:`fingerpad.design.evaluate.evaluate_point` without a population (the nominal);
 * ``point+population``: the same with the population's members (the sweep's path);
-* ``run_population``: :func:`fingerpad.study.population.run_population` (``predict --population``);
-* ``batch``: :func:`fingerpad.study.members.evaluate_members` (what the sweep runs; the same
+* ``run_population``: :func:`fingerpad.population.run_population` (``predict --population``);
+* ``batch``: :func:`fingerpad.population.members.evaluate_members` (what the sweep runs; the same
   member path as run_population since pop-unify, without its tables and sensitivity).
 
     python benchmarks/bench_population_sweep.py [--population adults] [--grid 32] [--repeat 5]
@@ -35,9 +35,9 @@ def main() -> None:
 
     from fingerpad.design.spec import sweep_from_dict
     from fingerpad.design.evaluate import evaluate_point
-    from fingerpad.study.population import run_population
-    from fingerpad.study.members import evaluate_members
-    from fingerpad.study.population import member_finger
+    from fingerpad.population import run_population
+    from fingerpad.population.members import evaluate_members
+    from fingerpad.population.members import member_finger
     from fingerpad.study.run import run_study
     from fingerpad.study.spec import study_from_dict
 

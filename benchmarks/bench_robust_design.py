@@ -29,7 +29,7 @@ import time
 from pathlib import Path
 
 from fingerpad.design.inverse import DesignProblem, parse_target, predict_candidate
-from fingerpad.design.proposal import free_axes
+from fingerpad.design.inverse_design import free_axes
 from fingerpad.design.robust import population_candidate, population_goal, screen_candidate
 from fingerpad.study.spec import DEFAULT_STUDY
 

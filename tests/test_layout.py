@@ -1,4 +1,5 @@
-"""The package's structure: every module imports on its own, no import cycles, one version."""
+"""The package's structure: every module imports on its own, no import cycles (lazy imports
+included), the layers of README "Layout", one version."""
 
 from __future__ import annotations
 
@@ -32,37 +33,6 @@ def _from_target(node: ast.ImportFrom, package: str) -> str:
     base = package.split(".")
     base = base[: len(base) - (node.level - 1)]
     return ".".join(base + ([node.module] if node.module else []))
-
-
-def _module_level_imports(path: Path, module: str) -> set[str]:
-    """Modules of fingerpad imported at module level (not inside functions or TYPE_CHECKING)."""
-    tree = ast.parse(path.read_text(encoding="utf-8"))
-    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
-    found: set[str] = set()
-
-    def visit(nodes: list[ast.stmt]) -> None:
-        for node in nodes:
-            if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
-                continue
-            if isinstance(node, ast.Import):
-                found.update(a.name for a in node.names if a.name.startswith("fingerpad"))
-            elif isinstance(node, ast.ImportFrom):
-                target = _from_target(node, package)
-                if not target.startswith("fingerpad"):
-                    continue
-                found.add(target)
-                for alias in node.names:  # `from . import coupling` imports a module
-                    candidate = f"{target}.{alias.name}"
-                    if candidate in MODULES:
-                        found.add(candidate)
-            elif isinstance(node, (ast.If, ast.Try, ast.With)):
-                visit(getattr(node, "body", []))
-                visit(getattr(node, "orelse", []))
-                for handler in getattr(node, "handlers", []):
-                    visit(handler.body)
-
-    visit(tree.body)
-    return found
 
 
 MODULES = set(_modules())
@@ -123,18 +93,13 @@ def find_cycles(graph: dict[str, set[str]]) -> list[list[str]]:
 
 
 def import_graph() -> dict[str, set[str]]:
-    graph = {}
-    for path in SRC.rglob("*.py"):
-        rel = path.relative_to(SRC.parent).with_suffix("")
-        parts = list(rel.parts)
-        if parts[-1] == "__init__":
-            parts = parts[:-1]
-        name = ".".join(parts)
-        graph[name] = {m for m in _module_level_imports(path, name) if m in MODULES and m != name}
-    return graph
+    """``module -> modules of fingerpad it imports``: at module level and inside functions alike
+    (a lazy import still ties the two modules in a loop), TYPE_CHECKING blocks aside."""
+    return _package_imports()[0]
 
 
 def test_no_import_cycles():
+    """No loop of imports, lazy (function-level) imports included."""
     assert not find_cycles(import_graph()), f"import cycles: {find_cycles(import_graph())}"
 
 
@@ -142,7 +107,10 @@ def test_cycle_detector_finds_cycles():
     """The detector itself: a three-module loop is found, a chain is not."""
     assert find_cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
     assert find_cycles({"a": {"b"}, "b": {"c"}, "c": set()}) == []
-    assert "fingerpad.contact" in import_graph()["fingerpad.micro.bem"]  # the parser sees imports
+    graph = import_graph()
+    assert "fingerpad.contact" in graph["fingerpad.micro.bem"]  # the parser sees imports
+    # ... lazy ones too: run_population imports the Sobol indices inside the function
+    assert "fingerpad.population.sobol" in graph["fingerpad.population.run"]
 
 
 def test_one_version_source():
@@ -183,8 +151,8 @@ def test_docs_refer_inside_the_repository():
 #: own modules and any part of a LOWER layer; parts of one layer do not import each other, except
 #: in the foundation, whose small modules form a chain (the cycle test keeps it acyclic).
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
-    ("foundation", ("errors", "_version", "cancel", "units", "checks", "materials", "plausibility", "discover", "params",
-                    "encode", "io", "netcdf")),
+    ("foundation", ("errors", "_version", "cancel", "extras", "references", "units", "checks", "materials", "plausibility",
+                    "discover", "params", "encode", "io", "netcdf")),
     ("surfaces", ("textures",)),
     ("contact engine", ("contact",)),
     ("macro scale", ("macro",)),
@@ -194,9 +162,11 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("coupling", ("coupling",)),
     ("figures", ("plotting",)),
     ("jobs", ("study", "measure")),
+    ("population", ("population",)),
     ("design", ("design",)),
     ("explorer", ("explore",)),
     ("command line", ("cli",)),
+    ("python -m fingerpad", ("__main__",)),
 ]
 
 #: Heavy toolkits and the one part each may be imported in (at any depth, lazily too).

@@ -12,6 +12,7 @@ Layout (a load goes macro -> meso -> micro -> coupling -> friction):
 * :mod:`fingerpad.macro`, :mod:`fingerpad.meso`, :mod:`fingerpad.micro` - the three scales;
 * :mod:`fingerpad.finger`, :mod:`fingerpad.coupling`, :mod:`fingerpad.friction`;
 * :mod:`fingerpad.study` - the prediction job (study files, run, outputs);
+* :mod:`fingerpad.population` - a population of fingers on one texture (bands, Sobol indices);
 * :mod:`fingerpad.measure` - friction measurements; :mod:`fingerpad.plotting` - every figure;
   :mod:`fingerpad.cli` - the command line.
 

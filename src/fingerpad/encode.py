@@ -11,7 +11,7 @@ import json
 import math
 import os
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
@@ -59,37 +59,38 @@ def _attr_value(value: Any) -> str | int | float | np.ndarray:
             arr = np.asarray(items, dtype=float)
             if np.all(np.isfinite(arr)):
                 return arr
-        return json.dumps(_jsonable(items))
+        return json.dumps(to_jsonable(items))
     return str(value)
 
 
-def _jsonable(value: Any) -> Any:
-    """Recursively convert numpy scalars/arrays, paths and non-finite floats for json.dumps."""
-    if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, np.ndarray):
-        if value.dtype.kind == "f" and np.all(np.isfinite(value)):
-            return value.tolist()  # already JSON numbers: no walk over every element
-        return _jsonable(value.tolist())
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    if isinstance(value, (int, np.integer)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        v = float(value)
-        return v if math.isfinite(v) else None
-    if isinstance(value, os.PathLike):
-        return os.fspath(value)
-    if value is None or isinstance(value, str):
-        return value
-    return str(value)
+def to_jsonable(value: Any, nonfinite: Callable[[float], Any] | None = None) -> Any:
+    """``value`` ready for ``json.dumps``: mappings (keys as text), lists and tuples, NumPy scalars
+    and arrays, paths, and anything else as its text. A NaN or infinite float becomes ``None``,
+    or ``nonfinite(value)`` (``repr`` keeps ``"inf"``: what a sweep's signature records).
+    The one conversion of the package (outputs, the measurement report, sweep stores)."""
+    def convert(value: Any) -> Any:
+        if isinstance(value, Mapping):
+            return {str(k): convert(v) for k, v in value.items()}
+        if isinstance(value, (list, tuple)):
+            return [convert(v) for v in value]
+        if isinstance(value, np.ndarray):
+            if value.dtype.kind == "f" and np.all(np.isfinite(value)):
+                return value.tolist()  # already JSON numbers: no walk over every element
+            return convert(value.tolist())
+        if isinstance(value, (bool, np.bool_)):
+            return bool(value)
+        if isinstance(value, (int, np.integer)):
+            return int(value)
+        if isinstance(value, (float, np.floating)):
+            v = float(value)
+            return v if math.isfinite(v) else (None if nonfinite is None else nonfinite(v))
+        if isinstance(value, os.PathLike):
+            return os.fspath(value)
+        if value is None or isinstance(value, str):
+            return value
+        return str(value)
 
-
-def to_jsonable(value: Any) -> Any:
-    """Public alias of the JSON conversion used by the command line (NaN/inf -> None)."""
-    return _jsonable(value)
+    return convert(value)
 
 
 #: Keys whose lists :func:`json_text` writes one compact item per line (a population's members).

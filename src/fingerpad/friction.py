@@ -21,6 +21,10 @@ import numpy as np
 from .checks import ArrayLike, as_loads, scalar_out
 from .errors import FingerpadError
 
+#: The publications of the friction law (:mod:`fingerpad.references` keys): adhesion is the
+#: thesis' Eqs. 2.1-2.3, the hysteresis term Greenwood-Tabor's, Eq. 2.4.
+REFERENCES = ("greenwood1958",)
+
 if TYPE_CHECKING:
     from .finger import Finger
 
@@ -219,6 +223,34 @@ class PowerLaw:
 PowerLawFit = PowerLaw
 
 
+def fit_inputs(loads: ArrayLike, values: ArrayLike, what: str = "a power-law fit", name: str = "mu",
+               distinct: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """The inputs of a fit of ``values`` against ``loads`` (N) in log space, checked: the one check
+    of :func:`fit_power_law`, the measurements' clustered power law and the skin-modulus fits.
+
+    Returns the two arrays, flattened. ``distinct``: the loads must not all be equal (a slope is
+    fitted).
+
+    Raises
+    ------
+    FingerpadError
+        Lengths that differ, fewer than 3 points, a value that is not positive and finite, or
+        (with ``distinct``) all loads equal; naming ``what``.
+    """
+    f = np.asarray(loads, dtype=float).ravel()
+    v = np.asarray(values, dtype=float).ravel()
+    if f.shape != v.shape:
+        raise FingerpadError(f"{what}: loads and {name} differ in length ({f.size} vs {v.size})")
+    if f.size < 3:
+        raise FingerpadError(f"{what} needs at least 3 points, got {f.size}")
+    if not (np.all(np.isfinite(f)) and np.all(np.isfinite(v)) and np.all(f > 0) and np.all(v > 0)):
+        raise FingerpadError(f"{what}: loads and {name} must be positive and finite (no zero, negative, NaN or "
+                             "infinite value)")
+    if distinct and np.ptp(np.log(f)) == 0:
+        raise FingerpadError(f"{what} needs at least two different loads")
+    return f, v
+
+
 def fit_power_law(loads: ArrayLike, mu: ArrayLike, sigma: ArrayLike | None = None, *,
                   level: float = 0.95) -> PowerLaw:
     """Fit ``mu = k F^(n-1)`` by weighted least squares on ``ln mu = ln k + (n-1) ln F``.
@@ -255,18 +287,7 @@ def fit_power_law(loads: ArrayLike, mu: ArrayLike, sigma: ArrayLike | None = Non
 
     if not (isinstance(level, (int, float)) and 0 < level < 1):
         raise FingerpadError(f"level must lie in (0, 1), got {level!r}")
-    f = np.asarray(loads, dtype=float).ravel()
-    m = np.asarray(mu, dtype=float).ravel()
-    if f.shape != m.shape:
-        raise FingerpadError(f"loads and mu differ in length ({f.size} vs {m.size})")
-    if f.size < 3:
-        raise FingerpadError(f"a power-law fit needs at least 3 points, got {f.size}")
-    if not (np.all(np.isfinite(f)) and np.all(np.isfinite(m))):
-        raise FingerpadError("loads and mu must not hold NaN or infinite values")
-    if np.any(f <= 0) or np.any(m <= 0):
-        raise FingerpadError("loads and mu must be positive for a power-law fit")
-    if np.ptp(np.log(f)) == 0:
-        raise FingerpadError("a power-law fit needs at least two different loads")
+    f, m = fit_inputs(loads, mu)
     if sigma is not None:
         s = np.asarray(sigma, dtype=float).ravel()
         if s.shape != m.shape:

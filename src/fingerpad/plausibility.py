@@ -9,11 +9,12 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Sequence
 
 from .errors import FingerpadError
 from .units import format_quantity
 
-__all__ = ["RANGES", "PlausibilityWarning", "check_plausible"]
+__all__ = ["RANGES", "PlausibilityWarning", "check_plausible", "check_plausible_range"]
 
 
 class PlausibilityWarning(UserWarning):
@@ -53,3 +54,22 @@ def check_plausible(value: float, role: str, name: str) -> None:
         if dimension != "none" else ""
     warnings.warn(f"{name} = {shown} is very {side} for a {role}: {typical}{hint}", PlausibilityWarning,
                   stacklevel=3)
+
+
+def check_plausible_range(values: Sequence[float], role: str, name: str) -> None:
+    """One warning (:class:`PlausibilityWarning`) for the ``values`` (SI) of many draws (a
+    population's members) outside the range of ``role``: how many, and their extremes."""
+    if role not in RANGES:
+        raise FingerpadError(f"unknown plausibility role {role!r}")
+    low, high, dimension, typical = RANGES[role]
+    finite = [abs(v) for v in values if math.isfinite(v)]
+    outside = [v for v in finite if not low <= v <= high]
+    if not outside:
+        return
+
+    def shown(v: float) -> str:
+        return format_quantity(v, dimension) if dimension != "none" else f"{v:.4g}"
+
+    warnings.warn(f"{name}: {len(outside)} of {len(finite)} values lie outside the plausible "
+                  f"{shown(low)} - {shown(high)} for a {role} (from {shown(min(finite))} to {shown(max(finite))}): "
+                  f"{typical}", PlausibilityWarning, stacklevel=3)

@@ -83,3 +83,13 @@ def test_a_bad_output_name_writes_nothing(tmp_path):
     assert res.exit_code == 2
     assert "error:" in res.output and "Traceback" not in res.output
     assert list(tmp_path.iterdir()) == []
+
+
+def test_outputs_list_the_solver_references(outputs):
+    """The JSON's ``references`` and the NetCDF's CF ``references`` attribute: the thesis, the
+    package and the solver's method (a periodic cell: no Love kernel)."""
+    doc = json.loads((outputs / "cell.json").read_text())
+    keys = [e["key"] for e in doc["references"]]
+    assert keys == ["sergachev2021", "fingerpad", "polonsky1999"]
+    ds = netcdf.load_dataset(outputs / "cell.nc")
+    assert ds.attrs["references"].splitlines() == [e["citation"] for e in doc["references"]]

@@ -88,7 +88,7 @@ def test_auto_prefers_ducc0_and_falls_back_to_scipy(monkeypatch: pytest.MonkeyPa
     monkeypatch.setitem(sys.modules, "ducc0", None)
     monkeypatch.setitem(sys.modules, "ducc0.fft", None)
     assert Backend().fft == "scipy"
-    with pytest.raises(FingerpadError, match=r"ducc0 is not installed: pip install 'fingerpad\[fast\]'"):
+    with pytest.raises(FingerpadError, match=r"FFT engine 'ducc0' .*: the 'fast' extra is not installed \(ducc0 missing\): pip install 'fingerpad\[fast\]'"):
         HalfSpaceSolver(caps(32, 1e-4, 5e-5, 1e-5), E, fft="ducc0")
     # the coarse levels of a nested solve use the engine of the fine one
     solver = HalfSpaceSolver(caps(256, 1e-4, 5e-5, 1e-5), E)

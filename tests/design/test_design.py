@@ -11,9 +11,9 @@ import pytest
 from typer.testing import CliRunner
 
 from fingerpad.cli import app
-from fingerpad.design import proposal
+from fingerpad.design import inverse_design
 from fingerpad.design.inverse import XATOL, Candidate, DesignProblem, parse_target
-from fingerpad.design.proposal import design_textures, free_axes, merge_close
+from fingerpad.design.inverse_design import design_textures, free_axes, merge_close
 
 runner = CliRunner()
 
@@ -46,8 +46,8 @@ def no_prediction(monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("a prediction started for an input that makes no sense")
 
-    monkeypatch.setattr(proposal, "predict_candidate", refuse)
-    monkeypatch.setattr(proposal, "search", refuse)
+    monkeypatch.setattr(inverse_design, "predict_candidate", refuse)
+    monkeypatch.setattr(inverse_design, "search", refuse)
 
 
 def error_line(result) -> str:
@@ -119,13 +119,13 @@ def test_design_reports_merged_candidates(study, monkeypatch):
     """design_textures merges what the search found before choosing the candidates to report."""
     found = [Candidate(params={"spacing": s * 1e-6}, objective=o)
              for s, o in ((200.7, 0.01), (201.8, 0.02), (201.2, 0.03), (260.0, 0.04), (330.0, 0.05))]
-    monkeypatch.setattr(proposal, "search", lambda problem, **kw: list(found))
+    monkeypatch.setattr(inverse_design, "search", lambda problem, **kw: list(found))
 
     def direct(problem, params, loads=None, curve_loads=None):
         spacing = params["spacing"]
         return Candidate(params=dict(params), objective=abs(math.log(spacing / 200.7e-6)), values={"x": 1.0})
 
-    monkeypatch.setattr(proposal, "predict_candidate", direct)
+    monkeypatch.setattr(inverse_design, "predict_candidate", direct)
     result = design_textures(study, ["spacing=100um:400um"], ["mu_rel=0.5@1N"], candidates=3)
     assert [round(c.params["spacing"] * 1e6, 1) for c in result.candidates] == [200.7, 260.0, 330.0]
     doc = result.document()

@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 from fingerpad.cli import app
 from fingerpad.design.evaluate import evaluate_point
 from fingerpad.design.spec import sweep_from_dict
-from fingerpad.study.population import load_population, run_population
+from fingerpad.population import load_population, run_population
 from fingerpad.study.spec import study_from_dict
 
 from .test_sweep import STUDY as SWEEP_STUDY
@@ -76,7 +76,7 @@ def test_no_spread_gives_the_nominal_values_exactly(kind):
 def test_bands_are_the_quantiles_of_a_direct_population_prediction(kind, curve_rtol):
     """A point's stored bands equal the quantiles of run_population's members on that texture.
 
-    One member path (fingerpad.study.members) for both, so the numbers agree bit for bit on the
+    One member path (fingerpad.population.members) for both, so the numbers agree bit for bit on the
     same cell; with BEM the sweep's cell holds the nodes of its own pressure range, whose
     interpolant may differ from the direct run's in the last digits (1e-12 allowed)."""
     spec = sweep_from_dict({**BASE, "model": {**BASE["model"], "kind": kind}, "sweep": SWEEP}, population=SPREAD)
@@ -110,8 +110,8 @@ def test_members_read_one_cell_exactly():
     to 1e-13), at every member's own E*."""
     from scipy.integrate import quad
 
-    from fingerpad.study.members import evaluate_members
-    from fingerpad.study.population import member_finger
+    from fingerpad.population.members import evaluate_members
+    from fingerpad.population.members import member_finger
     from fingerpad.study.run import run_study
 
     data = {**BASE, "model": {"kind": "bem", "grid": 16}, "loads": {"values": [0.2, 1.0, 3.0]}}
@@ -139,7 +139,7 @@ def test_members_read_one_cell_exactly():
 
 def test_quantiles_keep_infinite_members():
     """Numpy gives NaN between two infinite values; a critical load never reached stays inf."""
-    from fingerpad.study.members import member_quantiles
+    from fingerpad.population.members import member_quantiles
 
     v = np.array([1.0, 2.0, np.inf, np.inf])
     out = member_quantiles(v, [0.0, 0.5, 0.9, 1.0])
@@ -179,7 +179,7 @@ def test_the_map_contours_of_10_and_90_percent_bracket_the_median(tmp_path):
     from fingerpad.plotting.designmap import figure_design_map
 
     fig = figure_design_map(out)
-    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
     assert any("10 % finger" in t and "(N)" in t for t in labels) and any(">= 90 % of fingers" in t for t in labels)
     # the colour bar's label is no longer than the bar (on one line it ran past both ends of it)
     fig.canvas.draw()
@@ -263,7 +263,7 @@ def test_resume_with_another_population_is_refused(tmp_path):
         res = runner.invoke(app, ["sweep", str(study), "--out", str(store), *extra])
         assert res.exit_code == 2, res.output
         lines = [ln for ln in res.output.splitlines() if ln.strip()]
-        assert len(lines) == 1 and "holds this sweep with population 'custom' (8 members" in lines[0], res.output
+        assert len(lines) == 1 and "holds this sweep with population 'study.toml' (8 members" in lines[0], res.output
     (tmp_path / "plain").mkdir()
     plain = write_study(tmp_path / "plain", population=False)
     res = runner.invoke(app, ["sweep", str(plain), "--out", str(store)])
@@ -278,7 +278,7 @@ def test_resume_with_another_population_is_refused(tmp_path):
 def test_an_axis_the_population_varies_is_refused():
     from fingerpad.errors import FingerpadError
 
-    with pytest.raises(FingerpadError, match="varies skin_modulus itself"):
+    with pytest.raises(FingerpadError, match=r"\[sweep.axes\] skin_modulus: the population .* draws skin_modulus for every finger"):
         sweep_from_dict({**BASE, "sweep": {"axes": {"skin_modulus": ["0.2MPa", "0.4MPa"]}}}, population=SPREAD)
 
 
@@ -296,3 +296,39 @@ def test_a_map_of_a_population_the_store_lacks_is_refused(tmp_path):
     lines = [ln for ln in res.output.splitlines() if ln.strip()]
     assert len(lines) == 1 and lines[0].startswith("error:") and "holds no population" in lines[0], res.output
     assert not (tmp_path / "map").exists()
+
+
+def test_the_repair_of_a_damaged_population_store_names_its_population(tmp_path):
+    """Issue 30, defect 9: the repair command suggested for a damaged population store left out
+    --population (and named absolute paths); typed as given, the sweep suggested --overwrite,
+    which would have thrown the store away. Now the suggestion, typed as given, repairs it, and a
+    run that forgets the population is told to give it, not to overwrite."""
+    import os
+    import shlex
+    import subprocess
+
+    from .test_sweep import fingerpad_cmd
+
+    def run(*args: str) -> subprocess.CompletedProcess:
+        return subprocess.run([*fingerpad_cmd(), *args], capture_output=True, text=True, timeout=240, cwd=tmp_path,
+                              env={**os.environ, "FINGERPAD_CACHE": str(tmp_path / "cache")})
+
+    (tmp_path / "study.toml").write_text(SWEEP_STUDY.format(spacing="130um:200um:2", height='["8um", "20um"]'))
+    (tmp_path / "pop.toml").write_text(POPULATION)
+    first = run("sweep", "study.toml", "--population", "pop.toml", "--quantiles", "0.2,0.8", "--out", "r.zarr",
+                "--workers", "1")
+    assert first.returncode == 0, first.stderr
+    (tmp_path / "r.zarr" / "band_mu" / "0.0.0.0").write_bytes(b"not a chunk")
+    forgot = run("sweep", "study.toml", "--out", "r.zarr")
+    assert forgot.returncode == 2
+    assert "give --population pop.toml --quantiles 0.1,0.2,0.5,0.8,0.9 as the sweep that wrote it did" in forgot.stderr
+    assert "--overwrite would discard its points" in forgot.stderr
+    damaged = run("sweep", "study.toml", "--population", "pop.toml", "--quantiles", "0.2,0.8", "--out", "r.zarr")
+    assert damaged.returncode == 2, damaged.stderr
+    line = damaged.stderr.strip()
+    command = line[line.index("fingerpad sweep "):line.index(" recomputes")]
+    assert command == ("fingerpad sweep study.toml --out r.zarr --population pop.toml --quantiles 0.1,0.2,0.5,0.8,0.9 "
+                       "--repair"), line
+    repaired = run(*shlex.split(command)[1:], "--workers", "1")
+    assert repaired.returncode == 0, repaired.stderr
+    assert "repairing" in repaired.stderr

@@ -16,12 +16,12 @@ import pytest
 from typer.testing import CliRunner
 
 from fingerpad.cli import app
-from fingerpad.design import proposal, robust
+from fingerpad.design import inverse_design, robust
 from fingerpad.design.inverse import DesignProblem, parse_target
-from fingerpad.design.proposal import design_textures, free_axes
+from fingerpad.design.inverse_design import design_textures, free_axes
 from fingerpad.design.robust import population_candidate, population_goal, screen_candidate
 from fingerpad.errors import FingerpadError
-from fingerpad.study.population import population_from_table, run_population
+from fingerpad.population import population_from_table, run_population
 from fingerpad.study.spec import read_study_file, study_from_dict
 
 runner = CliRunner()
@@ -162,7 +162,7 @@ def test_unreachable_coverage_reports_the_best_coverage(tmp_path):
                               "--evaluations", "8", "--candidates", "2", "--json", str(out)])
     assert res.exit_code == 0, res.output
     doc = json.loads(out.read_text())
-    assert doc["met"] is False and doc["population"]["name"] == "wide"
+    assert doc["met"] is False and doc["population"]["name"] == "wide.toml"
     assert doc["population"]["size"] == 32 and len(doc["candidates"]) == 2
     best = max(c["population"]["coverage"] for c in doc["candidates"])
     assert 0 < best < 0.9
@@ -178,7 +178,7 @@ def no_prediction(monkeypatch):
         raise AssertionError("a prediction started for an input that makes no sense")
 
     for name in ("predict_candidate", "search", "population_candidate"):
-        monkeypatch.setattr(proposal, name, refuse)
+        monkeypatch.setattr(inverse_design, name, refuse)
     monkeypatch.setattr(robust, "run_population", refuse)
 
 
@@ -195,7 +195,7 @@ def no_prediction(monkeypatch):
     (["--population", "adults", "--quantile", "inf"], "--quantile"),
     (["--population", "nobody", "--coverage", "0.9"], "neither a preset"),
     (["--population", "adults", "--coverage", "0.9", "--vary", "skin_modulus=0.2MPa:0.4MPa"],
-     "the population varies skin_modulus"),
+     "--vary skin_modulus: the population 'adults' draws skin_modulus for every finger"),
 ])
 def test_bad_population_inputs_are_one_error_line_and_nothing_written(tmp_path, no_prediction, extra, expect):
     study = study_file(tmp_path)
@@ -235,7 +235,7 @@ def test_the_study_files_population_table_serves_coverage_and_quantile(tmp_path)
                      encoding="utf-8")
     result = design_textures(study, VARY, ["mu_rel=0.4@1N"], quantile=0.5, evaluations=3, candidates=1)
     assert result.goal is not None and result.goal.population.size == 8
-    assert result.goal.population.name == study.stem and result.candidates[0].population["size"] == 8
+    assert result.goal.population.name == study.name and result.candidates[0].population["size"] == 8
     plain = design_textures(study, VARY, ["mu_rel=0.4@1N"], evaluations=3, candidates=1)
     assert plain.goal is None and not plain.candidates[0].population
 
@@ -254,7 +254,7 @@ def test_candidates_from_a_sweep_are_screened_and_predicted_for_the_population(t
 
     monkeypatch.setattr(store, "open_sweep", lambda path: Store())
     ranked = [{"params": {"spacing": s}, "score": 0.0} for s in (200e-6, 260e-6, 500e-6)]  # 500 um: out of the box
-    monkeypatch.setattr(proposal, "rank_sweep", lambda ds, targets, limit: ranked)
+    monkeypatch.setattr(inverse_design, "rank_sweep", lambda ds, targets, limit: ranked)
     study = study_file(tmp_path)
     result = design_textures(study, VARY, ["mu_rel=0.4@1N"], from_sweep="sweep.zarr", population=NARROW,
                              coverage=0.5, candidates=2)

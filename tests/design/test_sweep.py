@@ -274,7 +274,7 @@ def test_inverse_design_round_trip(swept):
     got = json.loads(pred.stdout)["results"][0]["mu_normalised"]
     assert got == pytest.approx(goal, rel=0.05)
     # the Python API gives the command's document (the command parses, calls it once, prints)
-    from fingerpad.design.proposal import design_textures
+    from fingerpad.design.inverse_design import design_textures
 
     api = design_textures(study, {"spacing": ("130um", "300um"), "height": ("6um", "20um")},
                           [f"mu_rel={goal}@{load_1}N"], from_sweep=str(folder / "r.zarr"), candidates=2)

@@ -284,7 +284,7 @@ def test_population_bands_and_critical_loads(page, explorer, tmp_path, screensho
 
     from playwright.sync_api import expect
 
-    from fingerpad.study.population import load_population, run_population
+    from fingerpad.population import load_population, run_population
     from fingerpad.study.spec import study_from_dict
 
     page.locator(".bk-tab", has_text="Texture").click()

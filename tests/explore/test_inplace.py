@@ -185,7 +185,7 @@ def test_the_servers_own_populations_are_chosen_by_label_only(tmp_path, populati
     offered under its label; the page still cannot name a path (not even that file's)."""
     from fingerpad.explore.server import server_populations
     from fingerpad.explore.views.population import population_choices, run_preset
-    from fingerpad.study.population import load_population, run_population
+    from fingerpad.population import load_population, run_population
     from fingerpad.study.spec import study_from_dict
     from fingerpad.explore.inputs import labels_for
 
@@ -193,15 +193,15 @@ def test_the_servers_own_populations_are_chosen_by_label_only(tmp_path, populati
     table = tmp_path / "panel.toml"
     table.write_text('[population]\nsize = 4\nskin_modulus = { distribution = "uniform", low = "0.2MPa", '
                      'high = "0.5MPa" }\n')
-    adults = tmp_path / "adults.toml"  # a file named like a preset gets a label of its own
-    adults.write_text(table.read_text())
+    adults = tmp_path / "other.toml"  # a population named like a preset gets a label of its own
+    adults.write_text(table.read_text().replace("[population]\n", '[population]\nname = "adults"\n'))
     extra = server_populations([str(table), str(adults), "adults"])
-    assert list(extra) == ["panel", "adults (2)"]
-    assert population_choices(extra) == ["none", "adults", "panel", "adults (2)"]
-    got = run_preset(data, "panel", extra)
+    assert list(extra) == ["panel.toml", "adults (2)"]
+    assert population_choices(extra) == ["none", "adults", "panel.toml", "adults (2)"]
+    got = run_preset(data, "panel.toml", extra)
     want = run_population(study_from_dict(data, labels_for(data)), load_population(str(table)))
     np.testing.assert_array_equal(got.values("mu_normalised"), want.values("mu_normalised"))
-    for forged in (str(table), "/etc/passwd", "panel "):
+    for forged in (str(table), "/etc/passwd", "panel.toml ", "panel"):
         with pytest.raises(FingerpadError, match="population: choose one of none, adults, panel"):
             run_preset(data, forged, extra)
     with pytest.raises(FingerpadError, match="neither a preset"):

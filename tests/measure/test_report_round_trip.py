@@ -188,3 +188,24 @@ def test_qc_workers_write_on_streams_of_their_own():
     finally:
         pool.shutdown()
     assert fresh and duplicated
+
+
+def test_outputs_list_the_references_of_the_methods_used(report, study_small):
+    """summary.json's ``references``, curves.nc's CF ``references`` attribute and the report's
+    References section name the same publications: the analysis's statistics (outlier flag,
+    transition test and its early stop), the friction law, and both micro-models of the E_s
+    fits (the textures' BEM, the sensitivity refits' Hertz)."""
+    from fingerpad import netcdf
+    from fingerpad.references import REFERENCES
+
+    out, _ = report
+    entries = json.loads((out / "summary.json").read_text())["references"]
+    keys = [e["key"] for e in entries]
+    assert {"iglewicz1993", "davies1987", "besag1991", "greenwood1958", "polonsky1999", "johnson1985"} <= set(keys)
+    assert keys[:2] == ["sergachev2021", "fingerpad"] and len(keys) == len(set(keys))
+    ds = netcdf.load_dataset(out / "curves.nc")
+    assert ds.attrs["references"].splitlines() == [e["citation"] for e in entries]
+    page = (out / "report.html").read_text()
+    section = page[page.index("<h2>References</h2>"):]
+    assert section.count("<li>") == len(keys)
+    assert all(REFERENCES[k].title.split(":")[0][:30] in section for k in keys if k != "fingerpad")

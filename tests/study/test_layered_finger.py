@@ -16,7 +16,7 @@ from fingerpad.contact.layered import effective_modulus
 from fingerpad.errors import FingerpadError
 from fingerpad.finger import FINGER_PRESETS, Finger
 from fingerpad.meso import FingerprintBEMRidges, SinusoidalRidges
-from fingerpad.study.population import population_from_table, run_population
+from fingerpad.population import population_from_table, run_population
 from fingerpad.study.run import run_study
 from fingerpad.study.spec import DEFAULT_STUDY, study_from_dict
 

@@ -4,7 +4,7 @@ Each module parses its options, calls the library once and prints:
 
 ``solve`` (:mod:`.solve`), ``textures`` (:mod:`.textures`), ``predict`` and ``run-default``
 (:mod:`.predict`), ``fingers`` and ``finger-models`` (:mod:`.fingers`), ``analyse`` and
-``simulate-measurement`` (:mod:`.measure`).
+``simulate-measurement`` (:mod:`.measure`), ``cite`` (:mod:`.cite`).
 
 Every quantity accepts plain SI numbers or unit suffixes (``50um``, ``0.3MPa``, ``20kPa``).
 
@@ -37,7 +37,7 @@ from typer.core import TyperGroup
 
 from .._version import __version__
 from ..errors import one_line
-from . import deflection, design, explore, fingers, measure, predict, solve, sweep, textures
+from . import cite, deflection, design, explore, fingers, measure, predict, solve, sweep, textures
 from . import common
 from .common import EXIT_INTERRUPTED, EXIT_USER_ERROR, report_interrupt
 
@@ -102,7 +102,7 @@ class _OneLineErrors(TyperGroup):
 
 
 #: The command modules, in the order ``fingerpad --help`` lists their commands.
-_MODULES = (solve, textures, predict, fingers, measure, sweep, design, deflection, explore)
+_MODULES = (solve, textures, predict, fingers, measure, sweep, design, deflection, explore, cite)
 
 
 def _version_callback(value: bool) -> None:

@@ -1,5 +1,6 @@
-"""The sensitivity part of ``fingerpad predict --population ... --sensitivity``: its flags checked
-and its table printed (the indices are computed by :mod:`fingerpad.study.sensitivity`)."""
+"""The sensitivity part of ``fingerpad predict --population ... --sensitivity``: its two flags read
+and its table printed (the indices are computed by :mod:`fingerpad.population.sobol`, the rules
+checked by :func:`fingerpad.population.rules.attach`)."""
 
 from __future__ import annotations
 
@@ -9,26 +10,18 @@ from typing import Any
 from ..errors import FingerpadError
 from .common import say, stdout_console
 
-__all__ = ["print_sensitivity", "sensitivity_samples_asked"]
+__all__ = ["print_sensitivity", "sensitivity_asked"]
 
 
-def sensitivity_samples_asked(flag: bool, samples: str | None, population: Any) -> int | None:
-    """The base samples of the sensitivity analysis (``None``: not asked for), checked."""
+def sensitivity_asked(flag: bool, samples: str | None) -> bool | str | None:
+    """What ``--sensitivity [--sensitivity-samples N]`` asks of
+    :func:`fingerpad.population.rules.attach` (which checks it against the population):
+    ``None`` (no indices), ``True`` (the default N) or the text of N."""
     if not flag:
         if samples is not None:
             raise FingerpadError("--sensitivity-samples needs --sensitivity")
         return None
-    if population is None:
-        raise FingerpadError("--sensitivity needs a population (--population or a [population] table)")
-    if not any(d.spread for d in population.distributions.values()):
-        raise FingerpadError("--sensitivity: no parameter of the population has a spread")
-    if samples is None:
-        from ..study.sensitivity import DEFAULT_SAMPLES
-
-        return DEFAULT_SAMPLES
-    from ..units import parse_int
-
-    return parse_int(samples, "--sensitivity-samples", minimum=2)
+    return True if samples is None else samples
 
 
 def print_sensitivity(sens: Mapping[str, Any]) -> None:

@@ -10,7 +10,7 @@ import contextlib
 import sys
 import warnings
 from collections.abc import Callable, Iterator
-from typing import Any
+from typing import Any, NoReturn
 
 import typer
 
@@ -52,6 +52,22 @@ def user_errors() -> Iterator[None]:
         sys.stderr.write(f"error: {one_line(describe_exception(exc))}\n")
         sys.stderr.flush()
         raise typer.Exit(EXIT_USER_ERROR) from None
+    except ImportError as exc:
+        missing_extra(exc)
+
+
+def missing_extra(exc: ImportError) -> NoReturn:
+    """An optional package imported deep inside a command and not installed: the same
+    ``error:`` line naming the extra as the command's own check gives (:mod:`fingerpad.extras`),
+    exit code 2. Any other failed import is a broken installation and is raised as it is."""
+    from ..extras import from_import_error
+
+    converted = from_import_error(exc)
+    if converted is None:
+        raise exc
+    sys.stderr.write(f"error: {one_line(str(converted))}\n")
+    sys.stderr.flush()
+    raise typer.Exit(EXIT_USER_ERROR) from None
 
 
 #: Help of ``--device`` (solve, predict, sweep).

@@ -125,7 +125,7 @@ def design_command(
     import json
     import sys
 
-    from ..design.proposal import design_textures
+    from ..design.inverse_design import design_textures
     from ..io import check_writable, write_text
     from .common import ProgressBar
 

@@ -23,25 +23,11 @@ from typing import Annotated, Any
 import typer
 
 from ..errors import FingerpadError
+from ..extras import require
 from ..units import parse_int, parse_quantity
+from .common import user_errors
 
-EXIT_USER_ERROR = 2
 _INPUT, _STROKES, _ANALYSIS, _OUTPUT = "Input", "Strokes", "Analysis", "Output"
-
-
-@contextlib.contextmanager
-def _user_errors() -> Iterator[None]:
-    """``error: <message>`` on one stderr line and exit code 2 for user errors."""
-    try:
-        yield
-    except (FingerpadError, OSError) as exc:
-        text = str(exc)
-        if isinstance(exc, OSError) and not isinstance(exc, FingerpadError):
-            text = f"{exc.strerror or exc}: {exc.filename}" if exc.filename else (exc.strerror or str(exc))
-        line = " ".join(part.strip() for part in text.splitlines() if part.strip()) or "unknown error"
-        sys.stderr.write(f"error: {line}\n")
-        sys.stderr.flush()
-        raise typer.Exit(EXIT_USER_ERROR) from None
 
 
 def _opt(*names: str, panel: str, **kw: Any) -> Any:
@@ -161,7 +147,8 @@ def analyse_command(
 
     Example: fingerpad analyse data/ --reference flat --out results/
     """
-    with _user_errors(), _measurement_warnings() as shown:
+    with user_errors(), _measurement_warnings() as shown:
+        require("measure")  # before any file is read: the same line as analyse_study's
         from .. import measure as m
         from ..finger import get_finger
         from ..io import OutputFolder
@@ -348,7 +335,7 @@ def simulate_command(
 
     Example: fingerpad simulate-measurement --out sim/ --seed 1 && fingerpad analyse sim/ --reference flat --out res/
     """
-    with _user_errors():
+    with user_errors():
         from .. import measure as m
         from ..io import OutputFolder
 

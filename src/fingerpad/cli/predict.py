@@ -29,7 +29,7 @@ from .common import (
     user_errors,
     warnings_to,
 )
-from ._sensitivity import sensitivity_samples_asked
+from ._sensitivity import sensitivity_asked
 from .solve import _HELP
 
 _SURFACE, _MATERIALS, _FINGER, _LOADS, _NUMERICS, _OUTPUT = "Surface", "Materials", "Finger", "Loads", "Numerics", "Output"
@@ -271,38 +271,52 @@ def _print_population(payload: Mapping[str, Any]) -> None:
         if any(v is not None for v in values):
             shown = " ".join("inf" if v is None else format(v, ".3g") for v in values)
             say(console, f"{label} (N), {'/'.join(format(100 * float(k), 'g') for k in levels)} %: {shown}")
+    # the study's own finger beside the bands: where it stands among them (issue 30)
+    own = [f"{label} {value:.3g} N" for label, value in (
+        ("critical load", (payload.get("critical_load") or {}).get(pop["model"])),
+        ("full-contact load", (payload.get("full_contact_load") or {}).get(pop["model"]))) if value is not None]
+    if own:
+        say(console, "the study's own finger: " + ", ".join(own))
     say(console, "(each member and its curves: population.members, member_results in the JSON)")
 
 
 def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path: str | None = None,
-                   extra: Mapping[str, Any] | None = None, population: Any = None,
-                   quantiles: Sequence[float] | None = None, sensitivity: int | None = None) -> int:
+                   extra: Mapping[str, Any] | None = None, population: Any = None) -> int:
     """Run ``study``, write its outputs (all or none), report. Returns the exit code.
 
     ``out``: the output folder (replaced as a whole), or ``None`` for none; ``extra``: more
     figures for it (name -> callable returning a Figure); ``population``: a
-    :class:`~fingerpad.study.population.Population` to predict as well (``quantiles``: its bands;
-    ``sensitivity``: the base samples of its Sobol indices, or ``None``).
+    :class:`~fingerpad.population.rules.PopulationStudy` of ``study`` to predict as well.
     """
     import warnings
 
     from ..encode import json_text, to_jsonable
-    from ..study.outputs import FOLDER_FILES, POPULATION_CSV, check_outputs, prediction_json, write_outputs
+    from ..study.outputs import FOLDER_FILES, check_outputs, prediction_json, write_outputs
     from ..study.run import run_study
 
-    pop_files = dict.fromkeys(("population.png", *POPULATION_CSV)) if population is not None else {}
-    if population is not None and sensitivity is not None:
-        pop_files.update({"sensitivity.png": None, "sensitivity.csv": None})
+    pop_files: tuple[str, ...] = ()
+    if population is not None:
+        from ..population.outputs import population_files
+
+        pop_files = population_files(population.sensitivity is not None)
     check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {}), *pop_files}))  # before solving
     err = stderr_console()
     with warnings_to(err):
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
         result = None
         if population is not None:
-            from ..study.population import DEFAULT_QUANTILES, run_population
+            from ..population.outputs import write_population_outputs
+            from ..population.run import run_population
 
-            result = run_population(study, population, quantiles or DEFAULT_QUANTILES, sensitivity=sensitivity)
+            for note in population.notes:  # what the numbers will not show, and what the work costs: first
+                say(err, f"note: {note}")
+            with ProgressBar(err, "unit cell ψ(p)") as bar:
+                show = bar.stage("members' own unit cells")
+                result = run_population(population, progress=bar,
+                                        member_progress=lambda i, n: show(f"{i}/{n} solved or read"))
             pred = result.nominal
+            figures = {name: make() for name, make in (extra or {}).items()}
+            paths = write_population_outputs(result, out, json_path=json_path, csv_path=csv_path, extra=figures)
         else:
             from ..study.outputs import load_output_modules
 
@@ -312,21 +326,11 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
                 # less after the last ramp, issue 23)
                 pred = run_study(study, progress=bar, notice=bar.stage("deflection ramps"),
                                  on_free_core=load_output_modules if out is not None else None)
-        figures = {name: make() for name, make in (extra or {}).items()}
-        if result is not None and out is not None:
-            from ..plotting.population import figure_population
-
-            figures["population.png"] = figure_population(result)
-            if result.sensitivity is not None:
-                from ..plotting.sensitivity import figure_sensitivity
-
-                figures["sensitivity.png"] = figure_sensitivity(result.sensitivity)
-                figures["sensitivity.csv"] = result.sensitivity.csv_text()
-        paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures, population=result)
-    payload = to_jsonable(prediction_json(pred))
+            figures = {name: make() for name, make in (extra or {}).items()}
+            paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures)
+    payload = to_jsonable(prediction_json(pred, result))
     if result is not None:
         payload["population"] = to_jsonable(result.as_dict())
-        pred.notes.extend(result.notes)
     if json_path == "-":
         sys.stdout.write(json_text(payload))
         sys.stdout.flush()
@@ -343,6 +347,10 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
     cell = payload["cell"]
     say(err, f"unit cell: {cell['model']}, {cell['solves']} solves ({'cached' if cell['cached'] else 'computed'}) "
              f"in {pred.timings['cell']:.2f} s; coupling {pred.timings['coupling']:.3f} s")
+    if result is not None and (result.own_cells or result.member_solves):
+        own = f"{result.own_cells} on a unit cell of their own, " if result.own_cells else ""
+        say(err, f"members: {own}{result.member_solves} more solves"
+                 f"{' (cached)' if not result.member_solves else ''}")
     if paths:
         say(err, "wrote " + ", ".join(str(p) for p in paths))
     if pred.unconverged:
@@ -429,63 +437,18 @@ def predict(
         with warnings_to(stderr_console()):
             study = build_study(ctx_args=list(ctx.args), flags=flags, finger_param=finger_param or [],
                                 options=command_options(ctx), extra_sections=sections)
-            pop, levels = _population(population, sections["population"], quantiles)
-        _refuse_overridden(pop, flags, finger_param or [])
-        samples = sensitivity_samples_asked(sensitivity, sensitivity_samples, pop)
+            from ..population.rules import attach
+
+            plan = attach(study, population, table=sections["population"], quantiles=quantiles,
+                          sensitivity=sensitivity_asked(sensitivity, sensitivity_samples))
         if out is None and json_path != "-":
             out = "out"  # files only where asked: with --json - and no --out, none
-        code = run_prediction(study, out, json_path, csv_path, population=pop, quantiles=levels,
-                              sensitivity=samples)
+        code = run_prediction(study, out, json_path, csv_path, population=plan)
     if code:
         raise typer.Exit(code)
 
 
 
-
-
-def _refuse_overridden(pop: Any, flags: Mapping[str, Any], finger_param: Sequence[str]) -> None:
-    """A finger flag naming a parameter the population draws would be overridden in every member
-    without a word (``--skin-modulus 0.45MPa --population adults`` gave members of 0.2-0.5 MPa):
-    refused, as sweep refuses such an axis and design such a --vary."""
-    if pop is None:
-        return
-    given = {flag: flag[2:].replace("-", "_") for flag in flags
-             if flag.startswith("--skin-") and flag != "--skin-base" and flags[flag] is not None}
-    given.update({f"--finger-param {item.split('=', 1)[0].strip()}": item.split("=", 1)[0].strip()
-                  for item in finger_param})
-    # the layer's thickness and moduli are how the flags declare a layered skin at all (the
-    # population then spreads them around it): not refused
-    structural = {"skin_layer_thickness", "skin_layer_modulus", "skin_substrate_modulus"}
-    clash = [flag for flag, name in given.items() if name in pop.distributions and name not in structural]
-    if clash:
-        names = ", ".join(given[f] for f in clash)
-        raise FingerpadError(f"{', '.join(clash)}: the population {pop.name!r} draws {names} for every finger, "
-                             "so the value given would be overridden; fix it in the population or drop the flag")
-
-
-def _population(source: str | None, table: Any, quantiles: str | None) -> tuple[Any, list[float] | None]:
-    """The population asked for (``--population``, else the study file's table) and the
-    ``--quantiles`` as numbers."""
-    levels = None
-    if quantiles is not None:
-        try:
-            levels = [float(q) for q in quantiles.split(",")]
-        except ValueError:
-            raise FingerpadError(f"--quantiles: expected numbers in [0, 1] separated by commas, got {quantiles!r}") \
-                from None
-        if not levels or any(not 0 <= q <= 1 for q in levels):
-            raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {quantiles!r}")
-        # Ascending and once each: the bands are drawn from the first to the last level and a
-        # repeated level would give two CSV columns (and Zarr coordinates) of the same name.
-        levels = sorted(set(levels))
-    if source is None and table is None:
-        if levels is not None:
-            raise FingerpadError("--quantiles needs a population (--population or a [population] table)")
-        return None, None
-    from ..study.population import load_population, population_from_table
-
-    pop = load_population(source) if source is not None else population_from_table(table)
-    return pop, levels
 
 
 def run_default(

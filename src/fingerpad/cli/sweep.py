@@ -6,6 +6,7 @@ from typing import Annotated, Any
 
 import typer
 
+from ..extras import require
 from .common import (DEVICE_HELP, EXIT_INTERRUPTED, device_option, report_interrupt, rich_console, say,
                      stderr_console, user_errors, warnings_to)
 
@@ -57,17 +58,16 @@ def sweep_command(
     from ..io import check_output_location
     from ..design.spec import read_sweep_file, sweep_from_dict
     from ..units import parse_int
-    from .predict import _population
 
     with user_errors(), device_option(device):
+        require("sweep")  # before any work: the same line as run_sweep's
         err = stderr_console()
         if workers is not None and scheduler is not None:
             raise_error("give --workers (a local cluster) or --scheduler (an existing one), not both")
         n = parse_int(workers, "--workers") if workers is not None else None
         with warnings_to(err):
             data = read_sweep_file(study)
-            pop, levels = _population(population, data.get("population"), quantiles)
-            spec = sweep_from_dict(data, population=pop, quantiles=levels)
+            spec = sweep_from_dict(data, population=population, quantiles=quantiles)
         store = out if out is not None else str(Path(study).with_suffix(".zarr"))
         where = str(check_output_location(store, "--out"))  # before any work; a link is written through
         check_store_path(store, spec, overwrite)  # only a sweep store is ever replaced

@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import SetupError
+from ..extras import require
 from ..textures import Texture
 from .device import choice_setting, device_namespace
 from .layered import Layer, spectral_factor
@@ -131,10 +132,10 @@ class Backend:
                 self.rfft2, self.irfft2 = _ducc0_transforms(self.workers)
                 self.fft = "ducc0"
                 return
-            except ImportError:
+            except ImportError as exc:
                 if engine == "ducc0":
-                    raise SetupError("FFT engine 'ducc0' asked for, but ducc0 is not installed: "
-                                     "pip install 'fingerpad[fast]', or use the SciPy engine") from None
+                    require("fast", "FFT engine 'ducc0' (FINGERPAD_FFT=scipy needs none)", ("ducc0",))
+                    raise SetupError(f"the FFT engine 'ducc0' could not load: {exc}") from None
         self.rfft2, self.irfft2 = _scipy_transforms(self.workers)
         self.fft = "scipy"
 

@@ -77,6 +77,7 @@ import numpy as np
 
 from ..cancel import current as cancel_scope
 from ..errors import FingerpadError, one_line
+from ..extras import missing, require
 from ..materials import check_modulus
 from ..textures import Texture
 from .formulations import finish, run_formulation
@@ -86,7 +87,7 @@ from .kernels import ArrayKernels, NumpyKernels
 from .kernels_blocked import BlockedNumpyKernels, blocked_applies
 from .result import FULL_CONTACT_TOL, ContactResult, contact_state
 
-__all__ = ["HalfSpaceSolver", "ContactResult", "contact_state", "FULL_CONTACT_TOL"]  # re-exported
+__all__ = ["HalfSpaceSolver", "ContactResult", "contact_state", "FULL_CONTACT_TOL", "solver_references"]  # re-exported
 
 _COARSE_MIN = 64  # coarsest level of the dual's coarse-to-fine start
 _PROBE_MIN = 128  # the cold-start probe of the contact fraction solves at about this size
@@ -139,8 +140,17 @@ def _kernels_for(xp: Any, choice: str, shape: tuple[int, ...] = (), threads: int
 
 def _jit_disabled() -> bool:
     # NUMBA_DISABLE_JIT (coverage runs, debugging) makes the "compiled" loops plain Python,
-    # ~40x slower than NumPy: "auto" then stays on NumPy.
-    return os.environ.get("NUMBA_DISABLE_JIT", "").strip() not in ("", "0")
+    # ~40x slower than NumPy: "auto" then stays on NumPy. Without Numba (it comes with the
+    # optional `fast` extra) "auto" stays on NumPy too, silently: same answers, ~20 % slower on
+    # long curves.
+    return os.environ.get("NUMBA_DISABLE_JIT", "").strip() not in ("", "0") or bool(missing("fast", ("numba",)))
+
+
+def solver_references(periodic: bool = True, layered: bool = False) -> tuple[str, ...]:
+    """The publications of the method a :class:`HalfSpaceSolver` runs (:mod:`fingerpad.references`
+    keys): the constrained conjugate gradient (Polonsky-Keer), Love's pixel kernel on a
+    non-periodic map, the layered skin's compliance (docs/model.md, 6.4)."""
+    return ("polonsky1999",) + (() if periodic else ("love1929",)) + (("fingerpad-layered",) if layered else ())
 
 
 class HalfSpaceSolver:
@@ -250,6 +260,8 @@ class HalfSpaceSolver:
         self._kernels_choice = kernels
         if kernels in ("numpy", "numba") and not self.backend.is_numpy:
             raise FingerpadError(f"kernels={kernels!r} needs NumPy arrays")
+        if kernels == "numba":
+            require("fast", "kernels='numba'", ("numba",))
         # NumPy arrays: in-place NumPy kernels until the compiled ones pay (see _solve); other
         # namespaces: the array-API reference.
         choice = ("numpy" if self.backend.is_numpy else "array") if kernels == "auto" else kernels

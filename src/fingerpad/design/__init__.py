@@ -7,5 +7,5 @@
 * :mod:`.engine` - the Dask client: LocalCluster or an existing scheduler;
 * :mod:`.designmap` - the design map's data on two swept axes;
 * :mod:`.inverse` - textures that meet a friction target, each checked by a direct prediction;
-* :mod:`.proposal` - inverse design as one call (what ``fingerpad design`` runs).
+* :mod:`.inverse_design` - inverse design as one call (what ``fingerpad design`` runs).
 """

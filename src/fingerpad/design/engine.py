@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError, one_line
+from ..extras import require
 from .evaluate import cell_key, evaluate_chunk, prepare_cell
 from .spec import SweepSpec
 from .store import SweepStore, chunk_slices, pressure_grid
@@ -251,7 +252,10 @@ def run_sweep(
     FingerpadError
         A store of another sweep without ``overwrite``, a damaged store without ``repair``, a
         scheduler that does not answer, a bad ``FINGERPAD_FFT`` setting.
+    MissingExtraError
+        Dask or Zarr not installed (the ``sweep`` extra).
     """
+    require("sweep")
     from distributed import as_completed
 
     from ..contact.greens import Backend

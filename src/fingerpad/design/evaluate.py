@@ -8,7 +8,7 @@ mu, mu_ref and mu/mu_ref. With a population of fingers (``population``: the memb
 quantile levels), also per point the quantiles of the members' A_re/A_fr, mu, mu_ref and
 mu/mu_ref at each load and of their critical and full-contact loads, the probability of each
 contact state at the pad centre, and the fraction of members in asperity contact over the whole
-range (:func:`fingerpad.study.members.evaluate_members`: one cell, every member at its
+range (:func:`fingerpad.population.members.evaluate_members`: one cell, every member at its
 own E*). A point that cannot exist (overlapping asperities, a grid too small)
 is returned invalid with its reason; an unconverged cell is flagged; neither raises.
 """
@@ -135,7 +135,7 @@ def prepare_shared_cell(sharing: Sequence[Mapping[str, Any]], loads: Sequence[fl
     over what every one of them asks for, before any of them is predicted; returns the solves.
 
     Each point's preparation is the one its prediction makes (:func:`~fingerpad.study.run.prepare_bem_cell`,
-    with a population the members' cells, :func:`~fingerpad.study.members.member_cells`), in the
+    with a population the members' cells, :func:`~fingerpad.population.members.member_cells`), in the
     order given; the passes over them repeat until one solves nothing (at most
     :data:`MAX_PREPARE_PASSES`). Then every point's own preparation finds its nodes in the cache
     and adds none: the curve a point reads is the same whatever the order in which the sweep's
@@ -144,8 +144,8 @@ def prepare_shared_cell(sharing: Sequence[Mapping[str, Any]], loads: Sequence[fl
     that cannot exist are skipped, as their prediction stores them invalid.
     """
     from ..micro.bem import BEMUnitCell
-    from ..study.members import member_cells
-    from ..study.population import member_finger
+    from ..population.members import member_cells
+    from ..population.members import member_finger
     from ..study.run import prepare_bem_cell
 
     points = []
@@ -260,8 +260,8 @@ def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: S
 def _population_bands(pred: Any, population: Mapping[str, Any]) -> dict[str, Any]:
     """The population's numbers at one point (see the module docstring); the extra unit-cell
     solves the members' wider p/E* range needs are counted in ``solves``."""
-    from ..study.members import evaluate_members, member_quantiles
-    from ..study.population import member_finger
+    from ..population.members import evaluate_members, member_quantiles
+    from ..population.members import member_finger
 
     levels = [float(q) for q in population["quantiles"]]
     cell = pred.cell

@@ -29,7 +29,7 @@ __all__ = ["QUANTITIES", "XATOL", "Candidate", "DesignProblem", "Target", "candi
 
 #: The optimiser's parameter tolerance, in the unit box of the free parameters (log-scaled for
 #: log axes): Nelder-Mead stops refining below it, and candidates closer than it are one design
-#: (:func:`fingerpad.design.proposal.merge_close`). 1 % of a 100-400 um log box is 1.4 % of the
+#: (:func:`fingerpad.design.inverse_design.merge_close`). 1 % of a 100-400 um log box is 1.4 % of the
 #: spacing (2.8 um at 200 um); the five "candidates" 200.7-201.8 um reported before were 0.4 %
 #: of it apart.
 XATOL = 0.01

@@ -17,9 +17,9 @@ Cost: a candidate texture costs one unit cell, as in the plain design. psi(p) de
 only (docs/solver.md, "One curve for every modulus and every scale"), so member ``i`` with
 reduced modulus ``E_i`` reads the cell solved at ``E_0`` at the pressure ``p E_0 / E_i``. While
 searching, :class:`MemberTable` evaluates all members at once with the package's one member
-path (:func:`fingerpad.study.members.predict_fingers`, the path of ``predict --population``, so
+path (:func:`fingerpad.population.members.predict_fingers`, the path of ``predict --population``, so
 the screen's numbers are the direct prediction's, bit for bit); every number *reported* for a
-candidate comes from :func:`fingerpad.study.population.run_population` on that texture
+candidate comes from :func:`fingerpad.population.run.run_population` on that texture
 (:func:`population_candidate`), the direct population prediction of ``predict --population``.
 """
 
@@ -34,7 +34,10 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError
-from ..study.population import DEFAULT_QUANTILES, Population, load_population, member_finger, run_population
+from ..population.distributions import Population
+from ..population.members import member_finger
+from ..population.run import DEFAULT_QUANTILES, run_population
+from ..population.sources import load_population
 from .inverse import (
     Candidate,
     DesignProblem,
@@ -56,7 +59,7 @@ class PopulationGoal:
     Attributes
     ----------
     population
-        The population of fingers (:class:`~fingerpad.study.population.Population`).
+        The population of fingers (:class:`~fingerpad.population.distributions.Population`).
     coverage
         Least fraction of the members that must meet the targets, in (0, 1]; or ``None``.
     quantile
@@ -135,7 +138,7 @@ def population_goal(population: str | Mapping[str, Any] | Population | None, cov
 class MemberTable:
     """The members of a population as fingers of one study's finger and material, predicted on
     each candidate's unit cell by the one member path of the package
-    (:func:`~fingerpad.study.members.predict_fingers`, what ``predict --population`` runs).
+    (:func:`~fingerpad.population.members.predict_fingers`, what ``predict --population`` runs).
 
     Parameters
     ----------
@@ -167,7 +170,7 @@ class MemberTable:
             NaN when no crossing lies in the coupling's load range), each member's numbers those
             of a plain ``predict`` of it.
         """
-        from ..study.members import predict_fingers
+        from ..population.members import predict_fingers
 
         curves, crit, _, _ = predict_fingers(pred, self.fingers, full_contact=False)
 
@@ -300,7 +303,7 @@ def population_candidate(problem: DesignProblem, goal: PopulationGoal, params: M
                          curve_loads: Sequence[float] | None = None) -> Candidate:
     """A direct population prediction of one texture, scored against the problem and the goal.
 
-    :func:`~fingerpad.study.population.run_population` on the texture at the targets' loads
+    :func:`~fingerpad.population.run.run_population` on the texture at the targets' loads
     (and ``curve_loads``, N): every member predicted by :func:`~fingerpad.coupling.predict_curve`
     on the cell at its own E1*. The candidate's ``population`` holds the coverage, the members
     meeting the targets, the quantiles of each target quantity at its load and of the members'

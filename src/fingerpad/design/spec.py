@@ -28,6 +28,7 @@ import copy
 import hashlib
 import json
 import math
+import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -36,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from .._version import __version__
+from ..encode import to_jsonable
 from ..errors import FingerpadError
 from ..finger import LAYER_FIELDS
 from .axes import Axis, resolve_axis
@@ -81,11 +83,14 @@ class SweepSpec:
     chunk: int = 8
     raw: dict[str, Any] = field(default_factory=dict)
     source: str | None = None
-    #: A population of fingers (:class:`fingerpad.study.population.Population`) predicted at
+    #: A population of fingers (:class:`fingerpad.population.distributions.Population`) predicted at
     #: every point, or ``None``; its members (SI) and the quantile levels stored.
     population: Any = None
     members: list[dict[str, float]] = field(default_factory=list)
     quantiles: tuple[float, ...] = ()
+    #: How ``--population`` named it (a preset name, or a file or folder as an absolute path),
+    #: recorded so that a resume or repair command can name it again; ``None`` for a table.
+    population_source: str | None = None
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -106,6 +111,26 @@ class SweepSpec:
         if self.design == "grid":
             return {a.name: a.values[i] for a, i in zip(self.axes, index, strict=True)}
         return {a.name: self.point_values[a.name][index[0]] for a in self.axes}
+
+    def references(self) -> tuple[str, ...]:
+        """The publications of the methods every point uses (:mod:`fingerpad.references` keys):
+        the base study's finger models and friction law, the BEM unit cell and its solver, the
+        layered skin where the base or an axis makes one, the population's correlated sampling."""
+        from ..contact.solver import solver_references
+        from ..coupling import model_references
+        from ..micro.bem import BEMUnitCell
+        from ..references import keys_of
+        from ..study.spec import study_from_dict
+
+        finger = study_from_dict(self.base).finger
+        layered = finger.layer is not None or any(
+            a.section == "finger" and (a.key == "skin" or a.key in LAYER_FIELDS) for a in self.axes)
+        sources: list[Any] = [model_references(finger, BEMUnitCell), solver_references(True, layered)]
+        if self.population is not None and self.population.correlations:
+            from ..population import correlations
+
+            sources.append(correlations)
+        return keys_of(*sources)
 
     def study_data(self, assignment: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
         """The study sections of one point: the base with the axis values written in."""
@@ -136,11 +161,11 @@ class SweepSpec:
         # the members themselves count (a digest of their values, SI): whatever shaped them
         # (correlations, measured members, a later way of drawing them) tells two populations apart
         digest = hashlib.sha256(json.dumps(self.members, sort_keys=True, default=repr).encode()).hexdigest()
-        return _jsonable({"name": pop.name, "size": pop.size, "seed": pop.seed, "method": pop.method,
+        return to_jsonable({"name": pop.name, "size": pop.size, "seed": pop.seed, "method": pop.method,
                           "distributions": {k: {"distribution": d.kind, **d.args}
                                             for k, d in pop.distributions.items()},
                           "correlations": list(getattr(pop, "correlations", ()) or ()),
-                          "quantiles": list(self.quantiles), "members_sha256": digest})
+                          "quantiles": list(self.quantiles), "members_sha256": digest}, nonfinite=repr)
 
     def population_payload(self) -> dict[str, Any] | None:
         """What every point needs of the population (plain data for the Dask workers): the
@@ -273,7 +298,7 @@ def _axis_values(axis: Axis, spec: Any, design: str, where: str,
 
 
 def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = None, population: Any = None,
-                    quantiles: Sequence[float] | None = None) -> SweepSpec:
+                    quantiles: str | Sequence[float] | None = None) -> SweepSpec:
     """Build and check a :class:`SweepSpec` from the sections of a sweep study file.
 
     ``require_units``: whether a length, pressure or force of an axis must carry a unit (a bare
@@ -281,11 +306,12 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
     file (:func:`read_sweep_file`, as ``fingerpad sweep`` reads them), not for a dict built in
     Python, whose bare numbers are SI.
 
-    ``population``: a :class:`~fingerpad.study.population.Population` (or a preset name or
-    file, :func:`~fingerpad.study.population.load_population`) predicted at every point; without
-    it, the study's ``[population]`` table if it has one. ``quantiles``: the levels of its
-    bands (default 5/25/50/75/95 %); the store always holds 10, 50 and 90 % as well, which the
-    design map draws.
+    ``population``: a :class:`~fingerpad.population.distributions.Population` (or a preset name,
+    a file, an ``analyse`` folder, or a table in SI numbers) predicted at every point; without it,
+    the study's ``[population]`` table if it has one (:func:`fingerpad.population.rules.attach`
+    checks either against the base study and the axes). ``quantiles``: the levels of its bands
+    (numbers or ``"0.1,0.5,0.9"``; default 5/25/50/75/95 %); the store always holds 10, 50 and
+    90 % as well, which the design map draws.
 
     The base study (every point's study, before the axis values) is checked once here by
     :func:`fingerpad.study.spec.study_from_dict`; each point is checked again when it runs, and
@@ -376,13 +402,8 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
     if size > MAX_POINTS:
         raise FingerpadError(f"[sweep]: {size} points is more than the {MAX_POINTS} allowed")
     spec = SweepSpec(base=base, design=design, axes=axes, loads=loads, point_values=point_values, chunk=chunk,
-                     raw=_jsonable(sweep), source=source)
-    if population is None and data.get("population") is not None:
-        population = data["population"]
-    if population is not None:
-        _add_population(spec, base_study, population, quantiles)
-    elif quantiles is not None:
-        raise FingerpadError("--quantiles needs a population (--population or a [population] table)")
+                     raw=to_jsonable(sweep, nonfinite=repr), source=source)
+    _add_population(spec, base_study, population, data.get("population"), quantiles)
     del base_study
     return spec
 
@@ -392,55 +413,22 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
 MAP_QUANTILES = (0.1, 0.5, 0.9)
 
 
-def _add_population(spec: SweepSpec, base_study: Any, population: Any, quantiles: Sequence[float] | None) -> None:
-    """Attach a population to ``spec``: sampled once here (every point predicts the same
-    members), checked against the axes and the study before anything runs."""
-    from ..study.population import (
-        DEFAULT_QUANTILES,
-        POPULATION_PARAMS,
-        Population,
-        load_population,
-        member_finger,
-        population_from_table,
-    )
+def _add_population(spec: SweepSpec, base_study: Any, population: Any, table: Mapping[str, Any] | None,
+                    quantiles: str | Sequence[float] | None) -> None:
+    """Attach a population to ``spec`` (``population``, else the study file's ``table``), every
+    rule of :func:`fingerpad.population.rules.attach` checked against the base study and the axes
+    before anything runs: sampled once here (every point predicts the same members)."""
+    from ..population.presets import POPULATION_PRESETS
+    from ..population.rules import attach
 
-    if isinstance(population, Population):
-        pop = population
-    elif isinstance(population, Mapping):
-        pop = population_from_table(population)
-    else:
-        pop = load_population(str(population))
-    levels = tuple(float(q) for q in (DEFAULT_QUANTILES if quantiles is None else quantiles))
-    if not levels or any(not (0 <= q <= 1) for q in levels):
-        raise FingerpadError(f"--quantiles: each must lie in [0, 1], got {list(levels)}")
-    levels = tuple(sorted(set(levels)))  # one coordinate per level, ascending
-    for axis in spec.axes:
-        name = axis.key if axis.section == "finger" else axis.name
-        if axis.section == "finger" and name in pop.distributions:
-            raise FingerpadError(f"[sweep.axes] {axis.name}: the population {pop.name!r} varies {name} itself; "
-                                 "sweep it or let the population spread it, not both")
-        if axis.name == "direction":
-            raise FingerpadError("[sweep.axes] direction: a population with a sliding direction is not supported "
-                                 "yet (directional friction of a population)")
-    if base_study.direction is not None:
-        raise FingerpadError("[model] direction: a population with a sliding direction is not supported yet "
-                             "(directional friction of a population); drop one of them")
-    members = pop.sample()  # bounds checked here, before any point runs
-    for m in members[:1]:
-        member_finger(base_study.finger, m)  # ridge_fraction needs the constant-fraction model
-    unknown = sorted(set().union(*members) - set(POPULATION_PARAMS)) if members else []
-    if unknown:  # pragma: no cover - population_from_table refuses them first
-        raise FingerpadError(f"population: unknown parameter(s) {', '.join(unknown)}")
-    spec.population = pop
-    spec.members = members
-    spec.quantiles = tuple(sorted(set(levels) | set(MAP_QUANTILES)))
-
-
-def _jsonable(value: Any) -> Any:
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, float) and not math.isfinite(value):
-        return repr(value)
-    return value if isinstance(value, (str, int, float, bool)) or value is None else str(value)
+    fixed = {axis.key: f"[sweep.axes] {axis.name}" for axis in spec.axes if axis.section == "finger"}
+    directions = ["direction" for axis in spec.axes if (axis.section, axis.key) == ("model", "direction")]
+    plan = attach(base_study, population, table=table, quantiles=quantiles, fixed=fixed, axes=directions)
+    if plan is None:
+        return
+    spec.population = plan.population
+    spec.members = [dict(m) for m in plan.members]
+    if isinstance(population, (str, os.PathLike)):
+        named = str(population).strip()
+        spec.population_source = named if named.lower() in POPULATION_PRESETS else os.path.abspath(named)
+    spec.quantiles = tuple(sorted(set(plan.quantiles) | set(MAP_QUANTILES)))

@@ -27,13 +27,17 @@ import numpy as np
 
 from .._version import __version__
 from ..errors import FingerpadError
+from ..extras import require
+from ..references import netcdf_attribute
 from .evaluate import STATE_CODES
 from .spec import SweepSpec
 from .store_population import (
     POP_LOAD_VARS,
     POP_QUANTILE_VARS,
     POPULATION_LAYOUT,
+    population_flags,
     population_template,
+    shell_path,
     stored_population_text,
 )
 
@@ -137,13 +141,16 @@ class SweepStore:
             "chunk": spec.chunk,
             "units_system": "SI",
             "fingerpad_version": __version__,
+            "references": netcdf_attribute(spec.references()),  # CF: the methods' publications
             # the same sweep without a population: a resume with another population is told apart
             "sweep_signature": spec.signature(population=False),
         }
         if spec.population is not None:
             attrs.update({"fingerpad_sweep_population": POPULATION_LAYOUT,
                           "population": json.dumps(spec.population_description()),
-                          "population_name": spec.population.name, "population_size": spec.population.size})
+                          "population_name": spec.population.name, "population_size": spec.population.size,
+                          # how the sweep named it: the flags a resume or a repair must repeat
+                          "population_source": spec.population_source or ""})
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
     def encoding(self) -> dict[str, Any]:
@@ -310,6 +317,9 @@ class StoreDamage:
         ``{variable: [region, ...]}``: chunks that cannot be read, as index regions of the variable.
     study_file
         The study file the store records (for the message that says how to repair it).
+    flags
+        The population flags of the sweep that wrote the store (``--population adults``), which
+        the repair must repeat (:func:`~.store_population.population_flags`).
 
     Every kind is mended by :meth:`SweepStore.repair` (``fingerpad sweep ... --repair``).
     """
@@ -320,6 +330,7 @@ class StoreDamage:
     arrays: dict[str, str] = field(default_factory=dict)
     chunks: dict[str, list[tuple[slice, ...]]] = field(default_factory=dict)
     study_file: str = ""
+    flags: str = ""
 
     def __bool__(self) -> bool:
         return bool(self.metadata or self.root or self.arrays or self.chunks)
@@ -336,9 +347,10 @@ class StoreDamage:
 
     def message(self) -> str:
         """One line: the store, what is damaged, and how to mend it."""
-        study = self.study_file or "STUDY.toml"
-        return (f"{self.path}: damaged sweep store: {self.describe()}; fingerpad sweep {study} --out {self.path} "
-                "--repair recomputes the damaged points and rewrites the metadata")
+        study = shell_path(self.study_file) if self.study_file else "STUDY.toml"
+        return (f"{self.path}: damaged sweep store: {self.describe()}; fingerpad sweep {study} --out "
+                f"{shell_path(self.path)}{self.flags} --repair recomputes the damaged points and rewrites the "
+                "metadata")
 
 
 def _region_text(region: tuple[slice, ...]) -> str:
@@ -359,6 +371,7 @@ def check_store(path: str | Path, expected: list[str] | None = None) -> StoreDam
     damage = StoreDamage(p)
     attrs = _read_attrs(p) or {}
     damage.study_file = str(attrs.get("study_file", ""))
+    damage.flags = population_flags(attrs)
     for name in (".zgroup", ".zattrs"):
         try:
             if not isinstance(json.loads((p / name).read_text(encoding="utf-8")), dict):
@@ -449,6 +462,13 @@ def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite:
             existing.get("sweep_signature"), existing.get("signature")):
         # this sweep, with another population (or with one where the store has none, or none
         # where it has one): the bands of two populations must not mix in one store
+        flags = population_flags(existing)
+        if spec.population is None and flags:
+            # the run forgot the population the store was swept with: say how to name it, before
+            # --overwrite, which would throw the store's points away
+            raise FingerpadError(f"{p}: holds this sweep with {stored_population_text(existing)}, and this run asks "
+                                 f"for none; give{flags} as the sweep that wrote it did (--overwrite would discard "
+                                 "its points)")
         raise FingerpadError(f"{p}: holds this sweep with {stored_population_text(existing)}, and this run asks for "
                              f"{spec.population_text()}; give --overwrite to replace it, or another --out")
     if spec is not None and not overwrite:
@@ -479,8 +499,12 @@ def open_sweep(path: str | Path, check: bool = True) -> Any:
     ------
     FingerpadError
         When ``path`` is missing, not a fingerpad sweep store, or damaged.
+    MissingExtraError
+        Zarr not installed (the ``sweep`` extra).
     """
     import xarray as xr
+
+    require("sweep", modules=("zarr",))
 
     p = Path(path)
     if not p.exists():

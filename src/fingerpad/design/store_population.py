@@ -15,7 +15,7 @@ from .evaluate import POPULATION_BANDS, POPULATION_LOAD_BANDS, STATE_CODES
 from .spec import SweepSpec
 
 __all__ = ["POPULATION_LAYOUT", "POP_LOAD_VARS", "POP_QUANTILE_VARS", "check_store_population",
-           "population_template", "stored_population_text"]
+           "population_flags", "population_template", "shell_path", "stored_population_text"]
 
 #: Population variables (a sweep with ``--population``): name -> (units, long name).
 POP_LOAD_VARS = {
@@ -80,6 +80,40 @@ def stored_population_text(attrs: dict[str, Any]) -> str:
         return "a population"
 
 
+def shell_path(path: str | Path) -> str:
+    """``path`` as a command to type names it: relative to the working folder (where the user
+    stands), quoted for the shell where it needs it."""
+    import os
+    import shlex
+
+    try:
+        shown = os.path.relpath(path)
+    except ValueError:  # another drive
+        shown = str(path)
+    return shlex.quote(shown)
+
+
+def population_flags(attrs: dict[str, Any]) -> str:
+    """The flags that name the population of the sweep that wrote a store (``" --population
+    adults"``, with its ``--quantiles`` when they were not the default), for a resume or repair
+    command; ``""`` for a store without one, or whose population came with the study file."""
+    source = attrs.get("population_source")
+    if "population" not in attrs or not source:
+        return ""
+    from ..population.presets import POPULATION_PRESETS
+    from ..population.rules import DEFAULT_QUANTILES
+    from .spec import MAP_QUANTILES
+
+    flags = f" --population {source if source in POPULATION_PRESETS else shell_path(source)}"
+    try:
+        stored = tuple(float(q) for q in json.loads(attrs["population"]).get("quantiles", ()))
+    except (ValueError, TypeError, AttributeError):
+        return flags
+    if stored and stored != tuple(sorted(set(DEFAULT_QUANTILES) | set(MAP_QUANTILES))):
+        flags += " --quantiles " + ",".join(f"{q:g}" for q in stored)
+    return flags
+
+
 def check_store_population(ds: Any, path: str | Path, source: str) -> None:
     """Refuse a store that does not hold the population ``source`` (a preset name or a file):
     the design map of one population must not be drawn from another's bands.
@@ -90,7 +124,8 @@ def check_store_population(ds: Any, path: str | Path, source: str) -> None:
         The store holds no population, or another one (other distributions, size, seed, method
         or members); a bad ``source``.
     """
-    from ..study.population import DEFAULT_QUANTILES, load_population
+    from ..population.run import DEFAULT_QUANTILES
+    from ..population.sources import load_population
     from .spec import SweepSpec
 
     pop = load_population(source)

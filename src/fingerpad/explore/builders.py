@@ -148,7 +148,7 @@ POPULATION_COLOUR = "#1f77b4"
 
 def population_specs(result: Any) -> list[PlotSpec]:
     """A population's bands against load and its critical loads (a
-    :class:`~fingerpad.study.population.PopulationResult`).
+    :class:`~fingerpad.population.run.PopulationResult`).
 
     ``population-area-ratio`` and ``population-normalised``: A_re/A_fr and mu/mu_ref, the median
     and the bands between the outer and inner pairs of the reported quantiles (5-95 % and

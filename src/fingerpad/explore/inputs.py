@@ -21,6 +21,7 @@ from typing import Any
 
 from .._version import __version__
 from ..errors import FingerpadError, one_line
+from ..finger import FINGER_PARAMS
 
 __all__ = [
     "FINGER_LABELS",
@@ -43,22 +44,9 @@ def family_examples(name: str) -> dict[str, str]:
     return {p.name: str(p.example) for p in get_family(name).params if p.example is not None}
 
 
-#: Labels (with symbol) of the finger fields; error messages name them.
-FINGER_LABELS = {
-    "radius": "pad radius R_fp",
-    "modulus": "pad modulus E_fp*",
-    "beta": "hysteresis beta",
-    "tau0": "shear strength tau0",
-    "alpha": "pressure coefficient alpha",
-    "skin_modulus": "skin modulus E_s",
-    "skin_poisson": "skin Poisson ratio",
-    "skin": "skin structure (half-space, layered)",
-    "skin_layer_thickness": "skin layer thickness t",
-    "skin_layer_modulus": "skin layer modulus E_1",
-    "skin_substrate_modulus": "skin substrate modulus E_2",
-    "skin_substrate_poisson": "skin substrate Poisson ratio",
-    "skin_base": "skin layer base",
-}
+#: Labels (with symbol) of the finger fields, error messages name them: the declarations' own
+#: (:data:`fingerpad.finger.FINGER_PARAMS`), so a new finger parameter is labelled where it is declared.
+FINGER_LABELS = {p.name: p.label or p.name for p in FINGER_PARAMS}
 
 #: Labels of the other fields: (section, key) -> label.
 _LABELS = {

@@ -17,6 +17,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from ..errors import FingerpadError
+from ..extras import require
 
 __all__ = ["DEFAULT_HOST", "MAX_UPLOAD_MB", "serve"]
 
@@ -26,11 +27,7 @@ MAX_UPLOAD_MB = 20
 
 
 def _check_installed() -> None:
-    import importlib.util
-
-    missing = [m for m in ("panel", "bokeh") if importlib.util.find_spec(m) is None]
-    if missing:
-        raise FingerpadError(f"the explorer needs {' and '.join(missing)}: pip install 'fingerpad[explore]'")
+    require("explore", modules=("panel", "bokeh"))
 
 
 def serve(
@@ -62,7 +59,7 @@ def serve(
     populations
         Populations the page may choose besides the presets: a preset name, a TOML file with a
         ``[population]`` table or a ``fingerpad analyse`` folder each
-        (:func:`~fingerpad.study.population.load_population`), read here, once; the page names
+        (:func:`~fingerpad.population.sources.load_population`), read here, once; the page names
         them by label only.
 
     Raises
@@ -132,8 +129,8 @@ def server_populations(sources: Sequence[str]) -> dict[str, Any]:
     """The populations of ``fingerpad explore --population`` by the label the page shows: the
     population's name (a file's stem, a preset's name), made unique against the presets and each
     other by a suffix. Read once, here: the page can only choose among them by label."""
-    from ..study.population import load_population
-    from ..study.population_presets import POPULATION_PRESETS
+    from ..population.sources import load_population
+    from ..population.presets import POPULATION_PRESETS
 
     out: dict[str, Any] = {}
     for source in sources:

@@ -36,6 +36,8 @@ class DzidekArea:
     """
 
     #: The declared fields (units, bounds), so study files can give "9mm", "40kPa", ...
+    #: The publications of this model (:mod:`fingerpad.references` keys; the stiffened modulus; Hertz).
+    REFERENCES: ClassVar[tuple[str, ...]] = ("dzidek2017", "johnson1985")
     PARAMS: ClassVar[tuple[Param, ...]] = (
         PAD_RADIUS,
         PAD_MODULUS,

@@ -27,6 +27,8 @@ class HertzArea:
     """
 
     #: The declared fields (units, bounds), so study files can give "9mm", "40kPa", ...
+    #: The publications of this model (:mod:`fingerpad.references` keys; Hertz contact of a sphere).
+    REFERENCES: ClassVar[tuple[str, ...]] = ("johnson1985",)
     PARAMS: ClassVar[tuple[Param, ...]] = (PAD_RADIUS, PAD_MODULUS)
 
     radius: float

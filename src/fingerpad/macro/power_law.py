@@ -26,6 +26,8 @@ class PowerLawArea:
     """
 
     #: The declared fields (units, bounds).
+    #: The publications of this model (:mod:`fingerpad.references` keys; an empirical law: the thesis, cited by every run).
+    REFERENCES: ClassVar[tuple[str, ...]] = ()
     PARAMS: ClassVar[tuple[Param, ...]] = (
         Param("coefficient", "ratio", "c of A_g = c F^m, m^2/N^m", low=0, low_open=True, example=1e-4,
               label="power-law coefficient c"),

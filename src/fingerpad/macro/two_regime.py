@@ -31,6 +31,8 @@ class TwoRegimePowerLawArea:
     """
 
     #: The declared fields (units, bounds).
+    #: The publications of this model (:mod:`fingerpad.references` keys; an empirical law: the thesis, cited by every run).
+    REFERENCES: ClassVar[tuple[str, ...]] = ()
     PARAMS: ClassVar[tuple[Param, ...]] = (
         Param("coefficient", "ratio", "c1 of A_g = c1 F^m1 below the break load, m^2/N^m1", low=0, low_open=True,
               example=1e-4, label="power-law coefficient c1"),

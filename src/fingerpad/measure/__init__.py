@@ -12,11 +12,11 @@ The pipeline (``fingerpad analyse``), one module a step:
    :mod:`.stats` - the random-intercept (per recording) models behind every interval;
 4. :mod:`.breakpoint` - the change of trend of the normalised friction (segmented regression),
    reported only when a test that accounts for the search over locations finds one;
-5. :mod:`.models`, :mod:`.modulus`, :mod:`.transition`, :mod:`.sensitivity` - the skin
+5. :mod:`.micro_models`, :mod:`.modulus`, :mod:`.transition`, :mod:`.modulus_sensitivity` - the skin
    micro-modulus E_s: model fits (BEM or Hertz unit cell) with the set of E_s the data allow,
    the closed form from the transition load (Eq. 3.6), and the sensitivity to the micro-model
    and the friction parameters;
-6. :mod:`.population` - mean curves and power laws across participants (mixed model with a
+6. :mod:`.across_participants` - mean curves and power laws across participants (mixed model with a
    random exponent per person, or a two-stage estimate; the table says which);
 7. :mod:`.analysis` - the whole study; :mod:`.report` - tables, NetCDF and the HTML report;
    :mod:`.simulate` - synthetic recordings with known parameters.
@@ -30,7 +30,7 @@ from .clipping import Clip, find_clipping
 from .columns import ColumnSpec, load_spec, parse_filename, template_regex, unit_factor
 from .curves import PowerLaw, fit_curves, fit_power_law_clustered, normalise, sense_ratio, spread_summary, spread_table
 from .importers import RawTable, read_table, supported_suffixes
-from .models import (
+from .micro_models import (
     BaseContactCell,
     TextureGeometry,
     bem_texture_model,
@@ -48,9 +48,9 @@ from .modulus import (
     modulus_from_transition,
     transition_load,
 )
-from .population import population_curves, population_fits
+from .across_participants import population_curves, population_fits
 from .recordings import Recording, load_study, read_manifest, read_recording
-from .sensitivity import PERTURBATIONS, other_micro_model, perturbed_models
+from .modulus_sensitivity import PERTURBATIONS, other_micro_model, perturbed_models
 from .simulate import SimulationConfig, simulate_recording, simulate_stroke_table, simulate_study
 from .stats import ClusterFit, cluster_mean, random_intercept_fit
 from .strokes import Stroke, StrokeOptions, StrokeReport, detect_strokes, direction_signal, find_strokes, measure_strokes

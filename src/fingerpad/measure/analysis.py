@@ -14,14 +14,15 @@ import pandas as pd
 
 from .._version import __version__
 from ..errors import FingerpadError
+from ..extras import require
 from .breakpoint import EDGE_FRACTION, Breakpoint, find_breakpoint
 from .clipping import Clip, clipping_warnings
 from .curves import fit_curves, fit_row, normalise, sense_ratio, spread_summary, spread_table
-from .models import Model, TextureGeometry, resolve_finger, texture_model
+from .micro_models import Model, TextureGeometry, resolve_finger, texture_model
 from .modulus import ModelTable, ModulusFit, estimate_skin_modulus, estimate_skin_modulus_joint
-from .population import population_curves, population_fits
+from .across_participants import population_curves, population_fits
 from .recordings import Recording
-from .sensitivity import Variants, sensitivity_rows, variant_tables
+from .modulus_sensitivity import Variants, sensitivity_rows, variant_tables
 from .strokes import StrokeOptions, StrokeReport
 from .tables import (
     GROUP,
@@ -73,10 +74,10 @@ class AnalysisOptions:
         Fit an amplitude factor with E_s (:func:`estimate_skin_modulus`).
     sensitivity
         Refit E_s with the other micro-model and with the friction parameters varied
-        (:mod:`.sensitivity`).
+        (:mod:`.modulus_sensitivity`).
     population
         Per-texture population summary and power-law fits across participants (mixed model or
-        two-stage, :mod:`.population`).
+        two-stage, :mod:`.across_participants`).
     """
 
     reference: str = "flat"
@@ -148,7 +149,7 @@ class StudyResult:
     population_curves, population_fits
         Per texture: the mean curve over participants with a between-person interval, and
         the power law across participants, from the mixed model or the two-stage estimate
-        (column ``source``; :mod:`.population`).
+        (column ``source``; :mod:`.across_participants`).
     sensitivity
         E_s refitted with the other micro-model and varied friction parameters.
     warnings
@@ -257,7 +258,10 @@ def analyse_study(
     BLAS runs on one thread: on the fits' small products a second one saves nothing, and its
     spinning between calls doubled the analysis's CPU (11 against 6 s, 150 recordings); one
     thread also makes the last bits of a fit independent of the machine's core count.
+
+    Needs the ``measure`` extra (:class:`~fingerpad.extras.MissingExtraError` without it).
     """
+    require("measure")
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
@@ -433,6 +437,29 @@ def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
         sensitivity=pd.DataFrame(sens_rows), warnings=notes, recordings=list(recordings), stroke_reports=reports,
         clipped_strokes=clipped_strokes, clipping=clipping,
     )
+
+
+#: The publications of the analysis's own statistics (:mod:`fingerpad.references` keys): the
+#: stroke outlier flag (robust z-score), the transition test that searches its location, and its
+#: early stop.
+REFERENCES = ("iglewicz1993", "davies1987", "besag1991")
+
+
+def study_references(result: StudyResult) -> tuple[str, ...]:
+    """The publications of the methods an analysis used (:mod:`fingerpad.references` keys): its
+    statistics, the friction law and the finger's models, and the micro-models of the E_s fits
+    (the textures' own, and the other one when the sensitivity refits ran)."""
+    from ..coupling import model_references
+    from ..micro.bem import BEMUnitCell
+    from ..micro.hertz import HertzUnitCell
+    from ..references import keys_of
+
+    cells = {"bem": BEMUnitCell, "hertz": HertzUnitCell}
+    used = {g.micro_model for g in result.textures.values() if g is not None}
+    if used and result.options.sensitivity:
+        used = set(cells)  # every E_s is refitted with the other micro-model
+    finger = resolve_finger(result.options.finger)
+    return keys_of(REFERENCES, model_references(finger, *(cells[name] for name in sorted(used))))
 
 
 def study_info(result: StudyResult) -> dict[str, Any]:

@@ -16,7 +16,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import FingerpadError
-from ..friction import PowerLaw
+from ..friction import PowerLaw, fit_inputs
 from .stats import ClusterFit, random_intercept_fit, t_quantile
 from .tables import GROUP, bin_index, cluster_column
 
@@ -40,17 +40,8 @@ def fit_power_law_clustered(
     FingerpadError
         Fewer than 3 points, non-positive values, or all loads equal.
     """
-    f = np.asarray(loads, dtype=float).ravel()
-    m = np.asarray(mu, dtype=float).ravel()
-    if f.shape != m.shape:
-        raise FingerpadError(f"loads and mu differ in length ({f.size} vs {m.size})")
-    if f.size < 3:
-        raise FingerpadError(f"a power-law fit needs at least 3 points, got {f.size}")
-    if not (np.all(np.isfinite(f)) and np.all(np.isfinite(m)) and np.all(f > 0) and np.all(m > 0)):
-        raise FingerpadError("loads and mu must be positive and finite for a power-law fit")
+    f, m = fit_inputs(loads, mu)
     x = np.log(f)
-    if np.ptp(x) == 0:
-        raise FingerpadError("a power-law fit needs at least two different loads")
     fit: ClusterFit = random_intercept_fit(np.log(m), np.column_stack([np.ones_like(x), x]), clusters)
     ln_k, slope = (float(c) for c in fit.coef)
     se_lnk, se_n = (math.sqrt(max(v, 0.0)) for v in np.diag(fit.cov))

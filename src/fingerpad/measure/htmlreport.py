@@ -21,6 +21,7 @@ from .._version import __version__
 from ..plotting.measure import condition_label
 from .analysis import StudyResult
 from .analysis import study_info as default_study_info
+from .analysis import study_references
 from .breakpoint import format_p
 
 CSS = """
@@ -313,5 +314,18 @@ def html_report(
         for label, link in qc_links.items():
             parts.append(f"<li><a href='{_esc(link)}'>{_esc(Path(label).name)}</a></li>")
         parts.append("</ul>")
+    parts.append(references_html(study_references(result)))
     parts.append("</body></html>")
     return "\n".join(parts)
+
+
+def references_html(keys: Any) -> str:
+    """The report's last section: the publications of the methods the analysis used, each with
+    what it is used for (:mod:`fingerpad.references`)."""
+    from ..references import citation, ordered
+
+    items = "".join(f"<li>{_esc(citation(ref))} <span class='facts'>({_esc(ref.used_for)})</span></li>"
+                    for ref in ordered(keys))
+    return ("<h2>References</h2><p class='facts'>The publications of the methods this analysis used "
+            "(<code>fingerpad cite --bibtex</code> gives BibTeX of the package and the thesis).</p>"
+            f"<ol class='references'>{items}</ol>")

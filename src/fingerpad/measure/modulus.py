@@ -30,7 +30,8 @@ import numpy as np
 from scipy import stats
 
 from ..errors import FingerpadError
-from .models import Model, ModelTable
+from ..friction import fit_inputs
+from .micro_models import Model, ModelTable
 from .stats import cluster_labels, random_intercept_fit
 from .transition import modulus_from_transition, transition_load
 
@@ -101,18 +102,6 @@ class ModulusFit:
         if not self.pieces:
             return "none"
         return " or ".join(f"{a / unit:.3g}-{b / unit:.3g}" for a, b in self.pieces) + f" {name}"
-
-
-def _check_xy(loads: Any, values: Any, what: str) -> tuple[np.ndarray, np.ndarray]:
-    f = np.asarray(loads, dtype=float).ravel()
-    v = np.asarray(values, dtype=float).ravel()
-    if f.shape != v.shape:
-        raise FingerpadError(f"{what}: loads and values differ in length ({f.size} vs {v.size})")
-    if f.size < 3:
-        raise FingerpadError(f"{what}: need at least 3 points, got {f.size}")
-    if not (np.all(np.isfinite(f)) and np.all(f > 0) and np.all(np.isfinite(v)) and np.all(v > 0)):
-        raise FingerpadError(f"{what}: loads and values must be positive and finite")
-    return f, v
 
 
 def design_effect(residuals: np.ndarray, clusters: np.ndarray) -> float:
@@ -404,7 +393,7 @@ def estimate_skin_modulus(
     FingerpadError
         For invalid data or bounds, or a model returning the wrong shape or non-finite values.
     """
-    f, v = _check_xy(loads, mu_normalised, "skin modulus fit")
+    f, v = fit_inputs(loads, mu_normalised, "skin modulus fit", "values", distinct=False)
     table = _as_table(model, f, bounds, n_grid)
     labels = None if clusters is None else np.asarray(clusters, dtype=object).ravel()
     if labels is not None and labels.size != f.size:
@@ -436,7 +425,7 @@ def estimate_skin_modulus_joint(
         raise FingerpadError("joint skin modulus fit: no data sets")
     checked = []
     for f, v, mdl in datasets:
-        ff, vv = _check_xy(f, v, "skin modulus fit")
+        ff, vv = fit_inputs(f, v, "skin modulus fit", "values", distinct=False)
         checked.append((ff, vv, _as_table(mdl, ff, bounds, n_grid)))
     labels = None
     if clusters is not None:

@@ -37,11 +37,13 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from .. import references
 from .._version import __version__
+from ..encode import to_jsonable
 from ..io import OutputFolder
 from ..plotting.measure import condition_label, participant_png, qc_inputs, qc_png, sample_png
 from ..plotting.render import load_drawing_modules
-from .analysis import StudyResult, study_info
+from .analysis import StudyResult, study_info, study_references
 from .htmlreport import html_report
 
 __all__ = ["EarlyQC", "curves_dataset", "html_report", "write_report"]
@@ -153,6 +155,7 @@ def curves_dataset(result: StudyResult):
             "reference_sample": result.options.reference,
             "confidence_level": result.options.level,
             "power_law": "mu = k F^(n-1)",
+            "references": references.netcdf_attribute(study_references(result)),
         },
     )
     units = {"bin_load": "N", "load": "N", "bin_low": "N", "bin_high": "N", "breakpoint_load": "N",
@@ -174,24 +177,8 @@ def curves_dataset(result: StudyResult):
 # =============================================================================================
 
 
-def _jsonable(value: Any) -> Any:
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, (np.bool_, bool)):
-        return bool(value)
-    if isinstance(value, (np.integer,)):
-        return int(value)
-    if isinstance(value, (float, np.floating)):
-        return float(value) if math.isfinite(value) else None
-    if value is None or isinstance(value, (str, int)):
-        return value
-    return str(value)
-
-
 def _records(df: pd.DataFrame) -> list[dict[str, Any]]:
-    return [_jsonable(r) for r in df.to_dict("records")]
+    return [to_jsonable(r) for r in df.to_dict("records")]
 
 
 # =============================================================================================
@@ -424,11 +411,12 @@ def write_report(
         csv_file("population_fits.csv", result.population_fits)
         csv_file("sensitivity.csv", result.sensitivity)
         summary = {
-            "study": _jsonable(study_info(result)),
+            "study": to_jsonable(study_info(result)),
             "spread": _records(result.spread_summary),
             "participants": _records(result.participants),
             "conditions": _records(result.conditions),
             "population_fits": _records(result.population_fits),
+            "references": references.metadata(study_references(result)),
         }
         (tmp / "summary.json").write_text(json.dumps(summary, indent=2, allow_nan=False), encoding="utf-8")
         written.append("summary.json")

@@ -16,7 +16,7 @@ import pandas as pd
 
 from ..errors import FingerpadError
 from ..io import OutputFolder
-from .models import Model, TextureGeometry, resolve_finger, texture_model
+from .micro_models import Model, TextureGeometry, resolve_finger, texture_model
 from .recordings import Recording
 
 

@@ -10,7 +10,7 @@ from scipy import optimize
 
 from ..errors import FingerpadError
 from ..materials import DEFAULT_SKIN_POISSON, reduced_modulus
-from .models import TextureGeometry
+from .micro_models import TextureGeometry
 
 
 def _ridge_area_of(ridge_area: float | Callable[[float], float] | Any, load: float) -> float:

@@ -37,6 +37,8 @@ class CircularRidges(ProfileRidges):
     """
 
     #: The declared fields (units, bounds), so study files can give "0.45mm", "100kPa", ...
+    #: The publications of this model (:mod:`fingerpad.references` keys; Hertz line contact).
+    REFERENCES: ClassVar[tuple[str, ...]] = ("johnson1985",)
     PARAMS: ClassVar[tuple[Param, ...]] = (
         *PROFILE_PARAMS,
         Param("ridge_radius", "length", "ridge tip radius R_r", 0.1e-3, low=0, low_open=True, label="ridge radius"),

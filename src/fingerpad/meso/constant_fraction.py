@@ -25,6 +25,8 @@ class ConstantFractionRidges:
     """
 
     #: The declared fields (units, bounds).
+    #: The publications of this model (:mod:`fingerpad.references` keys; the thesis, cited by every run).
+    REFERENCES: ClassVar[tuple[str, ...]] = ()
     PARAMS: ClassVar[tuple[Param, ...]] = (
         Param("fraction", "ratio", "A_fr / A_g (docs/model.md: 0.5 after Duvefelt)", 0.5, low=0, low_open=True,
               high=1.0, label="ridge fraction"),

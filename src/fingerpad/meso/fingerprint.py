@@ -122,6 +122,8 @@ class FingerprintBEMRidges:
     """
 
     #: The declared fields (units, bounds) a study file may give.
+    #: The publications of this model (:mod:`fingerpad.references` keys; the contact solver on the fingerprint).
+    REFERENCES: ClassVar[tuple[str, ...]] = ("polonsky1999",)
     PARAMS: ClassVar[tuple[Param, ...]] = (
         Param("pad_radius", "length", "pad radius R_fp (default: the finger's)", 9e-3, low=0, low_open=True,
               label="pad radius", plausible="pad radius"),

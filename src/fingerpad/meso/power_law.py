@@ -29,6 +29,8 @@ class PowerLawRidges:
     """
 
     #: The declared fields (units, bounds).
+    #: The publications of this model (:mod:`fingerpad.references` keys; an empirical law: the thesis, cited by every run).
+    REFERENCES: ClassVar[tuple[str, ...]] = ()
     PARAMS: ClassVar[tuple[Param, ...]] = (
         Param("coefficient", "ratio", "k of A_fr = k F^n, m^2/N^n", low=0, low_open=True, example=5e-5,
               label="ridge power-law coefficient k"),

@@ -38,6 +38,8 @@ class SinusoidalRidges(ProfileRidges):
     """
 
     #: The declared fields (units, bounds), so study files can give "0.45mm", "100kPa", ...
+    #: The publications of this model (:mod:`fingerpad.references` keys; Westergaard per ridge).
+    REFERENCES: ClassVar[tuple[str, ...]] = ("westergaard1939", "johnson1985")
     PARAMS: ClassVar[tuple[Param, ...]] = (
         *PROFILE_PARAMS,
         Param("amplitude", "length", "sinusoid amplitude h_r (half the ridge height)", 30e-6, low=0, low_open=True,

@@ -21,7 +21,7 @@ holds those numbers and joins the key; a half-space cell's key is as it always w
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, Callable
+from typing import TYPE_CHECKING, Any, Callable, ClassVar
 
 import numpy as np
 
@@ -106,6 +106,9 @@ class BEMUnitCell(InterpolatedCurve):
         The curve's nodes are solved to ``max(tol, curve_tol)``, the state brackets' bisection to
         ``tol`` (part of the cache key). ``None``: :data:`CURVE_TOL`; ``0``: every solve to ``tol``.
     """
+
+    #: The publications of this model (:mod:`fingerpad.references` keys; the contact solver of its nodes).
+    REFERENCES: ClassVar[tuple[str, ...]] = ("polonsky1999",)
 
     def __init__(
         self,

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
@@ -178,6 +178,9 @@ class HertzUnitCell:
     reduced_modulus
         E1*, Pa (Eq. 3.4).
     """
+
+    #: The publications of this model (:mod:`fingerpad.references` keys; Hertz contact per asperity).
+    REFERENCES: ClassVar[tuple[str, ...]] = ("johnson1985",)
 
     radius: float
     height: float

@@ -57,6 +57,8 @@ def figure_design_map(data: Any) -> Any:
     rows = math.ceil(n / cols)
     fig = Figure(figsize=(6.4 * cols + 1.2, 5.0 * rows + 1.0))
     axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
+    if population:
+        fig.subplots_adjust(bottom=0.11 + 0.5 / (5.0 * rows + 1.0))  # the legend's two rows under the panels
     xs_kind, ys_kind = data.attrs.get("x_kind", ""), data.attrs.get("y_kind", "")
     vmin = float(np.nanmin(data["mu_rel"].values)) if np.isfinite(data["mu_rel"].values).any() else 0.0
     vmax = float(np.nanmax(data["mu_rel"].values)) if np.isfinite(data["mu_rel"].values).any() else 1.0
@@ -205,7 +207,34 @@ def _population_grid(ax: Any, xv: np.ndarray, yv: np.ndarray, panel: Any, x: str
             cs = ax.contour(xv, yv, np.log10(np.where(good, crit, np.nan)), levels=np.log10(levels), colors="white",
                             linewidths=1.2, linestyles=style)
             if style == "solid":
-                ax.clabel(cs, fmt={np.log10(c): f"{c:g} N" for c in levels}, fontsize="small")
+                _spread_labels(ax, cs, levels)
+
+
+def _spread_labels(ax: Any, cs: Any, levels: list[float]) -> None:
+    """Label each contour of ``cs`` (levels in N, drawn as log10) once, where its label lies
+    farthest from those placed before (in the axes' own fraction, so both axes count alike):
+    matplotlib's own placement put the labels of neighbouring levels on top of one another where
+    the contours crowd (the population map's 10/50/90 % lines)."""
+    to_axes = ax.transData + ax.transAxes.inverted()
+    placed: list[np.ndarray] = []
+    manual = []
+    for level, segments in zip(cs.levels, cs.allsegs, strict=True):
+        points = np.concatenate([s for s in segments if len(s)]) if any(len(s) for s in segments) else None
+        if points is None:
+            continue
+        frac = to_axes.transform(points)
+        inside = np.all((frac > 0.06) & (frac < 0.94), axis=1)  # not on the frame, not half cut
+        if inside.any():
+            points, frac = points[inside], frac[inside]
+        if placed:
+            gap = np.min(np.linalg.norm(frac[:, None, :] - np.array(placed)[None, :, :], axis=2), axis=1)
+            i = int(np.argmax(gap))
+        else:
+            i = len(points) // 2
+        placed.append(frac[i])
+        manual.append(tuple(points[i]))
+    if manual:
+        ax.clabel(cs, fmt={lv: f"{10 ** lv:g} N" for lv in cs.levels}, fontsize="small", manual=manual)
 
 
 def _population_scatter(ax: Any, xv: np.ndarray, yv: np.ndarray, panel: Any) -> None:
@@ -219,7 +248,7 @@ def _population_scatter(ax: Any, xv: np.ndarray, yv: np.ndarray, panel: Any) -> 
             cs = ax.tricontour(xv[good], yv[good], np.log10(crit[good]), levels=np.log10(levels), colors="k",
                                linewidths=1.0, linestyles=style)
             if style == "solid":
-                ax.clabel(cs, fmt={np.log10(c): f"{c:g} N" for c in levels}, fontsize="small")
+                _spread_labels(ax, cs, levels)
 
 
 def _population_legend(fig: Any, axes: Any, data: Any) -> None:
@@ -233,12 +262,17 @@ def _population_legend(fig: Any, axes: Any, data: Any) -> None:
     handles = [Line2D([], [], color=colour, linestyle=style, label=f"critical load (N), {q} % finger")
                for q, style in zip((10, 50, 90), POPULATION_STYLES.values(), strict=True)]
     region = f"asperity contact over {lo:g}-{hi:g} N for >= {share:g} % of fingers"
-    if data.attrs["design"] == "grid":
+    robust = np.asarray(data["robust_asperity"].values)
+    if not np.any(robust == 1):  # said, not drawn: the legend lists only what the map shows
+        handles.append(Line2D([], [], linestyle="none", label=f"no texture here keeps {region.replace('asperity', 'its')}"
+                              .replace("keeps its contact", "keeps asperity contact")))
+    elif data.attrs["design"] == "grid":
         handles.append(Patch(facecolor="none", edgecolor="k", hatch="xx", label=region))
     else:  # scattered points: ringed in black
         handles.append(Line2D([], [], linestyle="none", marker="o", markerfacecolor="0.8", markeredgecolor="k",
                               label=region))
-    axes[0].legend(handles=handles, loc="lower right", fontsize="x-small", facecolor="0.6", framealpha=0.8)
+    # below the panels (room made in figure_design_map), not over them: it hid a corner of cells
+    fig.legend(handles=handles, loc="lower center", ncol=2, fontsize="x-small", facecolor="0.6", framealpha=0.8)
     fig.suptitle(f"Design map for a population, {data.attrs['population']}: median "
                  f"{data.attrs.get('quantity_label', 'μ/μ_ref')} at {data.attrs['at']:g} N (colour), critical loads "
                  f"of the 10/50/90 % fingers (contours, N), exploration loads {lo:g}-{hi:g} N; "

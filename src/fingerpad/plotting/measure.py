@@ -3,15 +3,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from ..errors import FingerpadError
 from .drawonce import lay_out_ticks_once, place_legend_once
 
-if TYPE_CHECKING:  # the figures read a result; plotting imports nothing of measure/ at run time
-    from ..measure.analysis import StudyResult
+#: The result these figures read (:class:`~fingerpad.measure.analysis.StudyResult`), named for the
+#: signatures only: plotting imports nothing of the layers above it, not even for type checking.
+StudyResult = Any
 
 __all__ = ["QCInputs", "condition_label", "figure_participant", "figure_qc", "figure_sample", "log_subs",
            "participant_png", "png_bytes", "qc_inputs", "qc_png", "sample_png"]

@@ -12,14 +12,15 @@ radius, psi(p) of the unit cell) to draw continuous curves.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from .specs import STATE_COLOURS, Axis, Band, Disc, FigureSpec, HLine, Label, Line, PlotSpec, VLine, pale
 
-if TYPE_CHECKING:
-    from ..study.run import Prediction
+#: The result these figures read (:class:`~fingerpad.study.run.Prediction`), named for the
+#: signatures only: plotting imports nothing of the layers above it, not even for type checking.
+Prediction = Any
 
 __all__ = [
     "RED",
@@ -51,7 +52,7 @@ def _markers(load: np.ndarray) -> bool:
     return int(np.size(load)) < 4
 
 
-def state_bands(pred: "Prediction") -> list[Band]:
+def state_bands(pred: Prediction) -> list[Band]:
     """Load intervals (within the loads of the study) of the contact state at the pad centre:
     asperity below the critical load, transition up to the full-contact load, full above."""
     load = pred.primary.load
@@ -71,7 +72,7 @@ def state_bands(pred: "Prediction") -> list[Band]:
     return out
 
 
-def critical_lines(pred: "Prediction") -> list[VLine]:
+def critical_lines(pred: Prediction) -> list[VLine]:
     """The critical loads (BEM solid, Hertz dashed) inside the loads of the study."""
     load = pred.primary.load
     lo, hi = float(load.min()), float(load.max())
@@ -83,7 +84,7 @@ def critical_lines(pred: "Prediction") -> list[VLine]:
     return out
 
 
-def _meta(pred: "Prediction") -> dict[str, Any]:
+def _meta(pred: Prediction) -> dict[str, Any]:
     return {
         "texture": pred.texture.name,
         "model": pred.primary_model,
@@ -94,7 +95,7 @@ def _meta(pred: "Prediction") -> dict[str, Any]:
     }
 
 
-def areas_figure(pred: "Prediction") -> FigureSpec:
+def areas_figure(pred: Prediction) -> FigureSpec:
     """Gross, ridge and real contact areas against load (log-log), critical loads marked."""
     cur = pred.primary
     f = cur.load
@@ -114,7 +115,7 @@ def areas_figure(pred: "Prediction") -> FigureSpec:
                       margins={"left": 0.12, "right": 0.97, "bottom": 0.11, "top": 0.9})
 
 
-def friction_figure(pred: "Prediction") -> FigureSpec:
+def friction_figure(pred: Prediction) -> FigureSpec:
     """Friction against load, normalised friction and (compliant asperities sliding in a
     direction) the directional ratio; the contact state at the pad centre shaded."""
     cur = pred.primary
@@ -169,7 +170,7 @@ def friction_figure(pred: "Prediction") -> FigureSpec:
                                "wspace": 0.22})
 
 
-def zones_figure(pred: "Prediction") -> FigureSpec:
+def zones_figure(pred: Prediction) -> FigureSpec:
     """The zones of the ridge-contact disc at the zone load, and along a radius the pad pressure
     p(r) (Eq. 3.7) with the local real-area fraction psi(p(r)) of the unit cell."""
     from ..macro.pressure import pad_pressure

@@ -3,12 +3,14 @@ Sobol indices per parameter, as bars with their confidence half-widths (docs/pop
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from ..study.sensitivity import SensitivityResult
+#: The result these figures read (:class:`~fingerpad.population.sobol.SensitivityResult`), named
+#: for the signatures only: plotting imports nothing of the layers above it, not even for type
+#: checking.
+SensitivityResult = Any
 
 __all__ = ["figure_sensitivity", "shown_loads"]
 
@@ -21,7 +23,7 @@ def shown_loads(loads: Any) -> list[int]:
     return sorted(set(picks))
 
 
-def figure_sensitivity(result: "SensitivityResult") -> Any:
+def figure_sensitivity(result: SensitivityResult) -> Any:
     """Bars of the first-order (dark) and total (light) indices of each parameter, with their
     confidence half-widths: mu/mu_ref at the lightest, ~1 N and heaviest loads and the critical
     load's logarithm (one panel each)."""

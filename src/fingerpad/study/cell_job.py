@@ -15,6 +15,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from .. import references
 from .._version import __version__
 from ..errors import FingerpadError
 from ..materials import DEFAULT_SKIN_MODULUS, DEFAULT_SKIN_POISSON, check_modulus, check_poisson, reduced_modulus
@@ -255,9 +256,16 @@ class SolveJob:
                 "max_iter": self.max_iter,
                 "requested_formulation": self.formulation,
                 "command": " ".join(["fingerpad", *sys.argv[1:]]) if sys.argv else "fingerpad",
+                "references": references.netcdf_attribute(self.references()),
             }
         )
         return attrs
+
+    def references(self) -> tuple[str, ...]:
+        """The publications of the solve's method (:mod:`fingerpad.references` keys)."""
+        from .citations import solve_references
+
+        return solve_references(self.texture, self.materials.layer)
 
 
 def _check_outputs(job: SolveJob) -> None:
@@ -362,6 +370,7 @@ def _results_json(job: SolveJob, results: Sequence[Any], critical: Any = None) -
     payload: dict[str, Any] = {
         "inputs": job.inputs(),
         "converged": all(bool(r.converged) for r in results),
+        "references": references.metadata(job.references()),
         "results": [r.summary() for r in results],
     }
     if critical is not None:

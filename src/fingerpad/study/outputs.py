@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from .. import references
 from .._version import __version__
 from ..coupling import CurvePrediction
 from ..errors import FingerpadError
 from ..finger import skin_units
+from .citations import prediction_references
 from .run import Prediction
 
 __all__ = ["OUTPUT_FILES", "OUTPUT_UNITS", "load_output_modules", "prediction_dataset", "prediction_json",
@@ -49,7 +51,7 @@ OUTPUT_UNITS = {
 }
 
 
-def prediction_json(pred: Prediction) -> dict[str, Any]:
+def prediction_json(pred: Prediction, population: Any = None) -> dict[str, Any]:
     """The content of ``predict.json`` (SI units, listed in its ``units``; NaN and inf -> ``None``).
 
     * ``critical_load``: ``{"bem": F, "hertz": F}`` (N, ``None`` for a model not run);
@@ -64,6 +66,9 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
       critical asperity force (N) and transition pressure (Pa) of the Hertz cell;
     * ``zones``: zone radii (m) and centre state at ``inputs.zones_at``;
     * ``timings``: seconds for the unit cell and for the coupling; ``notes``: remarks;
+    * ``references``: the publications of the methods this run used (key, citation, DOI, what
+      for; :mod:`fingerpad.references`), those of ``population`` (the population result this
+      prediction is the nominal of) included;
     * ``results``: one entry per load with ``load``, ``gross_area``, ``ridge_area``,
       ``real_area``, ``area_ratio``, ``ridge_radius``, ``transition_radius``,
       ``full_contact_radius``, ``mu``, ``mu_ref``, ``mu_normalised``, ``contact_state`` (at the
@@ -182,14 +187,17 @@ def prediction_json(pred: Prediction) -> dict[str, Any]:
         "zones": pred.zones,
         "timings": {"cell": pred.timings["cell"], "coupling": pred.timings["coupling"]},
         "notes": list(pred.notes),
+        "references": references.metadata(prediction_references(pred, population)),
         "results": results,
     }
     return to_jsonable(payload)
 
 
-def prediction_dataset(pred: Prediction):
+def prediction_dataset(pred: Prediction, population: Any = None):
     """The :class:`xarray.Dataset` of ``predict.nc``: curves along ``load``, psi(p) along
-    ``cell_pressure``; every variable has a ``units`` attribute, inputs are global attributes."""
+    ``cell_pressure``; every variable has a ``units`` attribute, inputs are global attributes,
+    the publications of the methods used the CF ``references`` attribute (``population``'s
+    included)."""
     import xarray as xr
 
     from ..encode import flatten_attrs
@@ -251,7 +259,8 @@ def prediction_dataset(pred: Prediction):
                                                     {"units": "1", "long_name": "psi of the Hertz cell (analytic, sampled)"})
     payload = prediction_json(pred)
     attrs = {"title": "fingerpad prediction: areas and friction against load", "Conventions": "CF-1.8",
-             "source": f"fingerpad {__version__}", "units_system": "SI"}
+             "source": f"fingerpad {__version__}", "units_system": "SI",
+             "references": references.netcdf_attribute(prediction_references(pred, population))}
     attrs.update(flatten_attrs({
         "model": payload["model"],
         "critical_load": payload["critical_load"], "full_contact_load": payload["full_contact_load"],
@@ -306,19 +315,6 @@ def prediction_rows(pred: Prediction) -> list[dict[str, Any]]:
     return [{header: row.get(key) for key, header in CSV_COLUMNS} for row in payload["results"]]
 
 
-#: The population's tables in the output folder (:mod:`.population_tables`).
-POPULATION_CSV = ("population_bands.csv", "population_members.csv")
-
-
-def _write_csv(path: Path, header: Sequence[str], rows: Sequence[Sequence[Any]]) -> None:
-    import csv
-
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(header)
-        writer.writerows(rows)
-
-
 def load_output_modules() -> None:
     """Import now what :func:`write_outputs` imports on its first call into a folder (matplotlib,
     Pillow, xarray, the NetCDF engine, Dask's modules that xarray consults): ~0.7 s on the 2-core
@@ -340,7 +336,9 @@ def write_outputs(
     csv_path: str | None = None,
     extra: dict[str, Any] | None = None,
     dpi: int = 110,
-    population: Any = None,
+    sections: Mapping[str, Any] | None = None,
+    dataset: Callable[[Any], Any] | None = None,
+    cited: Any = None,
 ) -> list[Path]:
     """Write the outputs of a prediction, all of them or none.
 
@@ -354,10 +352,15 @@ def write_outputs(
         JSON path ``"-"`` is stdout, written by the caller).
     extra
         More figures for the folder: file name -> ``Figure``, or -> ``str`` for a text file.
-    population
-        A :class:`~fingerpad.study.population.PopulationResult` of which ``pred`` is the nominal:
-        the JSON gets its ``population`` entry, the NetCDF its ``member`` dimension, the folder
-        :data:`POPULATION_CSV` (:mod:`.population_tables`).
+    sections
+        More top-level entries of the JSON (already JSON-ready), e.g. a population's
+        (:func:`fingerpad.population.outputs.write_population_outputs`).
+    dataset
+        Applied to ``predict.nc``'s dataset before it is written (a population adds its
+        ``member`` dimension).
+    cited
+        A further result whose publications are listed with the prediction's (an object with
+        ``references()``, e.g. a population's, :func:`.citations.prediction_references`).
 
     Returns
     -------
@@ -370,14 +373,13 @@ def write_outputs(
     from .. import netcdf
     from ..plotting.prediction import figure_areas, figure_friction, figure_zones
 
-    names = [*OUTPUT_FILES, *(extra or {}), *(POPULATION_CSV if population is not None else ())]
+    names = [*OUTPUT_FILES, *(extra or {})]
     replaceable = sorted({*FOLDER_FILES, *names})
     check_outputs(out_dir, json_path, csv_path, replaceable)
-    from ..encode import json_text, to_jsonable
+    from ..encode import json_text
 
-    doc = prediction_json(pred)
-    if population is not None:
-        doc["population"] = to_jsonable(population.as_dict())
+    doc = prediction_json(pred, cited)
+    doc.update(sections or {})
     text = json_text(doc)  # members one per line: the pure-Python indenting of 1000 of them was slow
     staging = fio.Staging()
     folder = fio.OutputFolder(out_dir, replaceable) if out_dir is not None else None
@@ -400,14 +402,8 @@ def write_outputs(
         if folder is not None:
             folder.write(OUTPUT_FILES[0], lambda tmp: fio.write_text(tmp, text))
             folder.write(OUTPUT_FILES[1], lambda tmp: netcdf.to_netcdf(
-                prediction_dataset(pred) if population is None else population.add_to_dataset(prediction_dataset(pred)),
+                prediction_dataset(pred, cited) if dataset is None else dataset(prediction_dataset(pred, cited)),
                 tmp))
-            if population is not None:
-                from .population_tables import band_table, member_table
-
-                for name, table in zip(POPULATION_CSV, (band_table, member_table), strict=True):
-                    header, rows = table(population)
-                    folder.write(name, lambda tmp, header=header, rows=rows: _write_csv(tmp, header, rows))
             figures = dict(zip(OUTPUT_FILES[2:], (figure_areas(pred), figure_friction(pred), figure_zones(pred)),
                                strict=True))
             figures.update(extra or {})

@@ -164,6 +164,12 @@ class Study:
         Load (N) of the zone map; ``None``: the largest load (where most zones are present).
     source
         The study file, if any.
+    fixed
+        The finger values the user gave explicitly (a study file's ``[finger]`` key, a flag, a
+        field typed in the explorer), by parameter name: how the user named each (``--skin-modulus``,
+        ``study.toml [finger] tau0``). A population refuses to draw them
+        (:func:`fingerpad.population.rules.attach`); ``ridge_fraction`` stands for a
+        constant-fraction ridge model given.
     """
 
     texture: TextureSpec | Texture
@@ -180,6 +186,7 @@ class Study:
     cache: str | os.PathLike[str] | None | bool = None
     zones_at: float | None = None
     source: str | None = None
+    fixed: dict[str, str] = field(default_factory=dict, repr=False, compare=False)
     _texture: Texture | None = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -488,8 +495,17 @@ def study_from_dict(
     return Study(
         texture=texture, material_modulus=em, material_poisson=num, finger=finger, loads=loads,
         model=kind.strip().lower(), grid=grid_v, accuracy=accuracy, direction=direction, tol=tol, max_iter=max_iter, cache=cache,
-        zones_at=zones_v, source=src,
+        zones_at=zones_v, source=src, fixed=_fixed_finger_values(data.get("finger", {}), name),
     )
+
+
+def _fixed_finger_values(section: Mapping[str, Any], name: _Names) -> dict[str, str]:
+    """The finger values given explicitly (see :attr:`Study.fixed`), by how the user named them."""
+    fixed = {key: name("finger", key) for key in section if key in FINGER_FIELDS}
+    ridges = section.get("ridges")
+    if isinstance(ridges, Mapping) and str(ridges.get("model", "")).strip().lower() == "constant_fraction":
+        fixed["ridge_fraction"] = name("finger", "ridges")
+    return fixed
 
 
 def load_study_file(path: str | os.PathLike[str]) -> Study:

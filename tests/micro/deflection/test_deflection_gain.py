@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 from scipy.integrate import dblquad
 
-from fingerpad.coupling import HertzUnitCell, adhesion_integral, predict_curve
+from fingerpad.coupling import adhesion_integral, predict_curve
+from fingerpad.micro.hertz import HertzUnitCell
 from fingerpad.errors import FingerpadError
 from fingerpad.finger import Finger
 from fingerpad.friction import hysteresis_force

@@ -19,7 +19,7 @@ import lazy_loader
 pn = lazy_loader.load("panel")
 
 from ...errors import FingerpadError
-from ...finger import FINGER_FIELDS, FINGER_PRESETS, finger_param
+from ...finger import FINGER_FIELDS, FINGER_PARAMS, FINGER_PRESETS
 from ...materials import MATERIAL_MODULUS, MATERIAL_POISSON
 from ..inputs import FINGER_LABELS, family_examples, field_label
 from ..scan import (MAX_TEXT, ZONE_LOAD, Scan, scan_for, shown_unit, slider_position, slider_text, step_text,
@@ -199,10 +199,15 @@ class Form:
         self.preset = Field("finger.preset", "finger preset", kind="choice", value="default",
                             options=list(FINGER_PRESETS),
                             doc="; ".join(f"{k}: {f.description}" for k, f in FINGER_PRESETS.items()))
-        self.finger = {k: Field(f"finger.{k}", f"{FINGER_LABELS[k]} ({_DIM_UNIT[dim]})", doc=f"overrides the preset's {k}",
-                                scan=scan_for(finger_param(k), field_label("finger", k), fallback=self._preset_value(k)),
-                                fallback=lambda k=k: self._preset_value(k))
-                       for k, dim in FINGER_FIELDS.items()}
+        # titles from the declarations: a choice lists its choices, a number its unit; a number
+        # field steps by its declaration (a choice has no scan)
+        self.finger = {p.name: Field(f"finger.{p.name}", f"{FINGER_LABELS[p.name]} ("
+                                     f"{', '.join(p.choices) if p.choices else _DIM_UNIT[p.dimension]})",
+                                     doc=f"overrides the preset's {p.name}",
+                                     scan=scan_for(p, field_label("finger", p.name),
+                                                   fallback=self._preset_value(p.name)),
+                                     fallback=lambda k=p.name: self._preset_value(k))
+                       for p in FINGER_PARAMS}
         self.loads = {
             "range": Field("loads.range", "loads (N)", value="0.1N:4N:40", placeholder="0.1N:4N:40",
                            doc="START:STOP:COUNT, or one load"),

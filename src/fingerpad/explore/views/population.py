@@ -1,7 +1,7 @@
 """The population part of the single-texture view (issue 22): a population of fingers chosen by
 preset name, its bands of A_re/A_fr and mu/mu_ref against load and its critical loads.
 
-The population is :func:`fingerpad.study.population.run_population` on the study of the design
+The population is :func:`fingerpad.population.run.run_population` on the study of the design
 shown (the library computes everything; the unit cell is solved once for every finger). It runs
 in one worker thread per server, once the design has stayed shown a moment, the latest request of
 a session first (a request whose design is no longer shown is skipped, one under way is
@@ -10,7 +10,7 @@ so a design seen before shows its bands at once.
 
 Only names are accepted from the page: the built-in presets and the populations the server was
 started with (``fingerpad explore --population FILE|DIR``, read once at start, by the person who
-started it). :func:`~fingerpad.study.population.load_population` also reads files, and a page
+started it). :func:`~fingerpad.population.sources.load_population` also reads files, and a page
 must never name a file on the server.
 """
 
@@ -45,18 +45,19 @@ _POOL: ThreadPoolExecutor | None = None
 
 def population_choices(extra: Mapping[str, Any] | None = None) -> list[str]:
     """The choices of the page: none, the built-in presets and the server's own populations
-    ``extra`` (label -> :class:`~fingerpad.study.population.Population`; never a path)."""
-    from ...study.population_presets import POPULATION_PRESETS
+    ``extra`` (label -> :class:`~fingerpad.population.distributions.Population`; never a path)."""
+    from ...population.presets import POPULATION_PRESETS
 
     return [NONE, *POPULATION_PRESETS, *(extra or {})]
 
 
 def run_preset(data: dict[str, Any], name: str, extra: Mapping[str, Any] | None = None) -> Any:
-    """The :class:`~fingerpad.study.population.PopulationResult` of population ``name`` on the
+    """The :class:`~fingerpad.population.run.PopulationResult` of population ``name`` on the
     study of ``data``: one of the server's populations ``extra`` (by label) or a preset; any other
     name is refused (never read as a file)."""
-    from ...study.population import load_population, run_population
-    from ...study.population_presets import POPULATION_PRESETS
+    from ...population.run import run_population
+    from ...population.sources import load_population
+    from ...population.presets import POPULATION_PRESETS
     from ...study.spec import study_from_dict
 
     if extra and name in extra:

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ...errors import FingerpadError
+from ...extras import load
 from . import Importer, RawTable, first_data_row
 
 if TYPE_CHECKING:
@@ -38,10 +39,7 @@ def sheet_table(path: Path, values: list[list[object]], spec: "ColumnSpec") -> R
 
 
 def read_excel_table(path: Path, spec: "ColumnSpec") -> RawTable:
-    try:
-        import openpyxl
-    except ImportError:  # pragma: no cover - openpyxl is a dependency
-        raise FingerpadError(f"{path}: reading Excel files needs openpyxl (pip install openpyxl)") from None
+    openpyxl = load("openpyxl", f"{path}: reading Excel files")
     try:
         book = openpyxl.load_workbook(path, read_only=True, data_only=True)
     except FileNotFoundError:

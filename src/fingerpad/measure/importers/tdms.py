@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ...errors import FingerpadError
+from ...extras import load
 from . import Importer, RawTable
 
 if TYPE_CHECKING:
@@ -22,10 +23,7 @@ if TYPE_CHECKING:
 
 
 def read_tdms_table(path: Path, spec: "ColumnSpec") -> RawTable:
-    try:
-        from nptdms import TdmsFile
-    except ImportError:  # pragma: no cover - nptdms is a dependency
-        raise FingerpadError(f"{path}: reading LabVIEW files needs npTDMS (pip install npTDMS)") from None
+    TdmsFile = load("nptdms", f"{path}: reading LabVIEW files").TdmsFile
     try:
         tdms = TdmsFile.read(str(path))
     except FileNotFoundError:

@@ -6,6 +6,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ...errors import FingerpadError
+from ...extras import load
 from . import Importer, RawTable
 from .excel import sheet_table
 
@@ -14,10 +15,7 @@ if TYPE_CHECKING:
 
 
 def read_xls_table(path: Path, spec: "ColumnSpec") -> RawTable:
-    try:
-        import xlrd
-    except ImportError:  # pragma: no cover - xlrd is a dependency
-        raise FingerpadError(f"{path}: reading .xls workbooks needs xlrd (pip install xlrd)") from None
+    xlrd = load("xlrd", f"{path}: reading .xls workbooks")
     try:
         book = xlrd.open_workbook(str(path), on_demand=True)
     except FileNotFoundError:

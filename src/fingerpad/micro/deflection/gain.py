@@ -30,6 +30,9 @@ from .section import EllipsoidGeometry, Geometry, RidgeGeometry, Section, sectio
 MODEL_VERSION = 7  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact;
 # 6: no wall-clock limit in the key or the results (entries of 5 could hold ramps a slow machine cut short);
 # 7: Newton solves caught in a limit cycle or stagnating fail early (issue 23: some ramps take other steps)
+#: The publications of the directional friction model (:mod:`fingerpad.references` keys): the
+#: measured direction dependence it explains (the thesis' Paper C), the elliptical hysteresis term.
+REFERENCES = ("sergachev2022", "greenwood1958")
 
 __all__ = ["DeflectionSettings", "EllipsoidGeometry", "GainCurve", "MODEL_VERSION", "PressureRamp", "RidgeGeometry",
            "Section", "SectionMaterials", "as_dataset", "directional_gain", "directional_gains", "section_for", "solve_section",

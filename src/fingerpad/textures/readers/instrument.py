@@ -11,6 +11,7 @@ import lazy_loader
 np = lazy_loader.load("numpy")
 
 from ...errors import FingerpadError
+from ...extras import load
 from . import Reader
 from .npy import one_line_exception
 
@@ -24,10 +25,7 @@ _FILE_UNITS = {
 
 def _load(path: Path, size: tuple[float, float] | None, factor: float | None):
     """Heights (file units, NaN where undefined), lateral size (m) and height factor to m."""
-    try:
-        from SurfaceTopography import open_topography
-    except ImportError as exc:  # pragma: no cover - dependency is declared
-        raise FingerpadError(f"reading {path.suffix} files needs SurfaceTopography ({one_line_exception(exc)})") from None
+    open_topography = load("SurfaceTopography", f"reading {path.suffix} files").open_topography
     try:
         with open_topography(str(path)) as reader:
             channel = reader.default_channel

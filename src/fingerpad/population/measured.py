@@ -26,6 +26,7 @@ The study and measurement layers are siblings, so the files are read here by the
 from __future__ import annotations
 
 import csv
+import itertools
 import json
 import math
 from pathlib import Path
@@ -33,7 +34,7 @@ from typing import Any
 
 from ..errors import FingerpadError
 from ..io import MANIFEST
-from .population import POPULATION_PARAMS, Distribution, Population
+from .distributions import MAX_MEMBERS, POPULATION_PARAMS, Distribution, Population
 
 __all__ = ["RESULTS_FILES", "population_from_results"]
 
@@ -48,11 +49,24 @@ def _manifest_files(folder: Path) -> set[str]:
         return set()
 
 
-def _number(text: Any) -> float:
+def _number(text: Any, where: str) -> float:
+    """A cell of participants.csv: a number, NaN where empty (not fitted); text that is no
+    number is refused, naming the participant and column (it was left out without a word)."""
+    if text is None or not str(text).strip():
+        return math.nan
     try:
         return float(text)
     except (TypeError, ValueError):
-        return math.nan
+        raise FingerpadError(f"{where}: {str(text)[:40]!r} is not a number") from None
+
+
+#: Columns ``fingerpad analyse`` writes into participants.csv besides E_s: its own, not parameters.
+_ANALYSE_COLUMNS = ("participant", "n_strokes", "n_textures", "note")
+_ANALYSE_PREFIXES = ("ref_", "skin_modulus_")
+
+
+def _analyse_column(name: str) -> bool:
+    return name in _ANALYSE_COLUMNS or name.startswith(_ANALYSE_PREFIXES)
 
 
 def population_from_results(folder: str | Path) -> Population:
@@ -75,16 +89,26 @@ def population_from_results(folder: str | Path) -> Population:
         raise FingerpadError(f"{opt}: not a folder written by fingerpad analyse ({what}); name an analyse "
                              "--out folder, a preset or a population file")
     try:
-        with open(path / "participants.csv", newline="", encoding="utf-8") as fh:
-            rows = list(csv.DictReader(fh))
-        study = json.loads((path / "summary.json").read_text(encoding="utf-8")).get("study", {})
-    except (OSError, ValueError, UnicodeDecodeError, csv.Error) as exc:
+        with open(path / "participants.csv", newline="", encoding="utf-8-sig") as fh:
+            reader = csv.DictReader(fh)
+            rows = list(itertools.islice(reader, MAX_MEMBERS + 1))
+            header = list(reader.fieldnames or [])
+        summary = json.loads((path / "summary.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError, UnicodeDecodeError, csv.Error, RecursionError) as exc:
         raise FingerpadError(f"{opt}: cannot read the analysis ({exc})") from None
-    columns = [c for c in POPULATION_PARAMS if rows and c in rows[0]]
+    study = summary.get("study", {}) if isinstance(summary, dict) else None
+    if not isinstance(study, dict):
+        raise FingerpadError(f"{opt}: summary.json is not what fingerpad analyse writes (a JSON object whose "
+                             "\"study\" is an object); run fingerpad analyse again into that folder")
+    if len(rows) > MAX_MEMBERS:
+        raise FingerpadError(f"{opt}: participants.csv has more than {MAX_MEMBERS} rows; a population has at most "
+                             f"{MAX_MEMBERS} members")
+    columns = [c for c in POPULATION_PARAMS if c in header]
+    unknown = [c for c in header if c not in POPULATION_PARAMS and not _analyse_column(c)]
     members, labels, left_out = [], [], []
     for row in rows:
         who = str(row.get("participant", "?"))
-        e_s = _number(row.get("skin_modulus"))
+        e_s = _number(row.get("skin_modulus"), f"{opt} participant {who} skin_modulus")
         why = None
         if not (math.isfinite(e_s) and e_s > 0):
             why = "no fitted E_s"
@@ -97,7 +121,7 @@ def population_from_results(folder: str | Path) -> Population:
             continue
         member = {}
         for name in columns:
-            value = _number(row[name])
+            value = _number(row[name], f"{opt} participant {who} {name}")
             if math.isfinite(value):
                 member[name] = POPULATION_PARAMS[name].check(value, f"{opt} participant {who} {name}")
         members.append(member)
@@ -115,6 +139,9 @@ def population_from_results(folder: str | Path) -> Population:
              "(participants.csv has no other: analyse fits no friction parameter nor area law)"]
     if left_out:
         notes.append(f"population from {path.name}: left out {', '.join(left_out)}")
+    if unknown:
+        notes.append(f"population from {path.name}: participants.csv column(s) {', '.join(unknown)} are neither "
+                     f"population parameters ({', '.join(POPULATION_PARAMS)}) nor analyse's own: left out")
     dists = {n: Distribution(POPULATION_PARAMS[n], "values", {"values": tuple(m[n] for m in members)})
              for n in used}
     return Population(dists, size=len(members), seed=0, method="measured", name=path.name,

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from fingerpad import measure as m
-from fingerpad.measure.population import MIXED, TWO_STAGE, _estimable
+from fingerpad.measure.across_participants import MIXED, TWO_STAGE, _estimable
 from fingerpad.measure.simulate import population_truth, simulate_stroke_table
 
 

@@ -1,4 +1,7 @@
-"""The CSV tables of a population prediction (issue 22): the bands per load and one row per member.
+"""The outputs of a population prediction (``predict --population``, issue 22): ``predict``'s
+files of the nominal finger, with the population's ``population`` entry in ``predict.json``, its
+``member`` dimension in ``predict.nc``, ``population.png``, ``sensitivity.png`` and
+``sensitivity.csv`` with Sobol indices, and two tables, the bands per load and one row per member:
 
 * ``population_bands.csv``: one row per load, ``load_N`` and, for each per-load quantity and
   quantile ``q``, ``<quantity>_q<q>`` (the quantity's ``--csv`` header: ``area_ratio_Are_over_Afr``,
@@ -16,14 +19,20 @@ docs/outputs.md lists the columns with their units.
 from __future__ import annotations
 
 import math
+import os
+from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from .outputs import CSV_COLUMNS
-from .population import QUANTITIES, PopulationResult
+from ..study.outputs import CSV_COLUMNS, write_outputs
+from .run import QUANTITIES, PopulationResult
 
-__all__ = ["band_table", "member_table"]
+__all__ = ["POPULATION_CSV", "band_table", "member_table", "population_files", "write_population_outputs"]
+
+#: The population's tables in the output folder.
+POPULATION_CSV = ("population_bands.csv", "population_members.csv")
 
 _HEADER = dict(CSV_COLUMNS)
 
@@ -69,3 +78,46 @@ def member_table(result: PopulationResult) -> tuple[list[str], list[list[Any]]]:
         row += [float(np.asarray(getattr(curve, q))[j]) for j in ends for q in ("area_ratio", "mu", "mu_normalised")]
         rows.append(row)
     return header, rows
+
+
+def population_files(sensitivity: bool = False) -> tuple[str, ...]:
+    """The files a population adds to ``predict``'s output folder (with ``sensitivity``: those of
+    its Sobol indices too); known before anything is solved, so the folder is checked first."""
+    return ("population.png", *(("sensitivity.png", "sensitivity.csv") if sensitivity else ()), *POPULATION_CSV)
+
+
+def _csv_text(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
+    import csv
+    import io
+
+    buf = io.StringIO()
+    writer = csv.writer(buf)
+    writer.writerow(header)
+    writer.writerows(rows)
+    return buf.getvalue()
+
+
+def write_population_outputs(result: PopulationResult, out_dir: str | os.PathLike[str] | None, *,
+                             json_path: str | None = None, csv_path: str | None = None,
+                             extra: dict[str, Any] | None = None, dpi: int = 110) -> list[Path]:
+    """Write the outputs of a population prediction, all of them or none (see the module docstring;
+    :func:`fingerpad.study.outputs.write_outputs` writes them, ``result.nominal``'s files with the
+    population's added). ``json_path``/``csv_path``: as there; ``extra``: more files for the
+    folder. Returns the files written."""
+    from ..encode import to_jsonable
+
+    files: dict[str, Any] = dict(extra or {})
+    if out_dir is not None:
+        from ..plotting.population import figure_population
+
+        files["population.png"] = figure_population(result)
+        if result.sensitivity is not None:
+            from ..plotting.sensitivity import figure_sensitivity
+
+            files["sensitivity.png"] = figure_sensitivity(result.sensitivity)
+            files["sensitivity.csv"] = result.sensitivity.csv_text()
+        for name, table in zip(POPULATION_CSV, (band_table, member_table), strict=True):
+            files[name] = _csv_text(*table(result))
+    return write_outputs(result.nominal, out_dir, json_path=json_path, csv_path=csv_path, extra=files, dpi=dpi,
+                         sections={"population": to_jsonable(result.as_dict())}, dataset=result.add_to_dataset,
+                         cited=result)

@@ -1,5 +1,6 @@
-"""The vectorised coupling of many fingers (fingerpad.study.members): every member's numbers are
-those of a predict_curve per member, to the bit (issue 22, cost)."""
+"""The vectorised coupling of many fingers (fingerpad.coupling.members) and the members' full-contact
+loads (fingerpad.population.members): every member's numbers are those of a predict_curve and a
+load search per member, to the bit (issue 22, cost)."""
 
 from __future__ import annotations
 
@@ -16,7 +17,8 @@ from fingerpad.macro.pressure import disc_average
 from fingerpad.meso import ConstantFractionRidges
 from fingerpad.micro.bem import BEMUnitCell
 from fingerpad.micro.response import PowerLawUnitCell
-from fingerpad.study.members import member_full_contact_loads, predict_members
+from fingerpad.coupling.members import predict_members
+from fingerpad.population.members import member_full_contact_loads
 from fingerpad.study.run import load_at_centre_pressure
 
 LOADS = np.geomspace(0.1, 4.0, 9)
@@ -39,7 +41,7 @@ def _fingers(n: int, seed: int = 1) -> list:
 
 
 def test_members_equal_predict_curve_per_member_bit_for_bit(cell, monkeypatch):
-    import fingerpad.study.members as members
+    import fingerpad.coupling.members as members
 
     monkeypatch.setattr(members, "BLOCK", 4)
     fingers = _fingers(11)  # more than one block, and a last block that is not full

@@ -14,9 +14,9 @@ from typer.testing import CliRunner
 
 from fingerpad.cli import app
 from fingerpad.errors import FingerpadError
-from fingerpad.study.population import population_from_table, run_population
+from fingerpad.population import population_from_table, run_population
 from fingerpad.study.run import run_study
-from fingerpad.study.sensitivity import population_sensitivity, saltelli_points, sobol_indices
+from fingerpad.population.sobol import population_sensitivity, saltelli_points, sobol_indices
 from fingerpad.study.spec import DEFAULT_STUDY, study_from_dict
 
 
@@ -141,8 +141,11 @@ def test_cli_table_json_csv_and_figure(tmp_path: Path):
                               "--sensitivity-samples", "32", "--out", str(tmp_path / "o")])
     assert res.exit_code == 0, res.stderr
     assert "Sobol indices" in res.stdout and max(len(line) for line in res.stdout.splitlines()) <= 80
-    doc = json.loads((tmp_path / "o" / "predict.json").read_text())["population"]["sensitivity"]
+    whole = json.loads((tmp_path / "o" / "predict.json").read_text())
+    doc = whole["population"]["sensitivity"]
     assert doc["plan"]["evaluations"] == 32 * 4
+    # the indices' publications among the run's references (fingerpad.references)
+    assert {"sobol2001", "saltelli2010", "jansen1999"} <= {e["key"] for e in whole["references"]}
     rows = (tmp_path / "o" / "sensitivity.csv").read_text().splitlines()
     assert rows[0] == "quantity,load_N,parameter,first,first_conf,total,total_conf"
     assert len(rows) == 1 + 2 * 5 + 2 * 2  # mu/mu_ref per load and parameter, two critical-load rows each

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from fingerpad.errors import FingerpadError
-from fingerpad.study.population import load_population
+from fingerpad.population import load_population
 
 from .test_population_cli import _user_error, invoke
 
@@ -94,6 +94,14 @@ def test_fitted_columns_named_as_parameters_are_used(panel, tmp_path):
         load_population(copy)
 
 
+def _copy(panel, tmp_path: Path) -> tuple[Path, list[dict]]:
+    """A copy of the panel's analyse folder and the rows of its participants.csv."""
+    copy = tmp_path / "res"
+    shutil.copytree(panel[1], copy)
+    with open(copy / "participants.csv", newline="") as fh:
+        return copy, list(csv.DictReader(fh))
+
+
 def _write(path: Path, rows: list[dict]) -> None:
     with open(path, "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
@@ -112,3 +120,53 @@ def test_folders_that_are_not_an_analysis_are_refused(panel, tmp_path):
     assert "not a folder written by fingerpad analyse" in _user_error(
         invoke("predict", *CAPS, "--population", tmp_path / "empty", "--out", tmp_path / "o"))
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("summary", ["[]", '{"study": "x"}', '"text"', "{"])
+def test_a_tampered_summary_is_one_error_line(panel, tmp_path, summary):
+    """Issue 30, defect 8: `[]` or `{"study": "x"}` as summary.json gave an AttributeError traceback."""
+    _, res, _, _ = panel
+    copy = tmp_path / "res"
+    shutil.copytree(res, copy)
+    (copy / "summary.json").write_text(summary)
+    line = _user_error(invoke("predict", *CAPS, "--population", copy, "--out", tmp_path / "o"))
+    assert "summary.json" in line or "cannot read the analysis" in line
+    assert not (tmp_path / "o").exists()
+
+
+def test_unknown_and_unreadable_columns_are_named(panel, tmp_path):
+    """Issue 30, defect 11: a column that is no population parameter (a misspelt `tau_0`) was left
+    out without a word, and text in a parameter's column read as "not fitted"."""
+    copy, rows = _copy(panel, tmp_path)
+    for row in rows:
+        row["tau_0"] = 6000.0
+    _write(copy / "participants.csv", rows)
+    pop = load_population(copy)
+    assert any("column(s) tau_0 are neither population parameters" in n for n in pop.notes)
+    assert not any("ref_k" in n or "n_strokes" in n for n in pop.notes[1:])  # analyse's own columns are not named
+    rows[1]["tau0"] = "8 kPa?"
+    for row in rows[:1] + rows[2:]:
+        row["tau0"] = 8000.0
+    _write(copy / "participants.csv", rows)
+    with pytest.raises(FingerpadError, match="participant P02 tau0: '8 kPa\\?' is not a number"):
+        load_population(copy)
+
+
+def test_implausible_participants_are_warned_about(panel, tmp_path):
+    """Issue 30, defect 10: E_s 1e30 Pa and 5 m pads from participants.csv passed without a word."""
+    from fingerpad.plausibility import PlausibilityWarning
+    from fingerpad.population import attach
+    from fingerpad.study.spec import study_from_dict
+
+    copy, rows = _copy(panel, tmp_path)
+    for row in rows:
+        row["radius"] = 5.0
+    rows[0]["skin_modulus"] = 1e30
+    _write(copy / "participants.csv", rows)
+    study = study_from_dict({"texture": {"name": "caps", "radius": "50um", "height": "10um", "spacing": "100um"},
+                             "model": {"kind": "hertz"}})
+    with pytest.warns(PlausibilityWarning) as caught:
+        attach(study, str(copy))
+    text = " ".join(str(w.message) for w in caught)
+    assert "radius: 3 of 3 values lie outside the plausible" in text and "pad radius" in text
+    assert "skin_modulus: 1 of 3 values lie outside" in text

@@ -185,17 +185,48 @@ def test_layered_bem_population_notes_a_cell_per_member(tmp_path: Path):
     res = invoke("predict", *CAPS[:-4], *grid, *LAYERED, "--model", "bem", "--population", pop,
                  "--out", tmp_path / "o")
     assert res.exit_code == 0, res.stderr
-    assert "skin_modulus varies gives each such member a BEM unit cell of its own" in res.stderr.replace("\n", " ")
+    err = res.stderr.replace("\n", " ")
+    assert "skin_modulus varies gives each such member a BEM unit cell of its own" in err
+    # issue 30, defect 6: the cost note came at the end, under "0 solves (cached)" of the nominal
+    # cell; it is said before the work, and the members' own cells are counted
+    assert err.index("a BEM unit cell of its own") < err.index("unit cell: bem")
+    assert "members: 2 on a unit cell of their own," in err
 
 
-def test_a_population_file_is_named_in_quotes(tmp_path: Path):
-    """A file's population is named by its stem: `examples/population.toml` read "population
-    population: 256 fingers"; quoted, the name reads as one."""
+def test_the_members_own_cells_report_their_progress():
+    """Issue 30, defect 6: a layered population solved one cell per member for minutes with no
+    progress; run_population reports each member's cell."""
+    import copy
+
+    from fingerpad.population import run_population
+    from fingerpad.study.spec import DEFAULT_STUDY, study_from_dict
+
+    d = copy.deepcopy(DEFAULT_STUDY)
+    d["model"] = {"kind": "bem", "grid": 16, "cache": False}
+    d["loads"] = {"values": [0.5, 2.0]}
+    d["finger"] = {"preset": "layered"}
+    seen = []
+    res = run_population(study_from_dict(d), {"size": 3, "skin_modulus": {"values": [0.35e6, 0.4e6, 0.45e6]}},
+                         member_progress=lambda i, n: seen.append((i, n)))
+    assert seen == [(1, 3), (2, 3), (3, 3)]
+    assert res.own_cells == 3 and res.member_solves > 0
+
+
+def test_a_population_file_is_named_by_its_file_or_its_name_key(tmp_path: Path):
+    """Issue 30, defect 21: a file's population was named by its stem, `examples/population.toml`
+    reading "population 'population': 256 fingers"; it is named by the file's name, or by the
+    table's own `name`, which must be printable text."""
     pop = tmp_path / "population.toml"
     pop.write_text(POP)
     res = invoke("predict", *CAPS, "--model", "hertz", "--population", pop, "--out", tmp_path / "o")
     assert res.exit_code == 0, res.stderr
-    assert "population 'population': 12 fingers" in res.stdout
+    assert "population 'population.toml': 12 fingers" in res.stdout
+    pop.write_text(POP.replace("[population]\n", '[population]\nname = "lab panel 2026"\n'))
+    res = invoke("predict", *CAPS, "--model", "hertz", "--population", pop, "--json", "-")
+    assert res.exit_code == 0, res.stderr
+    assert json.loads(res.stdout)["population"]["name"] == "lab panel 2026"
+    pop.write_text(POP.replace("[population]\n", '[population]\nname = "a\\u001b[2Jb"\n'))
+    assert "name: expected a printable text" in _user_error(invoke("predict", *CAPS, "--population", pop))
 
 
 def test_a_flag_the_population_overrides_is_refused(tmp_path: Path):
@@ -229,3 +260,29 @@ def test_one_quantile_is_shown_not_dashed(tmp_path: Path):
     doc = json.loads((tmp_path / "o" / "predict.json").read_text())
     first = next(line for line in res.stdout.splitlines() if line.strip().startswith("0.1 "))
     assert f"{doc['population']['quantiles']['mu']['0.9'][0]:.2f}" in first and " - " not in f"{first} "
+
+
+def test_a_population_file_with_a_byte_order_mark_is_read(tmp_path: Path):
+    """Issue 30, defect 14: a population file saved with a UTF-8 byte-order mark (Windows editors)
+    was refused, where a study file is read; other text that is not UTF-8 TOML is one error line."""
+    pop = tmp_path / "pop.toml"
+    pop.write_bytes(b"\xef\xbb\xbf" + POP.encode())
+    res = invoke("predict", *CAPS, "--model", "hertz", "--population", pop, "--json", "-")
+    assert res.exit_code == 0, res.stderr
+    assert len(json.loads(res.stdout)["population"]["members"]) == 12
+    pop.write_bytes(POP.encode("utf-16"))
+    assert "cannot read it as UTF-8 TOML text" in _user_error(invoke("predict", *CAPS, "--population", pop))
+    pop.write_text("[population]\nx = " + "[" * 3000 + "]" * 3000 + "\n")
+    assert "--population" in _user_error(invoke("predict", *CAPS, "--population", pop))
+    assert "--population: empty" in _user_error(invoke("predict", *CAPS, "--population", ""))
+
+
+def test_the_studys_own_finger_is_shown_beside_the_bands(tmp_path: Path):
+    """Issue 30, defect 21: `predict --population` never showed the nominal finger's critical load."""
+    pop = tmp_path / "pop.toml"
+    pop.write_text(POP)
+    res = invoke("predict", *CAPS, "--model", "hertz", "--population", pop, "--out", tmp_path / "o")
+    assert res.exit_code == 0, res.stderr
+    crit = json.loads((tmp_path / "o" / "predict.json").read_text())["critical_load"]["hertz"]
+    assert f"the study's own finger: critical load {crit:.3g} N" in res.stdout
+    assert all(len(line) <= 80 for line in res.stdout.splitlines())

@@ -9,7 +9,7 @@ import pytest
 from scipy import stats
 
 from fingerpad.errors import FingerpadError
-from fingerpad.study.population import population_from_table
+from fingerpad.population import population_from_table
 
 TABLE = {
     "size": 4096, "seed": 5,

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from ..errors import FingerpadError
-from .models import Model, ModelTable, TextureGeometry, model_variant, texture_model
+from .micro_models import Model, ModelTable, TextureGeometry, model_variant, texture_model
 
 if TYPE_CHECKING:
     from .modulus import ModulusFit

@@ -19,14 +19,14 @@ from typing import Any
 
 import numpy as np
 
-from .cancel import check as check_cancelled
-from .checks import ArrayLike, as_areas, as_loads, scalar_out
-from .errors import FingerpadError
-from .finger import Finger
-from .friction import mu_checked
-from .macro.pressure import disc_average, pad_pressure
-from .micro.hertz import HertzUnitCell
-from .micro.response import (
+from ..cancel import check as check_cancelled
+from ..checks import ArrayLike, as_areas, as_loads, scalar_out
+from ..errors import FingerpadError
+from ..finger import Finger
+from ..friction import mu_checked
+from ..macro.pressure import disc_average, pad_pressure
+from ..micro.hertz import HertzUnitCell
+from ..micro.response import (
     DEFAULT_LOAD_RANGE,
     RidgeArea,
     UnitCellResponse,
@@ -373,6 +373,19 @@ def predict_curve(
 
 
 
+def model_references(finger: Finger, *cells: Any) -> tuple[str, ...]:
+    """The publications of the model a prediction on ``finger`` with the unit cells ``cells``
+    uses (:mod:`fingerpad.references` keys): the finger's pad and ridge models (Eq. 2.5's Hertz
+    pad without one), the friction law, a layered skin's compliance, each cell's model (``None``
+    skipped). The thesis and the package are always among them."""
+    from .. import friction
+    from ..macro.hertz import HertzArea
+    from ..references import keys_of
+
+    return keys_of(finger.gross if finger.gross is not None else HertzArea, finger.ridges, friction,
+                   "fingerpad-layered" if finger.layer is not None else None, *cells)
+
+
 __all__ = [
     "DEFAULT_LOAD_RANGE",
     "CouplingResult",
@@ -382,6 +395,7 @@ __all__ = [
     "couple",
     "critical_load",
     "disc_ratio",
+    "model_references",
     "local_shear_strength",
     "pad_pressure",
     "predict_curve",

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from fingerpad.errors import FingerpadError
-from fingerpad.study.population import (
+from fingerpad.population import (
     QUANTITIES,
     Population,
     load_population,
@@ -121,7 +121,20 @@ def test_adults_preset_ranges():
 ])
 def test_bad_tables(table, words):
     with pytest.raises(FingerpadError, match=words.replace("(", r"\(")):
-        population_from_table(table)
+        population_from_table(table, require_units=True)  # as a file's table is read
+
+
+def test_a_table_built_in_python_takes_si_numbers():
+    """Issue 30, defect 20: a table built in Python takes SI numbers, as sweep_from_dict does
+    (it asked for "7mm" where 0.007 was refused as "has no unit"); the same table in a file
+    still needs its units, and the two give the same members."""
+    numbers = {"size": 8, "radius": {"distribution": "uniform", "low": 0.007, "high": 0.011},
+               "tau0": {"distribution": "normal", "mean": 8e3, "sd": 1e3}, "alpha": {"values": [0.05, 0.1]}}
+    texts = {"size": 8, "radius": {"distribution": "uniform", "low": "7mm", "high": "11mm"},
+             "tau0": {"distribution": "normal", "mean": "8kPa", "sd": "1kPa"}, "alpha": {"values": [0.05, 0.1]}}
+    assert population_from_table(numbers).sample() == population_from_table(texts, require_units=True).sample()
+    with pytest.raises(FingerpadError, match="has no unit"):
+        population_from_table(numbers, require_units=True)
 
 
 def test_member_outside_bounds_is_refused_before_solving():

@@ -34,6 +34,10 @@ __all__ = ["Correlation", "correlate", "normal_correlation_matrix", "parse_corre
 #: One declared pair: (name, name, Spearman rank correlation).
 Correlation = tuple[str, str, float]
 
+#: The publications of the correlated sampling (:mod:`fingerpad.references` keys): the rank to
+#: normal correlation ``r = 2 sin(pi RHO / 6)``.
+REFERENCES = ("kruskal1958",)
+
 
 def parse_correlations(value: Any, names: Sequence[str], where: str) -> tuple[Correlation, ...]:
     """The ``correlations`` entry of a ``[population]`` table, checked.

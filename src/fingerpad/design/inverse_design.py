@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError
-from ..study.population import Population
+from ..population.distributions import Population
 from .axes import Axis
 from .inverse import XATOL, Candidate, DesignProblem, Target, parse_target, predict_candidate, rank_sweep, search
 from .robust import PopulationGoal, population_candidate, population_goal, screen_candidate
@@ -224,7 +224,7 @@ def design_textures(
     population
         Design for a population of fingers (a preset name such as ``"adults"``, a TOML file
         with a ``[population]`` table, the table itself, or a
-        :class:`~fingerpad.study.population.Population`); needs ``coverage`` or ``quantile``
+        :class:`~fingerpad.population.distributions.Population`); needs ``coverage`` or ``quantile``
         (:mod:`fingerpad.design.robust`). Without it, ``coverage`` or ``quantile`` use the
         study's own ``[population]`` table; the table is ignored when neither is given.
     coverage
@@ -239,7 +239,7 @@ def design_textures(
     -------
     DesignResult
         Every number of a candidate from a direct prediction of that texture (with a
-        population: from :func:`~fingerpad.study.population.run_population` on it).
+        population: from :func:`~fingerpad.population.run.run_population` on it).
 
     Raises
     ------
@@ -259,12 +259,14 @@ def design_textures(
     table = data.pop("population", None)
     base = study_from_dict(data)  # the base must be a valid study
     axes = free_axes(vary, data.get("texture", {}).get("name"))
-    if population is None and table is not None and (coverage is not None or quantile is not None):
-        # the study file's own [population] table, as predict uses it
-        from ..study.population import population_from_table
+    if population is not None or (table is not None and (coverage is not None or quantile is not None)):
+        # the population, else the study file's own [population] table (as predict uses it),
+        # checked against the study and the free parameters by the one set of rules
+        from ..population.rules import attach
 
-        name = "study" if isinstance(study, Mapping) else os.path.splitext(os.path.basename(study))[0]
-        population = population_from_table(table, where="[population]", name=name)
+        plan = attach(base, population, table=table if population is None else None,
+                      fixed={a.key: f"--vary {a.name}" for a in axes if a.section == "finger"})
+        population = None if plan is None else plan.population
     goal = population_goal(population, coverage, quantile)
     parsed = [t if isinstance(t, Target) else parse_target(t) for t in targets]
     if not parsed:
@@ -281,7 +283,7 @@ def design_textures(
         tolerance=parse_quantity(tolerance, "none", name="--tolerance"),
     )
     curve_loads = parse_range(DEFAULT_SWEEP_LOADS, "force", log=True)
-    screen = None if goal is None else screen_candidate(problem, _checked_goal(goal, base, axes))
+    screen = None if goal is None else screen_candidate(problem, goal)
     if from_sweep is not None:
         found = _from_sweep(problem, from_sweep, n_cand, progress, screen)
         source = f"sweep {from_sweep}"
@@ -310,22 +312,6 @@ def _population_rank(goal: PopulationGoal) -> Callable[[Candidate], Any]:
         return (not c.meets, obj)
 
     return key
-
-
-def _checked_goal(goal: PopulationGoal, base: Any, axes: Sequence[Axis]) -> PopulationGoal:
-    """Refuse, before any prediction, what a population cannot be designed for."""
-    from .robust import MemberTable
-
-    if base.direction is not None:
-        raise FingerpadError("--population with a sliding direction is not supported yet (directional friction "
-                             "of a population); drop one of them")
-    varied = set(goal.population.distributions)
-    for axis in axes:
-        if axis.section == "finger" and (axis.key in varied or axis.name in varied):
-            raise FingerpadError(f"--vary {axis.name}: the population varies {axis.key} from finger to finger; "
-                                 "vary it in the population or fix it")
-    MemberTable(base, goal.population.sample()[:1])  # a member the study's finger cannot take
-    return goal
 
 
 def _from_sweep(problem: DesignProblem, path: str | os.PathLike[str], n_cand: int,

@@ -35,16 +35,17 @@ import math
 import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from ..errors import FingerpadError
-from .members import predict_fingers
-from .population import Population, member_finger
-from .run import Prediction
+from .distributions import MAX_MEMBERS, Population
+from .members import member_finger, predict_fingers
+from ..study.run import Prediction
 
-__all__ = ["DEFAULT_SAMPLES", "SensitivityResult", "population_sensitivity", "saltelli_points", "sobol_indices"]
+__all__ = ["DEFAULT_SAMPLES", "SensitivityResult", "check_design", "population_sensitivity", "saltelli_points",
+           "sobol_indices"]
 
 #: Base samples N of the design by default: N (d + 2) evaluations (2560 for the 8 parameters of
 #: ``adults``), about as long as 2.5 populations of 1000; indices to about +-0.05 (95 %).
@@ -153,6 +154,10 @@ class SensitivityResult:
         Remarks (a quantity left without indices and why).
     """
 
+    #: The publications of the indices (:mod:`fingerpad.references` keys): Sobol's indices,
+    #: Saltelli's design and first-order estimator, Jansen's total-index estimator.
+    REFERENCES: ClassVar[tuple[str, ...]] = ("sobol2001", "saltelli2010", "jansen1999")
+
     parameters: list[str]
     loads: np.ndarray
     indices: dict[str, dict[str, dict[str, Any]]]
@@ -208,6 +213,33 @@ class SensitivityResult:
         return buf.getvalue()
 
 
+def check_design(population: Population, samples: int) -> list[str]:
+    """The parameters of the design (those with a spread), or the reason there is none: a
+    panel of measured people (the members are the people, not draws of independent parameters),
+    no parameter with a spread, fewer than 2 base samples, or more than
+    :data:`~.distributions.MAX_MEMBERS` fingers to predict, ``N (d + 2)``.
+
+    Raises
+    ------
+    FingerpadError
+        Naming ``--sensitivity`` or ``--sensitivity-samples``.
+    """
+    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
+        raise FingerpadError(f"--sensitivity-samples: expected an integer of at least 2, got {samples!r}")
+    if getattr(population, "measured", ()):
+        raise FingerpadError("--sensitivity: a population of measured members (an analyse folder) has no "
+                             "distributions to vary; give a [population] table of distributions")
+    names = [k for k, d in population.distributions.items() if d.spread]
+    if not names:
+        raise FingerpadError("--sensitivity: no parameter of the population has a spread")
+    fingers = samples * (len(names) + 2)
+    if fingers > MAX_MEMBERS:
+        raise FingerpadError(f"--sensitivity-samples {samples}: N (d + 2) = {fingers} fingers for the {len(names)} "
+                             f"parameters with a spread; at most {MAX_MEMBERS}, so N <= "
+                             f"{MAX_MEMBERS // (len(names) + 2)}")
+    return names
+
+
 def _design_members(population: Population, names: list[str], a: np.ndarray, b: np.ndarray) -> list[dict[str, float]]:
     """The members of the rows of A, B and each AB_i (in that order), parameters in SI; the
     parameters without spread at their one value; each value checked against its bounds."""
@@ -254,23 +286,15 @@ def population_sensitivity(
     evaluate
         ``evaluate(nominal, fingers) -> {"mu_normalised": (M, loads), "critical_load": (M,),
         "log10_critical_load": (M,)}``;
-        by default the vectorised coupling (:func:`~fingerpad.study.members.predict_fingers`).
+        by default the vectorised coupling (:func:`~fingerpad.population.members.predict_fingers`).
 
     Raises
     ------
     FingerpadError
-        No parameter with a spread, fewer than 2 samples, a design point outside a bound.
+        No parameter with a spread, fewer than 2 samples, too many fingers (:func:`check_design`),
+        a design point outside a bound.
     """
-    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
-        raise FingerpadError(f"--sensitivity-samples: expected an integer of at least 2, got {samples!r}")
-    if getattr(population, "measured", ()):
-        # a panel of measured people: the members are the people, not draws of independent
-        # parameters, so there is no design to sample
-        raise FingerpadError("--sensitivity: a population of measured members (an analyse folder) has no "
-                             "distributions to vary; give a [population] table of distributions")
-    names = [k for k, d in population.distributions.items() if d.spread]
-    if not names:
-        raise FingerpadError("--sensitivity: no parameter of the population has a spread")
+    names = check_design(population, samples)
     seed = population.seed if seed is None else int(seed)
     a, b = saltelli_points(len(names), samples, seed)
     members = _design_members(population, names, a, b)
