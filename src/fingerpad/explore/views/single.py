@@ -48,6 +48,16 @@ __all__ = ["QUIET_S", "SingleView"]
 #: steps or drags through them, short beside the work itself.
 QUIET_S = 0.4
 
+#: The results table of the design before, while a sequence passes over designs.
+_DIMMED = {"opacity": "0.35"}
+
+
+def _prediction_json(pred: Any) -> dict[str, Any]:
+    from ...study.outputs import prediction_json
+
+    return prediction_json(pred)
+
+
 _RESULT_COLUMNS = (
     ("load", "load F (N)"), ("gross_area", "A_g (m²)"), ("ridge_area", "A_fr (m²)"), ("real_area", "A_re (m²)"),
     ("area_ratio", "A_re/A_fr"), ("transition_radius", "r_trans (m)"), ("full_contact_radius", "r_full (m)"),
@@ -355,6 +365,7 @@ class SingleView:
         if pred is None:
             self.summary.object = ""
             self.table.object = ""
+            self.table.styles = {}
             self.notes.object = ""
         else:
             self._show_numbers(pred)
@@ -364,6 +375,8 @@ class SingleView:
     def _show_figures(self) -> None:
         """The figures of the prediction shown (and its population, its contact maps)."""
         pred, c = self.pred, self.cards
+        if pred is not None and self.table.styles:  # dimmed in a sequence: its numbers now
+            self._show_table(self._derived(pred, "json", lambda: _prediction_json(pred)))
         updates = [(c["height-map"], builders.height_map_spec(pred.texture if pred is not None and pred.cell
                                                               is not None else self.texture), None)]
         if pred is None:
@@ -392,9 +405,7 @@ class SingleView:
         return value
 
     def _show_numbers(self, pred: Any) -> None:
-        from ...study.outputs import prediction_json
-
-        payload = self._derived(pred, "json", lambda: prediction_json(pred))
+        payload = self._derived(pred, "json", lambda: _prediction_json(pred))
         crit, full = payload["critical_load"], payload["full_contact_load"]
         parts = [f"<b>shown model:</b> {html.escape(payload['model'])}",
                  f"E1* = {num_span('reduced_modulus', payload['inputs']['reduced_modulus'], 'Pa')}"]
@@ -411,11 +422,25 @@ class SingleView:
         parts.append(f"at {num_span('zones_load', z['load'], 'N')}: A_re/A_fr = "
                      f"{num_span('zones_area_ratio', z['area_ratio'])}, centre {html.escape(z['contact_state'])}")
         # each pane's change goes to the page as a message of its own: the table first, the
-        # summary last, so that a page whose summary shows a design has its table too
-        self.table.object = html_table(_RESULT_COLUMNS, payload["results"], "fp-results")
+        # summary last, so that a page whose summary shows a design has its table too (in a
+        # sequence the table is dimmed, and filled with the figures once the sequence pauses)
+        self._show_table(payload if not self.sequence.rapid else None)
         self.notes.object = "".join(f'<div style="font-size:12px;color:#555">note: {html.escape(self._words(n))}</div>'
                                     for n in payload["notes"])
         self.summary.object = '<div style="font-size:13px;line-height:1.6">' + " &middot; ".join(parts) + "</div>"
+
+    def _show_table(self, payload: dict[str, Any] | None) -> None:
+        """The table of the prediction shown (``payload``: its JSON), or, with ``None``, the table
+        of the design before dimmed: in a sequence the browser would parse and lay out the table's
+        ~1000 nodes for every design passed over (a third of Chromium's work for a change's
+        numbers, issue 37); its summary is the number a designer reads while the hand moves."""
+        if payload is None:
+            if self.table.object:
+                self.table.styles = _DIMMED
+            return
+        self.table.object = html_table(_RESULT_COLUMNS, payload["results"], "fp-results")
+        if self.table.styles:
+            self.table.styles = {}
 
     def _contact_pressure(self) -> float | None:
         """The pressure of the contact map: the field's value, else the centre pressure at the zone load."""
