@@ -416,3 +416,40 @@ def rows(r: dict[str, Any]) -> list[tuple[str, str, str, str, bool | None]]:
                     f"Hertz numbers {bem['numbers_s']:.2f} s; the run before ended {ended}",
                     "numbers at once, the run cancelled", bem["run_ended_s"] is not None))
     return out
+
+
+def _key(r: dict[str, Any]) -> dict[str, float | None]:
+    """One number per row of :func:`rows` (by its case), for the ratio of two runs: the median
+    time of the row's changes (s), or for the slider its updates per second."""
+    med = lambda xs: statistics.median(xs) if xs else None  # noqa: E731
+    out: dict[str, float | None] = {}
+    for case, *_ in rows(r):
+        if case.startswith("first change"):
+            out[case] = med(r["first change"])
+        elif case.startswith("back and forth"):
+            out[case] = med(r["back and forth"])
+        elif case.startswith("a computed design"):
+            out[case] = med(r["computed after new"])
+        elif case.startswith("burst"):
+            out[case] = med([x for x in r["burst"] if x is not None])
+        elif case.startswith("slider") and r["slider"] is not None:
+            out[case] = r["slider"]["updates_per_s"]
+    return out
+
+
+def rows_against(before: dict[str, Any], now: dict[str, Any]) -> list[tuple[str, str, str, str, str, str, bool | None]]:
+    """The goal table with the code before measured in the same run: (case, issue 37's numbers,
+    before (this run), now, ratio, goal, met). The ratio is before / now of the medians (times),
+    now / before for the slider's updates per second; ``-`` where the code before has no such
+    case."""
+    then = {case: measured for case, _, measured, _, _ in rows(before)}
+    k0, k1 = _key(before), _key(now)
+    out = []
+    for case, today, measured, goal, met in rows(now):
+        a, b = k0.get(case), k1.get(case)
+        if a is None or b is None or a <= 0 or b <= 0:
+            ratio = "-"
+        else:
+            ratio = f"{(b / a if case.startswith('slider') else a / b):.1f}x"
+        out.append((case, today, then.get(case, "-"), measured, ratio, goal, met))
+    return out
