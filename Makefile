@@ -37,7 +37,7 @@ bytecode:
 # The job writes the bytecode of the modules it imports into .venv (where the environment sets
 # PYTHONDONTWRITEBYTECODE, as pip would have written it): later starts read it.
 run: $(CORE)
-	env -u PYTHONDONTWRITEBYTECODE $(VENV)/bin/fingerpad run-default --out out
+	env -u PYTHONDONTWRITEBYTECODE $(VENV)/bin/fingerpad run-default --out out/run
 
 test: $(STAMP)
 	$(PY) -m pytest -q -m "not slow"

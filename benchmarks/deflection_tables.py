@@ -181,11 +181,12 @@ def coupling(cache: str, grid: str | None) -> None:
     from fingerpad.cli.predict import build_study
     from fingerpad.coupling import predict_curve
     from fingerpad.micro.deflection import DirectionalCell, texture_geometry
-    from fingerpad.study.run import run_study
+    from fingerpad.study.run import directional_settings, run_study
 
     print("## Through the coupling: predict --direction 0 (BEM cell, default finger, loads 0.1-4 N)\n")
     for label, h in (("slender 45 x 135 x 90", 90), ("medium 45 x 135 x 45", 45)):
-        flags = {"--texture": "ellipsoids", "--loads": ["0.1N:4N:5"], "--log": True, "--model": "bem",
+        # the README command's study (default loads: 40 from 0.1 to 4 N), rows at five of them
+        flags = {"--texture": "ellipsoids", "--model": "bem",
                  "--material-modulus": "0.3MPa", "--material-poisson": "0.49", "--direction": "0",
                  "--grid": grid, "--cache": cache}
         args = ["--semi-axis-x", "45um", "--semi-axis-y", "135um", "--height", f"{h}um",
@@ -203,7 +204,7 @@ def coupling(cache: str, grid: str | None) -> None:
         local, plain = {}, {}
         for name, direction in (("perp", d["perpendicular_direction"]), ("par", d["parallel_direction"])):
             gain = directional_gain(geometry, mats, direction, p_range, tau0=finger.tau0, alpha=finger.alpha,
-                                    cache=cache)
+                                    settings=directional_settings(finger, pred.cell, centre), cache=cache)
             cell = DirectionalCell(pred.cell, gain, finger.tau0, finger.alpha)
             local[name] = cell.local_shear(centre)
             plain[name] = predict_curve(loads, finger, cell).mu  # without the hysteresis direction factor
@@ -216,7 +217,9 @@ def coupling(cache: str, grid: str | None) -> None:
         # the hysteresis term of Eq. 2.4 before the direction factor: mu = mu_plain + (factor - 1) mu_hys
         hys = (d["mu_perpendicular"] - plain["perp"]) / (fac - 1.0) if fac != 1.0 else np.full(loads.size, np.nan)
         area = d["area_ratio_perpendicular"] / d["area_ratio_parallel"]
-        for i, f in enumerate(loads):
+        rows = np.unique(np.linspace(0, loads.size - 1, 5).round().astype(int))
+        for i in rows:
+            f = loads[i]
             print(f"| {f:.3g} | {centre[i] / 1e3:.3g} | {local['perp'].mu[i]:.3f} | {local['par'].mu[i]:.3f} | "
                   f"{local['perp'].gain[i]:.3f}{'*' if local['perp'].saturated[i] else ''} | "
                   f"{local['par'].gain[i]:.3f}{'*' if local['par'].saturated[i] else ''} | {area[i]:.3f} | "

@@ -178,3 +178,24 @@ def test_tutorial_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
     assert "critical load" in text and "4 points computed" in text
     assert any("image/png" in out.get("data", {}) for out in outputs)  # the comparison figure
     assert not (tmp_path / "cache").exists()  # cache=False everywhere: the tutorial writes nothing
+
+
+def test_make_run_has_a_folder_of_its_own():
+    """Issue 30, item 21: the how-tos wrote into out/ (out/default, out/sim, ...), after which
+    `make run`, writing out/ as a whole, refused it although the README says a rerun replaces it.
+    `make run` now writes out/run, and nothing the docs or benchmarks run writes there."""
+    run = re.search(r"^run:.*\n\t(.*)$", (ROOT / "Makefile").read_text(), re.M).group(1)
+    folder = re.search(r"--out (\S+)", run).group(1)
+    assert folder == "out/run"
+    assert f"writes to `{folder}/`" in (ROOT / "README.md").read_text()
+    texts = {p: p.read_text() for p in [ROOT / "README.md", *(ROOT / "docs").rglob("*.md"),
+                                          *(ROOT / "benchmarks").glob("*.py")]}
+    for path, text in texts.items():
+        lines = [ln for ln in text.splitlines() if ln.lstrip().startswith(("fingerpad ", "--", "mkdir"))
+                 or "--out" in ln or "--json" in ln]
+        for line in lines:
+            if "make run" in line or "run-default" in line and "--out" not in line:
+                continue
+            for target in re.findall(r"(?:--out|--json|--csv|--save|--plot|-o)[ =](\S+)|mkdir -p (\S+)", line):
+                name = next(t for t in target if t).strip("`\"'")
+                assert name.rstrip("/") != folder and not name.startswith(folder + "/"), (path, line)

@@ -140,8 +140,8 @@ def test_staging_commits_all_files(tmp_path):
     try:
         staging.stage(str(tmp_path / "a.json"), lambda tmp: tmp.write_text("{}"))
         staging.stage(str(tmp_path / "b.csv"), lambda tmp: tmp.write_text("x\n1\n"))
-        # nothing final exists before the commit, only hidden parts
-        assert all(name.startswith(".") and name.endswith(".part") for name in listing(tmp_path))
+        # nothing final exists before the commit, only hidden parts (and the files' locks)
+        assert all(name.startswith(".") and name.endswith((".part", ".lock")) for name in listing(tmp_path))
         staging.commit()
     finally:
         staging.discard()
@@ -361,3 +361,46 @@ def test_to_jsonable_keeps_plain_values():
     plain = {"a": [1, 2.5, "x", None, True]}
     assert to_jsonable(plain) == plain
     assert math.isnan(float("nan")) and to_jsonable(float("nan")) is None
+
+
+# ------------------------------------------------------------------------------------------------
+# read_toml: every TOML file a user gives, one set of checks (issue 30, items 13 and 19)
+
+
+@pytest.mark.parametrize("content, message", [
+    (b"x = " + b"[" * 2000 + b"]" * 2000, r"^study file '.*f\.toml': arrays or tables nested too deeply to read$"),
+    (b"x = " + b"{a = " * 2000 + b"1" + b"}" * 2000, "nested too deeply"),
+    (b"x = " + b"9" * 5000, r"^study file '.*f\.toml': Exceeds the limit \(4300 digits\) for integer string "
+                            r"conversion: value has 5000 digits$"),
+    (b"\xff\xfex = 1", "is saved as UTF-16"),
+    (b"x = 1\x00", "is a binary file"),
+    (b"x = '\xe9'", r"is not UTF-8 text \(byte 6, line 1"),
+    (b"x = ", r"^study file '.*f\.toml': Invalid value"),
+])
+def test_read_toml_refuses_in_one_line(tmp_path, content, message):
+    path = tmp_path / "f.toml"
+    path.write_bytes(content)
+    with pytest.raises(FingerpadError, match=message):
+        fio.read_toml(path, "study file")
+
+
+def test_read_toml_names_what_is_not_a_file(tmp_path):
+    import os
+
+    fifo = tmp_path / "pipe.toml"
+    os.mkfifo(fifo)  # never opened: reading it would wait for a writer
+    with pytest.raises(FingerpadError, match=r"^cannot read study file '.*pipe\.toml': it is a FIFO \(named pipe\); "
+                                             r"give a TOML text file$"):
+        fio.read_toml(fifo, "study file")
+    with pytest.raises(FingerpadError, match=r"^cannot read study file '.*none\.toml': no such file$"):
+        fio.read_toml(tmp_path / "none.toml", "study file")
+    with pytest.raises(FingerpadError, match="it is a directory"):
+        fio.read_toml(tmp_path, "study file")
+    big = tmp_path / "big.toml"
+    with open(big, "wb") as fh:
+        fh.truncate(fio.MAX_TOML_BYTES + 1)
+    with pytest.raises(FingerpadError, match="more than the 16 MiB a TOML file may have here"):
+        fio.read_toml(big, "study file")
+    bom = tmp_path / "bom.toml"
+    bom.write_bytes(b"\xef\xbb\xbfx = 1\n")
+    assert fio.read_toml(bom) == {"x": 1}

@@ -124,8 +124,18 @@ FINGER_FIELDS: dict[str, str] = {p.name: p.dimension for p in FINGER_PARAMS}
 
 
 def finger_param(name: str) -> Param:
-    """The declaration of the finger field ``name``."""
-    return next(p for p in FINGER_PARAMS if p.name == name)
+    """The declaration of the finger field ``name``.
+
+    Raises
+    ------
+    FingerpadError
+        No finger field has that name (listing those there are).
+    """
+    found = next((p for p in FINGER_PARAMS if p.name == name), None)
+    if found is None:
+        raise FingerpadError(f"unknown finger parameter {name!r} (finger parameters: "
+                             f"{', '.join(p.name for p in FINGER_PARAMS)})")
+    return found
 
 
 @dataclass(frozen=True)

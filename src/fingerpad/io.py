@@ -1,4 +1,7 @@
-"""Writing files atomically and output folders as a whole.
+"""Reading the TOML files users write, and writing files atomically and output folders as a whole.
+
+:func:`read_toml` reads every TOML file a user gives (study files, population files, column
+specs) with the same checks and messages.
 
 NetCDF files of solved cells are in :mod:`fingerpad.netcdf`; values become JSON or NetCDF
 attributes in :mod:`fingerpad.encode`.
@@ -26,8 +29,74 @@ from pathlib import Path
 from typing import Any
 
 
+from . import locks
 from .errors import FingerpadError
 
+
+# ---------------------------------------------------------------------------------------------
+# TOML files a user writes
+# ---------------------------------------------------------------------------------------------
+
+#: Largest TOML file read (bytes): a study, population or column file is a few kB of text; a
+#: bigger one is a mistake (a data file named instead), refused before it is read into memory.
+MAX_TOML_BYTES = 16 * 2**20
+
+
+def read_toml(path: str | os.PathLike[str], what: str = "file") -> dict[str, Any]:
+    """The tables of the TOML file ``path``; ``what`` names it in messages (``study file``).
+
+    Raises
+    ------
+    FingerpadError
+        ``cannot read {what} 'PATH': ...``: no such file, a folder, not a regular file (a FIFO or
+        a device, never opened: reading one would wait for a writer), larger than
+        :data:`MAX_TOML_BYTES`, unreadable, binary, not UTF-8 (UTF-16 said so), not TOML, nested
+        too deeply for the parser or holding an integer too long to convert. A UTF-8 byte-order
+        mark is skipped.
+    """
+    import stat
+    import tomllib
+
+    text = os.fspath(path)
+    head = f"cannot read {what} {text!r}"
+    try:
+        st = os.stat(text)
+    except FileNotFoundError:
+        raise FingerpadError(f"{head}: no such file") from None
+    except OSError as exc:
+        raise FingerpadError(f"{head}: {exc.strerror or exc}") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise FingerpadError(f"{head}: it is a directory")
+    if not stat.S_ISREG(st.st_mode):
+        kind = "a FIFO (named pipe)" if stat.S_ISFIFO(st.st_mode) else "not a regular file"
+        raise FingerpadError(f"{head}: it is {kind}; give a TOML text file")
+    if st.st_size > MAX_TOML_BYTES:
+        raise FingerpadError(f"{head}: it is {st.st_size / 2**20:.0f} MiB, more than the {MAX_TOML_BYTES // 2**20} MiB "
+                             f"a TOML file may have here (a data file named instead?)")
+    try:
+        with open(text, "rb") as fh:
+            raw = fh.read(MAX_TOML_BYTES + 1)
+    except OSError as exc:
+        raise FingerpadError(f"{head}: {exc.strerror or exc}") from None
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise FingerpadError(f"{what} {text!r} is saved as UTF-16 (a byte-order mark says so); save it as UTF-8 "
+                             "TOML text")
+    if b"\x00" in raw[:4096]:
+        raise FingerpadError(f"{what} {text!r} is a binary file, not a text file; save it as UTF-8 TOML text")
+    try:
+        decoded = raw.decode("utf-8-sig")  # a byte-order mark (Windows editors write one) is skipped
+    except UnicodeDecodeError as exc:
+        line = raw[: exc.start].count(b"\n") + 1
+        raise FingerpadError(f"{what} {text!r} is not UTF-8 text (byte {exc.start + 1}, line {line}: "
+                             f"{raw[exc.start:exc.start + 1]!r}); save it as UTF-8 TOML text") from None
+    try:
+        return tomllib.loads(decoded)
+    except tomllib.TOMLDecodeError as exc:
+        raise FingerpadError(f"{what} {text!r}: {exc}") from None
+    except RecursionError:
+        raise FingerpadError(f"{what} {text!r}: arrays or tables nested too deeply to read") from None
+    except ValueError as exc:  # an integer of thousands of digits (Python's conversion limit)
+        raise FingerpadError(f"{what} {text!r}: {exc.args[0].split(';')[0] if exc.args else exc}") from None
 
 
 # ---------------------------------------------------------------------------------------------
@@ -83,6 +152,28 @@ def _probe(folder: Path) -> str | None:
     return None
 
 
+def _check_replaceable(path: Path, label: str) -> None:
+    """Raise a :class:`FingerpadError` if the existing ``path`` cannot be replaced by a rename
+    (an immutable or append-only file or folder, ``chattr +i``): tried, as :func:`_probe` tries,
+    by renaming it to a hidden name and back, so that the refusal comes before the work."""
+    probe = path.parent / f".{path.name}.{uuid.uuid4().hex[:8]}.probe"
+    try:
+        os.rename(path, probe)
+    except OSError as exc:
+        raise FingerpadError(f"cannot replace {label}: {exc.strerror or exc}") from None
+    os.rename(probe, path)
+
+
+def check_folder_writable(folder: str | os.PathLike[str], label: str) -> None:
+    """Raise a :class:`FingerpadError` if files cannot be created in, or written into, the
+    existing ``folder`` (a store resumed in place), or it cannot be replaced by a rename; tried."""
+    path = Path(folder)
+    reason = _probe(path)
+    if reason is not None:
+        raise FingerpadError(f"cannot write into {label}: {reason}")
+    _check_replaceable(path, label)
+
+
 def existing_parent(path: Path) -> Path:
     """The nearest existing ancestor of ``path`` (temporary folders go there, same disk)."""
     parent = Path(os.path.abspath(path)).parent
@@ -91,11 +182,14 @@ def existing_parent(path: Path) -> Path:
     return parent
 
 
-def check_writable(path: str | os.PathLike[str], what: str = "output", suffixes: Sequence[str] = ()) -> Path:
+def check_writable(path: str | os.PathLike[str], what: str = "output", suffixes: Sequence[str] = (),
+                   claim: bool = True) -> Path:
     """Raise a :class:`FingerpadError` early if the file ``path`` cannot be written: an empty
     name, a name not ending in one of ``suffixes`` (the format follows the name, so ``--plot
     x.txt`` must not write a PNG), a folder, something that is not a regular file (``/dev/null``
-    is never replaced), a missing folder, or a folder where nothing can be created (tried).
+    is never replaced), a missing folder, a folder where nothing can be created, an existing
+    file that cannot be replaced (both tried), or a file another run is writing
+    (:mod:`fingerpad.locks`; ``claim``: inside a command, hold its lock until the command ends).
     A symbolic link is written through. Returns the path."""
     text = os.fspath(path)
     if not text.strip():
@@ -115,6 +209,10 @@ def check_writable(path: str | os.PathLike[str], what: str = "output", suffixes:
     reason = _probe(parent)
     if reason is not None:
         raise FingerpadError(f"cannot write {what} {text!r}: {reason} (folder {str(parent)!r})")
+    if p.exists():
+        _check_replaceable(p, f"{what} {text!r}")
+    if claim:
+        locks.claim(text, what)  # no other run writes it (held to the command's end, see locks.claims)
     return Path(text)
 
 
@@ -154,6 +252,7 @@ def check_output_location(path: str | os.PathLike[str], option: str = "--out",
     reason = _probe(existing)
     if reason is not None:
         raise FingerpadError(f"cannot write {option} {text!r}: {reason} (folder {str(existing)!r})")
+    locks.claim(final, option, text)  # no other run writes it (held to the command's end, see locks.claims)
     return final
 
 
@@ -233,19 +332,25 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
     link is written through (the link stays).
     """
     target = real_path(path)
-    check_writable(path)
-    fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent or ".")
-    os.close(fd)
-    tmp = Path(tmp_name)
+    check_writable(path, claim=False)
+    # a user's file is locked while it is written (a temporary one of ours, .NAME..., is ours alone)
+    key = locks.hold(target, "output") if not target.name.startswith(".") else None
     try:
-        yield tmp
-        with contextlib.suppress(OSError):
-            os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, target)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
-        raise
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent or ".")
+        os.close(fd)
+        tmp = Path(tmp_name)
+        try:
+            yield tmp
+            with contextlib.suppress(OSError):
+                os.chmod(tmp, 0o666 & ~_umask())
+            os.replace(tmp, target)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+            raise
+    finally:
+        if key is not None:
+            locks.release(key)
 
 
 def atomic_write(path: str | os.PathLike[str], writer: Callable[[Path], Any]) -> Path:
@@ -290,11 +395,14 @@ class Staging:
 
     def __init__(self) -> None:
         self.staged: list[tuple[Path, Path, str]] = []
+        self.locks: list[str] = []
 
     def stage(self, final: str | os.PathLike[str], write: Callable[[Path], Any]) -> None:
-        """Call ``write(tmp)`` to write the output meant for ``final`` to a temporary file."""
+        """Call ``write(tmp)`` to write the output meant for ``final`` to a temporary file
+        (``final`` locked until :meth:`commit` or :meth:`discard`, see :mod:`fingerpad.locks`)."""
         given = os.fspath(final)
         target = real_path(given)
+        self.locks.append(locks.hold(target, "output"))
         tmp = target.parent / f".{target.name}.{uuid.uuid4().hex[:8]}.part"
         self.staged.append((tmp, target, given))
         try:
@@ -310,6 +418,7 @@ class Staging:
             except OSError as exc:
                 raise WriteError(given, _reason(exc)) from None
         self.staged.clear()
+        self._unlock()
 
     def discard(self) -> None:
         """Remove the temporary files still staged (after an error; harmless after :meth:`commit`)."""
@@ -317,6 +426,11 @@ class Staging:
             with contextlib.suppress(OSError):
                 tmp.unlink()
         self.staged.clear()
+        self._unlock()
+
+    def _unlock(self) -> None:
+        while self.locks:
+            locks.release(self.locks.pop())
 
 
 class OutputFolder:
@@ -340,21 +454,31 @@ class OutputFolder:
         self.option = option
         self.names = tuple(names)
         self.final = self.check(folder, names, option)
+        # held from here to discard: the hidden folder's name is only removed as stale by a
+        # writer holding the lock (fingerpad.locks)
+        self._lock: str | None = locks.hold(self.final, option, self.given)
         try:
             self.final.parent.mkdir(parents=True, exist_ok=True)
             self.build = self.final.parent / f".{self.final.name}.{uuid.uuid4().hex[:8]}.part"
             self.build.mkdir()
         except OSError as exc:
+            self._unlock()
             raise WriteError(self.given, _reason(exc), f"{option} folder") from None
+
+    def _unlock(self) -> None:
+        if self._lock is not None:
+            locks.release(self._lock)
+            self._lock = None
 
     @staticmethod
     def check(folder: str | os.PathLike[str], names: Sequence[str] = (), option: str = "--out",
               inputs: Sequence[str | os.PathLike[str]] = ()) -> Path:
         """The checks of the constructor, without writing anything (to run before long work).
 
-        Refused: what :func:`check_output_location` refuses; a file; a folder holding anything
-        this package did not write there (:func:`foreign_entries`); a folder holding one of
-        ``inputs``. Returns the folder that
+        Refused: what :func:`check_output_location` refuses (a folder another run writes among
+        them); a file; a folder holding anything this package did not write there
+        (:func:`foreign_entries`); a folder holding one of ``inputs``; a folder that cannot be
+        replaced (tried). Returns the folder that
         will be written (absolute, a symbolic link followed).
         """
         final = check_output_location(folder, option, inputs)
@@ -373,6 +497,7 @@ class OutputFolder:
                     f"{option} {text!r} holds files fingerpad did not write there ({shown}); it is left alone: "
                     f"name a new or empty folder (an output folder is replaced as a whole)"
                 )
+            _check_replaceable(final, f"{option} {text!r}")
         return final
 
     def path(self, name: str) -> Path:
@@ -404,6 +529,7 @@ class OutputFolder:
         import shutil
 
         shutil.rmtree(self.build, ignore_errors=True)
+        self._unlock()
 
     def __enter__(self) -> OutputFolder:
         return self

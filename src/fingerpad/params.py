@@ -262,6 +262,8 @@ class Param:
             # needs_unit: text typed without a unit (a number from TOML or Python is SI, as a
             # sweep axis passes its values)
             typed = self.needs_unit and isinstance(value, str)
+            if _is_bare_number(value) and not math.isfinite(float(str(value).strip())):
+                raise FingerpadError(f"{label}: must be a finite number, got {value!r}")  # not "nanm has no unit"
             if (require_unit or typed) and _is_bare_number(value) and float(str(value).strip()) != 0:
                 units = ", ".join(u for u, (dim, _) in UNITS.items() if dim == self.dimension and u.isascii())
                 raise FingerpadError(
@@ -275,7 +277,11 @@ class Param:
         if self.kind == "angle":
             return self.check(parse_angle(value, label), label)
         if self.kind in ("count", "grid"):
+            from .units import MAX_INT_DIGITS, parse_int
+
             text = str(value).strip()
+            if text.lstrip("+-").isdigit():  # digits: read exactly, however many (a 5000-digit one is refused)
+                return self.check(parse_int(text, label, -10**MAX_INT_DIGITS), label)
             try:
                 number = float(text)
             except ValueError:

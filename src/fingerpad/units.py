@@ -89,9 +89,8 @@ def parse_quantity(text: str | float | int, dimension: str, *, name: str = "valu
                 raise FingerpadError(f"{name}: unknown unit {unit!r} in {text!r} (use one of: {known})")
             unit_dim, factor = UNITS[unit]
             if dimension != unit_dim:
-                raise FingerpadError(
-                    f"{name}: {text!r} is a {unit_dim}, expected a {dimension}"
-                )
+                expected = "a plain number (no unit)" if dimension == "none" else f"a {dimension}"
+                raise FingerpadError(f"{name}: {text!r} is a {unit_dim}, expected {expected}")
             exponent = _EXPONENT[unit]
             if exponent is None:
                 value *= factor
@@ -133,10 +132,14 @@ def parse_range(text: str, dimension: str, *, name: str = "range", log: bool = F
         raise FingerpadError(f"{name}: expected START:STOP:COUNT, got {text!r}")
     start = parse_quantity(parts[0], dimension, name=name)
     stop = parse_quantity(parts[1], dimension, name=name)
+    raw = parts[2].strip()
+    if raw.isascii() and raw.isdigit() and len(raw.lstrip("0")) > MAX_INT_DIGITS:
+        raise FingerpadError(f"{name}: COUNT of {len(raw)} digits is more than the {max_count} allowed here")
     try:
-        count = int(parts[2])
+        count = int(raw)
     except ValueError:
-        raise FingerpadError(f"{name}: COUNT must be an integer, got {parts[2]!r}") from None
+        shown = raw if len(raw) <= 40 else raw[:30] + f"... ({len(raw)} characters)"
+        raise FingerpadError(f"{name}: COUNT must be an integer, got {shown!r}") from None
     if count < 1:
         raise FingerpadError(f"{name}: COUNT must be at least 1, got {count}")
     if count > max_count:
@@ -162,16 +165,51 @@ def format_quantity(value: float, dimension: str, digits: int = 4) -> str:
     return f"{value:.{digits}g} {unit}"
 
 
-def parse_int(text: str | int, name: str, minimum: int = 1) -> int:
-    """An integer of at least ``minimum`` from ``text``; errors name the option ``name``."""
+#: Digits an integer typed by a user may have: more than any count or seed here needs, and
+#: far below Python's 4300-digit conversion limit (a 5000-digit --grid was a traceback).
+MAX_INT_DIGITS = 30
+
+
+def parse_int(text: str | int | float, name: str, minimum: int = 1, maximum: int | None = None) -> int:
+    """An integer in ``[minimum, maximum]`` from user input: a Python or NumPy integer, an
+    integral float (``64.0`` from TOML) or digits; errors name ``name`` (the option or key).
+
+    The one reader of counts and seeds typed by users (command-line options, study-file keys,
+    the explorer's fields): the cap of a count is declared where its cost is known and passed
+    as ``maximum``.
+
+    Raises
+    ------
+    FingerpadError
+        ``NAME: expected an integer, got ...`` (a long input shown shortened), or a value out of
+        ``[minimum, maximum]``.
+    """
+    import numbers
+
     if isinstance(text, bool):
         raise FingerpadError(f"{name}: expected an integer, got {text!r}")
-    try:
-        value = int(str(text).strip())
-    except ValueError:
-        raise FingerpadError(f"{name}: expected an integer, got {text!r}") from None
+    if isinstance(text, numbers.Integral):
+        value = int(text)
+    elif isinstance(text, numbers.Real):
+        if not (math.isfinite(text) and float(text).is_integer()):
+            raise FingerpadError(f"{name}: expected an integer, got {text!r}")
+        value = int(text)
+    else:
+        raw = str(text).strip()
+        digits = raw.lstrip("+-")
+        if not (digits.isascii() and digits.isdigit() and len(raw) - len(digits) <= 1):
+            shown = raw if len(raw) <= 40 else raw[:30] + f"... ({len(raw)} characters)"
+            raise FingerpadError(f"{name}: expected an integer, got {shown!r}")
+        if len(digits.lstrip("0")) > MAX_INT_DIGITS:
+            sign = "-" if raw.startswith("-") else ""
+            bound = f"at least {minimum}" if sign else (f"at most {maximum}" if maximum is not None else
+                                                         f"an integer of at most {MAX_INT_DIGITS} digits")
+            raise FingerpadError(f"{name}: must be {bound}, got a {sign}number of {len(digits)} digits")
+        value = int(raw)
     if value < minimum:
         raise FingerpadError(f"{name}: must be at least {minimum}, got {value}")
+    if maximum is not None and value > maximum:
+        raise FingerpadError(f"{name}: must be at most {maximum}, got {value}")
     return value
 
 

@@ -91,7 +91,7 @@ def test_json_to_stdout_writes_no_files(tmp_path, monkeypatch):
     res = invoke("predict", *CAPS, "--model", "hertz", "--loads", "1N", "--json", "-")
     assert res.exit_code == 0, res.output
     assert json.loads(res.stdout)["model"] == "hertz"
-    assert listing(tmp_path) == []
+    assert listing(tmp_path) == []  # neither the staging folder nor the lock
 
 
 def test_out_folder_is_replaced_as_a_whole_or_refused(tmp_path):
@@ -227,9 +227,12 @@ def test_terminated_command_leaves_no_staging(tmp_path):
     proc = subprocess.Popen([*cmd, "simulate-measurement", "--out", str(tmp_path / "sim"), "--sampling-rate", "2e4",
                              "--participants", "3"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and not any(p.name.startswith(".sim.") for p in tmp_path.iterdir()):
+    def staging() -> bool:  # the hidden folder being written (beside it, the lock .sim.lock)
+        return any(p.name.startswith(".sim.") and p.name.endswith(".part") for p in tmp_path.iterdir())
+
+    while time.monotonic() < deadline and not staging():
         time.sleep(0.1)
-    assert any(p.name.startswith(".sim.") for p in tmp_path.iterdir()), "no staging folder appeared"
+    assert staging(), "no staging folder appeared"
     os.kill(proc.pid, signal.SIGTERM)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130 and err.decode().strip().splitlines()[-1] == "interrupted: nothing written"

@@ -38,12 +38,39 @@ def test_progress_bar_finishes_full_when_work_ends_early():
     from fingerpad.cli.common import ProgressBar
 
     out = io.StringIO()
-    with ProgressBar(Console(file=out, width=80, force_terminal=False), "direct predictions") as bar:
+    with ProgressBar(Console(file=out, width=80, force_terminal=True), "direct predictions") as bar:
         bar(44, 60)
         bar.finish()
         task = bar.bar.tasks[0]
         assert (task.completed, task.total) == (44, 44) and task.finished
     ProgressBar(Console(file=io.StringIO()), "never started").finish()  # no bar: nothing to do
+
+
+def test_progress_written_to_a_log_is_plain_lines_not_a_frozen_bar(monkeypatch):
+    """Issue 30, item 21: a bar written where stderr is not a terminal (a log, a pipe) cannot
+    redraw itself and was left in the log at its last state, a line of box characters. There:
+    no bar, plain lines at most every PLAIN_PROGRESS_EVERY seconds (none for short work)."""
+    import io
+
+    from rich.console import Console
+
+    from fingerpad.cli import common
+
+    out = io.StringIO()
+    with common.ProgressBar(Console(file=out, width=80, force_terminal=False), "unit cell ψ(p)") as bar:
+        for i in range(5):
+            bar(i, 202)
+        bar.finish()
+    assert out.getvalue() == "" and bar.bar is None  # short work: nothing
+    monkeypatch.setattr(common, "PLAIN_PROGRESS_EVERY", 0.0)
+    with common.ProgressBar(Console(file=out, width=80, force_terminal=False), "unit cell ψ(p)") as bar:
+        bar(45, 202)
+        bar.detail("iteration 3")
+        bar.stage("deflection ramps")("shear ramp 3/6 done")
+    lines = out.getvalue().splitlines()
+    assert [ln.rsplit(" (", 1)[0] for ln in lines] == ["unit cell ψ(p): 45/202", "unit cell ψ(p): 45/202, iteration 3",
+                                                        "deflection ramps: shear ramp 3/6 done"], lines
+    assert not any(c in out.getvalue() for c in "━╸\x1b")
 
 
 def test_progress_bar_stage_row_has_its_own_clock_and_no_count():
@@ -70,6 +97,26 @@ def test_progress_bar_stage_row_has_its_own_clock_and_no_count():
     lines = [line for line in out.getvalue().splitlines() if "deflection ramps" in line]
     assert lines and "shear ramp 3/6 done" in lines[-1]
     # a stage alone (the unit cell cached: its bar never started) shows its row only
-    with ProgressBar(Console(file=io.StringIO(), width=80), "unit cell ψ(p)") as bar:
+    with ProgressBar(Console(file=io.StringIO(), width=80, force_terminal=True), "unit cell ψ(p)") as bar:
         bar.stage("deflection ramps")("pressing 2 section(s)")
         assert [t.description for t in bar.bar.tasks] == ["deflection ramps"]
+
+
+def test_textures_piped_keeps_each_meaning_beside_its_parameter():
+    """Issue 30, item 21: piped to a file (140 columns), `fingerpad textures` printed each family's
+    parameters and meanings as two cells of many lines, so a wrapped meaning pushed the next ones
+    down beside other parameters ("--spacing LENGTH ... (h <= R)")."""
+    from typer.testing import CliRunner
+
+    from fingerpad.cli import app
+    from fingerpad.textures import registry
+
+    res = CliRunner().invoke(app, ["textures"])
+    assert res.exit_code == 0
+    lines = res.stdout.splitlines()
+    for fam in registry().values():
+        start = next(i for i, ln in enumerate(lines) if ln.startswith(f"│ {fam.name} "))
+        for p in fam.params:
+            row = next(ln for ln in lines[start:] if f"│ {p.option} {p.metavar} " in ln)
+            words = " ".join(p.doc.split()[:2])
+            assert words in row, (fam.name, p.name, row)  # the meaning starts on the option's own line

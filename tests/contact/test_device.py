@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import sys
 import types
 
@@ -100,6 +101,43 @@ def test_commands_refuse_an_absent_device_in_one_line(monkeypatch, tmp_path, no_
                      "CUDA device on this machine"], res.output
     assert not out.exists()  # nothing written
     assert "FINGERPAD_DEVICE" not in os.environ  # the command's setting does not outlive it
+
+
+@pytest.mark.parametrize("door", ["design", "design-population", "explore", "predict", "sweep", "api-design"])
+@pytest.mark.parametrize("name", ["cupy", "torch"])
+def test_every_door_refuses_an_absent_device_of_the_environment(monkeypatch, tmp_path, no_device_env, door, name):
+    """Issue 30, item 3: FINGERPAD_DEVICE=cupy fingerpad design exited 0 with NaN candidates and
+    "no texture meets the target"; explore started and failed at its first BEM run. One check
+    (contact.greens.check_setup), asked by every door."""
+    _without_gpu(monkeypatch, name)
+    monkeypatch.setenv("FINGERPAD_DEVICE", name)
+    expected = f"device '{name}' (FINGERPAD_DEVICE): {'CuPy' if name == 'cupy' else 'PyTorch'} sees no CUDA device"
+    design = ["design", "examples/study.toml", "--vary", "spacing=100um:400um", "--target", "mu_rel=0.5@1N",
+              "--evaluations", "2"]
+    if door == "api-design":
+        from fingerpad.design.inverse_design import design_textures
+
+        with pytest.raises(SetupError, match=re.escape(expected)):
+            design_textures("examples/study.toml", ["spacing=100um:400um"], ["mu_rel=0.5@1N"], evaluations=2)
+        return
+    if door == "explore":
+        pytest.importorskip("panel")
+        from fingerpad.explore import server
+
+        started = []
+        monkeypatch.setattr(server, "server_populations", lambda *a: started.append(1) or {})
+        res = invoke("explore", "--no-browser", "--port", "0")
+        assert not started  # refused before anything is read or served
+    else:
+        args = {"design": design,
+                "design-population": [*design, "--population", "adults", "--coverage", "0.5"],
+                "predict": ["predict", "--grid", "16", "--out", tmp_path / "out"],
+                "sweep": ["sweep", "examples/sweep.toml", "--out", tmp_path / "s.zarr"]}[door]
+        res = invoke(*args)
+    assert res.exit_code == 2, res.output
+    lines = [ln for ln in res.output.splitlines() if ln.strip()]
+    assert lines == [f"error: {expected} on this machine"], res.output
+    assert not any(tmp_path.iterdir())
 
 
 def test_environment_variable_refused_like_the_option(monkeypatch, no_device_env):

@@ -110,6 +110,8 @@ def test_robust_design_round_trip(tmp_path):
     assert within.mean() >= 0.9
     assert best["population"]["coverage"] == within.mean()
     assert best["population"]["members_meeting"] == int(within.sum())
+    keys = [r["key"] for r in doc["references"]]  # a Hertz cell: no contact solver to cite
+    assert keys[:2] == ["sergachev2021", "fingerpad"] and "johnson1985" in keys and "polonsky1999" not in keys
     np.testing.assert_allclose(best["population"]["quantiles"][target]["0.5"], np.quantile(values, 0.5), rtol=1e-12)
     api = design_textures(study, {"spacing": ("150um", "400um")}, [target], population=str(pop_file), coverage=0.9,
                           evaluations=16, candidates=2)

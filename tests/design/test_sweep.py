@@ -185,6 +185,31 @@ def test_resume_after_kill(tmp_path):
     np.testing.assert_array_equal(after["seconds"].values[finished], before["seconds"].values[finished])
 
 
+def test_ctrl_c_is_one_line_without_worker_tracebacks(tmp_path):
+    """Issue 30, item 7: Ctrl-C (SIGINT to the whole process group, as a terminal sends it)
+    printed ~40 lines of worker KeyboardInterrupt tracebacks before `interrupted`."""
+    study = write_study(tmp_path, spacing="120um:360um:6", grid=48)
+    store = tmp_path / "r.zarr"
+    env = {**os.environ, "FINGERPAD_CACHE": str(tmp_path / "cache")}
+    proc = subprocess.Popen([*fingerpad_cmd(), "sweep", str(study), "--out", str(store), "--workers", "2"],
+                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    deadline = time.monotonic() + 180
+    while time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.1)
+        if store.exists():  # the cluster is up and the tasks run
+            time.sleep(1.0)
+            break
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    tail = [ln for ln in lines if ln.startswith("interrupted:")]
+    assert len(tail) == 1 and lines[-1] == tail[0], err
+    assert tail[0].endswith(f"points kept in {store} (rerun the same command to finish)"), tail
+
+
 def _free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -273,6 +298,9 @@ def test_inverse_design_round_trip(swept):
                                "--loads", f"{load_1}N", "--cache", str(cache), "--json", "-"])
     got = json.loads(pred.stdout)["results"][0]["mu_normalised"]
     assert got == pytest.approx(goal, rel=0.05)
+    # the design names the publications of the methods its predictions used, as predict does
+    assert [r["key"] for r in out["references"]] == [r["key"] for r in json.loads(pred.stdout)["references"]]
+    assert "polonsky1999" in [r["key"] for r in out["references"]]
     # the Python API gives the command's document (the command parses, calls it once, prints)
     from fingerpad.design.inverse_design import design_textures
 

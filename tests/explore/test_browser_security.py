@@ -167,3 +167,42 @@ def test_forged_choices_and_indices_are_refused(page, explorer):
     set_field(page, "loads.range", "0.1N:4N:40")
     set_field(page, "model.grid", "")
     expect(page.locator(".fp-stale")).to_have_count(0)
+
+
+def model_value(page, css_class: str):
+    return page.evaluate(
+        """(cls) => {
+            for (const doc of Bokeh.documents) {
+                for (const m of doc.all_models) {
+                    if (m.css_classes && m.css_classes.includes(cls) && 'value' in m.properties) return m.value;
+                }
+            }
+            return null;
+        }""", css_class)
+
+
+def test_a_forged_population_is_reset_to_none_and_logged_short(page, explorer):
+    """Issue 30, item 17: Panel refused a choice outside the options before the package's check
+    ran, so the selector was not set back to none as promised, and a 5 MB forged value was echoed
+    whole into the server's output (with a traceback). Now the package checks it first."""
+    from playwright.sync_api import expect
+
+    start = len(explorer.output)
+    assert forge(page, "fp-population", "x" * 5_000_000)
+    expect(page.locator(".fp-population-msg")).to_contain_text("population: choose one of none, adults")
+    page.wait_for_function("""() => {
+        for (const doc of Bokeh.documents) for (const m of doc.all_models)
+            if (m.css_classes && m.css_classes.includes('fp-population')) return m.value === 'none';
+        return false; }""")
+    assert forge(page, "fp-field-model-kind", "y" * 100_000)  # any select of the page
+    page.wait_for_function("""() => {
+        for (const doc of Bokeh.documents) for (const m of doc.all_models)
+            if (m.css_classes && m.css_classes.includes('fp-field-model-kind')) return m.value.length < 10;
+        return false; }""")
+    page.wait_for_timeout(1000)
+    said = "".join(explorer.output[start:])
+    assert "Traceback" not in said and "not in list" not in said, said[:2000]
+    assert max((len(line) for line in said.splitlines()), default=0) < 400
+    assert said.count("refused a value from the page") == 2, said[:2000]
+    assert "(5000000 characters)" in said and "(100000 characters)" in said
+    assert explorer.proc.poll() is None

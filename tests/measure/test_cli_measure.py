@@ -121,6 +121,24 @@ def test_modulus_table_fits_80_columns(monkeypatch, capsys, tmp_path):
         assert any(piece in line for line in lines), piece  # whole, on one line
 
 
+def test_labels_from_files_are_printed_escaped(monkeypatch, capsys, tmp_path):
+    """Issue 30, item 12: a participant label holding terminal escapes cleared the screen and
+    recoloured it; one holding Rich markup lost its brackets."""
+    monkeypatch.setenv("COLUMNS", "120")
+    evil = "P01\x1b[2J\x1b[31m[bold]x\u202e"
+    rows = [{"participant": evil, "ref_k": 0.47, "ref_n": 0.61, "skin_modulus": 2.91e5,
+             "skin_modulus_interval": "0.179-0.452 MPa", "skin_modulus_model": "bem", "skin_modulus_other": math.nan,
+             "skin_modulus_sens_low": math.nan, "skin_modulus_sens_high": math.nan}]
+    result = _stub_result(rows)
+    result.conditions = pd.DataFrame([{"participant": evil, "sample": "bumps\x07", "direction": "",
+                                       "transition": "no transition detected"}])
+    _print_summary(result, [], tmp_path)
+    out = capsys.readouterr().out
+    assert "\x1b" not in out and "\x07" not in out and "\u202e" not in out
+    assert "P01\\x1b[2J\\x1b[31m[bold]x\\u202e" in out  # shown as written, escapes visible
+    assert "P01\\x1b[2J\\x1b[31m[bold]x\\u202e bumps\\x07: no transition detected" in out
+
+
 def test_analyse_summary_at_80_columns(app, small_study_dir, tmp_path):
     """The real command on a simulated study: every 95 % set printed whole."""
     res = CliRunner(env={"COLUMNS": "80"}).invoke(

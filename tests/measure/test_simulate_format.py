@@ -78,7 +78,10 @@ def test_same_seed_same_files(simulated, tmp_path):
     (dict(reference="bumps"), "cannot also be a textured sample"),
     (dict(speed=0.0), "speed must be positive"),
     (dict(sampling_rate=10.0), "at least 40 samples"),
-    (dict(participants=10_000, strokes_per_file=100), "at most 5e\\+07 are allowed"),
+    (dict(participants=1000, repetitions=100, strokes_per_file=100), "at most 5e\\+07 are allowed"),
+    (dict(participants=300_000, strokes_per_file=2), "participants: at most 1000 in a simulated study, got 300000"),
+    (dict(repetitions=10**9), "repetitions: at most 100"),
+    (dict(strokes_per_file=10**6), "strokes per file: at most 10000"),
 ])
 def test_config_refusals(kwargs, message):
     with pytest.raises(FingerpadError, match=message):

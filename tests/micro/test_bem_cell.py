@@ -84,7 +84,9 @@ def test_concurrent_writers_merge(tmp_path) -> None:
         parts = pool.map(_worker, ranges)
     union = set().union(*map(set, parts))
     merged = BEMUnitCell(caps64(), E, cache=CurveCache(tmp_path))
-    assert set(merged.points) == union  # nothing lost
+    # nothing lost: every process's nodes are in the entry (a cell's curve uses those of the
+    # ranges it prepares, not all it finds)
+    assert {q * merged.modulus for q in merged._known} >= union
     assert len(list(tmp_path.glob("*.tmp"))) == 0
 
 

@@ -69,3 +69,39 @@ def test_uncreatable_folder_warns_and_the_work_goes_on(tmp_path):
     with pytest.warns(cache.CacheWarning):
         entry = cache.CurveCache(tmp_path / "file" / "sub").update("k", {"a": 1})
     assert entry["a"] == 1
+
+
+@pytest.mark.parametrize("content", [
+    "{\"points\": {\"0.001\": {\"contact_fr",  # cut short
+    "[]",
+    "{\"points\": 3}",
+    "{\"points\": {\"abc\": {\"contact_fraction\": 0.1}}}",
+    "{\"points\": {\"0.001\": {\"contact_fraction\": 2, \"mean_gap\": 0, \"max_pressure\": 0, "
+    "\"contact_state\": \"asperity\", \"converged\": true, \"iterations\": 3}}}",
+    "{\"transition\": \"x\"}",
+    "{\"full\": [1, 0]}",
+])
+def test_a_damaged_entry_is_said_and_computed_again(tmp_path, content):
+    """Issue 30, item 19: a corrupted cache entry was recomputed without a word (and a tampered
+    one, valid JSON of another shape, ended in a traceback)."""
+    import warnings
+
+    from fingerpad import textures
+    from fingerpad.micro.bem import BEMUnitCell
+    from fingerpad.micro.cache import _WARNED, CacheWarning, CurveCache
+
+    cell = textures.spherical_caps(radius=50e-6, height=10e-6, spacing=100e-6, grid=32)
+    cache = CurveCache(tmp_path)
+    ref = BEMUnitCell(cell, 1e6, cache=cache).prepare(1e2, 1e4)
+    expected = {k: v.tolist() for k, v in ref.curve().items()}
+    entry = next(tmp_path.glob("*.json"))
+    entry.write_text(content)
+    _WARNED.discard(str(entry))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        again = BEMUnitCell(cell, 1e6, cache=cache).prepare(1e2, 1e4)
+    said = [str(w.message) for w in caught if issubclass(w.category, CacheWarning)]
+    assert len(said) == 1 and said[0].startswith(f"cache entry {str(entry)!r} cannot be read ("), said
+    assert said[0].endswith("its unit-cell points are computed again and the entry is written anew")
+    assert {k: v.tolist() for k, v in again.curve().items()} == expected  # the same numbers, whatever the cache held
+    assert BEMUnitCell(cell, 1e6, cache=cache).points  # and the entry is whole again

@@ -51,6 +51,36 @@ def test_zones_figure(tmp_path, prediction, png_is_drawn):
     assert p[0] == max(p) and p[-1] == 0.0
 
 
+def _legend_clears_the_disc(fig) -> None:
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    legend = ax.get_legend().get_window_extent()
+    outer = max(ax.patches, key=lambda p: p.get_window_extent().width).get_window_extent()
+    assert legend.y0 >= outer.y1 or legend.x0 >= outer.x1 or legend.x1 <= outer.x0 or legend.y1 <= outer.y0, \
+        (legend, outer)
+    assert ax.get_window_extent().contains(legend.x0, legend.y0) and ax.get_window_extent().contains(legend.x1,
+                                                                                                     legend.y1)
+
+
+def test_zones_legend_does_not_cover_the_disc(prediction):
+    """Issue 30, item 22: in the corner of the square box, zones.png's legend covered the
+    disc's top left; it has a band of its own above the disc."""
+
+    _legend_clears_the_disc(figure_zones(prediction))
+    # four rows: the full-contact disc too (the zones of a load where the centre is in full contact)
+    z = dict(prediction.zones)
+    a = z["ridge_radius"]
+    z.update(transition_radius=0.8 * a, full_contact_radius=0.4 * a, hertz_transition_radius=0.9 * a)
+
+    class Shown:  # the prediction, with these zones
+        def __getattr__(self, name):
+            return z if name == "zones" else getattr(prediction, name)
+
+    fig = figure_zones(Shown())
+    assert len(fig.axes[0].get_legend().get_texts()) == 4
+    _legend_clears_the_disc(fig)
+
+
 @pytest.fixture(scope="module")
 def hertz_prediction():
     from fingerpad.study import run as study_run

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -271,9 +272,21 @@ def test_a_population_file_with_a_byte_order_mark_is_read(tmp_path: Path):
     assert res.exit_code == 0, res.stderr
     assert len(json.loads(res.stdout)["population"]["members"]) == 12
     pop.write_bytes(POP.encode("utf-16"))
-    assert "cannot read it as UTF-8 TOML text" in _user_error(invoke("predict", *CAPS, "--population", pop))
+    assert "is saved as UTF-16" in _user_error(invoke("predict", *CAPS, "--population", pop))
     pop.write_text("[population]\nx = " + "[" * 3000 + "]" * 3000 + "\n")
-    assert "--population" in _user_error(invoke("predict", *CAPS, "--population", pop))
+    assert "nested too deeply" in _user_error(invoke("predict", *CAPS, "--population", pop))
+
+
+def test_a_population_file_is_read_by_the_one_toml_reader(tmp_path: Path):
+    """Every TOML a user gives goes through io.read_toml: a FIFO named as --population is refused
+    without being opened (reading one waits for a writer), a binary file is said to be one."""
+    fifo = tmp_path / "pop.toml"
+    os.mkfifo(fifo)
+    line = _user_error(invoke("predict", *CAPS, "--population", fifo))
+    assert "cannot read --population file" in line and "a FIFO (named pipe)" in line
+    binary = tmp_path / "pop.bin"
+    binary.write_bytes(b"\x00\x01" * 64)
+    assert "is a binary file" in _user_error(invoke("predict", *CAPS, "--population", binary))
     assert "--population: empty" in _user_error(invoke("predict", *CAPS, "--population", ""))
 
 

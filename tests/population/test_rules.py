@@ -218,8 +218,23 @@ def test_a_panel_of_three_is_told_its_outer_bands_are_its_range():
     plan = attach(study_from_dict(_data()), pop)
     assert any("3 people; the 5 %, 25 %, 75 %, 95 % bands lie beyond what 3 people show" in n for n in plan.notes)
     assert not any("people" in n for n in attach(study_from_dict(_data()), pop, quantiles=[0.5]).notes)
+    one = Population({"skin_modulus": Distribution(POPULATION_PARAMS["skin_modulus"], "values", {"values": values[:1]})},
+                     size=1, method="measured", name="one", measured=({"skin_modulus": values[0]},))
+    assert any("1 person; the 5 %, 25 %, 50 %, 75 %, 95 % bands lie beyond what 1 person shows" in n
+               for n in attach(study_from_dict(_data()), one).notes)  # not '1 people show'
 
 
 def test_members_of_a_big_panel_get_no_such_note():
     assert not any("people" in n for n in attach(study_from_dict(_data()), "adults").notes)
     assert np.isclose(sorted(quantile_levels(None))[0], 0.05)
+
+
+def test_a_population_of_another_type_is_a_fingerpad_error():
+    """A Python caller giving a list, a number or bytes as the population got a TypeError from
+    pathlib (found by trying bad inputs on attach)."""
+    study = study_from_dict(_data())
+    for bad in ([1, 2], 3, b"adults"):
+        with pytest.raises(FingerpadError, match=f"population: expected a preset name .*got {type(bad).__name__}"):
+            attach(study, bad)
+        with pytest.raises(FingerpadError, match="population: expected a preset name"):
+            run_population(study, bad)

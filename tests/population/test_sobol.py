@@ -183,3 +183,34 @@ def test_measured_populations_refused_and_correlations_noted():
                                                                                           0.5),))
     res = population_sensitivity(run_study(study), correlated, 16)
     assert any("correlations are not used" in n for n in res.notes)
+
+
+def test_a_first_order_estimate_above_its_total_is_marked_and_explained(capsys, monkeypatch):
+    """Issue 31: the table showed first-order indices above total ones without saying why. The
+    estimates come from two estimators with their own sampling error; a parameter acting alone
+    (S_T ~ S) may show either above the other. The table marks such a pair and a note explains."""
+    from fingerpad.cli._sensitivity import print_sensitivity
+    from fingerpad.population.sobol import first_above_total_note
+
+    def entry(first, total, fc=0.05, tc=0.04):
+        return {"first": first, "total": total, "first_conf": fc, "total_conf": tc}
+
+    fine = {"log10_critical_load": {"a": entry(0.3, 0.4), "b": entry(0.5, 0.6)}}
+    assert first_above_total_note(fine) is None
+    within = {"log10_critical_load": {"a": entry(0.55, 0.53), "b": entry(0.4, 0.45)}}
+    note = first_above_total_note(within)
+    assert "first-order above total in 1 entries" in note and "0.02" in note and "all within" in note
+    beyond = {"log10_critical_load": {"a": entry(0.9, 0.5)}}
+    assert "0 of them within" in first_above_total_note(beyond) and "--sensitivity-samples" in \
+        first_above_total_note(beyond)
+    sens = {"plan": {"base_samples": 64, "evaluations": 64 * 5}, "loads": [1.0],
+            "mu_normalised": {"a": {**entry([0.55], [0.53]), "first_conf": [0.05], "total_conf": [0.04]},
+                              "b": {**entry([0.3], [0.4]), "first_conf": [0.05], "total_conf": [0.04]}},
+            "log10_critical_load": {"a": entry(0.5, 0.6), "b": entry(0.3, 0.35)},
+            "notes": [note]}
+    monkeypatch.setenv("COLUMNS", "80")
+    print_sensitivity(sens)
+    out = capsys.readouterr().out
+    assert "0.55/0.53*" in out and "0.30/0.40 " in out + " "
+    assert "* first-order above total" in out and "note: first-order above total" in " ".join(out.split())
+    assert max(len(line) for line in out.splitlines()) <= 80

@@ -61,6 +61,32 @@ def test_rigid_material_drops_the_file_poisson():
     assert study.study_from_dict(data).material_modulus is None
 
 
+@pytest.mark.parametrize("flags, file, message", [
+    ({"--material-poisson": "0.3"}, {}, "it needs a material modulus, --material-modulus (the default material is rigid)"),
+    ({"--material-poisson": "0.3"}, {"modulus": "rigid"}, "[material] modulus rigid is a rigid material, which has none"),
+    ({"--material-poisson": "0.3", "--material-modulus": "inf"}, {},
+     "--material-modulus inf is a rigid material, which has none"),
+])
+def test_a_poisson_ratio_without_a_modulus_is_one_message_at_every_door(flags, file, message, tmp_path):
+    """Issue 30, item 19: --material-modulus inf --material-poisson 0.3 read as "needs
+    --material-modulus"; predict and solve said it in two ways (and overrides in a third)."""
+    from typer.testing import CliRunner
+
+    from fingerpad.cli import app
+
+    data, labels = apply_flags({"texture": {"name": "flat"}, "material": file}, flags)
+    with pytest.raises(FingerpadError) as got:
+        study.study_from_dict(data, labels)
+    expected = f"--material-poisson: a Poisson ratio is given, but {message}"
+    assert str(got.value) == expected
+    if not file:  # the command lines of predict and solve
+        args = [a for k, v in flags.items() for a in (k, v)]
+        caps = ["--texture", "caps", "--radius", "50um", "--height", "10um", "--spacing", "100um", "--grid", "16"]
+        for command in (["predict", *caps, "--json", "-"], ["solve", *caps, "--pressure", "1kPa"]):
+            res = CliRunner().invoke(app, [*command, *args])
+            assert res.exit_code == 2 and res.stderr.strip() == f"error: {expected}", (command, res.output)
+
+
 def test_finger_params():
     data, labels = apply_flags({}, {"--texture": "flat"}, finger_params=["radius = 8mm", "skin-modulus=0.2MPa"])
     assert data["finger"] == {"radius": "8mm", "skin_modulus": "0.2MPa"}
@@ -86,8 +112,6 @@ def test_finger_param_ridge_fraction_sets_constant_fraction_ridges():
                                                                     r"parameters follow --texture NAME\)"),
     (dict(flags={}, texture_options=[("grid", "32")]), "give the grid size once, as --grid"),
     (dict(flags={}, texture_options=[("size", "1mm")]), "--size is not a texture parameter here"),
-    (dict(flags={"--material-poisson": "0.3"}, data={"texture": {"name": "flat"}}),
-     "--material-poisson needs --material-modulus"),
     (dict(flags={}, finger_params=["radius"]), "--finger-param: expected NAME=VALUE"),
     (dict(flags={}, finger_params=["thumb=1"]), "--finger-param: unknown finger parameter 'thumb'"),
 ])

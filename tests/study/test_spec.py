@@ -79,7 +79,7 @@ def test_material_defaults_and_rigid():
     assert s.material_modulus == 0.5e9 and s.material_poisson == 0.35  # the documented default
     s = make(material={"modulus": "rigid"})
     assert s.material_modulus is None
-    with pytest.raises(FingerpadError, match=r"\[material\] poisson: a Poisson ratio needs a material modulus"):
+    with pytest.raises(FingerpadError, match=r"\[material\] poisson: a Poisson ratio is given, but it needs a material modulus"):
         make(material={"poisson": 0.4})
 
 

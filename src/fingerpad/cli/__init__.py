@@ -36,7 +36,7 @@ import typer
 from typer.core import TyperGroup
 
 from .._version import __version__
-from ..errors import one_line
+from ..errors import FingerpadError, one_line
 from . import cite, deflection, design, explore, fingers, measure, predict, solve, sweep, textures
 from . import common
 from .common import EXIT_INTERRUPTED, EXIT_USER_ERROR, report_interrupt
@@ -75,9 +75,34 @@ class _OneLineErrors(TyperGroup):
         super().__init__(*args, **kwargs)
         _escape_help(self)
 
+    def _given_twice(self, args: list[Any]) -> None:
+        """An option that takes one value, given twice (``--grid 16 ... --grid 32``): Click keeps
+        the last silently; here it is a usage error, as a contradiction is."""
+        args = [str(a) for a in args]  # Python callers (tests, scripts) may pass paths or numbers
+        command = self.commands.get(args[0]) if args else None
+        if command is None:
+            return
+        seen: dict[Any, str] = {}
+        for i, token in enumerate(args[1:], 1):
+            if token == "--":
+                break
+            for param in getattr(command, "params", []):
+                if getattr(param, "multiple", True) or getattr(param, "is_flag", True) or getattr(param, "count", False):
+                    continue
+                opts = [*getattr(param, "opts", ()), *getattr(param, "secondary_opts", ())]
+                hit = next((o for o in opts if token == o or (o.startswith("--") and token.startswith(o + "="))), None)
+                if hit is None:
+                    continue
+                value = token.split("=", 1)[1] if "=" in token else (args[i + 1] if i + 1 < len(args) else "")
+                if param.name in seen:
+                    raise FingerpadError(f"{hit} is given twice ({seen[param.name]} and {value}): give it once "
+                                         f"(see 'fingerpad {command.name} --help')")
+                seen[param.name] = value
+
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):  # noqa: ANN001
         common.reset_interrupt()
         try:
+            self._given_twice(list(sys.argv[1:] if args is None else args))
             rv = super().main(args=args, prog_name=prog_name, complete_var=complete_var, standalone_mode=False,
                               **extra)
             code = rv if isinstance(rv, int) else 0
@@ -86,6 +111,9 @@ class _OneLineErrors(TyperGroup):
         except typer.Abort:
             report_interrupt()
             code = EXIT_INTERRUPTED
+        except FingerpadError as exc:  # a usage error found before Click parses (_given_twice)
+            sys.stderr.write(f"error: {one_line(str(exc))}\n")
+            code = EXIT_USER_ERROR
         except typer.TyperException as exc:
             if type(exc).__name__ == "NoArgsIsHelpError":  # `fingerpad` alone: the help, as usual
                 exc.show()  # type: ignore[attr-defined]

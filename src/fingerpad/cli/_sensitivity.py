@@ -8,7 +8,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from ..errors import FingerpadError
-from .common import say, stdout_console
+from .common import say, say_wrapped, stdout_console
 
 __all__ = ["print_sensitivity", "sensitivity_asked"]
 
@@ -43,9 +43,16 @@ def print_sensitivity(sens: Mapping[str, Any]) -> None:
         table.add_column(f"μ/μ_ref {loads[j]:.3g} N", justify="right", no_wrap=True)
     table.add_column("log F_crit", justify="right", no_wrap=True)
 
+    marked = []
+
     def cell(entry: Mapping[str, Any], j: int | None) -> str:
         first, total = (entry[k] if j is None else entry[k][j] for k in ("first", "total"))
-        return "-" if first is None or total is None else f"{first:.2f}/{total:.2f}"
+        if first is None or total is None:
+            return "-"
+        if first > total:  # an estimate, not the index: see the note below the table
+            marked.append(1)
+            return f"{first:.2f}/{total:.2f}*"
+        return f"{first:.2f}/{total:.2f}"
 
     for name, entry in sens["mu_normalised"].items():
         table.add_row(name, *(cell(entry, j) for j in picks), cell(sens["log10_critical_load"][name], None))
@@ -54,5 +61,8 @@ def print_sensitivity(sens: Mapping[str, Any]) -> None:
               if e["first_conf"][j] is not None]
     if widths:
         say(console, f"(95 % half-widths up to {max(widths):.2f}; all loads, intervals: JSON, sensitivity.csv)")
+    if marked:
+        say_wrapped(console, "* first-order above total: sampling error of two separate estimates "
+                             "(S_T >= S holds for the indices themselves); see the note")
     for note in sens.get("notes", []):
-        say(console, f"note: {note}")
+        say_wrapped(console, f"note: {note}")

@@ -14,7 +14,7 @@ from typing import Any, NoReturn
 
 import typer
 
-from ..errors import FingerpadError, describe_exception, one_line
+from ..errors import FingerpadError, describe_exception, one_line, printable
 
 EXIT_UNCONVERGED = 1
 EXIT_USER_ERROR = 2
@@ -45,9 +45,15 @@ EXTRA_ARGS = {"allow_extra_args": True, "ignore_unknown_options": True}
 
 @contextlib.contextmanager
 def user_errors() -> Iterator[None]:
-    """Turn user errors into ``error: <message>`` on one stderr line and exit code 2."""
+    """Turn user errors into ``error: <message>`` on one stderr line and exit code 2.
+
+    The command's outputs, once checked, are its own until it ends (:func:`fingerpad.locks.claims`):
+    a second run naming one of them is refused before its work, naming this one."""
+    from ..locks import claims
+
     try:
-        yield
+        with claims():
+            yield
     except (FingerpadError, OSError) as exc:
         sys.stderr.write(f"error: {one_line(describe_exception(exc))}\n")
         sys.stderr.flush()
@@ -85,11 +91,14 @@ def device_option(device: str | None) -> Iterator[None]:
 
     from ..contact.device import device_namespace, device_setting
 
+    from ..contact.greens import check_setup
+
     name, _ = device_setting(device)
     device_namespace(device)  # the library and a GPU are there, or the command stops here
     before = os.environ.get("FINGERPAD_DEVICE")
     os.environ["FINGERPAD_DEVICE"] = name
     try:
+        check_setup()  # and the FFT settings, before any work (the one check every door asks)
         yield
     finally:
         if before is None:
@@ -154,8 +163,9 @@ def stdout_console(min_width: int = 0) -> Any:
 
 
 def say(console: Any, text: str) -> None:
-    """Print plain text (no markup) on ``console``."""
-    console.print(text, markup=False, highlight=False, soft_wrap=True)
+    """Print plain text (no markup; control characters of names read from files escaped,
+    :func:`~fingerpad.errors.printable`) on ``console``."""
+    console.print(printable(text), markup=False, highlight=False, soft_wrap=True)
 
 
 def say_wrapped(console: Any, text: str, hang: int = 4) -> None:
@@ -241,10 +251,36 @@ def option(*decls: str, help_texts: dict[str, str], panel: str, metavar: str | N
     return typer.Option(*decls, help=help_texts[decls[0].split("/")[0]], rich_help_panel=panel, metavar=metavar, **kw)
 
 
+#: Seconds between the plain progress lines written where stderr is not a terminal (a log file,
+#: a pipe, CI): a bar there cannot redraw itself and was left frozen in the log at its last
+#: state; work shorter than this writes none.
+PLAIN_PROGRESS_EVERY = 10.0
+
+
+class PlainProgress:
+    """Progress as plain lines (``LABEL: 45/202, DETAIL (12 s)``), at most one every
+    :data:`PLAIN_PROGRESS_EVERY` seconds: what a bar becomes where stderr is not a terminal."""
+
+    def __init__(self, console: Any, every: float | None = None) -> None:
+        import time
+
+        self.console = console
+        self.every = PLAIN_PROGRESS_EVERY if every is None else every
+        self.start = self.last = time.monotonic()
+
+    def line(self, text: str) -> None:
+        import time
+
+        now = time.monotonic()
+        if now - self.last >= self.every:
+            self.last = now
+            say(self.console, f"{text} ({now - self.start:.0f} s)")
+
+
 class ProgressBar:
     """A Rich progress bar on stderr, started on the first call ``bar(i, n)`` or
     ``bar.detail(text)`` (none if neither is ever called); :meth:`stage` adds a row for a later
-    stage of the work."""
+    stage of the work. Where stderr is not a terminal, plain lines instead (:class:`PlainProgress`)."""
 
     def __init__(self, console: Any, label: str, total: int = 1) -> None:
         self.console = console
@@ -252,6 +288,13 @@ class ProgressBar:
         self.total = total
         self.bar: Any = None
         self.task: Any = None
+        self.plain = None if console.is_terminal else PlainProgress(console)
+        self._count = ""
+        self._detail = ""
+
+    def _say(self) -> None:
+        assert self.plain is not None
+        self.plain.line(f"{self.label}: " + ", ".join(t for t in (self._count, self._detail) if t))
 
     def _progress(self) -> Any:
         if self.bar is None:
@@ -268,12 +311,20 @@ class ProgressBar:
         self.task = self._progress().add_task(self.label, total=n, detail="", count=f"0/{n}")
 
     def __call__(self, i: int, n: int) -> None:
+        if self.plain is not None:
+            self._count = f"{min(i, n)}/{n}"
+            self._say()
+            return
         if self.task is None:
             self._start(n)
         self.bar.update(self.task, completed=min(i, n), total=n, count=f"{min(i, n)}/{n}")
 
     def detail(self, text: str) -> None:
         """Show ``text`` after the bar (e.g. the iteration of a long solve)."""
+        if self.plain is not None:
+            self._detail = text
+            self._say()
+            return
         if self.task is None:
             self._start(self.total)
         self.bar.update(self.task, detail=text)
@@ -285,6 +336,9 @@ class ProgressBar:
         task: list[Any] = []
 
         def show(text: str) -> None:
+            if self.plain is not None:
+                self.plain.line(f"{label}: {text}")
+                return
             if not task:
                 task.append(self._progress().add_task(label, total=None, detail="", count=""))
             self.bar.update(task[0], detail=text)

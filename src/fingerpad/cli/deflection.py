@@ -18,8 +18,8 @@ from typing import Annotated, Any
 import typer
 
 from ..errors import FingerpadError
+from .common import user_errors
 
-EXIT_USER_ERROR = 2
 #: The texture options of the command, by the families' keyword names.
 _TEXTURE_OPTIONS = ("semi_axis_x", "semi_axis_y", "spacing_x", "spacing_y", "orientation", "width", "spacing")
 
@@ -73,11 +73,9 @@ def deflection(
     tangential stiffness, fold-over onset, limit point and buckling flags. SI units; unit
     suffixes accepted (50um, 0.3MPa, 20kPa).
     """
-    try:
-        _run(**locals())
-    except FingerpadError as exc:
-        typer.echo(f"error: {exc}", err=True)
-        raise typer.Exit(EXIT_USER_ERROR) from None
+    options = dict(locals())
+    with user_errors():  # one error: line (escaped, bounded), and --out held from its check to the end
+        _run(**options)
 
 
 def _run(**o: Any) -> None:

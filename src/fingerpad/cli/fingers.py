@@ -12,6 +12,17 @@ from ..errors import FingerpadError
 from .common import say, say_wrapped, stdout_console, user_errors
 
 
+def model_text(model: object, registry: dict[str, object]) -> str:
+    """A pad or ridge model as a study file names it, with its values in their units
+    (``hertz: R_fp 9 mm, E_fp* 40 kPa``), from the model's declaration (:class:`~fingerpad.params.Model`)."""
+    decl = next((m for m in registry.values() if type(model) is m.factory), None)  # type: ignore[attr-defined]
+    if decl is None:
+        return type(model).__name__
+    parts = [f"{p.symbol or p.name} {p.format(getattr(model, p.name))}" for p in decl.params  # type: ignore[attr-defined]
+             if getattr(model, p.name, None) is not None]
+    return f"{decl.name}: {', '.join(parts)}" if parts else decl.name  # type: ignore[attr-defined]
+
+
 def fingers_command() -> None:
     """List the finger presets, the finger's parameters and the pad and ridge models (with their
     parameters, units and defaults); use them with --finger NAME and --finger-param NAME=VALUE."""
@@ -46,7 +57,7 @@ def fingers_command() -> None:
     table.add_column("ridge area", overflow="fold")
     for name, f in FINGER_PRESETS.items():
         table.add_row(f"{name}\n{f.description}", *(cell(f, p) for p in shown),
-                      escape(repr(f.gross_model)), escape(repr(f.ridges)))
+                      escape(model_text(f.gross_model, GROSS_MODELS)), escape(model_text(f.ridges, RIDGE_MODELS)))
     console = stdout_console(160)
     if console.width >= 130:
         console.print(table)
@@ -54,8 +65,8 @@ def fingers_command() -> None:
         for name, f in FINGER_PRESETS.items():
             say_wrapped(console, f"{name}: {f.description}")
             say_wrapped(console, "  " + ", ".join(f"{head(p)} {cell(f, p)}" for p in shown))
-            say_wrapped(console, f"  gross area: {f.gross_model!r}")
-            say_wrapped(console, f"  ridge area: {f.ridges!r}")
+            say_wrapped(console, f"  gross area: {model_text(f.gross_model, GROSS_MODELS)}")
+            say_wrapped(console, f"  ridge area: {model_text(f.ridges, RIDGE_MODELS)}")
     say(console, "")
     say_wrapped(console, "finger parameters (--finger-param NAME=VALUE, [finger] NAME = VALUE in a study file):")
     for p in FINGER_PARAMS:

@@ -22,7 +22,7 @@ from typing import Annotated, Any
 
 import typer
 
-from ..errors import FingerpadError
+from ..errors import FingerpadError, one_line, printable
 from ..extras import require
 from ..units import parse_int, parse_quantity
 from .common import user_errors
@@ -231,7 +231,7 @@ def _measurement_warnings() -> Iterator[list[str]]:
 
             for w in caught:
                 if issubclass(w.category, MeasurementWarning):
-                    line = " ".join(str(w.message).split())
+                    line = one_line(str(w.message))
                     if line not in shown:
                         shown.append(line)
                         sys.stderr.write(f"warning: {line}\n")
@@ -253,12 +253,17 @@ def _fit_widths(natural: list[int], minimum: list[int], budget: int) -> list[int
 
 def _print_summary(result: Any, written: list[Path], out: Path, shown: list[str] | None = None) -> None:
     from rich.table import Table
+    from rich.text import Text
 
     from .common import stdout_console
 
     console = stdout_console(min_width=140)
+
+    def show(text: str) -> None:  # wrapped at the console's width; labels from files as text (escapes shown)
+        console.print(printable(text), markup=False, highlight=False)
+
     s = result.strokes
-    console.print(f"{s['participant'].nunique()} participants, {s['sample'].nunique()} samples, "
+    show(f"{s['participant'].nunique()} participants, {s['sample'].nunique()} samples, "
                   f"{s['file'].nunique()} files, {len(s)} strokes ({int(s['outlier'].sum())} outliers)")
     parts = result.participants
     if "skin_modulus" in parts:
@@ -276,7 +281,8 @@ def _print_summary(result: Any, written: list[Path], out: Path, shown: list[str]
             lo, hi = row.get("skin_modulus_sens_low", math.nan), row.get("skin_modulus_sens_high", math.nan)
             interval = str(row.get("skin_modulus_interval") or "-").removesuffix(" MPa")
             cells.append((
-                str(row["participant"]), f"{row['ref_k']:.3g}", f"{row['ref_n']:.3g}",
+                # a label read from a file: its escapes shown, not run
+                printable(str(row["participant"])), f"{row['ref_k']:.3g}", f"{row['ref_n']:.3g}",
                 (f"{e / 1e6:.3g}" if determined else f"not determined ({e / 1e6:.3g})") if ok else "-",
                 interval if ok else "-",
                 str(row.get("skin_modulus_model") or "") if ok else "",
@@ -293,19 +299,19 @@ def _print_summary(result: Any, written: list[Path], out: Path, shown: list[str]
         for name, width in zip(header, widths):
             table.add_column(name, width=width, overflow="fold")
         for c in cells:
-            table.add_row(*c)
+            table.add_row(*(Text(x) for x in c))  # text, not markup: a label "[b]" is shown as written
         console.print(table)
     for row in result.conditions.to_dict("records"):
         text = row.get("transition")
         if isinstance(text, str) and text:
             label = row["participant"] + " " + row["sample"] + (f"/{row['direction']}" if row["direction"] else "")
-            console.print(f"{label}: {text}")
+            show(f"{label}: {text}")
     for row in result.spread_summary.to_dict("records"):
         if not row["is_reference"] and math.isfinite(row["reduction"]):
             label = row["sample"] + (f"/{row['direction']}" if row["direction"] else "")
-            console.print(f"{label}: spread between people CV {100 * row['cv_raw']:.1f} % -> "
-                          f"{100 * row['cv_norm']:.1f} % after normalising")
-    console.print(f"wrote {len(written)} files to {out} (report: {out / 'report.html'})")
+            show(f"{label}: spread between people CV {100 * row['cv_raw']:.1f} % -> "
+                         f"{100 * row['cv_norm']:.1f} % after normalising")
+    show(f"wrote {len(written)} files to {out} (report: {out / 'report.html'})")
 
 
 def simulate_command(

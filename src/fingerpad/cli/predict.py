@@ -24,6 +24,7 @@ from .common import (
     flag_pair,
     option,
     say,
+    say_wrapped,
     stderr_console,
     stdout_console,
     user_errors,
@@ -206,18 +207,25 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
         if model not in crit or (crit[model] is None and model != payload["model"]):
             continue
         if crit[model] is not None:
-            texts.append(f"{label} {crit[model]:.4g} N")
+            error = (payload.get("critical_load_error") or {}).get(model)
+            texts.append(f"{label} {crit[model]:.4g} N" + _plus_minus(error))
         elif model == "bem" and "transition" in brackets:
             texts.append(f"{label}: the cell never reaches its transition up to 10 E*")
         else:
             texts.append(f"{label}: none")
     if texts:
-        say(console, "critical load (pad centre reaches the transition): " + ", ".join(texts))
+        say_wrapped(console, "critical load (pad centre reaches the transition): " + ", ".join(texts))
     if "full" in brackets:
         p_lo, p_hi = brackets["full"]["pressure"]
         if full is not None:
-            say(console, f"full contact at the pad centre (at most 1 % open) from: {full:.4g} N "
-                         f"(cell pressure {p_lo / 1e3:.4g}-{p_hi / 1e3:.4g} kPa)")
+            st = brackets["full"]
+            grids = ""
+            if st.get("grid") and st.get("coarse_grid"):
+                grids = f", grid {'x'.join(map(str, st['grid']))} against {'x'.join(map(str, st['coarse_grid']))}"
+            say_wrapped(console, f"full contact at the pad centre (at most 1 % open) from: {full:.4g} N"
+                         f"{_plus_minus((payload.get('full_contact_load_error') or {}).get('bem'))} "
+                         f"(cell pressure {p_lo / 1e3:.4g}-{p_hi / 1e3:.4g} kPa"
+                         f"{_plus_minus(st.get('pressure_error'))}{grids})")
         else:
             say(console, f"full contact at the pad centre: not reached up to {p_lo / 1e3:.4g} kPa "
                          f"(the last node below 10 E*)")
@@ -232,8 +240,17 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
     res = (payload.get("cell") or {}).get("resolution")
     if res and res.get("area_ratio_error") is not None:
         grid = "x".join(str(g) for g in res["grid"])
-        say(console, f"unit cell {grid} px ({res['chosen']}): estimated error of A_re/A_fr "
+        chosen = str(res["chosen"]).split(" (")[0]  # "automatic", "given", "the map's own"
+        say(console, f"unit cell {grid} px ({chosen}): estimated error of A_re/A_fr "
                      f"{100 * res['area_ratio_error']:.2g} %")
+
+
+def _plus_minus(error: Any) -> str:
+    """`` ± X %`` for a relative error estimate (nothing when there is none)."""
+    if error is None or not isinstance(error, (int, float)) or error != error:
+        return ""
+    # beyond 100 % the number says only that the grid does not resolve it
+    return " ± >100 %" if error > 1.0 else f" ± {100 * error:.2g} %"
 
 
 def _band(q: Mapping[str, Any], name: str, i: int) -> str:

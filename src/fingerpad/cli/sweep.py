@@ -53,24 +53,23 @@ def sweep_command(
     """
     from pathlib import Path
 
-    from ..design.engine import eta, run_sweep
+    from ..design.engine import check_workers, eta, run_sweep
     from ..design.store import check_store_path, points_done
     from ..io import check_output_location
     from ..design.spec import read_sweep_file, sweep_from_dict
-    from ..units import parse_int
 
     with user_errors(), device_option(device):
         require("sweep")  # before any work: the same line as run_sweep's
         err = stderr_console()
         if workers is not None and scheduler is not None:
             raise_error("give --workers (a local cluster) or --scheduler (an existing one), not both")
-        n = parse_int(workers, "--workers") if workers is not None else None
+        n = check_workers(workers)
         with warnings_to(err):
             data = read_sweep_file(study)
             spec = sweep_from_dict(data, population=population, quantiles=quantiles)
         store = out if out is not None else str(Path(study).with_suffix(".zarr"))
         where = str(check_output_location(store, "--out"))  # before any work; a link is written through
-        check_store_path(store, spec, overwrite)  # only a sweep store is ever replaced
+        check_store_path(store, spec, overwrite, repair)  # only a sweep store is ever replaced
         bar = _Progress(err, spec.size,
                         f"sweep: {spec.size} points ({spec.design}: {', '.join(a.name for a in spec.axes)}) into {store}"
                         + (f"; {spec.population_text()} at every point" if spec.population is not None else ""))
@@ -97,11 +96,16 @@ def raise_error(message: str) -> None:
 
 
 class _Progress:
-    """Points done with ETA, cells solved, cache hits and failures, on stderr."""
+    """Points done with ETA, cells solved, cache hits and failures, on stderr (plain lines where
+    stderr is not a terminal, :class:`~.common.PlainProgress`: a bar there is left frozen in the log)."""
 
     def __init__(self, console: Any, total: int, headline: str) -> None:
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
+        from .common import PlainProgress
+
+        self.plain = None if console.is_terminal else PlainProgress(console)
+        self.total = total
         self.bar = Progress(TextColumn("points"), BarColumn(), MofNCompleteColumn(), TimeRemainingColumn(),
                             TextColumn("{task.fields[info]}"), console=rich_console(console))
         self.task = self.bar.add_task("sweep", total=total, info="")
@@ -119,13 +123,17 @@ class _Progress:
                                        markup=False)
             if report.done_before:
                 self.bar.console.print(f"resuming: {report.done_before} points done before", markup=False)
-            self.bar.start()
+            if self.plain is None:
+                self.bar.start()
             self.started = True
         if not self.announced and report.dashboard:
             self.bar.console.print(f"Dask dashboard: {report.dashboard}", markup=False)
             self.announced = True
         info = (f"cells {report.cells_solved} solved, {report.cache_hits} cached; "
                 f"{report.invalid} invalid, {len(report.failures)} failed")
+        if self.plain is not None:
+            self.plain.line(f"points: {report.done_before + report.computed}/{self.total}, {info}")
+            return
         self.bar.update(self.task, completed=report.done_before + report.computed, info=info)
 
     def notice(self, message: str) -> None:
@@ -136,7 +144,7 @@ class _Progress:
         self.bar.console.print(message, markup=False)
 
     def close(self) -> None:
-        if self.started:
+        if self.started and self.plain is None:
             self.bar.stop()
 
 
@@ -151,7 +159,7 @@ def _summary(err: Any, report: Any, store: str, eta: Any) -> None:
     rate = f"{report.computed / minutes:.3g} points/min, " if minutes > 0 and report.computed else ""
     lines = [
         f"sweep: {report.points} points, {report.done_before} done before, {report.computed} computed now "
-        f"in {report.seconds:.1f} s ({rate}{report.workers} workers)",
+        f"in {report.seconds:.1f} s ({rate}{report.workers} worker{'' if report.workers == 1 else 's'})",
         f"cells: {report.cells} distinct, {report.cells_solved} solved, {report.cache_hits} from the cache",
         f"points: {report.invalid} invalid (stored with their reason), {report.unconverged} with unconverged cells",
     ]

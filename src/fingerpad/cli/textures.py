@@ -16,22 +16,19 @@ def textures_command() -> None:
 
     with user_errors():
         families = registry()
-    table = Table(title="textures: fingerpad solve|predict --texture NAME --PARAM VALUE ...", show_lines=True)
-    table.add_column("texture", no_wrap=True)
+    # one row per parameter (a family's rows closed by a line): a parameter's meaning, wrapped
+    # over several lines, stays beside that parameter; cells of many lines drifted apart
+    table = Table(title="textures: fingerpad solve|predict --texture NAME --PARAM VALUE ...")
+    table.add_column("texture", max_width=28)
     table.add_column("parameter", no_wrap=True)
     table.add_column("unit", no_wrap=True)
     table.add_column("default", no_wrap=True)
     table.add_column("meaning")
     for name, fam in families.items():
-        opts, units, defaults, docs = [], [], [], []
-        for p in fam.params:
-            opts.append(f"{p.option} {p.metavar}")
-            units.append(p.unit)
-            defaults.append(p.default_text())
+        for i, p in enumerate(fam.params):
             doc = p.doc + (f" ({' | '.join(p.choices)})" if p.choices else "")
-            docs.append(doc)
-        table.add_row(f"{name}\n{fam.summary}", escape("\n".join(opts)), "\n".join(units), "\n".join(defaults),
-                      escape("\n".join(docs)))
+            table.add_row(f"{name}\n{fam.summary}" if i == 0 else "", escape(f"{p.option} {p.metavar}"), p.unit,
+                          p.default_text(), escape(doc), end_section=i == len(fam.params) - 1)
     console = stdout_console(140)
     if console.width >= 120:
         console.print(table)

@@ -28,10 +28,13 @@ from ..textures import Texture
 from .device import choice_setting, device_namespace
 from .layered import Layer, spectral_factor
 
-__all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "fft_settings", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
+__all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "check_setup", "fft_settings", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
            "love_rectangle", "smoothed_rectangle"]
 
 FFT_ENGINES = ("auto", "ducc0", "scipy")
+#: Most FFT threads one process may be given (``FINGERPAD_FFT_WORKERS``): far above any machine's
+#: cores (their number changes the speed, never a result), far below a typo's 100000 threads.
+MAX_FFT_WORKERS = 1024
 
 
 def fft_settings(fft: str | None = None, workers: int | None = None) -> tuple[str, int]:
@@ -47,6 +50,9 @@ def fft_settings(fft: str | None = None, workers: int | None = None) -> tuple[st
     engine, _ = choice_setting(fft, "fft", "FINGERPAD_FFT", FFT_ENGINES, "FFT engine")
     if workers is None:
         raw = os.environ.get("FINGERPAD_FFT_WORKERS", "").strip()
+        if len(raw) > 30:
+            raise SetupError(f"FINGERPAD_FFT_WORKERS must be a whole number of threads in 0..{MAX_FFT_WORKERS}, "
+                             f"got a value of {len(raw)} characters")
         try:
             workers = int(raw) if raw else 0
         except ValueError:
@@ -54,8 +60,9 @@ def fft_settings(fft: str | None = None, workers: int | None = None) -> tuple[st
         source = "FINGERPAD_FFT_WORKERS"
     else:
         source = "workers"
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
-        raise SetupError(f"{source} must be a whole number of threads >= 0 (0: all cores), got {workers!r}")
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 0 <= workers <= MAX_FFT_WORKERS:
+        raise SetupError(f"{source} must be a whole number of threads in 0..{MAX_FFT_WORKERS} (0: all cores), "
+                         f"got {workers!r}")
     return engine, workers or os.cpu_count() or 1
 
 
@@ -155,6 +162,23 @@ class Backend:
 # --------------------------------------------------------------------------------------------
 # Elastic operators
 # --------------------------------------------------------------------------------------------
+
+
+def check_setup() -> Backend:
+    """The backend every solve of this process would use, made once to check the environment's
+    compute settings (``FINGERPAD_DEVICE``, ``FINGERPAD_FFT``, ``FINGERPAD_FFT_WORKERS``).
+
+    The one rule of every front door that runs many solves (``predict``, ``sweep``, ``design``,
+    the explorer, their Python functions): a device or FFT engine that is absent or misspelt
+    stops the work at once, in one line, instead of failing each solve, which a job that records
+    its failures per point or candidate would report as NaN results.
+
+    Raises
+    ------
+    SetupError
+        An unknown device or engine, a GPU library or GPU that is missing, a bad thread count.
+    """
+    return Backend()
 
 
 def wavenumbers(shape: tuple[int, int], spacing: tuple[float, float]) -> np.ndarray:

@@ -153,6 +153,12 @@ def solver_references(periodic: bool = True, layered: bool = False) -> tuple[str
     return ("polonsky1999",) + (() if periodic else ("love1929",)) + (("fingerpad-layered",) if layered else ())
 
 
+#: Most iterations a solve may be given (``max_iter``): 20 times the default; solves converge in
+#: 6-14 iterations from 1 % to 99 % contact (docs/solver.md), and a cap far above that only
+#: hides a typo that would let an unconvergeable solve run for days.
+MAX_ITER = 100_000
+
+
 class HalfSpaceSolver:
     """Normal contact of the skin (elastic half-space) on one texture cell.
 
@@ -230,8 +236,8 @@ class HalfSpaceSolver:
         self.layer = layer
         if not (isinstance(tol, (int, float)) and 0 < tol < 1):
             raise FingerpadError(f"tolerance must lie in (0, 1), got {tol!r}")
-        if not (isinstance(max_iter, int) and max_iter >= 1):
-            raise FingerpadError(f"max_iter must be a positive integer, got {max_iter!r}")
+        if not (isinstance(max_iter, int) and 1 <= max_iter <= MAX_ITER):
+            raise FingerpadError(f"max_iter must be an integer in 1..{MAX_ITER}, got {max_iter!r}")
         if formulation not in ("auto", "primal", "dual"):
             raise FingerpadError(f"formulation must be auto, primal or dual, got {formulation!r}")
         if formulation == "dual" and not texture.periodic:

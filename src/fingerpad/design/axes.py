@@ -121,8 +121,9 @@ def _axis(name: str, section: str, key: str, param: Param) -> Axis:
     return Axis(name, section, key, _KIND[param.kind], param.choices, param=param)
 
 
-def resolve_axis(name: str, texture_family: str | None) -> Axis:
-    """The :class:`Axis` (without values) that ``name`` stands for.
+def resolve_axis(name: str, texture_family: str | None, where: str = "[sweep] axis") -> Axis:
+    """The :class:`Axis` (without values) that ``name`` stands for; ``where`` names what gave it
+    in messages (``[sweep] axis``, ``--vary``).
 
     Raises
     ------
@@ -164,5 +165,5 @@ def resolve_axis(name: str, texture_family: str | None) -> Axis:
     known = sorted({*params, "texture", "material_modulus", "material_poisson", "finger", "direction",
                     *(f for f in finger if f not in ("radius", "modulus")), "finger.radius", "finger.modulus"})
     fam_text = f" of texture {family.name!r}" if family is not None else ""
-    raise FingerpadError(f"[sweep] axis {name!r} is not a parameter{fam_text} nor a material or finger value "
+    raise FingerpadError(f"{where} {name!r} is not a parameter{fam_text} nor a material or finger value "
                          f"(axes: {', '.join(known)})")

@@ -32,9 +32,29 @@ from ..errors import FingerpadError, one_line
 from ..extras import require
 from .evaluate import cell_key, evaluate_chunk, prepare_cell
 from .spec import SweepSpec
-from .store import SweepStore, chunk_slices, pressure_grid
+from .store import SweepStore, check_store_path, chunk_slices, pressure_grid
 
-__all__ = ["SweepReport", "check_address", "connect", "probe_scheduler", "run_sweep", "sweep_pressures"]
+__all__ = ["SweepReport", "check_address", "check_workers", "max_workers", "connect", "probe_scheduler", "run_sweep", "sweep_pressures"]
+
+#: Local worker processes per core a sweep may start (``--workers``): one per core is the
+#: default; more only share the cores, and each costs ~0.1-0.3 GB of memory.
+MAX_WORKERS_PER_CORE = 4
+
+
+def max_workers() -> int:
+    """Most worker processes of a local cluster on this machine (:data:`MAX_WORKERS_PER_CORE`
+    per core): their number changes how fast a sweep runs, never its results."""
+    return MAX_WORKERS_PER_CORE * (os.cpu_count() or 1)
+
+
+def check_workers(workers: Any, name: str = "--workers") -> int | None:
+    """``workers`` (text or a number; ``None``: one per core) checked against :func:`max_workers`."""
+    from ..units import parse_int
+
+    if workers is None:
+        return None
+    return parse_int(workers, name, 1, max_workers())
+
 
 #: Seconds to wait for an existing scheduler before giving up.
 CONNECT_TIMEOUT = 5.0
@@ -166,15 +186,19 @@ def connect(scheduler: str | None, workers: int | None) -> tuple[Any, Any]:
             raise FingerpadError(f"--scheduler {address}: the Dask scheduler stopped answering "
                                  f"({type(exc).__name__})") from None
         return client, None
-    n = workers or os.cpu_count() or 1
+    n = check_workers(workers, "workers") or os.cpu_count() or 1
     import importlib.util
 
     # Dask's dashboard is drawn with Bokeh: ask for it only where Bokeh is installed (looked up,
     # not imported: Bokeh belongs to the explorer's layer).
     dashboard: str | None = "127.0.0.1:0" if importlib.util.find_spec("bokeh") is not None else None
-    with _worker_start():
+    with _worker_start(), _interrupt_deferred() as interrupted:
+        # preload: each worker runs dask_setup below when it starts (a spawned one too)
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host="127.0.0.1",
-                               dashboard_address=dashboard, silence_logs=50)
+                               dashboard_address=dashboard, silence_logs=50, preload=[__name__])
+    if interrupted:
+        cluster.close()
+        raise KeyboardInterrupt
     try:
         return Client(cluster, set_as_default=False), cluster
     except BaseException:
@@ -218,6 +242,39 @@ def _worker_start() -> Iterator[None]:
         yield
 
 
+def dask_setup(worker: Any) -> None:
+    """Run by every worker of a local cluster when it starts (Dask's preload): Ctrl-C is the
+    client's to handle. A terminal sends it to the whole process group, workers included, and
+    each worker (and its nanny's process) printed a KeyboardInterrupt traceback, ~40 lines,
+    before the client's one ``interrupted:`` line; the client closes the cluster, which stops
+    them."""
+    import signal
+    import threading
+
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+@contextlib.contextmanager
+def _interrupt_deferred() -> Iterator[list[int]]:
+    """While the local workers are started: Ctrl-C is noted in the list yielded (the caller
+    stops once they are up), and the forked workers inherit a handler that only notes it
+    (:func:`dask_setup` then makes them ignore it), so that none of them is born able to print
+    a traceback for it."""
+    import signal
+    import threading
+
+    caught: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield caught
+        return
+    before = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield caught
+    finally:
+        signal.signal(signal.SIGINT, before)
+
+
 def _close_quietly(client: Any) -> None:
     """Close a Client whose constructor failed, so that its ``__del__`` has nothing left to do."""
     import contextlib
@@ -250,27 +307,43 @@ def run_sweep(
     Raises
     ------
     FingerpadError
-        A store of another sweep without ``overwrite``, a damaged store without ``repair``, a
-        scheduler that does not answer, a bad ``FINGERPAD_FFT`` setting.
+        A store of another sweep without ``overwrite``, a damaged store without ``repair``,
+        ``repair`` without a store, a store another sweep is writing
+        (:class:`~fingerpad.locks.OutputBusy`), a scheduler that does not answer, a bad
+        ``FINGERPAD_FFT`` setting.
     MissingExtraError
         Dask or Zarr not installed (the ``sweep`` extra).
     """
     require("sweep")
-    from distributed import as_completed
+    from .. import locks
+    from ..contact.greens import check_setup
 
-    from ..contact.greens import Backend
-
-    # A bad FFT setting would make every point's solve fail (each chunk then fails with a
-    # SetupError, see evaluate_point): check it here, once, before any work (LocalCluster workers
-    # inherit this environment; those of an existing scheduler have their own).
-    Backend()
+    # A bad device or FFT setting would make every point's solve fail (each chunk then fails with
+    # a SetupError, see evaluate_point): check it here, once, before any work (LocalCluster
+    # workers inherit this environment; those of an existing scheduler have their own).
+    check_setup()
+    workers = check_workers(workers, "workers")
     if scheduler is not None:
         scheduler = check_address(scheduler)
+    # One sweep writes a store at a time: a second is refused, naming the first (fingerpad.locks).
+    key = locks.hold(store_path, "--out", os.fspath(store_path))
+    try:
+        return _run_sweep(spec, store_path, workers, scheduler, overwrite, repair, progress, notice)
+    finally:
+        locks.release(key)
+
+
+def _run_sweep(spec: SweepSpec, store_path: str | Path, workers: int | None, scheduler: str | None,
+               overwrite: bool, repair: bool, progress: Callable[[SweepReport], None] | None,
+               notice: Callable[[str], None] | None) -> SweepReport:
+    """:func:`run_sweep` once the store is this process's to write."""
+    from distributed import as_completed
+
     t_start = time.perf_counter()
     pressures = sweep_pressures(spec)
     store = SweepStore(store_path, spec, pressures)
     report = SweepReport(points=spec.size)
-    if store.check_existing(overwrite) == "resume":
+    if check_store_path(store_path, spec, overwrite, repair) == "resume":
         # Checked before any cluster starts: a damaged store is said at once, and a finished
         # sweep costs no cluster (9-16 s to start one on two cores, to do nothing).
         damage = store.check()

@@ -109,8 +109,8 @@ def prepare_cell(data: Mapping[str, Any], loads: Sequence[float], pressures: Seq
     each cell once (they then read it from the on-disk cache of ``predict``). ``sharing``: the
     study data of every point of the sweep that shares this cell, in the order of their indices
     (this point among them); with more than one, the cell is first prepared for all of them
-    (:func:`prepare_shared_cell`), so that every point reads the same curve, whatever order the
-    chunks run in. Returns the number of solves (0: the cache had the cell), the seconds, and the
+    (:func:`prepare_shared_cell`), so that the chunks find every node in the cache instead of
+    solving the same nodes side by side. Returns the number of solves (0: the cache had the cell), the seconds, and the
     point's own result with its ``index``: its chunk takes that result instead of predicting the
     point a second time.
     """
@@ -123,29 +123,22 @@ def prepare_cell(data: Mapping[str, Any], loads: Sequence[float], pressures: Seq
             "index": None if index is None else tuple(index), "result": result}
 
 
-#: Passes over the points of a shared cell at most (:func:`prepare_shared_cell`). One pass adds
-#: every node; the second finds nothing to add unless a point's grid choice or refinement changed
-#: with the nodes a later point added (an automatic grid, a refinement at its cap).
-MAX_PREPARE_PASSES = 6
-
-
 def prepare_shared_cell(sharing: Sequence[Mapping[str, Any]], loads: Sequence[float],
                         population: Mapping[str, Any] | None = None) -> int:
     """Prepare the unit cell that the points ``sharing`` share (a modulus axis: one cell in p/E*)
     over what every one of them asks for, before any of them is predicted; returns the solves.
 
     Each point's preparation is the one its prediction makes (:func:`~fingerpad.study.run.prepare_bem_cell`,
-    with a population the members' cells, :func:`~fingerpad.population.members.member_cells`), in the
-    order given; the passes over them repeat until one solves nothing (at most
-    :data:`MAX_PREPARE_PASSES`). Then every point's own preparation finds its nodes in the cache
-    and adds none: the curve a point reads is the same whatever the order in which the sweep's
-    chunks run, and so are its numbers (a node's value depends on the warm starts of the nodes
-    solved before it, and the interpolant near a range's ends on the nodes beyond them). Points
-    that cannot exist are skipped, as their prediction stores them invalid.
+    with a population the members' cells, :func:`~fingerpad.population.members.member_cells`), in
+    the order given, once. Then every point's own preparation finds its nodes in the cache and
+    solves none. This is for speed only: a point's numbers are those of its own prediction on
+    any cache (a cell's curve uses the nodes of the ranges it is prepared over, and a node's
+    value is a function of its pressure alone, :meth:`~fingerpad.micro.bem.BEMUnitCell.prepare`),
+    whatever order the chunks run in. Points that cannot exist are skipped, as their prediction
+    stores them invalid.
     """
     from ..micro.bem import BEMUnitCell
-    from ..population.members import member_cells
-    from ..population.members import member_finger
+    from ..population.members import member_cells, member_finger
     from ..study.run import prepare_bem_cell
 
     points = []
@@ -163,28 +156,23 @@ def prepare_shared_cell(sharing: Sequence[Mapping[str, Any]], loads: Sequence[fl
             continue
         if study.model != "hertz":
             points.append((study, fingers))
-    total = 0
-    for _ in range(MAX_PREPARE_PASSES):
-        solves = 0
-        for study, fingers in points:
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")
-                    choice = prepare_bem_cell(study)
-                    solves += choice.solves
-                    if fingers:
-                        cell = choice.cell
-                        before = cell.solves
-                        own = member_cells(study, cell, fingers)
-                        solves += cell.solves - before + sum(c.solves for c in own if isinstance(c, BEMUnitCell))
-            except SetupError:
-                raise
-            except FingerpadError:  # as the point's prediction will say (stored invalid)
-                continue
-        total += solves
-        if solves == 0:
-            break
-    return total
+    solves = 0
+    for study, fingers in points:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                choice = prepare_bem_cell(study)
+                solves += choice.solves
+                if fingers:
+                    cell = choice.cell
+                    before = cell.solves
+                    own = member_cells(study, cell, fingers)
+                    solves += cell.solves - before + sum(c.solves for c in own if isinstance(c, BEMUnitCell))
+        except SetupError:
+            raise
+        except FingerpadError:  # as the point's prediction will say (stored invalid)
+            continue
+    return solves
 
 
 def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: Sequence[float],

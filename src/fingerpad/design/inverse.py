@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FingerpadError
+from ..errors import FingerpadError, SetupError
 from .axes import Axis
 
 __all__ = ["QUANTITIES", "XATOL", "Candidate", "DesignProblem", "Target", "candidate_study", "critical_penalty",
@@ -140,6 +140,9 @@ class Candidate:
     #: For a design for a population of fingers: its coverage and quantiles
     #: (:func:`fingerpad.design.robust.population_candidate`); empty otherwise.
     population: dict[str, Any] = field(default_factory=dict)
+    #: The publications of the methods its prediction used (:mod:`fingerpad.references` keys;
+    #: gathered into the result document's ``references``, not repeated per candidate).
+    references: tuple[str, ...] = ()
 
     def as_dict(self) -> dict[str, Any]:
         out = {"params": self.params, "values": self.values, "critical_load": self.critical_load,
@@ -219,9 +222,14 @@ def predict_candidate(problem: DesignProblem, params: Mapping[str, float], loads
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             pred = run_study(study)
+    except SetupError:
+        raise  # the machine's setting, not this texture's: every candidate would fail alike
     except FingerpadError as exc:
         cand.reason = str(exc)
         return cand
+    from ..study.citations import prediction_references
+
+    cand.references = prediction_references(pred)
     cur = pred.primary
     f = np.asarray(cur.load)
     series = {"mu": cur.mu, "mu_ref": cur.mu_ref, "mu_rel": cur.mu_normalised, "area_ratio": cur.area_ratio}

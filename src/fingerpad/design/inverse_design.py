@@ -63,6 +63,7 @@ class DesignResult:
     def document(self) -> dict[str, Any]:
         """The result as plain data (JSON-ready; SI units, stated under ``units``)."""
         from ..encode import to_jsonable
+        from ..references import keys_of, metadata
 
         p = self.problem
         doc = {
@@ -71,6 +72,8 @@ class DesignResult:
             "max_aspect": p.max_aspect, "tolerance": p.tolerance, "source": self.source,
             "met": self.met, "candidates": [c.as_dict() for c in self.candidates],
             "units": {"params": "SI (m, Pa, rad)", "critical_load": "N", "feature": "m", "curve.load": "N"},
+            # the publications of the methods the reported candidates' predictions used
+            "references": metadata(keys_of(*(c.references for c in self.candidates))),
         }
         if self.goal is not None:
             doc["population"] = self.goal.as_dict()
@@ -138,7 +141,7 @@ def free_axes(vary: Mapping[str, Any] | Sequence[str], family: str | None) -> li
             items.append((name, bounds))
     axes = []
     for name, bounds in items:
-        axis = resolve_axis(name, family)
+        axis = resolve_axis(name, family, "--vary")
         if not axis.numeric:
             raise FingerpadError(f"--vary {name}: only numeric parameters can be optimised")
         parts = bounds.split(":") if isinstance(bounds, str) else list(bounds)
@@ -246,10 +249,17 @@ def design_textures(
     FingerpadError
         An input that makes no sense (each checked before any prediction), a sweep without the
         free parameters.
+    SetupError
+        The device or FFT engine of ``FINGERPAD_DEVICE``/``FINGERPAD_FFT`` is absent
+        (:func:`~fingerpad.contact.greens.check_setup`).
     """
+    from ..contact.greens import check_setup
     from ..study.spec import read_study_file, study_from_dict
     from ..units import parse_int, parse_quantity, parse_range
     from .spec import DEFAULT_SWEEP_LOADS
+
+    # an absent device or FFT engine stops the design here, not as NaN in every candidate
+    check_setup()
 
     if isinstance(study, Mapping):
         data = {k: dict(v) for k, v in study.items() if k != "sweep"}
@@ -271,10 +281,8 @@ def design_textures(
     parsed = [t if isinstance(t, Target) else parse_target(t) for t in targets]
     if not parsed:
         raise FingerpadError("give at least one --target QUANTITY=VALUE@LOAD")
-    n_cand = parse_int(candidates, "--candidates")
-    n_eval = parse_int(evaluations, "--evaluations")
-    if n_eval > MAX_EVALUATIONS:
-        raise FingerpadError(f"--evaluations {n_eval}: at most {MAX_EVALUATIONS} (a sweep covers more points)")
+    n_cand = parse_int(candidates, "--candidates", 1, MAX_EVALUATIONS)
+    n_eval = parse_int(evaluations, "--evaluations", 1, MAX_EVALUATIONS)
     problem = DesignProblem(
         base=data, axes=axes, targets=parsed,
         min_critical_load=_number(min_critical_load, "force", "--min-critical-load"),

@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FingerpadError
+from ..errors import FingerpadError, SetupError
 from ..population.distributions import Population
 from ..population.members import member_finger
 from ..population.run import DEFAULT_QUANTILES, run_population
@@ -270,6 +270,8 @@ class _Screen:
                 warnings.simplefilter("ignore")
                 pred = run_study(study)
                 got = self.table(study).evaluate(pred)
+        except SetupError:
+            raise  # the machine's setting, not this texture's: every candidate would fail alike
         except FingerpadError as exc:
             cand.reason = str(exc)
             return cand
@@ -318,9 +320,14 @@ def population_candidate(problem: DesignProblem, goal: PopulationGoal, params: M
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             res = run_population(study, goal.population, quantiles=goal.levels)
+    except SetupError:
+        raise  # the machine's setting, not this texture's: every candidate would fail alike
     except FingerpadError as exc:
         cand.reason = str(exc)
         return cand
+    from ..study.citations import prediction_references
+
+    cand.references = prediction_references(res.nominal, res)
     f = np.asarray(study.loads, float)
     values = {}
     for t in problem.targets:

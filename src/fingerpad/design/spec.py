@@ -49,6 +49,9 @@ DESIGNS = ("grid", "lhs", "points")
 DEFAULT_SWEEP_LOADS = "0.1N:4N:40"
 #: Most points one sweep may hold (checked before anything is allocated).
 MAX_POINTS = 1_000_000
+#: Largest seed of a Latin hypercube (NumPy's seeds are non-negative; 2**63 - 1 is plenty).
+MAX_SEED = 2**63 - 1
+
 _SWEEP_KEYS = ("design", "loads", "axes", "points", "seed", "point", "chunk")
 
 
@@ -318,6 +321,7 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
     a point that cannot exist is stored as invalid with its reason, without stopping the sweep.
     """
     from ..study.spec import study_from_dict
+    from ..study.values import integer
     from ..units import parse_range
 
     sweep = dict(data.get("sweep") or {})
@@ -335,9 +339,7 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
     loads = np.asarray(parse_range(str(loads_text), "force", name="[sweep] loads", log=True, max_count=10_000))
     if np.any(loads <= 0):
         raise FingerpadError("[sweep] loads: must be positive")
-    chunk = int(sweep.get("chunk", 8))
-    if chunk < 1:
-        raise FingerpadError("[sweep] chunk: must be at least 1")
+    chunk = integer(sweep.get("chunk", 8), "[sweep] chunk", 1, MAX_POINTS)
 
     base_study = study_from_dict(base)  # the base must be a valid study on its own
     family = base.get("texture", {}).get("name")
@@ -376,13 +378,10 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
         from scipy.stats import qmc
 
         n = sweep.get("points")
-        if not isinstance(n, int) or isinstance(n, bool) or n < 1:
+        if n is None:
             raise FingerpadError("[sweep] design = \"lhs\" needs points = N (a positive integer)")
-        if n > MAX_POINTS:
-            raise FingerpadError(f"[sweep] points: {n} is more than the {MAX_POINTS} allowed")
-        seed = sweep.get("seed", 0)
-        if not isinstance(seed, int) or isinstance(seed, bool):
-            raise FingerpadError(f"[sweep] seed: expected an integer, got {seed!r}")
+        n = integer(n, "[sweep] points", 1, MAX_POINTS)
+        seed = integer(sweep.get("seed", 0), "[sweep] seed", 0, MAX_SEED)
         numeric = [a for a in axes if a.numeric]
         if len(numeric) != len(axes):
             raise FingerpadError("[sweep] a Latin hypercube samples numeric axes only (give names on a grid)")

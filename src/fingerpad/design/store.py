@@ -18,6 +18,7 @@ import itertools
 import json
 import math
 import shutil
+import uuid
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -183,13 +184,19 @@ class SweepStore:
         """Lay the store out (or find it): a store of another sweep is refused unless ``overwrite``."""
         if self.check_existing(overwrite) == "resume":
             return  # the same sweep: resume
-        if self.path.exists():
-            shutil.rmtree(self.path)  # an empty folder or another sweep's store (check_store_path)
         tmp = self.path.with_name(f".{self.path.name}.creating")
         shutil.rmtree(tmp, ignore_errors=True)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             self.template().to_zarr(tmp, mode="w", encoding=self.encoding(), zarr_format=2, consolidated=True)
+        if self.path.exists():
+            # an empty folder or another sweep's store (check_store_path): moved aside in one
+            # rename, then removed, so that an interruption leaves the old store or none, never
+            # half of one (a hidden .NAME.XXXXXXXX.old left by kill -9 goes with the next run,
+            # fingerpad.locks.remove_stale)
+            old = self.path.with_name(f".{self.path.name}.{uuid.uuid4().hex[:8]}.old")
+            self.path.rename(old)
+            shutil.rmtree(old, ignore_errors=True)
         tmp.rename(self.path)  # a store appears complete or not at all
 
     def check(self) -> StoreDamage:
@@ -437,7 +444,8 @@ def _read_attrs(path: Path) -> dict[str, Any] | None:
     return attrs if attrs.get("fingerpad_sweep") == 1 else None
 
 
-def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite: bool = False) -> str:
+def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite: bool = False,
+                     repair: bool = False) -> str:
     """What a sweep into ``path`` does there: ``"create"``, ``"resume"`` (the same sweep) or
     ``"replace"`` (another sweep, with ``overwrite``); cheap, to run before any work.
 
@@ -446,16 +454,23 @@ def check_store_path(path: str | Path, spec: SweepSpec | None = None, overwrite:
     FingerpadError
         ``path`` holds something other than a sweep store (a folder of notes, the study file
         itself): it is a user's own and is never replaced, ``overwrite`` or not; or it holds
-        another sweep and ``overwrite`` is not given.
+        another sweep and ``overwrite`` is not given; or ``repair`` is asked where there is no
+        store to repair (it would run the whole sweep anew).
     """
     p = Path(path)
     if not p.exists():
+        if repair:
+            raise FingerpadError(f"--repair: there is no sweep store at {str(p)!r} to repair; run the sweep without "
+                                 "--repair to start it (or name the store to repair with --out)")
         return "create"
     existing = _read_attrs(p)
-    if existing is None:
-        if p.is_dir() and not any(p.iterdir()):
-            return "replace"
+    if existing is None and not (p.is_dir() and not any(p.iterdir())):
         raise FingerpadError(f"{p}: exists and is not a fingerpad sweep store; it is left alone (name another --out)")
+    from ..io import check_folder_writable
+
+    check_folder_writable(p, f"--out {str(p)!r}")  # before the work, not after it (a read-only store)
+    if existing is None:
+        return "replace"
     if spec is not None and existing.get("signature") == spec.signature():
         return "resume"
     if spec is not None and not overwrite and spec.signature(population=False) in (

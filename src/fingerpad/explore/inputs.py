@@ -178,24 +178,20 @@ def _texture_param_errors(data: Mapping[str, Mapping[str, Any]]) -> list[FieldEr
     return out
 
 
-def _page_limits(data: Mapping[str, Mapping[str, Any]]) -> list[FieldError]:
-    """What the page refuses before the library runs anything: a measured map that is not the
-    session's upload is checked by :func:`validate`, and more loads than :data:`MAX_PAGE_LOADS`
-    once the library has read them; here, a grid beyond the library's
-    :data:`~fingerpad.textures.MAX_GRID`."""
+def _grid_error(data: Mapping[str, Mapping[str, Any]]) -> list[FieldError]:
+    """The grid field read on its own, as ``study_from_dict`` reads it (bounds declared by the
+    library: :data:`~fingerpad.textures.MIN_GRID`, :data:`~fingerpad.textures.MAX_GRID`)."""
     from ..study.values import integer
     from ..textures import MAX_GRID, MIN_GRID
 
-    out = []
     grid = data.get("model", {}).get("grid")
-    if grid is not None:
-        try:
-            n = integer(grid, field_label("model", "grid"), MIN_GRID)
-            if n > MAX_GRID:
-                raise FingerpadError(f"{field_label('model', 'grid')}: at most {MAX_GRID} points, got {n}")
-        except FingerpadError as exc:
-            out.append(FieldError("model.grid", one_line(str(exc))))
-    return out
+    if grid is None:
+        return []
+    try:
+        integer(grid, field_label("model", "grid"), MIN_GRID, MAX_GRID)
+    except FingerpadError as exc:
+        return [FieldError("model.grid", one_line(str(exc)))]
+    return []
 
 
 def _too_many_loads(study: Any, data: Mapping[str, Mapping[str, Any]]) -> FieldError | None:
@@ -235,7 +231,10 @@ def validate(data: Mapping[str, Mapping[str, Any]], *, check: bool = True, uploa
         except FingerpadError:
             return StudyCheck(None, [FieldError("texture.surface", REFUSED)], [])
     words = (lambda m: m) if uploads is None else (lambda m: page_message(m, upload, uploads.root))
-    param_msgs = _texture_param_errors(data) + _page_limits(data)
+    param_msgs = _texture_param_errors(data) + _grid_error(data)
+    if any(e.field == "model.grid" for e in param_msgs):
+        # reported; the rest of the study is read without it, so that its other messages show too
+        data = {**data, "model": {k: v for k, v in data.get("model", {}).items() if k != "grid"}}
     errors = [e for e in param_msgs if not e.warning]
     warns = [e for e in param_msgs if e.warning]
     study = None

@@ -65,9 +65,13 @@ def serve(
     Raises
     ------
     FingerpadError
-        Panel/Bokeh missing, an unreadable sweep store or population, a port in use.
+        Panel/Bokeh missing, an unreadable sweep store or population, a port in use, an absent
+        device or FFT engine (:func:`~fingerpad.contact.greens.check_setup`).
     """
     _check_installed()
+    from ..contact.greens import check_setup
+
+    check_setup()  # an absent FINGERPAD_DEVICE or FFT engine: refused here, not at the first BEM run
     extra = server_populations(populations)  # a bad file is a user error before anything starts
     ds = None
     if sweep is not None:  # a bad store is a user error before anything starts

@@ -40,6 +40,13 @@ class MeasurementWarning(UserWarning):
     """Something in the data a person should look at (implausible friction, a caveat)."""
 
 
+#: Most simulations of the breakpoint test's null distribution or of its bootstrap interval
+#: (``n_null``, ``n_boot``): 100 times the default 999, which already gives p-values to 0.001.
+MAX_SIMULATIONS = 100_000
+#: Most load bins (``n_bins``): a table row and a figure point each.
+MAX_BINS = 1000
+
+
 @dataclass(frozen=True)
 class AnalysisOptions:
     """Options of :func:`analyse_study`.
@@ -104,12 +111,14 @@ class AnalysisOptions:
             raise FingerpadError("a reference sample must be named")
         if not 0 < self.level < 1:
             raise FingerpadError(f"level must lie in (0, 1), got {self.level!r}")
-        if self.n_bins < 1 or self.min_fit_strokes < 3:
-            raise FingerpadError("n_bins must be >= 1 and min_fit_strokes >= 3")
+        if not 1 <= self.n_bins <= MAX_BINS or self.min_fit_strokes < 3:
+            raise FingerpadError(f"n_bins must lie in 1..{MAX_BINS} and min_fit_strokes be >= 3, got {self.n_bins!r} "
+                                 f"and {self.min_fit_strokes!r}")
         if not self.outlier_z > 0:
             raise FingerpadError(f"outlier_z must be positive, got {self.outlier_z!r}")
-        if self.n_null < 19 or self.n_boot < 20:
-            raise FingerpadError("n_null must be >= 19 and n_boot >= 20")
+        if not (19 <= self.n_null <= MAX_SIMULATIONS and 20 <= self.n_boot <= MAX_SIMULATIONS):
+            raise FingerpadError(f"n_null must lie in 19..{MAX_SIMULATIONS} and n_boot in 20..{MAX_SIMULATIONS}, got "
+                                 f"{self.n_null!r} and {self.n_boot!r}")
         if self.breakpoint_space not in ("log", "linear"):
             raise FingerpadError(f"breakpoint_space must be 'log' or 'linear', got {self.breakpoint_space!r}")
         if self.breakpoint_method not in ("profile", "bootstrap"):

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import os
 import re
-import tomllib
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -213,13 +212,10 @@ def load_spec(path: str | os.PathLike[str]) -> ColumnSpec:
     FingerpadError
         For a missing file, invalid TOML, or an unknown section, key or unit (naming the file).
     """
+    from ..io import read_toml
+
     p = Path(path)
-    try:
-        data = tomllib.loads(p.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise FingerpadError(f"{p}: spec file not found") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise FingerpadError(f"{p}: not a valid TOML file ({exc})") from None
+    data = read_toml(p, "column spec")
     unknown = sorted(set(data) - {"columns", "units", "files"})
     if unknown:
         raise FingerpadError(f"{p}: unknown section(s) {', '.join(unknown)} (use [columns], [units], [files])")

@@ -55,6 +55,11 @@ class TextureGeometry:
             raise FingerpadError(f"full_contact_ratio must exceed 1, got {self.full_contact_ratio!r}")
 
 
+#: The columns of a sample table (docs/measurements.md).
+SAMPLE_COLUMNS = ("sample", "radius", "height", "spacing", "material_modulus", "material_poisson", "micro_model",
+                  "full_contact_ratio")
+
+
 def read_textures(path: str | os.PathLike[str]) -> dict[str, TextureGeometry | None]:
     """Read a sample table (CSV): ``sample, radius, height, spacing`` and optional
     ``material_modulus``, ``material_poisson``, ``micro_model`` (bem/hertz), ``full_contact_ratio``.
@@ -71,12 +76,20 @@ def read_textures(path: str | os.PathLike[str]) -> dict[str, TextureGeometry | N
     keys = [column_key(h) for h in header]
     if "sample" not in keys:
         raise FingerpadError(f"{p}: sample table lacks a 'sample' column (columns: {', '.join(header)})")
+    # a column this table does not have is a mistake (a manifest named instead, a misspelt
+    # 'radius'), not something to ignore: its samples would be read as flat
+    unknown = [h for h, k in zip(header, keys, strict=True) if k not in SAMPLE_COLUMNS]
+    if unknown:
+        raise FingerpadError(f"{p}: unknown column(s) {', '.join(map(repr, unknown))} in a sample table (columns: "
+                             f"{', '.join(SAMPLE_COLUMNS)}; docs/measurements.md)")
     out: dict[str, TextureGeometry | None] = {}
     for line, cells in rows:
         rec = {k: (cells[i].strip() if i < len(cells) else "") for i, k in enumerate(keys)}
         name = rec["sample"]
         if not name:
             raise FingerpadError(f"{p}, row {line}: empty sample name")
+        if name in out:
+            raise FingerpadError(f"{p}, row {line}: sample {name!r} is given twice")
         geom = [rec.get(k, "") for k in ("radius", "height", "spacing")]
         if not any(geom):
             out[name] = None

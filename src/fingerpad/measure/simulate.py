@@ -94,6 +94,11 @@ class SimulationConfig:
                 raise FingerpadError(f"{name} must be a positive force (N) or None, got {value!r}")
         if self.participants < 1 or self.repetitions < 1 or self.strokes_per_file < 2:
             raise FingerpadError("need at least 1 participant, 1 repetition and 2 strokes per file")
+        for name, value, cap in (("participants", self.participants, MAX_PARTICIPANTS),
+                                 ("repetitions", self.repetitions, MAX_REPETITIONS),
+                                 ("strokes per file", self.strokes_per_file, MAX_STROKES_PER_FILE)):
+            if value > cap:
+                raise FingerpadError(f"{name}: at most {cap} in a simulated study, got {value}")
         lo, hi = self.load_range
         if not 0 < lo < hi:
             raise FingerpadError(f"load range must satisfy 0 < low < high, got {self.load_range!r}")
@@ -114,6 +119,12 @@ class SimulationConfig:
 
 #: Most samples a simulated study may hold (all files; checked before anything is allocated).
 MAX_SAMPLES = 5e7
+#: Most participants, files per participant and sample, and strokes per file of a simulated
+#: study: each participant and each file is a row of the tables and a recording on disk, beyond
+#: what the sample budget alone bounds (1 stroke-pair files of many participants).
+MAX_PARTICIPANTS = 1000
+MAX_REPETITIONS = 100
+MAX_STROKES_PER_FILE = 10_000
 
 
 def _smoothstep(u: np.ndarray) -> np.ndarray:

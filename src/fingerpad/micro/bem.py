@@ -57,9 +57,6 @@ DEFAULT_RTOL = 1e-3
 #: docs/solver.md, "The tolerance of a curve"; 1e-6 moved psi by up to 0.15 of its error, 1e-5 by
 #: 2x). The state brackets' bisection keeps the cell's own ``tol``.
 CURVE_TOL = 1e-7
-#: Solutions (with their fields) a preparation keeps as warm starts for the refinement's nodes,
-#: the most recent first: the refinement bisects next to the nodes and brackets just solved.
-KEEP_SOLUTIONS = 16
 #: The state pressures are searched up to this multiple of E*: the mean strain of the skin is then
 #: of order one and linear elasticity no longer describes it; a state not reached is "beyond".
 STATE_SEARCH_CAP = 10.0
@@ -68,6 +65,50 @@ STATE_SEARCH_CAP = 10.0
 def _grid_pressure(k: int) -> float:
     """Node ``k`` of the global grid of normalised pressures, ``p / E* = 10**(k / POINTS_PER_DECADE)``."""
     return 10 ** (k / POINTS_PER_DECADE)
+
+
+def valid_entry(entry: dict[str, Any]) -> bool:
+    """Whether a cache entry holds what :class:`BEMUnitCell` writes (nodes: a pressure in units
+    of E* -> its solve's numbers; state brackets: two numbers or none). A file edited by hand or
+    written by something else is refused whole (and computed again) rather than read into a
+    traceback or, worse, into the curve."""
+    import numbers
+
+    def number(v: Any) -> bool:
+        return isinstance(v, numbers.Real) and not isinstance(v, bool) and math.isfinite(v)
+
+    points = entry.get("points", {})
+    if not isinstance(points, dict):
+        return False
+    for p, row in points.items():
+        try:
+            q = float(p)
+        except (TypeError, ValueError):
+            return False
+        if not (math.isfinite(q) and q > 0 and isinstance(row, dict)):
+            return False
+        if not (all(number(row.get(k)) for k in ("contact_fraction", "mean_gap", "max_pressure"))
+                and 0 <= row["contact_fraction"] <= 1 and isinstance(row.get("contact_state"), str)
+                and isinstance(row.get("converged"), bool) and isinstance(row.get("iterations"), int)):
+            return False
+    for key in ("transition", "full"):  # [lo, hi] in units of E* (hi inf: beyond the search's cap)
+        bracket = entry.get(key)
+        if bracket is not None and not (isinstance(bracket, list) and len(bracket) == 2
+                                        and number(bracket[0]) and bracket[0] >= 0
+                                        and (number(bracket[1]) or bracket[1] == math.inf)
+                                        and bracket[0] <= bracket[1]):
+            return False
+    return True
+
+
+def _past_asperity(state: str) -> bool:
+    """The transition is reached: the skin touches the texture's base level."""
+    return state != "asperity"
+
+
+def _in_full(state: str) -> bool:
+    """Full contact is reached: at most 1 % of the cell out of contact."""
+    return state == "full"
 
 
 class BEMUnitCell(InterpolatedCurve):
@@ -151,10 +192,15 @@ class BEMUnitCell(InterpolatedCurve):
         # a node tolerance other than tol joins the key (curves of either never mix in one entry)
         extra = {} if self.node_tol == float(tol) else {"node_tol": self.node_tol}
         self.key = unit_cell_key(self.unit, tol=tol, max_iter=max_iter, rtol=rtol, layer=self.unit_layer, **extra)
-        # the unit cell's nodes (p / E* -> row in units of E* and Lx) and state brackets (p / E*)
+        # every node known (the cache's and those solved here: p / E* -> row in units of E* and Lx)
+        # and the nodes this cell's curve uses (the canonical nodes of the ranges prepared: see
+        # prepare()); the state brackets (p / E*)
+        self._known: dict[float, dict[str, Any]] = {}
         self._unit_points: dict[float, dict[str, Any]] = {}
         self._transition: tuple[float, float] | None = None
         self._full: tuple[float, float] | None = None
+        #: State brackets (p / E*) reported instead of the cell's own (:meth:`adopt_states`)
+        self._reported: dict[str, tuple[float, float]] = {}
         self._points: dict[float, dict[str, Any]] | None = None
         self.flat = texture.peak_to_valley <= 0
         self.solves = 0
@@ -163,26 +209,35 @@ class BEMUnitCell(InterpolatedCurve):
         self._progress: tuple[Progress | None, int, int] = (None, 0, 0)
         #: What prepare() computed and has not yet written to the cache (None outside prepare()).
         self._pending: dict[str, Any] | None = None
-        self._recent: dict[float, ContactResult] = {}
         if self.cache is not None:
-            self._absorb(self.cache.load(self.key))
+            self._absorb(self.cache.load(self.key, valid_entry))
 
     # ---------------------------------------------------------------- cache plumbing
 
     def _absorb(self, entry: dict[str, Any]) -> None:
+        # Known nodes only: which of them the curve uses is decided by the ranges prepared
+        # (prepare), never by what the cache happens to hold (issue 31).
         for p, row in entry.get("points", {}).items():
-            self._unit_points[float(p)] = row
+            self._known[float(p)] = row
         if entry.get("transition"):
             self._transition = tuple(entry["transition"])  # type: ignore[assignment]
         if "full" in entry and entry["full"] is not None:
             self._full = tuple(entry["full"])  # type: ignore[assignment]
-        self._interp = None
-        self._phi = None
-        self._points = None
+
+    def _use(self, p: float) -> None:
+        """Make the known node at ``p`` (units of E*) a node of this cell's curve."""
+        key, row = self._lookup(p)
+        if row is None:
+            raise FingerpadError(f"internal: no computed node at p/E* = {p!r}")
+        if key not in self._unit_points:
+            self._unit_points[key] = row
+            self._interp = None
+            self._phi = None
+            self._points = None
 
     @property
     def points(self) -> dict[float, dict[str, Any]]:
-        """The computed nodes at this modulus and size: pressure (Pa) -> ``contact_fraction``,
+        """The nodes of this cell's curve at its modulus and size: pressure (Pa) -> ``contact_fraction``,
         ``mean_gap`` (m), ``max_pressure`` (Pa), ``contact_state``, ``converged``, ``iterations``."""
         if self._points is None:
             e, lx = self.modulus, self.length
@@ -190,16 +245,54 @@ class BEMUnitCell(InterpolatedCurve):
                             for q, row in self._unit_points.items()}
         return self._points
 
+    def _bracket(self, name: str, own: bool = False) -> tuple[float, float] | None:
+        """The unit bracket (p / E*) of state ``name``: the adopted one unless ``own``."""
+        if not own and name in self._reported:
+            return self._reported[name]
+        return self._transition if name == "transition" else self._full
+
     @property
     def transition(self) -> tuple[float, float] | None:
-        """Bracket [lo, hi] (Pa) of the transition pressure (``None`` before :meth:`prepare`)."""
-        return None if self._transition is None else (self._transition[0] * self.modulus,
-                                                      self._transition[1] * self.modulus)
+        """Bracket [lo, hi] (Pa) of the transition pressure (``None`` before :meth:`prepare`);
+        the adopted one after :meth:`adopt_states`."""
+        b = self._bracket("transition")
+        return None if b is None else (b[0] * self.modulus, b[1] * self.modulus)
 
     @property
     def full(self) -> tuple[float, float] | None:
-        """Bracket [lo, hi] (Pa) of the full-contact pressure (``None`` before :meth:`prepare`)."""
-        return None if self._full is None else (self._full[0] * self.modulus, self._full[1] * self.modulus)
+        """Bracket [lo, hi] (Pa) of the full-contact pressure (``None`` before :meth:`prepare`);
+        the adopted one after :meth:`adopt_states`."""
+        b = self._bracket("full")
+        return None if b is None else (b[0] * self.modulus, b[1] * self.modulus)
+
+    def adopt_states(self, transition: "BEMUnitCell", full: "BEMUnitCell") -> None:
+        """Report the transition bracket of ``transition`` and the full-contact bracket of
+        ``full`` -- cells of the same texture on the grids chosen for those states
+        (:func:`fingerpad.micro.resolution.choose_state_grids`) -- as this cell's (its zones,
+        critical and full-contact loads). The curve psi(p) stays this cell's own, kinks at its
+        own brackets included (they are within the state's reported error of the adopted ones)."""
+        for name, other in (("transition", transition), ("full", full)):
+            if other.unit_layer != self.unit_layer:
+                raise FingerpadError("adopt_states: a cell of another skin")
+            if other.modulus != self.modulus:
+                raise FingerpadError("adopt_states: a cell at another modulus")
+            bracket = other._bracket(name, own=True)
+            if bracket is None:
+                raise FingerpadError("adopt_states: the other cell is not prepared")
+            if other is self:
+                self._reported.pop(name, None)
+            else:
+                self._reported[name] = tuple(bracket)  # type: ignore[assignment]
+
+    def own_state_pressure(self, name: str) -> float:
+        """This cell's own pressure (Pa) of state ``name`` (``"transition"`` or ``"full"``),
+        whatever it adopted: the geometric middle of its bracket (inf beyond the search cap)."""
+        if self.flat:
+            return 0.0
+        b = self._bracket(name, own=True)
+        if b is None:
+            raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
+        return math.inf if math.isinf(b[1]) else self.modulus * math.sqrt(b[0] * b[1])
 
     def _store(self, new_points: dict[float, dict[str, Any]], **extra: Any) -> None:
         payload: dict[str, Any] = {"points": {repr(p): row for p, row in new_points.items()}, **extra}
@@ -207,7 +300,7 @@ class BEMUnitCell(InterpolatedCurve):
         if self.cache is None:
             return
         if self._pending is None:
-            self._absorb(self.cache.update(self.key, payload))
+            self._absorb(self.cache.update(self.key, payload, valid_entry))
             return
         # Inside prepare(): held until its end, then written in one update (see _flush).
         for k, v in payload.items():
@@ -225,7 +318,7 @@ class BEMUnitCell(InterpolatedCurve):
         each update's was before; the values are the same floats (JSON round-trips them)."""
         pending, self._pending = self._pending, None
         if pending and self.cache is not None:
-            self._absorb(self.cache.update(self.key, pending))
+            self._absorb(self.cache.update(self.key, pending, valid_entry))
 
     @staticmethod
     def _row(res: ContactResult) -> dict[str, Any]:
@@ -245,19 +338,24 @@ class BEMUnitCell(InterpolatedCurve):
         not only inside the range: first on the global node grid (deterministic, so the result
         does not depend on the range asked for or on what the cache holds), then by geometric
         bisection. A state not reached by :data:`STATE_SEARCH_CAP` times E* is recorded as lying
-        beyond it. Bracketing solves become nodes of the curve, so the kinks of psi at the state
-        changes are resolved.
+        beyond it. The bisection's solves inside the range become nodes of the curve, so the kinks
+        of psi at the state changes are resolved.
+
+        The curve's nodes are a function of the ranges prepared on this object alone, not of what
+        the cache held before (issue 31): the global grid nodes covering the range, the state
+        brackets' bisection inside it, and the refinement of those; a node the cache holds is
+        used where it is one of them, and a node's value is a function of its pressure alone
+        (grid and refinement nodes are solved cold, a bracket's bisection from the bracket's
+        own lower grid node), so a cached node has the very bits a solve would give.
         """
         if self.flat:
             return self
         if not (0 < p_min <= p_max and math.isfinite(p_max)):
             raise FingerpadError(f"bad pressure range [{p_min!r}, {p_max!r}]")
         self._pending = {}
-        self._recent = {}
         try:
             return self._prepare(p_min / self.modulus, p_max / self.modulus, progress)
         finally:
-            self._recent = {}  # the fields: memory
             self._flush()  # also after an error or Ctrl-C: the solves done are kept, as before
 
     def _prepare(self, p_min: float, p_max: float, progress: Progress | None) -> "BEMUnitCell":
@@ -268,24 +366,76 @@ class BEMUnitCell(InterpolatedCurve):
         per_bracket = int(math.ceil(math.log2(math.log(10 ** (1 / POINTS_PER_DECADE)) / self.rtol))) + 1
         self._progress = (progress, 0, len(todo) + 2 * (per_bracket + 4))
         new: dict[float, dict[str, Any]] = {}
-        previous: ContactResult | None = None
         for k in todo:
-            previous = self._solve_node(_grid_pressure(k), previous, new)
+            # cold: a warm start from the node below would make the node's last bits depend on
+            # which nodes this run solved (those the cache lacked), i.e. on the cache's history
+            self._solve_node(_grid_pressure(k), None, new)
         if new:
             self._store(new)
-        if self._transition is None:
-            self._store({}, transition=self._bracket_state(lambda st: st != "asperity", k1))
-        if self._full is None:
-            self._store({}, full=self._bracket_state(lambda st: st == "full", k1))
+        for k in range(k0, k1 + 1):
+            self._use(_grid_pressure(k))
+        self.prepare_states(k1)
+        for bracket, reached in ((self._transition, _past_asperity), (self._full, _in_full)):
+            for p in self._bracket_nodes(bracket, reached, k0, k1):
+                self._use(p)
         self._refine(p_min, p_max)
         self._progress = (None, 0, 0)
         return self
 
+    def prepare_states(self, k_start: int | None = None) -> "BEMUnitCell":
+        """Bracket the transition and full-contact pressures (to ``rtol``) without the curve: the
+        state search on the global grid (from node ``k_start``; by default the one nearest the
+        texture's pressure scale E* h / Lx, a number of the texture alone), then the bisection.
+        The brackets do not depend on ``k_start`` (see :meth:`_bracket_state`). Returns self."""
+        if self.flat or (self._transition is not None and self._full is not None):
+            return self
+        if k_start is None:
+            scale = max(float(self.unit.peak_to_valley), 1e-12)  # E* h / Lx in units of E*
+            k_start = round(math.log10(scale) * POINTS_PER_DECADE)
+        outer = self._pending is None
+        if outer:
+            self._pending = {}
+        try:
+            if self._transition is None:
+                self._store({}, transition=self._bracket_state(_past_asperity, k_start))
+            if self._full is None:
+                self._store({}, full=self._bracket_state(_in_full, k_start))
+        finally:
+            if outer:
+                self._flush()
+        return self
+
+    def _bracket_nodes(self, bracket: tuple[float, float] | None, reached: Callable[[str], bool],
+                       k0: int, k1: int) -> list[float]:
+        """The nodes of a state bracket's bisection (units of E*) when its grid interval lies in
+        the grid nodes ``k0..k1``: the bisection replayed from the known nodes' states (the same
+        floats as when it ran), so that the curve takes the same nodes whether the bracket was
+        computed now or read from the cache. Empty for a bracket at zero or beyond the cap."""
+        if bracket is None or not (math.isfinite(bracket[1]) and bracket[0] > 0):
+            return []
+        k = math.ceil(math.log10(bracket[1]) * POINTS_PER_DECADE - 1e-6)
+        lo, hi = _grid_pressure(k - 1), _grid_pressure(k)
+        if not (k0 < k <= k1 and lo <= bracket[0] * (1 + 1e-12) and bracket[1] <= hi * (1 + 1e-12)):
+            return []
+        out = [lo, hi]
+        while (hi - lo) / hi > self.rtol:
+            mid = math.sqrt(lo * hi)
+            row = self._node(mid)
+            if row is None:  # not the bisection that made the bracket (should not happen)
+                break
+            out.append(mid)
+            if reached(str(row["contact_state"])):
+                hi = mid
+            else:
+                lo = mid
+        return out
+
     def _refine(self, p_min: float, p_max: float) -> None:
         """Add nodes where psi rises steeply (just past the transition the skin floods the base):
         bisect (in log p) every interval inside the range whose psi step exceeds MAX_PSI_STEP
-        (the range in units of E*, like the nodes)."""
-        new: dict[float, dict[str, Any]] = {}
+        (the range in units of E*, like the nodes), at most MAX_REFINE_SOLVES nodes per call.
+        The intervals are those of the curve's own nodes, so the nodes added are too; a node
+        is solved cold (its value a function of its pressure alone) unless the cache has it."""
         for _ in range(MAX_REFINE_SOLVES):
             ps, psi = self._nodes()
             steps = np.diff(psi)
@@ -295,26 +445,17 @@ class BEMUnitCell(InterpolatedCurve):
                 break
             i = int(bad[np.argmax(steps[bad])])
             p = math.sqrt(ps[i] * ps[i + 1])
-            self._solve_node(p, self._nearest_below(p), new)
-            self._store(new)
-            new = {}
-
-    def _nearest_below(self, p: float) -> ContactResult | None:
-        """The solution of this preparation nearest below ``p`` (units of E*), for a warm start:
-        its contact set lies inside the one at ``p``, as in a load curve (``None``: none kept)."""
-        below = [q for q in self._recent if q < p]
-        return self._recent[max(below)] if below else None
+            if self._node(p) is None:
+                new: dict[float, dict[str, Any]] = {}
+                self._solve_node(p, None, new)
+                self._store(new)
+            self._use(p)
 
     def _solve_node(self, p: float, initial: ContactResult | None, sink: dict[float, dict[str, Any]],
                     tol: float | None = None) -> ContactResult:
         # a node of the curve to node_tol; the state bisection passes the cell's own tol
         self.solver.tol = self.node_tol if tol is None else tol
         res = self.solver.solve_pressure(p, initial=initial)
-        # keep the last solutions (their fields) as warm starts for the refinement's nodes
-        self._recent[p] = res
-        keep = max(2, min(KEEP_SOLUTIONS, 2**20 // max(self.unit.heights.size, 1)))  # <= ~4 fields of 512²
-        while len(self._recent) > keep:
-            del self._recent[next(iter(self._recent))]
         sink[p] = self._row(res)
         self.solves += 1
         callback, done, total = self._progress
@@ -324,12 +465,16 @@ class BEMUnitCell(InterpolatedCurve):
             self._progress = (callback, done, total)
         return res
 
-    def _node(self, p: float) -> dict[str, Any] | None:
-        """The computed node of the unit cell at pressure ``p`` (units of E*), if any."""
-        row = self._unit_points.get(p)
+    def _lookup(self, p: float) -> tuple[float, dict[str, Any] | None]:
+        """``(key, row)`` of the known node at pressure ``p`` (units of E*); ``(p, None)`` if none."""
+        row = self._known.get(p)
         if row is not None:
-            return row
-        return next((r for q, r in self._unit_points.items() if math.isclose(p, q, rel_tol=1e-9)), None)
+            return p, row
+        return next(((q, r) for q, r in self._known.items() if math.isclose(p, q, rel_tol=1e-9)), (p, None))
+
+    def _node(self, p: float) -> dict[str, Any] | None:
+        """The computed node of the unit cell at pressure ``p`` (units of E*), if any is known."""
+        return self._lookup(p)[1]
 
     def _state_at(self, k: int, sink: dict[float, dict[str, Any]]) -> str:
         """Contact state at global grid node ``k`` (solved if not yet computed)."""
@@ -396,9 +541,10 @@ class BEMUnitCell(InterpolatedCurve):
         middle of a bracket of relative width ``rtol``; inf if beyond :data:`STATE_SEARCH_CAP` E*)."""
         if self.flat:
             return 0.0
-        if self._transition is None:
+        b = self._bracket("transition")
+        if b is None:
             raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
-        lo, hi = self._transition
+        lo, hi = b
         return math.inf if math.isinf(hi) else self.modulus * math.sqrt(lo * hi)
 
     @property
@@ -408,9 +554,10 @@ class BEMUnitCell(InterpolatedCurve):
         of a bracket of relative width ``rtol``; inf if beyond :data:`STATE_SEARCH_CAP` E*)."""
         if self.flat:
             return 0.0
-        if self._full is None:
+        b = self._bracket("full")
+        if b is None:
             raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
-        lo, hi = self._full
+        lo, hi = b
         return math.inf if math.isinf(hi) else self.modulus * math.sqrt(lo * hi)
 
     def at_modulus(self, modulus: float) -> "ScaledResponse":

@@ -21,6 +21,7 @@ import json
 import os
 import tempfile
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -29,15 +30,18 @@ from filelock import FileLock, Timeout
 
 #: Bump when a solver change alters cached numbers (2: full contact = at most 1 % open; state
 #: brackets searched beyond the asked range; 3: unit cells stored modulus- and length-free,
-#: pressures over E* and lengths over the cell length, keyed without either).
-CACHE_VERSION = 3
+#: pressures over E* and lengths over the cell length, keyed without either; 4: a node's value a
+#: function of its pressure alone -- grid and refinement nodes solved cold, not warm-started from
+#: whichever nodes a run happened to solve -- so that a cached node is what a solve would give).
+CACHE_VERSION = 4
 
 
 class CacheWarning(UserWarning):
-    """The cache folder cannot be used: the work goes on without storing its results."""
+    """The cache folder cannot be used (the work goes on without storing its results), or an
+    entry cannot be read (it is computed again and written anew)."""
 
 
-#: Folders already warned about (one warning per folder and process).
+#: Folders and entries already warned about (one warning each per process).
 _WARNED: set[str] = set()
 
 
@@ -71,27 +75,40 @@ class CurveCache:
     def _paths(self, key: str) -> tuple[Path, Path]:
         return self.folder / f"{key}.json", self.folder / f"{key}.lock"
 
-    def load(self, key: str) -> dict[str, Any]:
-        """The entry for ``key`` (empty if absent or unreadable)."""
+    def load(self, key: str, check: Callable[[dict[str, Any]], bool] | None = None) -> dict[str, Any]:
+        """The entry for ``key`` (empty if absent or unreadable: an unreadable one, cut short or
+        corrupted, or one ``check`` refuses (its reader's idea of its content), is said in a
+        :class:`CacheWarning`, once per entry, and its points are computed again)."""
         path, _ = self._paths(key)
         try:
             with open(path, encoding="utf-8") as fh:
                 data = json.load(fh)
-        except (OSError, ValueError):
+        except (FileNotFoundError, NotADirectoryError):  # no entry (a folder that is not one: warned by update)
             return {}
-        return data if isinstance(data, dict) else {}
+        except OSError as exc:
+            _warn_unreadable(path, exc.strerror or type(exc).__name__)
+            return {}
+        except ValueError:
+            _warn_unreadable(path, "it is not JSON: cut short or corrupted")
+            return {}
+        if not isinstance(data, dict) or (check is not None and not check(data)):
+            _warn_unreadable(path, "it does not hold what fingerpad writes there: edited or corrupted")
+            return {}
+        return data
 
-    def update(self, key: str, new: dict[str, Any]) -> dict[str, Any]:
+    def update(self, key: str, new: dict[str, Any], check: Callable[[dict[str, Any]], bool] | None = None
+               ) -> dict[str, Any]:
         """Merge ``new`` into the entry under a lock and write it atomically; return the merged entry.
 
-        Top-level dictionaries are merged key by key (new values win), other values replaced.
+        Top-level dictionaries are merged key by key (new values win), other values replaced. An
+        entry that cannot be read, or that ``check`` refuses, is replaced (see :meth:`load`).
         """
         path, lock = self._paths(key)
         mode = 0o666 & ~_umask()  # what a plain file gets: a shared cache needs group-writable entries and locks
         try:
             self.folder.mkdir(parents=True, exist_ok=True)
             with FileLock(str(lock), timeout=600, mode=mode):
-                data = self.load(key)
+                data = self.load(key, check)
                 _merge(data, new)
                 fd, tmp = tempfile.mkstemp(dir=self.folder, prefix=f".{key[:12]}.", suffix=".tmp")
                 try:
@@ -109,9 +126,17 @@ class CurveCache:
                 warnings.warn(f"cache folder {str(self.folder)!r} cannot be written ({reason}): running without "
                               f"storing results in the cache (set FINGERPAD_CACHE or --cache to a writable folder)",
                               CacheWarning, stacklevel=2)
-            data = self.load(key)
+            data = self.load(key, check)
             _merge(data, new)
         return data
+
+
+def _warn_unreadable(path: Path, reason: str) -> None:
+    if str(path) in _WARNED:
+        return
+    _WARNED.add(str(path))
+    warnings.warn(f"cache entry {str(path)!r} cannot be read ({reason}): its unit-cell points are computed "
+                  "again and the entry is written anew", CacheWarning, stacklevel=3)
 
 
 def _merge(data: dict[str, Any], new: dict[str, Any]) -> None:

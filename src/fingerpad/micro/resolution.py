@@ -7,6 +7,12 @@ against grid 256. So the difference between a grid and its half, ``|r_N / r_{N/2
 (slightly conservative) estimate of the error of ``r_N``. :func:`choose_grid` doubles the grid
 from its start until that estimate is below the target, or uses a given grid and only reports
 the estimate. The coarse half-grid cell costs about a quarter of the fine one.
+
+The state pressures (transition, full contact) have grids of their own, chosen the same way by
+their own convergence (:func:`choose_state_grids`): a state load is a property of the texture
+and the finger, so its grid must not follow the loads asked for, as the curve's does (issue 31:
+on the default cell the full-contact pressure is 160.7 kPa at grid 64 and 170.3 kPa at 128, and
+the grid the curve took over 1-1000 N or 0.1-4 N decided which was reported).
 """
 
 from __future__ import annotations
@@ -25,7 +31,8 @@ from .bem import BEMUnitCell
 if TYPE_CHECKING:
     from ..textures import Texture
 
-__all__ = ["DEFAULT_ACCURACY", "MAX_AUTO_GRID", "GridChoice", "choose_grid", "halve"]
+__all__ = ["DEFAULT_ACCURACY", "MAX_AUTO_GRID", "MAX_STATE_GRID", "STATES", "GridChoice", "StateChoice",
+           "choose_grid", "choose_state_grids", "halve"]
 
 #: Target of the estimated relative error of A_re/A_fr when the grid is chosen automatically. The
 #: estimate is conservative: on the default cell it is 2.8 % at grid 64 and 1.2 % at 128 where the
@@ -35,6 +42,14 @@ DEFAULT_ACCURACY = 0.02
 MAX_AUTO_GRID = 512
 #: Grids below this many points along x have no coarser companion for the estimate.
 MIN_COMPANION_GRID = 16
+#: The automatic choice of a state pressure's grid stops at this many points along x. A state
+#: bracket is ~13 cold solves near that state (~1 s of CPU at 256 x 448 on the default cell, ~7 s
+#: at 512 x 882, measured on the shared 2-core machine); where a state converges slowly with the
+#: grid (the default cell's full contact: 6.0, 4.3 and 3.4 % from 64 to 128, 256 and 512) 512
+#: buys little for that cost, and the estimate reported beside the state says how far it is.
+MAX_STATE_GRID = 256
+#: The state pressures a cell brackets, and the attribute of each.
+STATES = {"transition": "transition_pressure", "full": "full_contact_pressure"}
 
 
 @dataclass
@@ -62,6 +77,8 @@ class GridChoice:
     target: float | None
     history: list[tuple[int, float]] = field(default_factory=list)
     solves: int = 0
+    #: Every cell prepared for the choice, by grid points along x (the state grids reuse them).
+    cells: dict[int, BEMUnitCell] = field(default_factory=dict)
 
     @property
     def met(self) -> bool | None:
@@ -73,14 +90,68 @@ class GridChoice:
     def state_pressure_errors(self) -> dict[str, float]:
         """Relative change of the transition and full-contact pressures from the half grid (at
         least the brackets' relative width: below it the change is not resolved)."""
-        out = {}
         if self.coarse is None:
-            return {"transition": math.nan, "full": math.nan}
-        for name, attr in (("transition", "transition_pressure"), ("full", "full_contact_pressure")):
-            fine, coarse = getattr(self.cell, attr), getattr(self.coarse, attr)
-            ok = math.isfinite(fine) and math.isfinite(coarse) and fine > 0 and coarse > 0
-            out[name] = max(abs(fine / coarse - 1.0), self.cell.rtol) if ok else math.nan
-        return out
+            return dict.fromkeys(STATES, math.nan)
+        return {name: _state_error(self.cell, self.coarse, name) for name in STATES}
+
+
+def _state_error(fine: BEMUnitCell, coarse: BEMUnitCell, name: str) -> float:
+    """``|p_N / p_{N/2} - 1|`` of a state pressure (at least the bracket's relative width, below
+    which the change is not resolved); NaN where neither grid reaches the state (beyond the
+    search cap at both: nothing to refine), inf where one does and the other not."""
+    f, c = fine.own_state_pressure(name), coarse.own_state_pressure(name)
+    if math.isinf(f) and math.isinf(c):
+        return math.nan
+    if not (math.isfinite(f) and math.isfinite(c)):
+        return math.inf
+    if f <= 0 or c <= 0:
+        return 0.0 if f == c else math.inf
+    return max(abs(f / c - 1.0), fine.rtol)
+
+
+@dataclass
+class StateChoice:
+    """The grid of one state pressure, chosen by the state's own convergence, and its estimate.
+
+    Attributes
+    ----------
+    state
+        ``"transition"`` or ``"full"``.
+    cell, coarse
+        The cell whose bracket is reported and its half-grid companion (``None``: none).
+    error
+        Estimated relative error of the state pressure, ``|p_N / p_{N/2} - 1|`` (at least the
+        bracket's relative width; NaN without a companion or with the state beyond the search cap
+        on both grids; inf when one grid reaches it and the other not).
+    target
+        The accuracy asked for (``None``: the grid was not chosen, it is the curve's).
+    history
+        ``(grid points along x, estimated error)`` of each grid tried.
+    """
+
+    state: str
+    cell: BEMUnitCell
+    coarse: BEMUnitCell | None
+    error: float
+    target: float | None
+    history: list[tuple[int, float]] = field(default_factory=list)
+
+    @property
+    def met(self) -> bool | None:
+        """Whether the estimate is within the target (``None`` without a target or an estimate)."""
+        if self.target is None or math.isnan(self.error):
+            return None
+        return self.error <= self.target
+
+    @property
+    def pressure(self) -> float:
+        """The state pressure (Pa) on the chosen grid."""
+        return self.cell.own_state_pressure(self.state)
+
+    @property
+    def coarse_pressure(self) -> float:
+        """The state pressure (Pa) on the half grid (NaN without one)."""
+        return math.nan if self.coarse is None else self.coarse.own_state_pressure(self.state)
 
 
 def halve(texture: "Texture") -> "Texture | None":
@@ -144,19 +215,8 @@ def choose_grid(
         cells.append(BEMUnitCell(tex, modulus, **opts).prepare(*p_range, progress=progress if report else None))
         return cells[-1]
 
-    def companion(tex: "Texture") -> "Texture | None":
-        nx = tex.shape[0]
-        if make_texture is not None and nx // 2 >= MIN_COMPANION_GRID and nx % 2 == 0:
-            try:
-                with warnings.catch_warnings():  # coarse on purpose: it only measures the convergence
-                    warnings.simplefilter("ignore", ResolutionWarning)
-                    return make_texture(nx // 2)
-            except FingerpadError:
-                return halve(tex)
-        return halve(tex)
-
     fine_tex = texture
-    coarse_tex = companion(fine_tex)
+    coarse_tex = _companion(make_texture, fine_tex)
     coarse = prepared(coarse_tex, False) if coarse_tex is not None else None
     fine = prepared(fine_tex, True)
     history: list[tuple[int, float]] = []
@@ -171,10 +231,102 @@ def choose_grid(
         grow = (target is not None and make_texture is not None and not math.isnan(error)
                 and error > target and 2 * fine_tex.shape[0] <= max_grid)
         if not grow:
-            return GridChoice(fine, coarse, error, target, history, sum(c.solves for c in cells))
+            return GridChoice(fine, coarse, error, target, history, sum(c.solves for c in cells), _by_grid(cells))
         try:
             next_tex = make_texture(2 * fine_tex.shape[0])  # type: ignore[misc]
         except FingerpadError:
-            return GridChoice(fine, coarse, error, target, history, sum(c.solves for c in cells))
+            return GridChoice(fine, coarse, error, target, history, sum(c.solves for c in cells), _by_grid(cells))
         coarse, fine_tex = fine, next_tex
         fine = prepared(fine_tex, True)
+
+
+def _companion(make_texture: Callable[[int], "Texture"] | None, tex: "Texture") -> "Texture | None":
+    """The half-grid companion of ``tex``: the generator at half the grid, else the map
+    block-averaged 2 x 2 (``None`` if neither exists)."""
+    nx = tex.shape[0]
+    if make_texture is not None and nx // 2 >= MIN_COMPANION_GRID and nx % 2 == 0:
+        try:
+            with warnings.catch_warnings():  # coarse on purpose: it only measures the convergence
+                warnings.simplefilter("ignore", ResolutionWarning)
+                return make_texture(nx // 2)
+        except FingerpadError:
+            return halve(tex)
+    return halve(tex)
+
+
+def _by_grid(cells: list[BEMUnitCell]) -> dict[int, BEMUnitCell]:
+    return {int(c.texture.shape[0]): c for c in cells}
+
+
+def choose_state_grids(
+    make_texture: Callable[[int], "Texture"] | None,
+    texture: "Texture",
+    modulus: float,
+    *,
+    target: float | None = DEFAULT_ACCURACY,
+    max_grid: int = MAX_STATE_GRID,
+    cell_options: dict[str, Any] | None = None,
+    cells: dict[int, BEMUnitCell] | None = None,
+) -> tuple[dict[str, StateChoice], int]:
+    """The grid of each state pressure (transition, full contact), chosen by its own convergence.
+
+    From the starting grid (``texture``, the curve's start) and its half-grid companion, the grid
+    of each state is doubled until ``|p_N / p_{N/2} - 1|`` is within ``target`` or the next grid
+    would pass ``max_grid``; a cell made for this brackets the states only
+    (:meth:`BEMUnitCell.prepare_states`, no curve). Nothing here depends on the loads asked for.
+    ``target=None`` (or a measured map, ``make_texture=None``) keeps the starting grid and only
+    reports the estimate.
+
+    Parameters
+    ----------
+    make_texture, texture, modulus, target, max_grid, cell_options
+        As :func:`choose_grid`.
+    cells
+        Cells already prepared (grid points along x -> cell, e.g. :attr:`GridChoice.cells`):
+        reused, their states are bracketed already.
+
+    Returns
+    -------
+    choices, solves
+        Per state its :class:`StateChoice`, and the unit-cell solves this call added.
+    """
+    opts = dict(cell_options or {})
+    known: dict[int, BEMUnitCell] = dict(cells or {})
+    solves = 0
+
+    def cell_at(tex: "Texture") -> BEMUnitCell:
+        nonlocal solves
+        nx = int(tex.shape[0])
+        cell = known.get(nx)
+        if cell is None or cell.texture.shape != tex.shape:
+            cell = known[nx] = BEMUnitCell(tex, modulus, **opts)
+        before = cell.solves
+        cell.prepare_states()
+        solves += cell.solves - before
+        return cell
+
+    start_tex = texture
+    coarse_tex = _companion(make_texture, start_tex)
+    out: dict[str, StateChoice] = {}
+    for name in STATES:
+        fine_tex = start_tex
+        fine = cell_at(fine_tex)
+        coarse = cell_at(coarse_tex) if coarse_tex is not None else None
+        history: list[tuple[int, float]] = []
+        while True:
+            error = _state_error(fine, coarse, name) if coarse is not None else math.nan
+            history.append((int(fine_tex.shape[0]), error))
+            grow = (target is not None and make_texture is not None and not math.isnan(error)
+                    and error > target and 2 * fine_tex.shape[0] <= max_grid)
+            if grow:
+                try:
+                    next_tex = make_texture(2 * fine_tex.shape[0])  # type: ignore[misc]
+                except FingerpadError:
+                    grow = False
+            if not grow:
+                out[name] = StateChoice(name, fine, coarse, error, target if make_texture is not None else None,
+                                        history)
+                break
+            coarse, fine_tex = fine, next_tex
+            fine = cell_at(fine_tex)
+    return out, solves

@@ -189,6 +189,12 @@ def zones_figure(pred: Prediction) -> FigureSpec:
     ht = z.get("hertz_transition_radius")
     if ht:
         disc.discs.append(Disc(ht, "outline", f"hertz transition: r < {ht * 1e3:.3g} mm", dash="dashed"))
+    # The legend goes above the disc, in a band of its own: in the corner of a square box it
+    # covered the disc's top left (its rows are ~4.5 % of the box's height each, plus margins).
+    rows = len(disc.discs)
+    share = 0.045 * rows + 0.03
+    top = (1.05 + 1.15 * share) * a / (1.0 - share)  # the disc's top (a) + 5 % clears the legend's band
+    disc.y = Axis("y", limits=(-lim, max(lim, top)), **mm)
     for radius, angle in ((a, 60), (at, 30), (af, 0)):
         if radius > 0:
             t = math.radians(angle)

@@ -134,7 +134,7 @@ def population_from_results(folder: str | Path) -> Population:
         raise FingerpadError(f"{opt}: the participants do not all have the same fitted parameters "
                              f"({', '.join(used)}); a member would mix fitted and study values")
     fitted_with = study.get("finger", "default")
-    notes = [f"population from {path.name}: {len(members)} participants as members ({', '.join(used)} as fitted "
+    notes = [f"population from {path.name}: {len(members)} participant{'s' if len(members) != 1 else ''} as members ({', '.join(used)} as fitted "
              f"by analyse with finger {fitted_with!r}); every other parameter is the study's finger's "
              "(participants.csv has no other: analyse fits no friction parameter nor area law)"]
     if left_out:

@@ -23,19 +23,26 @@ POPULATION_PRESETS: dict[str, dict[str, Any]] = {
         "skin_poisson": {"distribution": "uniform", "low": 0.48, "high": 0.5},
         # literature range: equivalent pad radius 7-11 mm (docs/model.md, "Macro").
         "radius": {"distribution": "uniform", "low": "7mm", "high": "11mm"},
-        # literature range: pad reduced modulus 10-100 kPa (docs/model.md, "Macro"); a factor of
-        # ten, so log-uniform would also do; kept uniform (assumed shape).
-        "modulus": {"distribution": "uniform", "low": "10kPa", "high": "100kPa"},
-        # literature range: ridge contact 10-70 % of the gross area (docs/model.md, "Meso").
-        "ridge_fraction": {"distribution": "uniform", "low": 0.1, "high": 0.7},
-        # ASSUMED: docs/model.md gives no spread of tau0; +-50 % about the default 8.1 kPa, which is
-        # calibrated to dry mu ~ 0.5 on a smooth flat (finger.py).
-        "tau0": {"distribution": "uniform", "low": "4kPa", "high": "12kPa"},
+        # literature range: pad reduced modulus 10-100 kPa (docs/model.md, "Macro"), a factor of
+        # ten: log-normal about the default finger's 40 kPa ("the typical value"), 5-95 % at
+        # 18-91 kPa (issue 31: uniform over 10-100 kPa put the median member at 55 kPa, a stiffer,
+        # smaller pad than the finger the population varies). Assumed shape.
+        "modulus": {"distribution": "lognormal", "median": "40kPa", "sigma": 0.5},
+        # literature range: ridge contact 10-70 % of the gross area (docs/model.md, "Meso") -- a
+        # range over the loads of the studies, not between people at one load; per person at a
+        # given load: 30-70 %, about the 50 % of the default finger (Duvefelt). ASSUMED: held
+        # over load for each person (docs/population.md, "The adults preset"). Issue 31: over
+        # 10-70 % the median member had 40 %.
+        "ridge_fraction": {"distribution": "uniform", "low": 0.3, "high": 0.7},
+        # ASSUMED: docs/model.md gives no spread of tau0; log-normal about the default 8.1 kPa
+        # (calibrated to dry mu ~ 0.5 on a smooth flat, finger.py), 5-95 % at 5-13 kPa, the
+        # +-50 % assumed before, now centred (uniform 4-12 kPa had its median at 8 kPa).
+        "tau0": {"distribution": "lognormal", "median": "8.1kPa", "sigma": 0.3},
         # ASSUMED: no value in docs/model.md; 0-0.2 about the assumed default 0.1.
         "alpha": {"distribution": "uniform", "low": 0.0, "high": 0.2},
-        # ASSUMED: no value in docs/model.md; 0.05-0.2 about the assumed default 0.1 (friction
-        # "mostly adhesive", so the hysteresis term stays small).
-        "beta": {"distribution": "uniform", "low": 0.05, "high": 0.2},
+        # ASSUMED: no value in docs/model.md; 0.05-0.15 about the assumed default 0.1 (friction
+        # "mostly adhesive", so the hysteresis term stays small; 0.05-0.2 had its median at 0.125).
+        "beta": {"distribution": "uniform", "low": 0.05, "high": 0.15},
         # no "correlations": docs/model.md (the thesis and its literature) gives no correlation
         # between any two of these parameters, so they are drawn independently.
     },

@@ -48,8 +48,8 @@ from .distributions import Population, members_plausible, population_from_table
 from .members import member_finger
 from .sources import load_population
 
-__all__ = ["DEFAULT_QUANTILES", "DIRECTION_REFUSED", "MAX_QUANTILES", "PopulationStudy", "attach",
-           "quantile_levels", "resolve_population", "sensitivity_samples"]
+__all__ = ["DEFAULT_QUANTILES", "DIRECTION_REFUSED", "MAX_QUANTILES", "PopulationStudy", "RIDGE_FRACTION_NOTE",
+           "attach", "quantile_levels", "resolve_population", "sensitivity_samples"]
 
 #: Quantiles reported by default.
 DEFAULT_QUANTILES: tuple[float, ...] = (0.05, 0.25, 0.5, 0.75, 0.95)
@@ -63,6 +63,10 @@ DIRECTION_REFUSED = (
     "member would need its own directional ramps (a population of solves, not one cell); run the population "
     "without the direction for the bands, then predict --direction for the members of interest with their "
     "--finger-param values (population.members in the JSON)")
+#: The population's dominant assumption, said wherever its ridge fraction has a spread (issue 31).
+RIDGE_FRACTION_NOTE = ("population: each member's ridge fraction (A_fr/A_g) is one number over every load -- an "
+                       "assumption: the literature gives 10-70 % over loads, changing with load in opposite directions "
+                       "in different studies, and no law per person; it drives much of the spread (--sensitivity)")
 #: The layer values that declare a layered skin on a half-space preset (rule 2's exception).
 DECLARING_LAYER = ("skin_layer_thickness", "skin_layer_modulus", "skin_substrate_modulus")
 #: Fewest members for which the default outer bands (5 % and 95 %) are more than the panel's
@@ -192,6 +196,8 @@ def _notes(population: Population, study: Study, quantiles: Sequence[float]) -> 
     if not population.distributions and not population.measured:
         notes.append(f"population {population.name!r}: its table draws no parameter, so its {population.size} "
                      "members are copies of the study's finger")
+    if "ridge_fraction" in population.distributions and population.distributions["ridge_fraction"].spread:
+        notes.append(RIDGE_FRACTION_NOTE)
     if study.model == "both":
         notes.append("population: the BEM curves only (model both)")
     # Hertz (Eqs. 3.1-3.6) sees a layered skin as the half-space of its layer: a spread of the
@@ -212,9 +218,10 @@ def _notes(population: Population, study: Study, quantiles: Sequence[float]) -> 
     outer = [q for q in quantiles if min(q, 1 - q) * n < 1]
     if population.measured and n < FEW_MEMBERS and outer:
         shown = ", ".join(f"{100 * q:g} %" for q in outer)
-        notes.append(f"population {population.name!r}: {n} people; the {shown} bands lie beyond what {n} people "
-                     f"show (fewer than one person outside them): they are the range of the panel, not of the "
-                     "population it was drawn from")
+        people = "1 person" if n == 1 else f"{n} people"
+        notes.append(f"population {population.name!r}: {people}; the {shown} bands lie beyond what {people} "
+                     f"{'shows' if n == 1 else 'show'} (fewer than one person outside them): they are the range of "
+                     "the panel, not of the population it was drawn from")
     return notes
 
 

@@ -3,11 +3,13 @@ folder written by ``fingerpad analyse``, or a table."""
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from ..errors import FingerpadError
+from ..io import read_toml
 from .distributions import Population, population_from_table
 from .presets import POPULATION_PRESETS
 
@@ -20,6 +22,9 @@ def load_population(source: str | Mapping[str, Any]) -> Population:
     (:func:`~.measured.population_from_results`), or a table."""
     if isinstance(source, Mapping):
         return population_from_table(source)
+    if not isinstance(source, (str, os.PathLike)):  # a Python caller's slip: said, not a TypeError
+        raise FingerpadError(f"population: expected a preset name ({', '.join(POPULATION_PRESETS)}), a file or "
+                             f"folder, a table or a Population; got {type(source).__name__}")
     key = str(source).strip().lower()
     if key in POPULATION_PRESETS:
         return population_from_table(POPULATION_PRESETS[key], where=f"population {key!r}", name=key,
@@ -32,17 +37,12 @@ def load_population(source: str | Mapping[str, Any]) -> Population:
         from .measured import population_from_results
 
         return population_from_results(path)
-    if not path.is_file():
+    if not os.path.lexists(path):
         raise FingerpadError(f"--population: {str(source)!r} is neither a preset ({', '.join(POPULATION_PRESETS)}), "
                              "a file nor a folder written by fingerpad analyse")
-    import tomllib
-
-    try:
-        # utf-8-sig: a byte-order mark (Windows editors write one) is skipped, as in study files
-        data = tomllib.loads(path.read_bytes().decode("utf-8-sig"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError, OSError, RecursionError) as exc:
-        why = "too deeply nested" if isinstance(exc, RecursionError) else str(exc)
-        raise FingerpadError(f"--population {str(source)!r}: cannot read it as UTF-8 TOML text: {why}") from None
+    # the one reader of the TOML a user gives (a FIFO, a device, a huge or binary file, UTF-16,
+    # deep nesting: each one line; a UTF-8 byte-order mark skipped), as for study files
+    data = read_toml(path, "--population file")
     if not isinstance(data.get("population"), Mapping):
         raise FingerpadError(f"--population {str(source)!r}: no [population] table")
     # named by the file's name: a file's stem alone ("population") read as a word

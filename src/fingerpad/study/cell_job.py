@@ -109,6 +109,8 @@ def parse_materials(
     skin_substrate_modulus: str | None = None,
     skin_substrate_poisson: str | None = None,
     skin_base: str | None = None,
+    *,
+    skin_option: str = "--skin-modulus",
 ) -> MaterialsSpec:
     """Either ``--modulus`` (reduced E*) or the skin/material constants (Eq. 3.4), never both.
 
@@ -116,7 +118,8 @@ def parse_materials(
     ``--skin-substrate-modulus`` or ``--skin-base rigid|rigid-frictionless``; docs/model.md
     section 6.4) replaces ``--skin-modulus``: the layer is the skin's surface, its modulus enters
     Eq. 3.4, and ``--skin-poisson`` holds for the layer and, unless
-    ``--skin-substrate-poisson`` says otherwise, for the substrate.
+    ``--skin-substrate-poisson`` says otherwise, for the substrate. ``skin_option`` names the
+    option the skin's modulus came from (the layer's, for a layered skin) in messages.
     """
     from ..finger import SKIN_BASES
 
@@ -135,7 +138,8 @@ def parse_materials(
             if value is not None:
                 raise FingerpadError(f"give either {name} or the layered skin (--skin-layer-modulus is the skin's "
                                      "surface modulus), not both")
-        spec = parse_materials(None, skin_layer_modulus, skin_poisson, material_modulus, material_poisson)
+        spec = parse_materials(None, skin_layer_modulus, skin_poisson, material_modulus, material_poisson,
+                               skin_option="--skin-layer-modulus")
         from ..contact import Layer
 
         from ..finger import finger_param
@@ -182,24 +186,16 @@ def parse_materials(
 
         check_plausible(e, "skin modulus", "--modulus")
         return MaterialsSpec(modulus=e)
-    es = DEFAULT_SKIN_MODULUS if skin_modulus is None else parse_quantity(skin_modulus, "pressure", name="--skin-modulus")
-    check_modulus(es, "--skin-modulus")
+    from ..finger import finger_param
+    from .values import material
+
+    # the finger's declarations (bounds, plausible ranges), as predict reads them
+    es = DEFAULT_SKIN_MODULUS if skin_modulus is None else \
+        finger_param(skin_option.removeprefix("--").replace("-", "_")).parse(skin_modulus, skin_option)
     nus = DEFAULT_SKIN_POISSON if skin_poisson is None else _parse_float(skin_poisson, "--skin-poisson")
     check_poisson(nus, "--skin-poisson")
-    em: float | None = None
-    num: float | None = None
-    if material_modulus is not None and material_modulus.strip().lower() not in ("rigid", "inf", "infinity"):
-        em = parse_quantity(material_modulus, "pressure", name="--material-modulus")
-        check_modulus(em, "--material-modulus")
-        num = 0.35 if material_poisson is None else _parse_float(material_poisson, "--material-poisson")
-        check_poisson(num, "--material-poisson")
-    elif material_poisson is not None:
-        raise FingerpadError("--material-poisson needs --material-modulus (the default material is rigid)")
-    from ..plausibility import check_plausible
-
-    check_plausible(es, "skin modulus", "--skin-modulus")
-    if em is not None:
-        check_plausible(em, "material modulus", "--material-modulus")
+    # the counter-surface as predict reads it ("rigid", "inf": rigid; same messages)
+    em, num = material(material_modulus, material_poisson, "--material-modulus", "--material-poisson")
     e_star = reduced_modulus(es, nus, em, num if num is not None else 0.35)
     return MaterialsSpec(modulus=e_star, skin_modulus=es, skin_poisson=nus, material_modulus=em, material_poisson=num)
 
@@ -404,10 +400,14 @@ def build_solve_job(
     tol_v = _parse_float(tol, "--tol")
     if not (0 < tol_v < 1):
         raise FingerpadError(f"--tol must lie in (0, 1), got {tol!r}")
-    max_iter_v = parse_int(max_iter, "--max-iter")
+    from ..contact.solver import MAX_ITER
+
+    max_iter_v = parse_int(max_iter, "--max-iter", 1, MAX_ITER)
     if formulation not in ("auto", "primal", "dual"):
         raise FingerpadError(f"--formulation must be auto, primal or dual, got {formulation!r}")
-    grid_v = parse_int(grid, "--grid") if grid is not None else None
+    from ..textures import MAX_GRID
+
+    grid_v = parse_int(grid, "--grid", 4, MAX_GRID) if grid is not None else None
     size_v = parse_size(size) if size is not None else None
     plot_at_v = parse_positive(plot_at, "pressure", name="--plot-at") if plot_at is not None else None
     if plot_at_v is not None and plot is None:

@@ -56,6 +56,8 @@ def prediction_json(pred: Prediction, population: Any = None) -> dict[str, Any]:
 
     * ``critical_load``: ``{"bem": F, "hertz": F}`` (N, ``None`` for a model not run);
       ``full_contact_load``: ``{"bem": F}``, load at which the pad centre reaches full contact;
+      ``critical_load_error``, ``full_contact_load_error``: ``{"bem": e}``, the relative error
+      estimate of each (its state pressure's grid convergence, ``state_brackets``);
     * ``model``: the model of ``results`` (``bem`` when run, else ``hertz``);
     * ``inputs``: texture (name, description, params, size, grid, periodic, source file),
       material, finger, E1* (``reduced_modulus``), loads, model, numerics, cache, zones_at;
@@ -172,9 +174,13 @@ def prediction_json(pred: Prediction, population: Any = None) -> dict[str, Any]:
         "zones_at": study.zone_load,
         "fingerpad_version": __version__,
     }
+    errors = {state: (pred.state_brackets.get(state) or {}).get("load_error") for state in ("transition", "full")}
     payload = {
         "critical_load": dict(pred.critical_load),
+        # beside each state load, its estimated error (relative; the state's own grid convergence)
+        "critical_load_error": {"bem": errors["transition"]} if pred.cell is not None else {},
         "full_contact_load": dict(pred.full_contact_load),
+        "full_contact_load_error": {"bem": errors["full"]} if pred.cell is not None else {},
         "state_brackets": pred.state_brackets,
         "directional": None if pred.directional is None else {
             k: v for k, v in pred.directional.items() if not k.startswith(("mu_", "area_ratio_"))},
@@ -264,6 +270,9 @@ def prediction_dataset(pred: Prediction, population: Any = None):
     attrs.update(flatten_attrs({
         "model": payload["model"],
         "critical_load": payload["critical_load"], "full_contact_load": payload["full_contact_load"],
+        "critical_load_error": payload["critical_load_error"],
+        "full_contact_load_error": payload["full_contact_load_error"],
+        "state_brackets": payload["state_brackets"],
         "cell": {k: v for k, v in payload["cell"].items()},
         "inputs": {k: v for k, v in payload["inputs"].items() if k != "loads"},
         "notes": payload["notes"],
@@ -298,7 +307,7 @@ def check_outputs(out_dir: str | os.PathLike[str] | None, json_path: str | None 
         fio.OutputFolder.check(out_dir, names)
     targets = {}
     for option, path, suffixes in (("--json", json_path, JSON_SUFFIXES), ("--csv", csv_path, CSV_SUFFIXES)):
-        if path is None or path == "-":
+        if path is None or (option == "--json" and path == "-"):  # (--json - is stdout; a CSV is a file)
             continue
         fio.check_writable(path, option, suffixes)
         key = os.path.abspath(path)

@@ -50,7 +50,9 @@ FLAGS: dict[str, tuple[str, str]] = {
 
 
 def split_texture_options(args: Sequence[str]) -> list[tuple[str, str]]:
-    """``["--radius", "50um", "--lattice=hex"]`` -> ``[("radius", "50um"), ("lattice", "hex")]``."""
+    """``["--radius", "50um", "--lattice=hex"]`` -> ``[("radius", "50um"), ("lattice", "hex")]``.
+
+    A parameter given twice is refused (the last would win silently)."""
     pairs: list[tuple[str, str]] = []
     i = 0
     args = list(args)
@@ -68,7 +70,11 @@ def split_texture_options(args: Sequence[str]) -> list[tuple[str, str]]:
                 raise FingerpadError(f"option {token} needs a value")
             value = args[i + 1]
             i += 2
-        pairs.append((key.replace("-", "_"), value))
+        name = key.replace("-", "_")
+        earlier = next((v for k, v in pairs if k == name), None)
+        if earlier is not None:
+            raise FingerpadError(f"--{name.replace('_', '-')} is given twice ({earlier} and {value}): give it once")
+        pairs.append((name, value))
     return pairs
 
 
@@ -128,9 +134,11 @@ def apply_flags(
     if tex or texture is not None or surface is not None:
         out["texture"] = tex
 
-    if flags.get("--material-modulus") is None and flags.get("--material-poisson") is not None:
-        if out.get("material", {}).get("modulus") in (None, "rigid"):
-            raise FingerpadError("--material-poisson needs --material-modulus (the default material is rigid)")
+    # (--material-poisson without a modulus: study.values.material refuses it, naming the flag
+    # and the modulus as a command line gives it)
+    if flags.get("--material-poisson") is not None and flags.get("--material-modulus") is None and \
+            out.get("material", {}).get("modulus") is None:
+        labels[("material", "modulus")] = "--material-modulus"
     if isinstance(flags.get("--material-modulus"), str) and \
             flags["--material-modulus"].strip().lower() in ("rigid", "inf", "infinity"):
         out.setdefault("material", {}).pop("poisson", None)

@@ -59,10 +59,13 @@ class Prediction:
         reach full contact up to :data:`~fingerpad.micro.bem.STATE_SEARCH_CAP` E*).
     state_brackets
         For the BEM cell, per state (``transition``, ``full``): the bracket of the cell pressure
-        (Pa), the loads (N) it maps to, and its relative width.
+        (Pa), the loads (N) it maps to, its relative width, and the state's own grid and error
+        estimate (``grid``, ``coarse_grid``, ``pressure_error``, ``load_error``, ``history``;
+        :func:`fingerpad.micro.resolution.choose_state_grids`): the state pressures are chosen
+        and estimated apart from the curve, so they do not depend on the loads asked for.
     resolution
-        The BEM cell's grid and the estimated discretisation error of A_re/A_fr and of the state
-        pressures (:func:`fingerpad.micro.resolution.choose_grid`).
+        The BEM cell's grid and the estimated discretisation error of A_re/A_fr
+        (:func:`fingerpad.micro.resolution.choose_grid`) and of the state pressures.
     directional
         With a sliding direction: the friction at that direction and across and along the
         asperities' long axis, their ratio, and the deflection model's flags
@@ -239,7 +242,10 @@ def prepare_bem_cell(study: Study) -> Any:
     """
     study.check()
     tex = study.build_texture()
-    return _resolved_cell(study, tex, study.reduced_modulus, bem_pressure_range(study), None, estimate=False)
+    choice = _resolved_cell(study, tex, study.reduced_modulus, bem_pressure_range(study), None, estimate=False)
+    _, solves = _state_choices(study, tex, study.reduced_modulus, choice)
+    choice.solves += solves
+    return choice
 
 
 def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, float],
@@ -269,8 +275,61 @@ def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, 
     )
 
 
-def _resolution_report(choice: Any, study: Study) -> dict[str, Any]:
-    pressures = choice.state_pressure_errors()
+def _state_choices(study: Study, tex: Texture, e1: float, choice: Any) -> tuple[dict[str, Any], int]:
+    """The grid of each state pressure (:func:`~fingerpad.micro.resolution.choose_state_grids`):
+    chosen by the study's accuracy from the starting grid where the curve's grid is chosen
+    automatically, else the curve's own grid (given, or a measured map's). The loads asked for
+    do not enter. Returns the choices and the solves they added."""
+    from ..micro.resolution import choose_state_grids
+    from .texture import TextureSpec
+
+    generated = isinstance(study.texture, TextureSpec) and study.texture.name is not None
+    make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
+    automatic = study.grid is None and make is not None
+    start = tex if automatic else choice.cell.texture
+    return choose_state_grids(
+        make, start, e1, target=study.accuracy if automatic else None,
+        cell_options={"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache(),
+                      "layer": study.finger.layer},
+        cells=choice.cells,
+    )
+
+
+def _state_report(states: dict[str, Any], finger: Finger) -> dict[str, Any]:
+    """Per state: its grid, the half grid's, the pressure's and the load's estimated errors."""
+    out = {}
+    for name, st in states.items():
+        p, pc = st.pressure, st.coarse_pressure
+        f, fc = load_at_centre_pressure(finger, p), load_at_centre_pressure(finger, pc)
+        with np.errstate(all="ignore"):
+            load_error = abs(f / fc - 1.0) if math.isfinite(f) and math.isfinite(fc) and fc > 0 else \
+                (math.nan if math.isnan(st.error) else math.inf)
+        if not math.isnan(st.error) and math.isfinite(load_error):
+            load_error = max(load_error, _load_floor(finger, st))
+        out[name] = {
+            "grid": list(st.cell.texture.shape),
+            "coarse_grid": list(st.coarse.texture.shape) if st.coarse is not None else None,
+            "pressure_error": st.error,
+            "load_error": load_error,
+            "coarse_pressure": pc,
+            "target": st.target,
+            "met": st.met,
+            "history": [{"grid": g, "pressure_error": e} for g, e in st.history],
+            "method": "relative change from the half grid, |p_N / p_{N/2} - 1| (at least the bracket's width); "
+                      "the load's: the same change carried through the pad, |F(p_N) / F(p_{N/2}) - 1|",
+        }
+    return out
+
+
+def _load_floor(finger: Finger, st: Any) -> float:
+    """The load change of a pressure change of the bracket's relative width (the estimate's floor)."""
+    p = st.pressure
+    f, f2 = load_at_centre_pressure(finger, p), load_at_centre_pressure(finger, p * (1.0 + st.cell.rtol))
+    return abs(f2 / f - 1.0) if math.isfinite(f) and math.isfinite(f2) and f > 0 else 0.0
+
+
+def _resolution_report(choice: Any, study: Study, states: dict[str, Any] | None = None) -> dict[str, Any]:
+    pressures = {k: v.error for k, v in states.items()} if states else choice.state_pressure_errors()
     return {
         "grid": list(choice.cell.texture.shape),
         "coarse_grid": list(choice.coarse.texture.shape) if choice.coarse is not None else None,
@@ -284,6 +343,18 @@ def _resolution_report(choice: Any, study: Study) -> dict[str, Any]:
         "solves": choice.solves,
         "method": "relative change from the half grid, |r_N / r_{N/2} - 1| (first-order convergence)",
     }
+
+
+def directional_settings(finger: Finger, cell: Any, centre: Any) -> Any:
+    """The deflection settings of ``predict --direction``: the ramps go as far as the coupling
+    needs, past every fixed point (*) at the pad-centre pressures ``centre`` (Pa) for gains up to
+    :data:`~fingerpad.micro.deflection.fixedpoint.GAIN_BOUND`
+    (:func:`~fingerpad.micro.deflection.needed_shear`; issue 31: a ramp to the deflection
+    command's default 1.5 was three times the work for a fixed point of 0.2)."""
+    from ..micro.deflection import DeflectionSettings, needed_shear
+
+    centre = np.asarray(centre, float)
+    return DeflectionSettings(mu_max=needed_shear(centre, cell.contact_fraction(centre), finger.tau0, finger.alpha))
 
 
 def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str],
@@ -320,9 +391,10 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
     directions = [float(study.direction), float(parallel), float(perpendicular)]
     # the sections of the three directions (two distinct ones at most) and their pressure levels
     # solved together, in worker processes (issue 23); the numbers do not depend on the count
+    settings = directional_settings(finger, cell, centre)
     gains = dict(zip(names, directional_gains(geometry, materials, directions, p_range, tau0=finger.tau0,
-                                              alpha=finger.alpha, cache=cache_arg, progress=notice,
-                                              on_free_core=on_free_core)))
+                                              alpha=finger.alpha, settings=settings, cache=cache_arg,
+                                              progress=notice, on_free_core=on_free_core)))
 
     def curve_at(name: str) -> tuple[Any, Any, float]:
         gain = gains[name]
@@ -438,6 +510,7 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
     directional: dict[str, Any] | None = None
     timings_extra: dict[str, float] = {}
     resolution: dict[str, Any] | None = None
+    states: dict[str, Any] = {}
     t_cell = t_coupling = 0.0
     if study.model in ("bem", "both"):
         t0 = time.perf_counter()
@@ -446,8 +519,12 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
 
             start_fork_server()  # the ramps' worker server starts beside the cell's solve
         choice = _resolved_cell(study, tex, e1, p_range, progress)
+        states, state_solves = _state_choices(study, tex, e1, choice)
+        choice.solves += state_solves
         cell, tex = choice.cell, choice.cell.texture
-        resolution = _resolution_report(choice, study)
+        if not cell.flat:
+            cell.adopt_states(states["transition"].cell, states["full"].cell)
+        resolution = _resolution_report(choice, study, states)
         if study.grid is None and choice.met is False:
             notes.append(f"the estimated discretisation error of A_re/A_fr, {100 * choice.error:.2g} %, exceeds "
                          f"the target {100 * choice.target:g} % at the largest automatic grid")
@@ -458,6 +535,12 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
                 and choice.error > study.accuracy:
             notes.append(f"measured map at its own grid: A_re/A_fr changes by {100 * choice.error:.2g} % from the map "
                          f"averaged 2 x 2 (pixel-scale roughness resolved by the pixels alone)")
+        for name, label in (("transition", "transition"), ("full", "full-contact")):
+            st = states[name]
+            if st.met is False and math.isfinite(st.error):
+                notes.append(f"the estimated error of the {label} pressure, {100 * st.error:.2g} %, exceeds the target "
+                             f"{100 * st.target:g} % at the largest grid for the state pressures "
+                             f"({st.cell.texture.shape[0]} points along x)")
         t_cell = time.perf_counter() - t0
         t0 = time.perf_counter()
         bem = predict_curve(loads, finger, cell)
@@ -480,6 +563,7 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
     }
     full: dict[str, float | None] = {"bem": None}
     brackets: dict[str, Any] = {}
+    state_report = _state_report(states, finger) if cell is not None and not cell.flat else {}
     if cell is not None and not cell.flat:
         full["bem"] = load_at_centre_pressure(finger, cell.full_contact_pressure)
         for state, bracket in (("transition", cell.transition), ("full", cell.full)):
@@ -488,6 +572,7 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
                 "pressure": [lo, hi],
                 "load": [load_at_centre_pressure(finger, lo), load_at_centre_pressure(finger, hi)],
                 "relative_width": (hi - lo) / hi if math.isfinite(hi) else None,
+                **(state_report.get(state, {})),
             }
         for name, f in (("critical", crit["bem"]), ("full-contact", full["bem"])):
             if f is not None and math.isfinite(f) and f > FINGER_LOAD_LIMIT:

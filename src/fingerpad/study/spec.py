@@ -73,7 +73,7 @@ from ..errors import FingerpadError
 from ..finger import FINGER_FIELDS, FINGER_PRESETS, Finger, finger_param, get_finger, model_from_spec
 from ..materials import check_modulus, check_poisson
 from ..plausibility import check_plausible
-from ..textures import Texture
+from ..textures import MAX_GRID, Texture
 from .texture import TEXTURE_KEYS, TextureSpec
 from .values import boolean, integer, material, parse_loads, positive_loads, quantity
 
@@ -199,19 +199,22 @@ class Study:
             raise FingerpadError(f"model must be one of {', '.join(MODELS)}, got {self.model!r}")
         if self.material_modulus is None:
             if self.material_poisson is not None:
-                raise FingerpadError("a material Poisson ratio needs a material modulus (rigid by default)")
+                raise FingerpadError("material Poisson ratio: a Poisson ratio is given, but it needs a material "
+                                     "modulus (the default material is rigid)")
         else:
             check_modulus(self.material_modulus, "material modulus")
             if self.material_poisson is None:
                 self.material_poisson = 0.35
             check_poisson(self.material_poisson, "material Poisson ratio")
         if self.grid is not None:
-            self.grid = integer(self.grid, "grid", 4)
+            self.grid = integer(self.grid, "grid", 4, MAX_GRID)
         if not (isinstance(self.accuracy, (int, float)) and 0 < self.accuracy < 1):
             raise FingerpadError(f"accuracy must lie in (0, 1), got {self.accuracy!r}")
         if not (isinstance(self.tol, (int, float)) and 0 < self.tol < 1):
             raise FingerpadError(f"tol must lie in (0, 1), got {self.tol!r}")
-        self.max_iter = integer(self.max_iter, "max_iter")
+        from ..contact.solver import MAX_ITER
+
+        self.max_iter = integer(self.max_iter, "max_iter", 1, MAX_ITER)
         if self.zones_at is not None and not (math.isfinite(self.zones_at) and self.zones_at > 0):
             raise FingerpadError(f"zones_at must be a positive load, got {self.zones_at!r}")
         if isinstance(self.texture, Texture):
@@ -273,16 +276,6 @@ class Study:
 # ---------------------------------------------------------------------------------------------
 
 
-def _undecodable(path: Path, raw: bytes, exc: UnicodeDecodeError) -> str:
-    """What is wrong with a study file that is not UTF-8 text, in the user's words."""
-    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
-        what = "is saved as UTF-16 (a byte-order mark says so)"
-    else:
-        line = raw[: exc.start].count(b"\n") + 1
-        what = f"is not UTF-8 text (byte {exc.start + 1}, line {line}: {raw[exc.start:exc.start + 1]!r})"
-    return f"study file {str(path)!r} {what}; save it as UTF-8 TOML text"
-
-
 def read_study_file(path: str | os.PathLike[str], extra_sections: tuple[str, ...] = ()) -> dict[str, dict[str, Any]]:
     """Read a TOML study file into its sections (keys checked, relative paths resolved).
 
@@ -292,26 +285,13 @@ def read_study_file(path: str | os.PathLike[str], extra_sections: tuple[str, ...
     Raises
     ------
     FingerpadError
-        Unreadable file, not a TOML text, TOML syntax error, unknown section or key.
+        Unreadable file, not a TOML text, TOML syntax error (:func:`fingerpad.io.read_toml`),
+        unknown section or key.
     """
-    import tomllib
+    from ..io import read_toml
 
     p = Path(path)
-    if not p.is_file():
-        raise FingerpadError(f"cannot read study file {str(p)!r}: " + ("it is a directory" if p.is_dir() else "no such file"))
-    try:
-        raw = p.read_bytes()
-    except OSError as exc:
-        raise FingerpadError(f"cannot read study file {str(p)!r}: {exc.strerror or exc}") from None
-    if b"\x00" in raw[:4096] and not raw.startswith((b"\xff\xfe", b"\xfe\xff")):
-        raise FingerpadError(f"study file {str(p)!r} is a binary file, not a text file; save it as UTF-8 TOML text")
-    try:
-        # utf-8-sig: a byte-order mark (Windows editors write one) is skipped, not read as text.
-        data = tomllib.loads(raw.decode("utf-8-sig"))
-    except UnicodeDecodeError as exc:
-        raise FingerpadError(_undecodable(p, raw, exc)) from None
-    except tomllib.TOMLDecodeError as exc:
-        raise FingerpadError(f"study file {str(p)!r}: {exc}") from None
+    data = read_toml(p, "study file")
     unknown = [k for k in data if k not in SECTION_KEYS and k not in extra_sections]
     if unknown:
         hint = " ([sweep] tables are read by `fingerpad sweep`)" if "sweep" in unknown else ""
@@ -377,7 +357,7 @@ def _texture_spec(section: Mapping[str, Any], name: _Names) -> tuple[TextureSpec
     )
     spec.params = {k.replace("-", "_"): v for k, v in sec.items()}
     spec.labels.update({k: name("texture", k) for k in spec.params})
-    return spec, (None if grid is None else integer(grid, name("texture", "grid"), 4))
+    return spec, (None if grid is None else integer(grid, name("texture", "grid"), 4, MAX_GRID))
 
 
 def _finger(section: Mapping[str, Any], name: _Names, context: Mapping[str, Any]) -> Finger:
@@ -418,13 +398,21 @@ def study_from_dict(
     FingerpadError
         Naming the offending value.
     """
-    src = data.get("_source", {}).get("file")
+    if not isinstance(data, Mapping):
+        raise FingerpadError(f"a study is a mapping of sections ({', '.join(SECTION_KEYS)}) to their values, "
+                             f"got {type(data).__name__}")
+    source = data.get("_source", {})
+    src = source.get("file") if isinstance(source, Mapping) else None
     name = _Names(src, labels)
     unknown = [k for k in data if k not in SECTION_KEYS and k != "_source"]
     if unknown:
-        raise FingerpadError(f"unknown study section(s) {', '.join(sorted(unknown))}")
+        raise FingerpadError(f"unknown study section(s) {', '.join(sorted(map(str, unknown)))}")
     for section, body in data.items():
-        if section in ("texture", "_source"):
+        if section == "_source":
+            continue
+        if not isinstance(body, Mapping):
+            raise FingerpadError(f"{name(section)}: must be a table of values (a mapping), got {type(body).__name__}")
+        if section == "texture":
             continue
         bad = [k for k in body if k not in SECTION_KEYS[section]]
         if bad:
@@ -470,7 +458,7 @@ def study_from_dict(
     if not (isinstance(kind, str) and kind.strip().lower() in MODELS):
         raise FingerpadError(f"{name('model', 'kind')}: must be one of {', '.join(MODELS)}, got {kind!r}")
     grid = msec.get("grid")
-    grid_v = None if grid is None else integer(grid, name("model", "grid"), 4)
+    grid_v = None if grid is None else integer(grid, name("model", "grid"), 4, MAX_GRID)
     if grid_v is not None and tex_grid is not None and grid_v != tex_grid:
         raise FingerpadError("give the grid once, in [model] (or --grid)")
     grid_v = grid_v if grid_v is not None else tex_grid
@@ -485,7 +473,9 @@ def study_from_dict(
     tol = quantity(msec.get("tol", 1e-8), "none", name("model", "tol"))
     if not 0 < tol < 1:
         raise FingerpadError(f"{name('model', 'tol')}: must lie in (0, 1), got {tol!r}")
-    max_iter = integer(msec.get("max_iter", 5000), name("model", "max_iter"))
+    from ..contact.solver import MAX_ITER
+
+    max_iter = integer(msec.get("max_iter", 5000), name("model", "max_iter"), 1, MAX_ITER)
     cache = msec.get("cache")
     if isinstance(cache, bool):
         cache = None if cache else False

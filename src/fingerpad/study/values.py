@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError
-from ..units import parse_quantity, parse_range
+from ..units import parse_int, parse_quantity, parse_range
 
 __all__ = ["boolean", "integer", "material", "parse_loads", "quantity", "text"]
 
@@ -27,19 +27,12 @@ def quantity(value: Any, dimension: str, name: str) -> float:
     return parse_quantity(value, dimension, name=name)
 
 
-def integer(value: Any, name: str, minimum: int = 1) -> int:
-    """An integer of at least ``minimum`` (TOML integer, integral float or digits)."""
-    if isinstance(value, bool):
+def integer(value: Any, name: str, minimum: int = 1, maximum: int | None = None) -> int:
+    """An integer in ``[minimum, maximum]`` (TOML integer, integral float or digits):
+    :func:`fingerpad.units.parse_int`."""
+    if not isinstance(value, (int, float, str)):
         raise FingerpadError(f"{name}: expected an integer, got {value!r}")
-    if isinstance(value, float) and value.is_integer():
-        value = int(value)
-    if isinstance(value, str) and value.strip().lstrip("+").isdigit():
-        value = int(value.strip())
-    if not isinstance(value, int):
-        raise FingerpadError(f"{name}: expected an integer, got {value!r}")
-    if value < minimum:
-        raise FingerpadError(f"{name}: must be at least {minimum}, got {value}")
-    return value
+    return parse_int(value, name, minimum, maximum)
 
 
 def boolean(value: Any, name: str) -> bool:
@@ -77,8 +70,8 @@ def _range_count(spec: str, name: str) -> None:
     parts = spec.split(":")
     if len(parts) == 3:
         try:
-            count = int(parts[2])
-        except ValueError:
+            count = parse_int(parts[2], name)
+        except FingerpadError:
             return  # parse_range reports it
         if count > MAX_LOADS:
             raise FingerpadError(f"{name}: {count} loads asked for; at most {MAX_LOADS} are allowed")
@@ -113,10 +106,12 @@ def parse_loads(spec: Any, log: bool, name: str = "loads") -> np.ndarray:
 
 def material(modulus: Any, poisson: Any, modulus_name: str, poisson_name: str) -> tuple[float | None, float | None]:
     """Counter-surface (E, nu); ``None`` modulus or ``"rigid"`` = rigid (then no Poisson ratio)."""
-    rigid = modulus is None or (isinstance(modulus, str) and modulus.strip().lower() in ("rigid", "inf", "infinity"))
-    if rigid:
+    said = isinstance(modulus, str) and modulus.strip().lower() in ("rigid", "inf", "infinity")
+    if modulus is None or said:
         if poisson is not None:
-            raise FingerpadError(f"{poisson_name}: a Poisson ratio needs a material modulus (the default material is rigid)")
+            why = (f"{modulus_name} {modulus.strip()} is a rigid material, which has none" if said else
+                   f"it needs a material modulus, {modulus_name} (the default material is rigid)")
+            raise FingerpadError(f"{poisson_name}: a Poisson ratio is given, but {why}")
         return None, None
     from ..materials import MATERIAL_MODULUS, MATERIAL_POISSON
 

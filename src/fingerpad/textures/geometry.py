@@ -58,21 +58,11 @@ def check_choice(value: Any, name: str, options: tuple[str, ...]) -> str:
 
 
 def check_integer(value: Any, name: str, minimum: int, maximum: int | None = None) -> int:
-    if isinstance(value, bool):
-        raise FingerpadError(f"{name} must be an integer, got {value!r}")
-    if isinstance(value, (int, np.integer)):
-        n = int(value)
-    elif isinstance(value, (float, np.floating)) and float(value).ischeck_integer():
-        n = int(value)
-    elif isinstance(value, str) and re.fullmatch(r"\s*\d+\s*", value):
-        n = int(value)
-    else:
-        raise FingerpadError(f"{name} must be an integer, got {value!r}")
-    if n < minimum:
-        raise FingerpadError(f"{name} must be at least {minimum}, got {n}")
-    if maximum is not None and n > maximum:
-        raise FingerpadError(f"{name} must be at most {maximum}, got {n}")
-    return n
+    from ..units import parse_int
+
+    if not isinstance(value, (int, float, str, np.integer, np.floating)):
+        raise FingerpadError(f"{name}: expected an integer, got {value!r}")
+    return parse_int(value, name, minimum, maximum)
 
 
 def _default_grid(cell: float, feature: float) -> int:

@@ -283,7 +283,15 @@ def periodize(texture: Texture) -> Texture:
     -------
     Texture
         Periodic, size ``(2 Lx, 2 Ly)``, shape ``(2 nx, 2 ny)``, name ``"<name>-periodized"``.
+
+    Raises
+    ------
+    FingerpadError
+        ``texture`` is not a :class:`Texture`.
     """
+    if not isinstance(texture, Texture):
+        raise FingerpadError(f"periodize takes a fingerpad Texture (a height map read or generated), got "
+                             f"{type(texture).__name__}")
     h = texture.heights
     hx = np.concatenate([h, h[::-1, :]], axis=0)
     hh = np.concatenate([hx, hx[:, ::-1]], axis=1)

@@ -232,3 +232,31 @@ def test_direction_factor_of_elongated_asperities():
     assert hysteresis_direction_factor(30e-6, 90e-6, 30e-6, math.pi) == pytest.approx(across)
     assert hysteresis_direction_factor(30e-6, 90e-6, 30e-6, -0.3) == pytest.approx(
         hysteresis_direction_factor(30e-6, 90e-6, 30e-6, 0.3))
+
+
+def test_the_gain_enters_the_coupling_of_a_bem_cell():
+    """Issue 31: a BEM cell integrates its own interpolated psi exactly (``disc_fraction``); the
+    directional cell passed that on, so the coupling integrated the undeflected psi and the gain
+    never entered (predict --direction gave the same real area across and along). The directional
+    cell's A_re/A_fr is the disc average of its own psi G (Eq. 3.11), checked by Gauss-Legendre
+    quadrature split at the transition (the kink of psi)."""
+    from fingerpad.coupling import couple
+    from fingerpad.micro.bem import BEMUnitCell
+    from fingerpad.textures import spherical_caps
+
+    tex = spherical_caps(radius=50e-6, height=10e-6, spacing=150e-6, grid=32)
+    cell = BEMUnitCell(tex, 3e5, cache=False).prepare(50.0, 5e4)
+    d = DirectionalCell(cell, _linear_gain(0.8), tau0=8.1e3, alpha=0.1)
+    assert not hasattr(d, "disc_fraction")
+    loads, ridge = np.array([0.2, 1.0]), np.array([2e-5, 5e-5])
+    plain, directional = couple(loads, ridge, cell).area_ratio, couple(loads, ridge, d).area_ratio
+    assert np.all(directional > 1.05 * plain)  # the gain enlarges the real area ...
+    x, w = np.polynomial.legendre.leggauss(400)
+    for f, a, r in zip(loads, ridge, directional):  # ... by exactly its disc average
+        peak = 1.5 * f / a
+        cuts = sorted({0.0, 1.0, *(q / peak for q in (cell.transition_pressure,) if q < peak)})
+        exact = 0.0
+        for lo, hi in zip(cuts[:-1], cuts[1:]):
+            s_ = lo + (hi - lo) * (x + 1) / 2
+            exact += (hi - lo) * float(np.sum(w * d.contact_fraction(peak * s_) * s_))
+        assert r == pytest.approx(exact, rel=2e-4)

@@ -17,7 +17,8 @@ pn = lazy_loader.load("panel")
 
 from ...plotting.specs import PlotSpec, spec_csv, spec_json
 
-__all__ = ["PlotCard", "download", "fmt", "html_pane", "html_table", "num_span", "one_walk", "set_cards"]
+__all__ = ["PlotCard", "download", "fmt", "guard_choices", "html_pane", "html_table", "num_span", "one_walk",
+           "set_cards"]
 
 FORMATS = ("csv", "json", "png", "svg")
 
@@ -44,6 +45,39 @@ def html_pane(obj: str = "", **params: Any) -> Any:
 
         _HTML = _Html
     return _HTML(obj, **params)
+
+
+def guard_choices(widget: Any, on_refused: Callable[[str], None] | None = None) -> Any:
+    """Check every value the page sends for the select ``widget`` here, before Panel's own check.
+
+    Whatever a page sends is untrusted: a value outside the options reached Panel's select,
+    which refused it by raising, so that the package's own check (a population choice reset to
+    ``none`` with a message, docs/explorer.md) never ran, the page kept showing the forged
+    value, and Panel logged the whole value with a traceback (5 MB into the server's output).
+    Here such a value is dropped, one log line quotes a bounded excerpt of it, the page is sent
+    the widget's value again, and ``on_refused(excerpt)`` is called (e.g. to reset the choice and
+    say why). Returns ``widget``.
+    """
+    import logging
+
+    from ...errors import excerpt
+
+    process = widget._process_events  # Panel's handler of the page's changes (bound method)
+
+    def checked(events: dict[str, Any]) -> None:
+        if "value" in events and events["value"] not in list(widget.labels):
+            events = dict(events)
+            shown = excerpt(events.pop("value"))
+            logging.getLogger("fingerpad.explore").warning("refused a value from the page for %r: %s",
+                                                           widget.name or widget.css_classes, shown)
+            widget.param.trigger("value")  # the page shows the widget's value again
+            if on_refused is not None:
+                on_refused(shown)
+        if events:
+            process(events)
+
+    widget._process_events = checked
+    return widget
 
 
 def fmt(value: Any, digits: int = 4) -> str:

@@ -24,7 +24,7 @@ from ...materials import MATERIAL_MODULUS, MATERIAL_POISSON
 from ..inputs import FINGER_LABELS, family_examples, field_label
 from ..scan import (MAX_TEXT, ZONE_LOAD, Scan, scan_for, shown_unit, slider_position, slider_text, step_text,
                     value_text)
-from .common import html_pane
+from .common import guard_choices, html_pane
 from .scanfield import scan_input, scan_slider
 
 __all__ = ["Field", "Form", "css_name"]
@@ -83,8 +83,9 @@ class Field:
                 self.set_slider(self.scan)
                 self.widget.param.watch(lambda e: self._follow(), "value")
         elif kind == "choice":
-            self.widget = pn.widgets.Select(label=title, options=list(options), value=value, css_classes=[css],
-                                            description=doc or None, sizing_mode="stretch_width")
+            self.widget = guard_choices(pn.widgets.Select(label=title, options=list(options), value=value,
+                                                          css_classes=[css], description=doc or None,
+                                                          sizing_mode="stretch_width"))
         elif kind == "bool":
             self.widget = pn.widgets.Checkbox(label=title, value=bool(value), css_classes=[css])
         else:

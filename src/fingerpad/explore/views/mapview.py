@@ -21,7 +21,7 @@ pn = lazy_loader.load("panel")
 
 from ...errors import FingerpadError, one_line
 from .. import sweepdata as sd
-from .common import download, fmt, html_pane, html_table
+from .common import download, fmt, guard_choices, html_pane, html_table
 
 __all__ = ["MapView", "map_table"]
 
@@ -124,6 +124,7 @@ class MapView:
         self.md: Any = None
         self.rows: list[dict[str, Any]] = []
         for w in (self.x, self.y, self.quantity, self.at, *self.fixed.values()):
+            guard_choices(w)
             w.param.watch(lambda e: self.redraw(), "value")
         # inverse design
         self.target = pn.widgets.TextInput(label="target mu / mu_ref", value="0.8", css_classes=["fp-inv-target"])
@@ -134,6 +135,8 @@ class MapView:
         self.find = pn.widgets.Button(label="Find designs", color="primary", css_classes=["fp-inv-find"])
         self.candidates = html_pane("", css_classes=["fp-inv-results"], sizing_mode="stretch_width")
         self.pick = pn.widgets.Select(label="candidate", options={}, css_classes=["fp-inv-pick"])
+        guard_choices(self.inv_at)
+        guard_choices(self.pick)
         self.open_pick = pn.widgets.Button(label="Open in the texture view", css_classes=["fp-inv-open"],
                                            disabled=True)
         self.find.on_click(lambda e: self.rank())

@@ -33,7 +33,7 @@ from ...cancel import CancelToken, Cancelled, cancellable
 from ...errors import FingerpadError, one_line
 from .. import builders
 from ..inputs import data_key, labels_for
-from .common import PlotCard, html_pane, num_span, set_cards
+from .common import PlotCard, guard_choices, html_pane, num_span, set_cards
 
 __all__ = ["NONE", "PopulationPanel", "population_choices", "run_preset"]
 
@@ -107,6 +107,14 @@ class PopulationPanel:
             pn.GridBox(*(c.panel for c in self.cards.values()), ncols=2, sizing_mode="stretch_width"),
             sizing_mode="stretch_width", visible=False, css_classes=["fp-population-section"])
         self.choice.param.watch(lambda e: self.update(), "value")
+        guard_choices(self.choice, self._forged)
+
+    def _forged(self, shown: str) -> None:
+        """A choice outside the options (a path, a name the server does not hold): nothing is
+        read; the selector goes back to none, and the page says which choices there are."""
+        self.message.object = (f'<div class="fp-error" style="font-size:12px;color:#b00020">population: choose '
+                               f"one of {html.escape(', '.join(population_choices(self.extra)))}</div>")
+        self.choice.value = NONE
 
     def _say(self, text: str, css: str, colour: str = "#555") -> None:
         self.status.object = f'<div class="{css}" style="font-size:12px;color:{colour}">{html.escape(text)}</div>'
@@ -127,9 +135,7 @@ class PopulationPanel:
             return
         self.panel.visible = True
         if name not in population_choices(self.extra):  # a forged choice: nothing is read, the choice is reset
-            self.message.object = (f'<div class="fp-error" style="font-size:12px;color:#b00020">population: choose '
-                                   f"one of {html.escape(', '.join(population_choices(self.extra)))}</div>")
-            self.choice.value = NONE
+            self._forged(name)
             return
         self.message.object = ""
         pred = self.view.pred

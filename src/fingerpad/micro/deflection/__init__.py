@@ -23,7 +23,7 @@ hysteresis_direction_factor, run_deflection, DeflectionResult (the job :mod:`.jo
 
 from __future__ import annotations
 
-from .fixedpoint import DirectionalCell, LocalShear, solve_local_shear
+from .fixedpoint import DirectionalCell, LocalShear, needed_shear, solve_local_shear
 from .gain import (DeflectionSettings, GainCurve, PressureRamp, SectionMaterials, as_dataset, directional_gain,
                    directional_gains, solve_section)
 from .section import EllipsoidGeometry, RidgeGeometry, Section, section_for, texture_geometry
@@ -48,6 +48,7 @@ __all__ = [
     "elliptical_hysteresis_force",
     "hertz_ellipse",
     "hysteresis_direction_factor",
+    "needed_shear",
     "section_for",
     "solve_local_shear",
     "solve_section",

@@ -31,6 +31,25 @@ import numpy as np
 from .mesh import SectionMesh
 
 
+def tile_jacobian(xs: np.ndarray) -> np.ndarray:
+    """d tile_i / d xs_n (m, m, 2) of :func:`tile_lengths`: each tile is a weighted sum of
+    segment lengths, and a segment's length moves with its ends along its direction."""
+    m = xs.shape[0]
+    diff = np.diff(xs, axis=0)
+    seg = np.hypot(diff[:, 0], diff[:, 1])
+    e = diff / np.maximum(seg, 1e-300)[:, None]
+    w = np.zeros((m, seg.size))  # d tile_i / d seg_k
+    for k in range(seg.size):
+        f = k // 2  # the face of segment k: nodes 2f, 2f + 1, 2f + 2
+        w[2 * f + 1, k] += 2.0 / 3.0
+        w[2 * f, k] += 1.0 / 6.0
+        w[2 * f + 2, k] += 1.0 / 6.0
+    out = np.zeros((m, m, 2))
+    out[:, 1:, :] += w[:, :, None] * e[None, :, :]
+    out[:, :-1, :] -= w[:, :, None] * e[None, :, :]
+    return out
+
+
 def tile_lengths(xs: np.ndarray) -> np.ndarray:
     """Tributary (tile) length of each ordered surface node of Q2 faces (current lengths).
 
@@ -55,8 +74,9 @@ def _log_antiderivative(y: np.ndarray) -> np.ndarray:
 
 
 def skin_compliance(
-    x: np.ndarray, tiles: np.ndarray, period: float, modulus: float, derivative: bool = False
-) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
+    x: np.ndarray, tiles: np.ndarray, period: float, modulus: float, derivative: bool = False,
+    tile_derivative: bool = False,
+) -> np.ndarray | tuple[np.ndarray, np.ndarray] | tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Influence matrix C (m, m): the skin lift at node i per unit force of node j.
 
     Parameters
@@ -71,6 +91,9 @@ def skin_compliance(
         Plane-strain skin modulus E_s*.
     derivative
         Also return dC_ij/dx_i (= -dC_ij/dx_j at fixed tiles), for the Newton tangent.
+    tile_derivative
+        With ``derivative``, also return dC_ij/dt_j, the change with node j's tile (its spreading
+        width), which moves with the surface nodes' positions (:func:`tile_jacobian`).
     """
     d = x[:, None] - x[None, :]
     d = d - period * np.round(d / period)
@@ -93,7 +116,16 @@ def skin_compliance(
         ts = np.where(small, 1.0, t)
         return np.where(small, -t / 3.0, (ts / np.tan(ts) - 1.0) / np.where(small, 1.0, y))
 
-    return comp, k * (dlog + 0.5 * (dsmooth(d - g) + dsmooth(d + g)))
+    dx = k * (dlog + 0.5 * (dsmooth(d - g) + dsmooth(d + g)))
+    if not tile_derivative:
+        return comp, dx
+    # d mean_log / dt = (ln|hi| + ln|lo|) / (2 t) - mean_log / t (the antiderivative's ends move by
+    # +-1/2 each); the Gauss points of the smooth part sit at d -+ t / (2 sqrt 3)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ends = 0.5 * (np.log(np.abs(hi)) + np.log(np.abs(lo)))
+    ends = np.where(np.isfinite(ends), ends, 0.0)
+    dt = k * ((ends - mean_log) / tiles[None, :] + 0.5 * (dsmooth(d + g) - dsmooth(d - g)) / (2.0 * math.sqrt(3.0)))
+    return comp, dx, dt
 
 
 def contact_length(xs: np.ndarray, indicator: np.ndarray, pressure: np.ndarray | None = None,
@@ -177,6 +209,32 @@ def normal_gap(s: np.ndarray, p: np.ndarray, q: np.ndarray) -> tuple[np.ndarray,
     return g, grad, hess
 
 
+def segment_gap(s: np.ndarray, p: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Signed distance of points s from the closed segments p -> q, with gradient (n, 6) and
+    Hessian (n, 6, 6) over (s, p, q): the distance from the segment's line (:func:`normal_gap`)
+    where the point projects inside the segment, from the nearer end point past an end, signed
+    by the side of the line. The distance and its gradient are continuous across the ends (at an
+    end the vector from the end point is the line's normal), so a point moving from a segment's
+    side to its end, or paired with the next segment where both are as near, sees no jump."""
+    g, grad, hess = normal_gap(s, p, q)
+    d = q - p
+    t = np.einsum("ni,ni->n", s - p, d) / np.einsum("ni,ni->n", d, d)
+    for cols, sel in ((slice(2, 4), t < 0.0), (slice(4, 6), t > 1.0)):
+        if not np.any(sel):
+            continue
+        r = s[sel] - (p if cols.start == 2 else q)[sel]
+        dist = np.maximum(np.hypot(r[:, 0], r[:, 1]), 1e-300)
+        sign = np.where(g[sel] < 0, -1.0, 1.0)
+        u = r / dist[:, None]
+        h = (np.eye(2)[None] - u[:, :, None] * u[:, None, :]) / dist[:, None, None] * sign[:, None, None]
+        gr = np.zeros((u.shape[0], 6))
+        gr[:, 0:2], gr[:, cols] = sign[:, None] * u, -sign[:, None] * u
+        he = np.zeros((u.shape[0], 6, 6))
+        he[:, 0:2, 0:2], he[:, cols, cols], he[:, 0:2, cols], he[:, cols, 0:2] = h, h, -h, -h
+        g[sel], grad[sel], hess[sel] = sign * dist, gr, he
+    return g, grad, hess
+
+
 class FoldContact:
     """Penalty contact of the asperity's flanks on the free base surface (fold-over).
 
@@ -184,7 +242,7 @@ class FoldContact:
     the flank (interpolated by the face's shape functions, weighted by their share of the face's
     reference length -- the slave side of a segment-to-segment contact), each tested against the
     deformed base segment (chord between consecutive surface nodes) it projects into
-    (closest-point projection), with the signed normal distance to that segment's line. Energy
+    (the nearest closed segment), with the signed distance to that segment (:func:`segment_gap`). Energy
     ``k/2 w g^2`` for ``g < 0``, frictionless (texture on texture); the weights are scaled so that
     the penalty per unit length is that of one node per half face (``k`` per node spacing). The
     normal gap matters: where a folding flank closes the corner at its foot, the base next to the
@@ -199,6 +257,14 @@ class FoldContact:
 
     The base of each side runs on over the other side's periodic image, so a flank folded past
     the period edge lies on the neighbouring cell's base (``chains``).
+
+    Why the nearest *closed* segment (``MODEL_VERSION`` 8, issue 31): up to 7 a point kept its
+    segment while its projection stayed within a quarter segment past the segment's ends and was
+    measured from the segment's *line* there; where the base bends (pulled down next to a foot)
+    the line's distance and the next segment's differ, so the gap jumped when the point changed
+    segment, and the Newton iteration cycled between the two (the README ellipsoids' along
+    section at 26.8 kPa, tip-controlled, could not pass mu = 0.0625 at any step size). The
+    distance to the closed segment is continuous, and so is the nearest of them.
     """
 
     def __init__(self, mesh: SectionMesh, stiffness: float, foot_gap: float = 0.0, points: str = "gauss") -> None:
@@ -259,11 +325,23 @@ class FoldContact:
         # the edge and on over the left base's periodic image (+lambda) to the neighbour's foot,
         # the left chain over the right base's image (-lambda) and the left base to the left
         # foot. Each entry: (node ids, x offsets); the edge node and its image are one point.
+        # Past the neighbour's foot each chain runs on up the neighbour's flank (the asperity's
+        # other flank, one period over) to its apex: where the base between two asperities is
+        # narrow (the README ellipsoids' along section: 30 um of base, less than one element)
+        # a flank pressed over its foot meets the neighbour's flank, and a point that slid past
+        # the chain's end found no surface there (MODEL_VERSION 8, issue 31). Not with a fillet,
+        # whose arc is left out of the chains.
+        # (the flank's lower half: where two flanks meet in a valley; not its top, which a flank
+        # pressed over its foot does not reach)
+        apex = int(np.nonzero(prof == mesh.apex)[0][0])
+        half = apex // 2 if rho <= 0 else 0
+        up_left = prof[1:1 + half]  # from past the left foot up the lower half of the flank
+        down_right = prof[prof.size - 1 - half:-1]  # down the right flank's lower half to before its foot
         self.chains = [
-            (np.concatenate([right, left[::-1][1:]]),
-             np.concatenate([np.zeros(right.size), np.full(left.size - 1, lam)])),
-            (np.concatenate([right[:-1], left[::-1]]),
-             np.concatenate([np.full(right.size - 1, -lam), np.zeros(left.size)])),
+            (np.concatenate([right, left[::-1][1:], up_left]),
+             np.concatenate([np.zeros(right.size), np.full(left.size - 1 + up_left.size, lam)])),
+            (np.concatenate([down_right, right[:-1], left[::-1]]),
+             np.concatenate([np.full(down_right.size + right.size - 1, -lam), np.zeros(left.size)])),
         ]
         self.k = float(stiffness)
 
@@ -287,8 +365,8 @@ class FoldContact:
         return a, b, p, q
 
     def pair(self, x: np.ndarray) -> list[np.ndarray]:
-        """Closest-point projection: per chain, the base segment each flank point projects into
-        with the smallest |distance| (within one segment length of it), or -1."""
+        """Per chain, the base segment nearest each flank point as a closed segment (within one
+        segment length of it), or -1 (re-paired at every Newton iteration)."""
         xs = self.points(x)
         out = []
         for chain in range(len(self.chains)):
@@ -296,37 +374,19 @@ class FoldContact:
             d = q - p
             ell2 = np.einsum("ij,ij->i", d, d)
             r = xs[:, None, :] - p[None, :, :]
-            t = np.einsum("nsi,si->ns", r, d) / ell2[None, :]
-            dist = (d[None, :, 0] * r[..., 1] - d[None, :, 1] * r[..., 0]) / np.sqrt(ell2)[None, :]
-            ok = (t >= 0.0) & (t <= 1.0) & (np.abs(dist) < np.sqrt(ell2)[None, :])
-            score = np.where(ok, np.abs(dist), np.inf)
+            t = np.clip(np.einsum("nsi,si->ns", r, d) / ell2[None, :], 0.0, 1.0)
+            off = r - t[..., None] * d[None, :, :]
+            dist = np.hypot(off[..., 0], off[..., 1])
+            score = np.where(dist < np.sqrt(ell2)[None, :], dist, np.inf)
             seg = np.argmin(score, axis=1)
             seg[~np.isfinite(score[np.arange(xs.shape[0]), seg])] = -1
             out.append(seg)
         return out
 
-    def update_pairs(self, x: np.ndarray, old: list[np.ndarray], tolerance: float = 0.25) -> list[np.ndarray]:
-        """Re-pair (the solver does it at every Newton iteration): a point keeps its segment while
-        its projection stays within ``tolerance`` (in segment lengths) of it -- near a kink of the
-        base the line of the old segment is as good a surface as the next one, and hopping to it
-        would make the iteration chatter -- and takes its fresh closest-point pair otherwise (an
-        unpaired point is paired as soon as it projects into a segment)."""
-        fresh = self.pair(x)
-        xs = self.points(x)
-        out = []
-        for chain, (seg_old, seg_new) in enumerate(zip(old, fresh)):
-            keep = seg_old >= 0
-            merged = seg_new.copy()
-            if np.any(keep):
-                sg = seg_old[keep]
-                _, _, p, q = self._segments(x, chain, sg)
-                d = q - p
-                t = np.einsum("ij,ij->i", xs[keep] - p, d) / np.einsum("ij,ij->i", d, d)
-                stay = (t >= -tolerance) & (t <= 1.0 + tolerance)
-                idx = np.nonzero(keep)[0]
-                merged[idx[stay]] = sg[stay]
-            out.append(merged)
-        return out
+    def update_pairs(self, x: np.ndarray, old: list[np.ndarray]) -> list[np.ndarray]:
+        """The pairs at ``x`` (:meth:`pair`; ``old`` is not needed: the nearest closed segment
+        changes continuously, so no hysteresis is kept against chatter)."""
+        return self.pair(x)
 
     def evaluate(self, x: np.ndarray, pairs: list[np.ndarray] | None = None) -> tuple[np.ndarray, list, int, float]:
         """Active gaps and their derivatives for the given point-segment ``pairs`` (fresh
@@ -354,7 +414,7 @@ class FoldContact:
             if idx.size == 0:
                 continue
             a, b, p, q = self._segments(x, chain, seg[idx])
-            g, grad, hess = normal_gap(xs[idx], p, q)
+            g, grad, hess = segment_gap(xs[idx], p, q)
             min_gap = min(min_gap, float(g.min()))
             act = g < 0
             if not np.any(act):

@@ -113,7 +113,18 @@ class DirectionalCell:
                 max_fraction = 1.0
         self.max_fraction = float(max_fraction)
 
+    #: What the wrapped cell computes from its own psi(p), which this cell's psi replaces: not
+    #: passed on. ``disc_fraction`` is the exact disc average of a BEM cell's interpolated psi;
+    #: passed on, the coupling integrated the undeflected psi and the gain never entered
+    #: (issue 31: ``predict --direction`` gave equal real areas across and along, the friction
+    #: ratio 1.02-1.07 being the hysteresis factor alone). The coupling integrates this cell's
+    #: psi itself (graded quadrature split at the state pressures).
+    NOT_PASSED_ON = frozenset({"disc_fraction", "at_modulus", "for_skin", "interpolation_error", "curve", "points"})
+
     def __getattr__(self, name: str) -> Any:
+        if name.startswith("_") or (name in DirectionalCell.NOT_PASSED_ON and not self.gain.is_identity):
+            # (an identity gain keeps the wrapped cell's psi exactly, and so its exact integrals)
+            raise AttributeError(f"DirectionalCell has no {name!r} (the wrapped cell's would ignore the gain)")
         return getattr(self._cell, name)
 
     def local_shear(self, p: np.ndarray) -> LocalShear:
@@ -129,4 +140,30 @@ class DirectionalCell:
         return np.minimum(psi * sol.gain, np.maximum(self.max_fraction, psi))
 
 
-__all__ = ["DirectionalCell", "LocalShear", "solve_local_shear"]
+#: A bound of the deflection gain for the shear a coupling needs (:func:`needed_shear`): the
+#: largest gains computed are 2.4-2.6 (h = 3a ellipsoids across, buckled at 6.3 kPa,
+#: docs/deflection.md); a gain beyond the bound leaves the fixed point past the ramps' reach,
+#: which the outputs then mark as held.
+GAIN_BOUND = 3.0
+#: The shear a coupling needs is rounded up to a multiple of this (so that inputs a little apart
+#: give the same target, hence the same ramps).
+SHEAR_STEP = 0.05
+
+
+def needed_shear(pressure: Any, psi: Any, tau0: float, alpha: float, mu_extra: float = 0.0,
+                 gain_bound: float = GAIN_BOUND, step: float = SHEAR_STEP) -> float:
+    """The shear level the ramps of a coupling must reach: the largest right-hand side of (*)
+    over the nominal pressures ``pressure`` (Pa; psi the cell's there) with the gain at
+    ``gain_bound``, ``max tau0 psi G_max / p + alpha + mu_extra``, rounded up to a multiple of
+    ``step`` and kept in [step, 5]. Every fixed point at those pressures lies below it (for
+    gains up to the bound), so ramps that reach it hold no gain there; a ramp to 1.5 for a
+    fixed point of 0.2 is three times the work (issue 31)."""
+    p = np.asarray(pressure, dtype=float).ravel()
+    ps = np.asarray(psi, dtype=float).ravel()
+    ok = (p > 0) & np.isfinite(p) & np.isfinite(ps)
+    top = float(np.max(tau0 * ps[ok] / p[ok])) if np.any(ok) else 0.0
+    need = top * float(gain_bound) + float(alpha) + float(mu_extra)
+    return float(min(5.0, max(step, step * math.ceil(need / step - 1e-9))))
+
+
+__all__ = ["GAIN_BOUND", "DirectionalCell", "LocalShear", "needed_shear", "solve_local_shear"]

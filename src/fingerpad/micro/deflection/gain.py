@@ -27,9 +27,11 @@ from .ramps import SectionJob, solve_sections
 from .section import EllipsoidGeometry, Geometry, RidgeGeometry, Section, section_for, texture_geometry
 
 #: Bump when a change of the section model alters cached numbers.
-MODEL_VERSION = 7  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact;
+MODEL_VERSION = 8  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact;
 # 6: no wall-clock limit in the key or the results (entries of 5 could hold ramps a slow machine cut short);
-# 7: Newton solves caught in a limit cycle or stagnating fail early (issue 23: some ramps take other steps)
+# 7: Newton solves caught in a limit cycle or stagnating fail early (issue 23: some ramps take other steps);
+# 8: fold contact on the nearest closed base segment, its gap continuous (issue 31: ramps pass where the gap jumped);
+#    levels rounded to three significant digits
 #: The publications of the directional friction model (:mod:`fingerpad.references` keys): the
 #: measured direction dependence it explains (the thesis' Paper C), the elliptical hysteresis term.
 REFERENCES = ("sergachev2022", "greenwood1958")
@@ -271,7 +273,7 @@ def directional_gains(
         if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo <= hi):
             raise FingerpadError(f"pressure range must be 0 < low <= high, got {pressure_range!r}")
         n = int(settings.n_pressures) if hi > lo else 1
-        pressures = np.geomspace(lo, hi, n)
+        pressures = level_pressures(lo, hi, n)
         numbers = np.array([section.half_width, section.height, section.period, section.load_per_pressure,
                             *pressures], dtype=float)
         key = content_key(numbers, kind="deflection", model=MODEL_VERSION, profile=section.profile,
@@ -299,6 +301,16 @@ def directional_gains(
                 curves[i] = GainCurve(np.asarray(job.pressures), ramps, sec.shear_factor, float(directions[i]), sec,
                                       key if store is not None else None)
     return [c for c in curves if c is not None]
+
+
+def level_pressures(low: float, high: float, n: int) -> np.ndarray:
+    """The ``n`` pressure levels (Pa) of a gain table over [low, high]: log-spaced, each rounded to
+    three significant digits (a level moves by at most 5e-3 of itself, far below the model's
+    +-7 % mesh error), so that inputs a little apart -- a pressure 1e-6 off -- give the same
+    levels, the same ramps and the same bits (issue 31: the README command's levels and the
+    benchmark's, 1e-6 apart, stopped ramps at other places)."""
+    raw = np.geomspace(low, high, n) if n > 1 else np.array([float(low)])
+    return np.array([float(f"{p:.3g}") for p in raw])
 
 
 def as_dataset(curves: list[GainCurve]) -> Any:

@@ -38,7 +38,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ...errors import FingerpadError
-from .contact import FoldContact, contact_length, skin_compliance, tile_lengths
+from .contact import FoldContact, contact_length, skin_compliance, tile_jacobian, tile_lengths
 from .hyperelastic import Solid, csr_slots
 from .mesh import SectionMesh
 
@@ -250,7 +250,8 @@ class SectionSolver:
                 pairs = self.fold.update_pairs(x, pairs)
             xs = x[surf]
             tiles = self._tiles(xs)
-            comp, dcomp = skin_compliance(xs[:, 0], tiles, self.period, self.skin, derivative=True)
+            comp, dcomp, dtile = skin_compliance(xs[:, 0], tiles, self.period, self.skin, derivative=True,
+                                                 tile_derivative=True)
             gap = z0 + comp @ f - xs[:, 1]
             active = f - self.skin * gap > 0
             active[-1] = False  # the periodic image of the first surface node carries no force
@@ -324,21 +325,30 @@ class SectionSolver:
             # d gap_i / d u: -1 on z_i, and the skin lift's dependence on the x positions
             dlift = dcomp * f[None, :]
             dlift = (np.diag(dlift.sum(axis=1)) - dlift)[ai]
+            # ... and through the tiles, which move with every surface node (x and z). Without it
+            # the tangent was not exact: Newton converged linearly and, where a flank pressed on
+            # its neighbour, cycled (issue 31)
+            tj = self._tile_jacobian(xs)  # (m, m, 2)
+            dtl = np.einsum("ij,jnc->inc", (dtile * f[None, :])[ai], tj)  # (active, m, 2)
+            tl_rows = np.repeat(nred + ai, 2 * m)
+            tl_cols = np.tile(np.stack([self.xred, self.zred], axis=1).ravel(), ai.size)
+            tl_vals = dtl.reshape(ai.size, 2 * m).ravel()
+            tl_ok = (tl_cols >= 0) & (tl_vals != 0.0)
             # d gap_i / d f (active rows: the compliance) and d f_i / d f_i = 1 (free rows)
             free = np.nonzero(~active)[0]
             ca = comp[ai]
             nz = ca != 0.0
-            parts_r = [kr.row, e_rows[ok],
+            parts_r = [kr.row, e_rows[ok], tl_rows[tl_ok],
                        nred + ai, np.repeat(nred + ai, int(okx.sum())),
                        nred + np.repeat(ai, m)[nz.ravel()], nred + free,
                        nred + ai,  # d gap_i / d Z0
                        np.full(m, nred + m)]  # the load equation: sum f
-            parts_c = [kr.col, nred + e_cols[ok],
+            parts_c = [kr.col, nred + e_cols[ok], tl_cols[tl_ok],
                        self.zred[ai], np.tile(xr[okx], ai.size),
                        nred + np.tile(np.arange(m), ai.size)[nz.ravel()], nred + free,
                        np.full(ai.size, nred + m),
                        nred + np.arange(m)]
-            parts_v = [kr.data, e_vals[ok],
+            parts_v = [kr.data, e_vals[ok], tl_vals[tl_ok],
                        -np.ones(ai.size), dlift[:, okx].ravel(),
                        ca[nz], np.ones(free.size),
                        np.ones(ai.size),
@@ -433,6 +443,12 @@ class SectionSolver:
         r_t = (v[tip_dof] - tip) if tip is not None else 0.0
         out = self._merit(r_u, f, gap, f.sum() - load, r_t)
         return out if math.isfinite(out) else math.inf
+
+    def _tile_jacobian(self, xs: np.ndarray) -> np.ndarray:
+        """d tiles / d xs of :meth:`_tiles` (m, m, 2): the last node's half tile goes to the first."""
+        tj = tile_jacobian(xs)
+        tj[0] += tj[-1]
+        return tj
 
     def _tiles(self, xs: np.ndarray) -> np.ndarray:
         """Tiles of the surface nodes; the last node is the periodic image of the first, which
