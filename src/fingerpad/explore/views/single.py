@@ -48,8 +48,9 @@ __all__ = ["QUIET_S", "SingleView"]
 #: steps or drags through them, short beside the work itself.
 QUIET_S = 0.4
 
-#: The results table of the design before, while a sequence passes over designs.
-_DIMMED = {"opacity": "0.35"}
+#: The results table of the design before, while a sequence passes over designs; and once it is
+#: the design's (an empty style would not reach the page: Panel sends the keys it is given).
+_DIMMED, _BRIGHT = {"opacity": "0.35"}, {"opacity": "1"}
 
 
 def _prediction_json(pred: Any) -> dict[str, Any]:
@@ -365,7 +366,8 @@ class SingleView:
         if pred is None:
             self.summary.object = ""
             self.table.object = ""
-            self.table.styles = {}
+            if self.table.styles == _DIMMED:
+                self.table.styles = _BRIGHT
             self.notes.object = ""
         else:
             self._show_numbers(pred)
@@ -375,7 +377,7 @@ class SingleView:
     def _show_figures(self) -> None:
         """The figures of the prediction shown (and its population, its contact maps)."""
         pred, c = self.pred, self.cards
-        if pred is not None and self.table.styles:  # dimmed in a sequence: its numbers now
+        if pred is not None and self.table.styles == _DIMMED:  # dimmed in a sequence: its numbers now
             self._show_table(self._derived(pred, "json", lambda: _prediction_json(pred)))
         updates = [(c["height-map"], builders.height_map_spec(pred.texture if pred is not None and pred.cell
                                                               is not None else self.texture), None)]
@@ -439,8 +441,8 @@ class SingleView:
                 self.table.styles = _DIMMED
             return
         self.table.object = html_table(_RESULT_COLUMNS, payload["results"], "fp-results")
-        if self.table.styles:
-            self.table.styles = {}
+        if self.table.styles == _DIMMED:
+            self.table.styles = _BRIGHT
 
     def _contact_pressure(self) -> float | None:
         """The pressure of the contact map: the field's value, else the centre pressure at the zone load."""
