@@ -37,7 +37,16 @@ def _declarations() -> dict[str, tuple[str, ...]]:
     from fingerpad.population import correlations as population_correlations
     from fingerpad.population.sobol import SensitivityResult
 
+    from fingerpad.macro.jkr import JKRArea
+    from fingerpad.micro.adhesive_cell import AdhesiveUnitCell
+    from fingerpad.study.citations import solve_references
+    from fingerpad.textures import spherical_caps
+
     found = {f"model {m.name}": tuple(m.factory.REFERENCES) for m in [*GROSS_MODELS.values(), *RIDGE_MODELS.values()]}
+    cell = spherical_caps(radius=50e-6, height=10e-6, spacing=200e-6, grid=16)
+    found["adhesive cell"] = AdhesiveUnitCell(cell, 4e5, work_of_adhesion=0.05, law="maugis", cache=False).REFERENCES
+    found["JKR pad"] = JKRArea.REFERENCES
+    found["adhesive solve"] = solve_references(cell, None, {"adhesion_law": "maugis"})
     found.update({name: tuple(obj.REFERENCES) for name, obj in (
         ("friction", friction), ("BEMUnitCell", BEMUnitCell), ("HertzUnitCell", HertzUnitCell),
         ("deflection", gain), ("correlations", population_correlations), ("sensitivity", SensitivityResult),

@@ -29,6 +29,8 @@ from .errors import FingerpadError
 from .macro import GROSS_MODELS, DzidekArea, GrossAreaModel, HertzArea, PowerLawArea, TwoRegimePowerLawArea
 from .macro._base import PAD_MODULUS, PAD_RADIUS
 from .macro.pressure import disc_average, pad_pressure
+from .contact.interaction import INTERACTION_LAWS
+from .friction import DEFAULT_LAW, FRICTION_LAWS, FrictionLaw, law_of
 from .materials import DEFAULT_SKIN_MODULUS, DEFAULT_SKIN_POISSON, reduced_modulus
 from .meso import (
     RIDGE_MODELS,
@@ -40,6 +42,11 @@ from .meso import (
     SinusoidalRidges,
 )
 from .params import Param, check_fields
+
+#: The adhesion laws by name (the first the default) and the physical range of skin's adhesion (m):
+#: an intermolecular distance, z0 ~ 0.3 nm (Tabor 1977).
+ADHESION_LAWS = tuple(INTERACTION_LAWS)
+ADHESION_RANGE = 0.3e-9
 
 #: Skin structures: the homogeneous half-space of E_s (the default) or a layer on a substrate.
 SKINS = ("half-space", "layered")
@@ -81,7 +88,28 @@ FINGER_PARAMS: tuple[Param, ...] = (
           None, low=-1, low_open=True, high=0.5, label="skin substrate Poisson ratio", symbol="nu_2"),
     Param("skin_base", "choice", "layered skin: what the layer rests on: elastic (the tissue, E_2), rigid (bonded) "
           "or rigid-frictionless", "elastic", SKIN_BASES, label="skin layer base", symbol="base"),
+    # Adhesion (docs/model.md 6.6, 7.6): the work of adhesion of the skin on the counter-surface
+    # where they touch. 0 (the default) is the non-adhesive model, exactly. A dry finger's is at
+    # most ~0.3-0.4 J/m^2 (an upper bound from a whole finger's 15 mN pull-off on smooth epoxy,
+    # Spinner et al. 2016), none measurable on clean glass (Tiwari, Wang, Persson 2020).
+    Param("work_of_adhesion", "surface energy", "work of adhesion w of skin on the texture's material "
+          "(0: no adhesion; a dry finger's is at most ~0.3-0.4 J/m2, docs/model.md 6.6)", 0.0, low=0, high=10.0,
+          example="0.05J/m2", label="work of adhesion w", symbol="w"),
+    Param("adhesion_range", "length", "range rho of the adhesive interaction (physical: ~0.3 nm; regularised to "
+          "the grid in the JKR limit, docs/model.md 6.6); typed with a unit", ADHESION_RANGE, low=0, low_open=True,
+          high=1e-3, example="0.3nm", label="adhesion range rho", symbol="rho", needs_unit=True),
+    Param("adhesion_law", "choice", "adhesive interaction law: exponential (smooth) or maugis (Maugis-Dugdale, a "
+          "constant attraction within the range)", ADHESION_LAWS[0], ADHESION_LAWS, label="adhesion law",
+          symbol="law"),
+    # The friction law (fingerpad.friction: one file per law): the thesis's tau0 + alpha p_re
+    # adhesion plus hysteresis reads tau0, alpha, beta and the pad's radius and modulus.
+    Param("friction_law", "choice", "friction law (fingerpad.friction): thesis = adhesion (tau0 + alpha p) on A_re "
+          "plus hysteresis, Eqs. 2.1-2.4", DEFAULT_LAW, tuple(FRICTION_LAWS), label="friction law",
+          symbol="friction"),
 )
+
+#: The adhesion's fields (omitted from descriptions of a finger without adhesion).
+ADHESION_FIELDS = ("work_of_adhesion", "adhesion_range", "adhesion_law")
 
 #: ``--finger-param ridge_fraction=X``: the constant-fraction ridge model with ``A_fr / A_g = X``
 #: (replaces the finger's ridge model; a population's members are named by it, issue 22). Not a
@@ -173,6 +201,17 @@ class Finger:
         Layered skin on an elastic base: the tissue's E_2 (Pa) and nu_2 (default ``skin_poisson``).
     skin_base
         ``"elastic"`` (the tissue), ``"rigid"`` (bonded) or ``"rigid-frictionless"``.
+    work_of_adhesion
+        Work of adhesion w of the skin on the texture's material, J/m^2 (docs/model.md 6.6); 0,
+        the default, is the non-adhesive model.
+    adhesion_range
+        Range rho of the interaction, m (physical ~0.3 nm; regularised to the grid in the JKR
+        limit).
+    adhesion_law
+        ``"exponential"`` or ``"maugis"`` (Maugis-Dugdale).
+    friction_law
+        The friction law's name (:data:`fingerpad.friction.FRICTION_LAWS`; ``"thesis"``, Eqs.
+        2.1-2.4); :attr:`friction` is the law built from this finger's fields.
     name, description
         Labels.
     """
@@ -192,6 +231,10 @@ class Finger:
     skin_substrate_modulus: float | None = None
     skin_substrate_poisson: float | None = None
     skin_base: str = "elastic"
+    work_of_adhesion: float = 0.0
+    adhesion_range: float = ADHESION_RANGE
+    adhesion_law: str = ADHESION_LAWS[0]
+    friction_law: str = DEFAULT_LAW
     name: str = "custom"
     description: str = field(default="", compare=False)
 
@@ -375,7 +418,20 @@ class Finger:
             **({} if self.skin == "half-space" else {
                 "skin": self.skin, "skin_base": self.skin_base,
                 **{n: getattr(self, n) for n in LAYER_FIELDS if getattr(self, n) is not None}}),
+            # the adhesion's keys only with adhesion: a non-adhesive finger's description is as it was
+            **({n: getattr(self, n) for n in ADHESION_FIELDS} if self.work_of_adhesion > 0 else {}),
+            **({} if self.friction_law == DEFAULT_LAW else {"friction_law": self.friction_law}),
         }
+
+    @property
+    def friction(self) -> FrictionLaw:
+        """The finger's friction law (:mod:`fingerpad.friction`) built from its fields."""
+        return law_of(self)
+
+    @property
+    def adhesive(self) -> bool:
+        """Whether the skin adheres (``work_of_adhesion > 0``)."""
+        return self.work_of_adhesion > 0
 
 
 # Default finger, values and sources (docs/model.md, "Macro", "Meso", "Friction", "Micro"):
@@ -431,6 +487,15 @@ FINGER_PRESETS: dict[str, Finger] = {
         skin_substrate_modulus=40e3 * (1 - DEFAULT_SKIN_POISSON**2),
         description="default pad with a layered skin: stratum corneum 0.3 mm, E_1 0.3 MPa on tissue E_2* 40 kPa",
     ),
+    # Adhesion (docs/model.md 6.6): every other preset has none (w = 0). A dry finger's work of
+    # adhesion is at most ~0.24-0.40 J/m^2, an UPPER BOUND from a whole finger's 15 mN pull-off
+    # on smooth epoxy (Spinner et al. 2016, R_fp 8-10 mm; JKR 1.5 pi w R gives 0.32-0.40, DMT
+    # 2 pi w R 0.24-0.30), none measurable on clean glass (Tiwari, Wang, Persson 2020); no measured w of skin
+    # on glass or polymers was found. 0.05 J/m^2 is an assumed moderate value inside that bound.
+    "adhesive": _DEFAULT.with_overrides(
+        name="adhesive", work_of_adhesion=0.05,
+        description="default pad with adhesion: w 0.05 J/m2 (assumed; a dry finger's is at most ~0.3-0.4)",
+    ),
 }
 
 
@@ -457,6 +522,9 @@ def get_finger(name: str) -> Finger:
 
 
 __all__ = [
+    "ADHESION_FIELDS",
+    "ADHESION_LAWS",
+    "ADHESION_RANGE",
     "FINGER_FIELDS",
     "FINGER_PARAMS",
     "FINGER_PRESETS",

@@ -100,6 +100,18 @@ def _coords(texture: Any) -> dict[str, Any]:
     }
 
 
+#: The contact mask's description: without adhesion (pressure > 0) and with (closed gap).
+_CONTACT_NAME = {False: "contact mask (1 where pressure > 0)",
+                 True: "contact mask (1 where the gap is closed; adhesion: a contact may carry tension)"}
+
+
+def _contact(result: Any) -> np.ndarray:
+    """The contact mask: ``pressure > 0``, or with adhesion the closed gaps."""
+    if getattr(result, "adhesion", None) is not None:
+        return np.asarray(result.gap) <= 0
+    return np.asarray(result.pressure) > 0
+
+
 def _check_result(result: Any) -> None:
     missing = [n for n in ("pressure", "gap", "displacement", "texture", "modulus", "tol") if not hasattr(result, n)]
     if missing:
@@ -115,11 +127,8 @@ def result_dataset(result: Any, attrs: Mapping[str, Any] | None = None):
     data: dict[str, Any] = {}
     for name, (units, long_name) in FIELDS.items():
         data[name] = xr.Variable(dims, np.asarray(getattr(result, name), float), {"units": units, "long_name": long_name})
-    data["contact"] = xr.Variable(
-        dims,
-        (np.asarray(result.pressure) > 0).astype(np.int8),
-        {"units": "1", "long_name": "contact mask (1 where pressure > 0)"},
-    )
+    data["contact"] = xr.Variable(dims, _contact(result).astype(np.int8), {"units": "1", "long_name": _CONTACT_NAME[
+        getattr(result, "adhesion", None) is not None]})
     data["heights"] = xr.Variable(
         dims, np.asarray(result.texture.heights, float), {"units": "m", "long_name": "texture height (toward the skin)"}
     )
@@ -163,8 +172,8 @@ def results_dataset(results: Sequence[Any], attrs: Mapping[str, Any] | None = No
         data[name] = xr.Variable(dims, stack, {"units": units, "long_name": long_name})
     data["contact"] = xr.Variable(
         dims,
-        np.stack([(np.asarray(r.pressure) > 0) for r in results]).astype(np.int8),
-        {"units": "1", "long_name": "contact mask (1 where pressure > 0)"},
+        np.stack([_contact(r) for r in results]).astype(np.int8),
+        {"units": "1", "long_name": _CONTACT_NAME[getattr(results[0], "adhesion", None) is not None]},
     )
     data["heights"] = xr.Variable(
         ("x", "y"), np.asarray(first.texture.heights, float), {"units": "m", "long_name": "texture height (toward the skin)"}

@@ -33,6 +33,7 @@ KINDS: dict[str, tuple[str, str, str | None]] = {
     "length": ("m", "LENGTH", "length"),
     "pressure": ("Pa", "PRESSURE", "pressure"),
     "force": ("N", "FORCE", "force"),
+    "surface energy": ("J/m2", "ENERGY", "surface energy"),
     "angle": ("deg", "ANGLE", "angle"),
     "count": ("1", "INT", None),
     "ratio": ("1", "NUMBER", "none"),
@@ -43,7 +44,7 @@ KINDS: dict[str, tuple[str, str, str | None]] = {
 
 #: Kinds whose bare numbers are SI values of a physical dimension: a sweep axis refuses them
 #: without a unit (``spacing = 7`` would be 7 m).
-DIMENSIONAL = frozenset({"length", "pressure", "force"})
+DIMENSIONAL = frozenset({"length", "pressure", "force", "surface energy"})
 
 
 class _Required:
@@ -75,7 +76,8 @@ class Param:
     name
         Keyword of the generator or model field (``--name-with-dashes`` on the command line).
     kind
-        ``"length"`` (m), ``"pressure"`` (Pa), ``"force"`` (N), ``"angle"`` (degrees by default
+        ``"length"`` (m), ``"pressure"`` (Pa), ``"force"`` (N), ``"surface energy"`` (J/m^2, a
+        work of adhesion), ``"angle"`` (degrees by default
         from user input, radians in SI), ``"count"`` (integer), ``"ratio"`` (dimensionless
         number), ``"choice"`` (one of ``choices``), ``"size"`` (``LX[,LY]``, m) or ``"grid"``
         (grid points, given as ``--grid``).

@@ -35,6 +35,13 @@ UNITS: dict[str, tuple[str, float]] = {
     # angle
     "deg": ("angle", math.pi / 180.0),
     "rad": ("angle", 1.0),
+    # surface energy (work of adhesion), J/m^2 = N/m
+    "J/m2": ("surface energy", 1.0),
+    "J/m^2": ("surface energy", 1.0),
+    "mJ/m2": ("surface energy", 1e-3),
+    "mJ/m^2": ("surface energy", 1e-3),
+    "N/m": ("surface energy", 1.0),
+    "mN/m": ("surface energy", 1e-3),
 }
 
 
@@ -50,10 +57,11 @@ def _decimal_exponent(factor: float) -> int | None:
 #: either way gives the same numbers, the same cache keys and the same file names.
 _EXPONENT = {unit: _decimal_exponent(factor) for unit, (_, factor) in UNITS.items()}
 
-SI_SYMBOL = {"length": "m", "pressure": "Pa", "force": "N", "angle": "rad"}
+SI_SYMBOL = {"length": "m", "pressure": "Pa", "force": "N", "angle": "rad", "surface energy": "J/m2"}
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
-_QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*([A-Za-zµμ]*)\s*$")
+# a unit: letters, or a quotient such as J/m2, J/m^2, mN/m
+_QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*([A-Za-zµμ]*(?:/[A-Za-z]+(?:\^?2)?)?)\s*$")
 
 
 def parse_quantity(text: str | float | int, dimension: str, *, name: str = "value") -> float:

@@ -76,6 +76,19 @@ def missing_extra(exc: ImportError) -> NoReturn:
     raise typer.Exit(EXIT_USER_ERROR) from None
 
 
+#: Help of the adhesion options (solve, predict, sweep): the finger's fields ``work_of_adhesion``,
+#: ``adhesion_range`` and ``adhesion_law`` (fingerpad.finger.FINGER_PARAMS, whose checks they pass).
+ADHESION_HELP = {
+    "--work-of-adhesion": "Work of adhesion w of skin on the texture's material, e.g. 0.05J/m2 (default 0: no "
+                          "adhesion; a dry finger's is at most ~0.3-0.4 J/m2, docs/model.md 6.6).",
+    "--adhesion-range": "Range of the adhesive interaction, with a unit (default 0.3nm; a range below a pixel is "
+                        "regularised to the grid: the JKR limit, docs/model.md 6.6).",
+    "--adhesion-law": "Adhesive interaction law: exponential (default) or maugis (Maugis-Dugdale).",
+}
+#: The finger fields the adhesion options set.
+ADHESION_FIELDS = {"--work-of-adhesion": "work_of_adhesion", "--adhesion-range": "adhesion_range",
+                   "--adhesion-law": "adhesion_law"}
+
 #: Help of ``--device`` (solve, predict, sweep).
 DEVICE_HELP = ("Where the contact solves run: cpu (NumPy, the default), cupy or torch (a CUDA GPU, with that "
                "library installed). Default: $FINGERPAD_DEVICE, else cpu.")

@@ -64,7 +64,9 @@ def fingers_command() -> None:
     else:  # a narrow terminal: one block per preset
         for name, f in FINGER_PRESETS.items():
             say_wrapped(console, f"{name}: {f.description}")
-            say_wrapped(console, "  " + ", ".join(f"{head(p)} {cell(f, p)}" for p in shown))
+            # a finger without adhesion: its range and law say nothing
+            own = [p for p in shown if f.work_of_adhesion > 0 or p.name not in ("adhesion_range", "adhesion_law")]
+            say_wrapped(console, "  " + ", ".join(f"{head(p)} {cell(f, p)}" for p in own))
             say_wrapped(console, f"  gross area: {model_text(f.gross_model, GROSS_MODELS)}")
             say_wrapped(console, f"  ridge area: {model_text(f.ridges, RIDGE_MODELS)}")
     say(console, "")

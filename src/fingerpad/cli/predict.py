@@ -14,6 +14,7 @@ import typer
 
 from ..errors import FingerpadError
 from .common import (
+    ADHESION_HELP,
     DEVICE_HELP,
     EXIT_UNCONVERGED,
     EXTRA_ARGS,
@@ -61,6 +62,7 @@ _PREDICT_HELP = {
                                 "or 'rigid' (as --skin-base rigid).",
     "--skin-substrate-poisson": "Poisson ratio of the tissue under the layer (default: the skin's).",
     "--skin-base": "What the layer rests on: elastic (the tissue, default), rigid or rigid-frictionless.",
+    **ADHESION_HELP,
     "--finger": "Finger preset (default 'default'); see fingerpad.finger.FINGER_PRESETS.",
     "--finger-param": "Finger override NAME=VALUE (radius, modulus, beta, tau0, alpha, skin_modulus, "
                       "skin_poisson, skin_layer_thickness, ...: see `fingerpad fingers`; ridge_fraction: "
@@ -169,6 +171,17 @@ def _fmt(value: Any, spec: str) -> str:
     return "-" if value is None else format(value, spec)
 
 
+def _adhesion_text(adhesion: Mapping[str, Any]) -> str:
+    """The adhesion's lines under the table: pull-off, works of adhesion, the threshold load."""
+    threshold = adhesion.get("threshold_load")
+    bound = adhesion.get("threshold_load_bound", "exact")
+    where = "(not computed)" if threshold is None else f"{threshold:.3g} N" if bound == "exact" else \
+        f"{threshold:.3g} N or more" if bound == "at least" else f"{threshold:.3g} N or less"
+    return (f"adhesion ({adhesion['law']}, w {adhesion['work_of_adhesion']:.3g} J/m2): pull-off force "
+            f"{adhesion['pull_off_force'] * 1e3:.3g} mN (pad w {adhesion['pad_work_of_adhesion']:.3g} J/m2, cell pull-off "
+            f"{adhesion['pull_off_pressure']:.4g} Pa); adhesion changes A_re by more than 10 % below {where}")
+
+
 def _print_prediction(payload: Mapping[str, Any]) -> None:
     """The per-load table (fitted to the terminal: fewer columns below 110) and the state loads."""
     from rich import box
@@ -229,6 +242,9 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
         else:
             say(console, f"full contact at the pad centre: not reached up to {p_lo / 1e3:.4g} kPa "
                          f"(the last node below 10 E*)")
+    adhesion = payload.get("adhesion")
+    if adhesion:
+        say(console, _adhesion_text(adhesion))
     directional = payload.get("directional")
     if directional and payload["results"] and "mu_perpendicular_over_parallel" in payload["results"][0]:
         ratios = [r["mu_perpendicular_over_parallel"] for r in payload["results"]]
@@ -401,6 +417,9 @@ def predict(
                                                         metavar="NU")] = None,
     skin_base: Annotated[str | None, _popt("--skin-base", panel=_MATERIALS,
                                            metavar="elastic|rigid|rigid-frictionless")] = None,
+    work_of_adhesion: Annotated[str | None, _popt("--work-of-adhesion", panel=_FINGER, metavar="W")] = None,
+    adhesion_range: Annotated[str | None, _popt("--adhesion-range", panel=_FINGER, metavar="RHO")] = None,
+    adhesion_law: Annotated[str | None, _popt("--adhesion-law", panel=_FINGER, metavar="exponential|maugis")] = None,
     finger: Annotated[str | None, _popt("--finger", panel=_FINGER, metavar="PRESET")] = None,
     finger_param: Annotated[list[str] | None, _popt("--finger-param", panel=_FINGER, metavar="NAME=VALUE")] = None,
     loads: Annotated[list[str] | None, _popt("--loads", "-F", panel=_LOADS, metavar="START:STOP:COUNT")] = None,
@@ -443,6 +462,7 @@ def predict(
         "--skin-layer-thickness": skin_layer_thickness, "--skin-layer-modulus": skin_layer_modulus,
         "--skin-substrate-modulus": skin_substrate_modulus, "--skin-substrate-poisson": skin_substrate_poisson,
         "--skin-base": skin_base,
+        "--work-of-adhesion": work_of_adhesion, "--adhesion-range": adhesion_range, "--adhesion-law": adhesion_law,
         "--loads": loads or None, "--zones-at": zones_at, "--model": model, "--grid": grid,
         "--accuracy": accuracy, "--direction": direction,
         "--tol": tol, "--max-iter": max_iter, "--cache": cache,

@@ -10,6 +10,7 @@ import typer
 
 from ..materials import DEFAULT_SKIN_MODULUS, DEFAULT_SKIN_POISSON
 from .common import (
+    ADHESION_HELP,
     DEVICE_HELP,
     EXIT_UNCONVERGED,
     EXTRA_ARGS,
@@ -54,7 +55,9 @@ _HELP = {
     "--skin-base": "What the layer rests on: elastic (the tissue, default), rigid or rigid-frictionless.",
     "--material-modulus": "Counter-surface Young's modulus, or 'rigid' (default rigid).",
     "--material-poisson": "Counter-surface Poisson ratio (default 0.35).",
-    "--pressure": "Mean nominal pressure over the cell; repeat it, or give a range START:STOP:COUNT.",
+    **ADHESION_HELP,
+    "--pressure": "Mean nominal pressure over the cell; repeat it, or give a range START:STOP:COUNT (with "
+                  "--work-of-adhesion also zero, tensions and comma lists, e.g. -2kPa,0Pa,5kPa).",
     "--log": "Log-spaced pressure ranges (the default).",
     "--linear": "Evenly spaced pressure ranges.",
     "--tol": "Relative residual at which a solve stops.",
@@ -100,6 +103,9 @@ def solve(
                                           metavar="elastic|rigid|rigid-frictionless")] = None,
     material_modulus: Annotated[str | None, _opt("--material-modulus", panel=_MATERIALS, metavar="E")] = None,
     material_poisson: Annotated[str | None, _opt("--material-poisson", panel=_MATERIALS, metavar="NU")] = None,
+    work_of_adhesion: Annotated[str | None, _opt("--work-of-adhesion", panel=_MATERIALS, metavar="W")] = None,
+    adhesion_range: Annotated[str | None, _opt("--adhesion-range", panel=_MATERIALS, metavar="RHO")] = None,
+    adhesion_law: Annotated[str | None, _opt("--adhesion-law", panel=_MATERIALS, metavar="exponential|maugis")] = None,
     pressure: Annotated[list[str] | None, _opt("--pressure", "-p", panel=_LOADS, metavar="P|START:STOP:COUNT")] = None,
     log: Annotated[bool, _opt("--log", panel=_LOADS)] = False,
     linear: Annotated[bool, _opt("--linear", panel=_LOADS)] = False,
@@ -141,6 +147,7 @@ def solve(
                 critical=critical, skin_layer_thickness=skin_layer_thickness,
                 skin_layer_modulus=skin_layer_modulus, skin_substrate_modulus=skin_substrate_modulus,
                 skin_substrate_poisson=skin_substrate_poisson, skin_base=skin_base,
+                work_of_adhesion=work_of_adhesion, adhesion_range=adhesion_range, adhesion_law=adhesion_law,
             )
         code = run_job(job)
     if code:
@@ -221,11 +228,20 @@ def run_job(job: Any) -> int:
         from ..finger import describe_skin
 
         _print_table(results, job.texture, job.tol, describe_skin(job.materials.as_dict()))
+        pull_off = outcome.payload.get("pull_off_pressure")
+        if pull_off is not None:
+            print(f"pull-off pressure: {format_quantity(pull_off, 'pressure')} (loading branch, pulled apart from "
+                  f"zero load; work of separation {outcome.payload['adhesion']['work_of_separation']:.3g} J/m2)")
         if critical is not None:
             print(f"critical (transition) pressure: {format_quantity(critical.estimate, 'pressure')} "
                   f"(bracket {format_quantity(critical.lower, 'pressure')} - {format_quantity(critical.upper, 'pressure')}, "
                   f"{critical.solves} solves)")
-    bad = [r for r in results if not r.converged]
+    # a lift-off (adhesion, a tension beyond the pull-off) is a result, not a failed solve
+    for r in results:
+        if r.contact_state == "detached":
+            say(err, f"note: at mean pressure {format_quantity(r.mean_pressure, 'pressure')} the skin lifts off "
+                     "(a tension beyond the pull-off pressure: no contact holds it)")
+    bad = [r for r in results if not r.converged and r.contact_state != "detached"]
     for r in bad:
         say(err, f"warning: not converged at mean pressure {format_quantity(r.mean_pressure, 'pressure')} "
                  f"(residual {r.residual:.3g} > tol {job.tol:.3g} after {r.iterations} iterations)")

@@ -7,8 +7,8 @@ from typing import Annotated, Any
 import typer
 
 from ..extras import require
-from .common import (DEVICE_HELP, EXIT_INTERRUPTED, device_option, report_interrupt, rich_console, say,
-                     stderr_console, user_errors, warnings_to)
+from .common import (ADHESION_FIELDS, ADHESION_HELP, DEVICE_HELP, EXIT_INTERRUPTED, device_option, report_interrupt,
+                     rich_console, say, stderr_console, user_errors, warnings_to)
 
 _HELP = {
     "--out": "Zarr store of the results (default: the study file's name with .zarr). Rerunning the same sweep "
@@ -25,6 +25,7 @@ _HELP = {
                 "use their own FINGERPAD_DEVICE.",
     "--repair": "Mend a damaged store of this sweep: its unreadable chunks are computed again and its "
                 "metadata rewritten (a damaged store is refused without it).",
+    **{k: v + " Overrides the study file's [finger] value at every point." for k, v in ADHESION_HELP.items()},
 }
 
 
@@ -41,6 +42,12 @@ def sweep_command(
                                                    help=_HELP["--population"])] = None,
     quantiles: Annotated[str | None, typer.Option("--quantiles", metavar="Q,Q,...", help=_HELP["--quantiles"])] = None,
     device: Annotated[str | None, typer.Option("--device", metavar="cpu|cupy|torch", help=_HELP["--device"])] = None,
+    work_of_adhesion: Annotated[str | None, typer.Option("--work-of-adhesion", metavar="W",
+                                                         help=_HELP["--work-of-adhesion"])] = None,
+    adhesion_range: Annotated[str | None, typer.Option("--adhesion-range", metavar="RHO",
+                                                       help=_HELP["--adhesion-range"])] = None,
+    adhesion_law: Annotated[str | None, typer.Option("--adhesion-law", metavar="exponential|maugis",
+                                                     help=_HELP["--adhesion-law"])] = None,
 ) -> None:
     """Sweep texture, material or finger values of a study on Dask; results in a Zarr store.
 
@@ -66,6 +73,15 @@ def sweep_command(
         n = check_workers(workers)
         with warnings_to(err):
             data = read_sweep_file(study)
+            given = {"--work-of-adhesion": work_of_adhesion, "--adhesion-range": adhesion_range,
+                     "--adhesion-law": adhesion_law}
+            if any(v is not None for v in given.values()):
+                from ..finger import finger_param
+
+                for option, value in given.items():
+                    if value is not None:  # checked by the finger's declaration, named by the option
+                        field = ADHESION_FIELDS[option]
+                        data.setdefault("finger", {})[field] = finger_param(field).parse(value, option)
             spec = sweep_from_dict(data, population=population, quantiles=quantiles)
         store = out if out is not None else str(Path(study).with_suffix(".zarr"))
         where = str(check_output_location(store, "--out"))  # before any work; a link is written through

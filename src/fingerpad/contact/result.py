@@ -62,11 +62,16 @@ class ContactResult:
     texture: Texture = field(repr=False)
     modulus: float = 0.0
     tol: float = 0.0
+    #: An adhesive solve's interaction and flags (:mod:`fingerpad.contact.adhesive`): ``law``,
+    #: ``work_of_adhesion`` (J/m^2), ``adhesion_range`` (m), ``detached``, ``tensile_fraction``;
+    #: ``None`` without adhesion.
+    adhesion: dict[str, Any] | None = field(default=None, repr=False)
 
     @property
     def contact(self) -> np.ndarray:
-        """Boolean contact mask."""
-        return self.pressure > 0
+        """Boolean contact mask: compressed pixels, or with adhesion closed gaps (a contact pixel
+        may then carry tension)."""
+        return self.pressure > 0 if self.adhesion is None else self.gap <= 0
 
     def summary(self) -> dict[str, Any]:
         """JSON-ready scalar results (SI units)."""
@@ -83,4 +88,7 @@ class ContactResult:
             "converged": bool(self.converged),
             "seconds": float(self.seconds),
             "formulation": self.formulation,
+            # an adhesive solve's interaction (a non-adhesive summary is as it always was)
+            **({} if self.adhesion is None else
+               {k: v for k, v in self.adhesion.items() if not k.startswith("_")}),
         }

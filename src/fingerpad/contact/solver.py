@@ -82,6 +82,7 @@ from ..materials import check_modulus
 from ..textures import Texture
 from .formulations import finish, run_formulation
 from .greens import Backend, compliance_operator, preconditioner, stiffness_operator
+from .interaction import Interaction
 from .layered import Layer
 from .kernels import ArrayKernels, NumpyKernels
 from .kernels_blocked import BlockedNumpyKernels, blocked_applies
@@ -208,6 +209,12 @@ class HalfSpaceSolver:
         ``progress(shape, iteration, residual)``, called once per iteration of every level of a
         solve (the coarse levels of the nested start report their own, smaller ``shape``): the
         progress of long solves (2048^2 and up take seconds). Must be cheap.
+    interaction
+        An attractive interaction (:class:`fingerpad.contact.interaction.Interaction`, SI: its
+        work of adhesion and range) added to the energy: adhesive contact, solved with the gap
+        as the unknown (:mod:`fingerpad.contact.adhesive`); mean pressures may then be zero or
+        negative. ``None`` (the default): non-adhesive contact, bit-identical to the solver
+        without this option.
     """
 
     def __init__(
@@ -226,6 +233,7 @@ class HalfSpaceSolver:
         kernels: str = "auto",
         precondition: bool = True,
         progress: Callable[[tuple[int, int], int, float], None] | None = None,
+        interaction: Interaction | None = None,
     ) -> None:
         if not isinstance(texture, Texture):
             raise FingerpadError("texture must be a fingerpad.Texture")
@@ -234,6 +242,11 @@ class HalfSpaceSolver:
         if layer is not None and not isinstance(layer, Layer):
             raise FingerpadError("layer must be a fingerpad.contact.layered.Layer or None")
         self.layer = layer
+        if interaction is not None and not isinstance(interaction, Interaction):
+            raise FingerpadError("interaction must be a fingerpad.contact.interaction.Interaction or None")
+        self.interaction = interaction
+        self._adhesive: Any = None  # the adhesive solve's operators, built on first use
+        self._plain: HalfSpaceSolver | None = None  # the same cell without it (cold adhesive starts)
         if not (isinstance(tol, (int, float)) and 0 < tol < 1):
             raise FingerpadError(f"tolerance must lie in (0, 1), got {tol!r}")
         if not (isinstance(max_iter, int) and 1 <= max_iter <= MAX_ITER):
@@ -287,8 +300,14 @@ class HalfSpaceSolver:
     # ---------------------------------------------------------------- public API
 
     def solve_pressure(self, mean_pressure: float, initial: ContactResult | None = None) -> ContactResult:
-        """Solve at a given mean nominal pressure (Pa) over the cell."""
+        """Solve at a given mean nominal pressure (Pa) over the cell (with an ``interaction``
+        also zero or negative: a tension the adhesion holds, or a lift-off the result reports
+        as ``contact_state == "detached"``)."""
         p = float(mean_pressure)
+        if self.interaction is not None:
+            if not math.isfinite(p):
+                raise FingerpadError(f"mean pressure must be finite, got {mean_pressure!r}")
+            return self._solve("pressure", p, initial)
         if not (math.isfinite(p) and p > 0):
             raise FingerpadError(f"mean pressure must be positive, got {mean_pressure!r}")
         return self._solve("pressure", p, initial)
@@ -377,6 +396,9 @@ class HalfSpaceSolver:
         start = time.perf_counter()
         if initial is not None and initial.pressure.shape != self.texture.shape:
             raise FingerpadError("initial solution has a different grid")
+        if self.interaction is not None:
+            # the interaction is a term of the energy the gap form minimises: its own iteration
+            return self._solve_adhesive(mode, value, initial)
         if (self._kernels_choice == "auto" and self.backend.is_numpy and not self._compiled and not _jit_disabled()
                 and (self._work >= COMPILED_AFTER_WORK or math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS)):
             # a long curve or table, or one very long solve: the compiled loops' load pays back
@@ -435,6 +457,38 @@ class HalfSpaceSolver:
                 stacklevel=3,
             )
         return result
+
+    def _solve_adhesive(self, mode: str, value: float, initial: ContactResult | None) -> ContactResult:
+        from .adhesive import solve_adhesive  # noqa: PLC0415 - only adhesive solves need it
+
+        result = solve_adhesive(self, mode, value, initial)
+        if not result.converged and result.contact_state != "detached":
+            warnings.warn(
+                f"contact solve did not converge: residual {result.residual:.3g} > tol {self.tol:.3g} "
+                f"after {result.iterations} iterations ({mode} = {value:.6g})",
+                RuntimeWarning,
+                stacklevel=4,
+            )
+        return result
+
+    def _plain_solver(self) -> "HalfSpaceSolver":
+        """The same cell without the interaction: the start of a cold adhesive solve."""
+        if self._plain is None:
+            self._plain = HalfSpaceSolver(
+                self.texture, self.modulus, layer=self.layer, tol=self.tol, max_iter=self.max_iter,
+                formulation=self.formulation, coarse_to_fine=self.coarse_to_fine, xp=self.backend.xp,
+                workers=self.backend.workers, fft=self.backend.fft, kernels=self._kernels_choice,
+                precondition=self.precondition,
+            )
+        return self._plain
+
+    def _adhesive_setup(self) -> Any:
+        """The adhesive solve's operators on this solver's texture (built on first use)."""
+        if self._adhesive is None:
+            from .adhesive import AdhesiveSetup  # noqa: PLC0415
+
+            self._adhesive = AdhesiveSetup(self)
+        return self._adhesive
 
     @property
     def _S(self) -> Any:

@@ -13,6 +13,7 @@ SI units (m, N, Pa).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import asdict, dataclass
 from typing import Any
@@ -293,6 +294,10 @@ class CurvePrediction:
     mu_normalised: np.ndarray | None
     critical_load: float
     critical_load_hertz: float | None
+    #: With an adhesive cell (:func:`predict_curve`): the pull-off force and the pad's work of
+    #: adhesion, the real area without adhesion and the adhesive share of A_re per load, the
+    #: threshold load; ``None`` without adhesion.
+    adhesion: dict[str, Any] | None = None
 
     def as_dict(self) -> dict[str, Any]:
         """Fields as a plain dict."""
@@ -300,7 +305,8 @@ class CurvePrediction:
 
 
 def predict_curve(
-    loads: ArrayLike, finger: Finger, cell: UnitCellResponse, reference: bool = True, n_rings: int = 16
+    loads: ArrayLike, finger: Finger, cell: UnitCellResponse, reference: bool = True, n_rings: int = 16,
+    plain: UnitCellResponse | None = None,
 ) -> CurvePrediction:
     """Predict areas and friction of ``finger`` on the texture described by ``cell``.
 
@@ -320,12 +326,18 @@ def predict_curve(
         Also compute the flat-reference friction and the normalised friction.
     n_rings
         Quadrature density, see :func:`couple`.
+    plain
+        With an adhesive ``cell`` (:class:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell`):
+        the same texture's non-adhesive cell, for the real area without adhesion, the adhesive
+        share and the threshold load (:func:`_predict_adhesive`); ignored otherwise.
     """
     if not isinstance(finger, Finger):
         raise FingerpadError(f"finger must be a Finger, got {type(finger).__name__}")
     f = as_loads(loads, "loads", strict=True).ravel()
     if f.size == 0:
         raise FingerpadError("no loads given")
+    if getattr(cell, "adhesive", False):
+        return _predict_adhesive(f, finger, cell, reference, n_rings, plain)
     gross, ridge = finger.areas_checked(f)  # the loads are checked once, here
     if np.any(ridge <= 0):
         raise FingerpadError("the finger's ridge contact area must be positive at every load")
@@ -373,17 +385,72 @@ def predict_curve(
 
 
 
+def _predict_adhesive(f: np.ndarray, finger: Finger, cell: Any, reference: bool, n_rings: int,
+                      plain: UnitCellResponse | None) -> CurvePrediction:
+    """:func:`predict_curve` with an adhesive cell: the JKR pad of the finger's effective work of
+    adhesion over the ridges, the cell's loading branch under its pressures (Eqs. 3.15-3.18,
+    :mod:`fingerpad.micro.adhesive_pad`), the friction law on that real area; the flat reference
+    is the same pad adhering with ``(A_fr / A_g) w`` (a flat's work of separation is ``w``)."""
+    from ..macro.jkr import JKRArea
+    from ..micro.adhesive_pad import adhesion_threshold, adhesive_pad, plain_real_area
+
+    pad = adhesive_pad(finger, cell)
+    gross, ridge = pad.areas(f)
+    ratio = pad.area_ratio(f, ridge, n_rings)
+    real = ratio * ridge
+    with np.errstate(divide="ignore"):
+        p_re = np.where(real > 0, f / np.where(real > 0, real, 1.0), np.inf)
+    mu = mu_checked(f, real, finger)
+    mu_ref = mu_norm = None
+    if reference:
+        flat = pad if pad.jkr is None else dataclasses.replace(
+            pad, jkr=JKRArea(pad.jkr.radius, pad.jkr.modulus, pad.ridge_fraction * cell.work_of_adhesion))
+        _, ridge_ref = flat.areas(f)
+        mu_ref = mu_checked(f, ridge_ref, finger)  # on the flat the real area is the ridge area
+        mu_norm = mu / mu_ref
+    pt, pf = float(cell.transition_pressure), float(cell.full_contact_pressure)
+    centre = pad.centre_pressure(f, ridge)
+
+    def centre_at(load: float) -> float:
+        arr = np.array([load])
+        return float(pad.centre_pressure(arr, pad.areas(arr)[1])[0])
+
+    f_crit = math.inf
+    if math.isfinite(pt):
+        f_crit = 0.0 if pt <= 0 else math.nan
+        if pt > 0:
+            try:
+                f_crit = solve_load(lambda x: centre_at(x) - pt, DEFAULT_LOAD_RANGE, "critical load",
+                                    lambda lo, hi: f"the centre pressure never reaches the transition at {pt:.4g} Pa")
+            except FingerpadError:
+                f_crit = math.nan
+    info: dict[str, Any] = {**cell.describe(), **pad.describe(), "notes": list(pad.notes)}
+    if plain is not None:
+        without = plain_real_area(finger, plain, f, n_rings)
+        info["real_area_without_adhesion"] = without
+        info["adhesive_share"] = np.where(real > 0, 1.0 - without / np.where(real > 0, real, 1.0), 0.0)
+        info["threshold_load"] = adhesion_threshold(pad, plain, n_rings)
+    return CurvePrediction(
+        load=f, gross_area=gross, ridge_area=ridge, real_area=real, area_ratio=ratio, real_pressure=p_re,
+        ridge_radius=np.sqrt(ridge / math.pi), transition_radius=pad.zone_radius(f, ridge, pt),
+        full_contact_radius=pad.zone_radius(f, ridge, pf), centre_past_transition=centre >= pt,
+        mu=mu, mu_ref=mu_ref, mu_normalised=mu_norm, critical_load=f_crit, critical_load_hertz=None,
+        adhesion=info,
+    )
+
+
 def model_references(finger: Finger, *cells: Any) -> tuple[str, ...]:
     """The publications of the model a prediction on ``finger`` with the unit cells ``cells``
     uses (:mod:`fingerpad.references` keys): the finger's pad and ridge models (Eq. 2.5's Hertz
     pad without one), the friction law, a layered skin's compliance, each cell's model (``None``
-    skipped). The thesis and the package are always among them."""
-    from .. import friction
+    skipped), an adhesive pad's JKR. The thesis and the package are always among them."""
     from ..macro.hertz import HertzArea
+    from ..macro.jkr import JKRArea
     from ..references import keys_of
 
-    return keys_of(finger.gross if finger.gross is not None else HertzArea, finger.ridges, friction,
-                   "fingerpad-layered" if finger.layer is not None else None, *cells)
+    adhesive = any(getattr(c, "adhesive", False) for c in cells)
+    return keys_of(finger.gross if finger.gross is not None else HertzArea, finger.ridges, finger.friction,
+                   "fingerpad-layered" if finger.layer is not None else None, JKRArea if adhesive else None, *cells)
 
 
 __all__ = [

@@ -33,7 +33,7 @@ from ..params import Param
 
 __all__ = ["Axis", "resolve_axis"]
 
-_SI_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "angle": "rad", "none": ""}
+_SI_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "angle": "rad", "none": "", "surface energy": "J/m2"}
 
 
 @dataclass(frozen=True)
@@ -111,7 +111,7 @@ class Axis:
 
 
 _KIND = {"length": "length", "pressure": "pressure", "force": "force", "angle": "angle", "count": "count",
-         "ratio": "none", "choice": "choice"}
+         "ratio": "none", "choice": "choice", "surface energy": "surface energy"}
 
 #: The sliding direction (``[model] direction``), degrees from the texture's x axis.
 _DIRECTION = Param("direction", "angle", "sliding direction, from the texture's x axis", None)

@@ -7,7 +7,9 @@
   model is one file, selectable by name from a study file (``[finger] gross = "dzidek"``,
   :data:`GROSS_MODELS`);
 * :mod:`.pressure` - the Hertzian pad pressure over the ridge contact (Eq. 3.7) and averages over
-  the contact disc (a helper module, like :mod:`._base`, the protocol and shared declarations).
+  the contact disc (a helper module, like :mod:`._base`, the protocol and shared declarations);
+* :mod:`.jkr` - the adhesive pad (JKR, Eqs. 3.15-3.16), which a prediction with a work of
+  adhesion builds from the Hertz pad (a helper module: not chosen by name).
 """
 
 from ..params import Model
@@ -18,8 +20,9 @@ from .power_law import PowerLawArea
 from .pressure import disc_average, pad_pressure
 from .two_regime import TwoRegimePowerLawArea
 
-#: Modules of this package that declare no model.
-HELPER_MODULES = frozenset({"pressure"})
+#: Modules of this package that declare no model (``jkr``: the adhesive pad a prediction builds
+#: from the finger's Hertz pad, not chosen by name).
+HELPER_MODULES = frozenset({"pressure", "jkr"})
 
 
 #: Pad (gross-area) models by name (study files), filled by :func:`discover_models`.

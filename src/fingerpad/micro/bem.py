@@ -62,6 +62,16 @@ CURVE_TOL = 1e-7
 STATE_SEARCH_CAP = 10.0
 
 
+def periodic_cell(texture: "Texture", modulus: float) -> tuple["Texture", float, float]:
+    """A unit cell's texture (checked periodic), reduced modulus E* (Pa, checked) and length Lx
+    (m): what every unit-cell response starts from."""
+    from ..materials import check_modulus
+
+    if not texture.periodic:
+        raise FingerpadError("a unit-cell response needs a periodic texture (use --periodic or periodize)")
+    return texture, check_modulus(modulus, "reduced modulus E*"), float(texture.size[0])
+
+
 def _grid_pressure(k: int) -> float:
     """Node ``k`` of the global grid of normalised pressures, ``p / E* = 10**(k / POINTS_PER_DECADE)``."""
     return 10 ** (k / POINTS_PER_DECADE)
@@ -163,15 +173,10 @@ class BEMUnitCell(InterpolatedCurve):
         layer: Layer | None = None,
         curve_tol: float | None = None,
     ) -> None:
-        from ..materials import check_modulus
         from .cache import CurveCache
 
-        if not texture.periodic:
-            raise FingerpadError("a unit-cell response needs a periodic texture (use --periodic or periodize)")
-        self.texture = texture
-        self.modulus = check_modulus(modulus, "reduced modulus E*")
         #: The cell's length Lx (m): the unit of the stored lengths.
-        self.length = float(texture.size[0])
+        self.texture, self.modulus, self.length = periodic_cell(texture, modulus)
         self.unit = unit_texture(texture)
         if layer is not None and not isinstance(layer, Layer):
             raise FingerpadError("layer must be a fingerpad.contact.layered.Layer or None")

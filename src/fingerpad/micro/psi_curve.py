@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import FingerpadError
 
-__all__ = ["InterpolatedCurve", "ScaledResponse"]
+__all__ = ["InterpolatedCurve", "ScaledResponse", "piecewise_pchip"]
 
 
 class InterpolatedCurve:
@@ -50,26 +50,11 @@ class InterpolatedCurve:
         return [piece for piece in (left, right) if piece.size]
 
     def _build(self) -> Any:
-        from scipy.interpolate import PchipInterpolator
-
         ps, psi = self._nodes()
         if ps.size < 3:
             raise FingerpadError("unit cell not prepared: call prepare(p_min, p_max) first")
-        lp = np.log(ps)
-        parts = []
-        for idx in self._pieces():
-            if idx.size >= 2:
-                parts.append((lp[idx[0]], lp[idx[-1]], PchipInterpolator(lp[idx], psi[idx])))
-
-        def interp(x: np.ndarray) -> np.ndarray:
-            # linear in log p across the (rtol-narrow) transition bracket, PCHIP on each side
-            out = np.interp(x, lp, psi)
-            for a, b, f in parts:
-                sel = (x >= a) & (x <= b)
-                out[sel] = f(x[sel])
-            return out
-
-        return interp
+        # linear in log p across the (rtol-narrow) transition bracket, PCHIP on each side
+        return piecewise_pchip(np.log(ps), psi, self._pieces())
 
     def contact_fraction(self, p: "np.ndarray | float") -> np.ndarray:
         """psi(p): real-to-nominal contact area fraction of the cell at mean pressure ``p`` (Pa).
@@ -186,6 +171,23 @@ class InterpolatedCurve:
                 err = abs(float(f(lp[idx[j]])) - psi[idx[j]])
                 worst = err if math.isnan(worst) else max(worst, err)
         return worst
+
+
+def piecewise_pchip(x: np.ndarray, y: np.ndarray, pieces: list[np.ndarray]) -> Any:
+    """``xq -> y(xq)``: PCHIP on each piece (index sets of the nodes ``x``, ``y``; pieces of fewer
+    than two nodes are skipped), linear between the pieces (across a kink or a jump of psi)."""
+    from scipy.interpolate import PchipInterpolator
+
+    parts = [(x[idx[0]], x[idx[-1]], PchipInterpolator(x[idx], y[idx])) for idx in pieces if idx.size >= 2]
+
+    def interp(xq: np.ndarray) -> np.ndarray:
+        out = np.interp(xq, x, y)
+        for a, b, f in parts:
+            sel = (xq >= a) & (xq <= b)
+            out[sel] = f(xq[sel])
+        return out
+
+    return interp
 
 
 #: Gauss-Legendre rule (nodes, weights on [-1, 1]) per piece of the interpolated curve between

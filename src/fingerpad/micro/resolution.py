@@ -180,6 +180,7 @@ def choose_grid(
     max_grid: int = MAX_AUTO_GRID,
     cell_options: dict[str, Any] | None = None,
     progress: Callable[[int, int], None] | None = None,
+    cell_type: Callable[..., Any] = BEMUnitCell,
 ) -> GridChoice:
     """Prepare the BEM cell of ``texture`` and estimate (or bound) its discretisation error.
 
@@ -206,13 +207,17 @@ def choose_grid(
         Keyword arguments of :class:`BEMUnitCell` (tolerance, cache, ...).
     progress
         ``progress(i, n)`` after each solve of the fine cells.
+    cell_type
+        The cell's class: :class:`BEMUnitCell`, or
+        :class:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell` for an adhesive skin (whose
+        range follows the pixel, so the estimate measures both together).
     """
     opts = dict(cell_options or {})
 
     cells: list[BEMUnitCell] = []
 
     def prepared(tex: "Texture", report: bool) -> BEMUnitCell:
-        cells.append(BEMUnitCell(tex, modulus, **opts).prepare(*p_range, progress=progress if report else None))
+        cells.append(cell_type(tex, modulus, **opts).prepare(*p_range, progress=progress if report else None))
         return cells[-1]
 
     fine_tex = texture

@@ -24,6 +24,7 @@ Prediction = Any
 
 __all__ = [
     "RED",
+    "adhesion_lines",
     "areas_figure",
     "critical_lines",
     "friction_figure",
@@ -84,6 +85,32 @@ def critical_lines(pred: Prediction) -> list[VLine]:
     return out
 
 
+def adhesion_lines(pred: Prediction) -> list[VLine]:
+    """With adhesion: the threshold load below which it changes A_re by more than 10 %, where it
+    lies inside the loads of the study."""
+    adh = pred.adhesion or {}
+    f = adh.get("threshold_load")
+    load = pred.primary.load
+    if not _finite(f) or adh.get("threshold_load_bound", "exact") != "exact":
+        return []
+    if not float(load.min()) <= f <= float(load.max()):
+        return []
+    return [VLine(float(f), f"adhesion > 10 % of A_re below {f:.3g} N", PURPLE, "dotted")]
+
+
+def _adhesion_title(pred: Prediction) -> str:
+    """``"; pull-off 0.06 mN"`` with adhesion, ``""`` without."""
+    adh = pred.adhesion
+    if not adh:
+        return ""
+    bound = adh.get("threshold_load_bound", "exact")
+    f = adh.get("threshold_load")
+    where = "" if f is None else (f"; adhesion > 10 % of A_re below {f:.3g} N" if bound == "exact" else
+                                  f"; adhesion > 10 % of A_re up to {f:.3g} N and beyond" if bound == "at least"
+                                  else "")
+    return f"; w {adh['work_of_adhesion']:.3g} J/m², pull-off {adh['pull_off_force'] * 1e3:.3g} mN{where}"
+
+
 def _meta(pred: Prediction) -> dict[str, Any]:
     return {
         "texture": pred.texture.name,
@@ -107,10 +134,14 @@ def areas_figure(pred: Prediction) -> FigureSpec:
         lines=[Line("gross A_g", f, cur.gross_area, "black", markers=m),
                Line("ridge A_fr", f, cur.ridge_area, GREEN, markers=m),
                Line(f"real A_re ({pred.primary_model})", f, cur.real_area, RED, width=2.0, markers=m)],
-        vlines=critical_lines(pred),
+        vlines=critical_lines(pred) + adhesion_lines(pred),
     )
     if pred.bem is not None and pred.hertz is not None:
         spec.lines.append(Line("real A_re (hertz)", f, pred.hertz.real_area, RED, dash="dashed", markers=m))
+    if pred.adhesion is not None and "real_area_without_adhesion" in pred.adhesion:
+        spec.lines.append(Line("real A_re without adhesion", f, pred.adhesion["real_area_without_adhesion"], RED,
+                               dash="dotted", markers=m))
+        spec.title += _adhesion_title(pred).replace("; adhesion", "\nadhesion", 1)
     return FigureSpec("areas", None, [spec], size=(7.0, 5.0),
                       margins={"left": 0.12, "right": 0.97, "bottom": 0.11, "top": 0.9})
 
@@ -161,11 +192,12 @@ def friction_figure(pred: Prediction) -> FigureSpec:
     norm.y = Axis(norm.y.name, limits=(0.0, max(1.05, top)))
     for panel in panels:
         panel.bands = state_bands(pred)
-        panel.vlines = critical_lines(pred)
+        panel.vlines = critical_lines(pred) + adhesion_lines(pred)
         panel.references_first = True
     n = len(panels)
     return FigureSpec("friction", f"{pred.texture.name} on finger {pred.study.finger.name}, "
-                                  f"E1* = {pred.reduced_modulus / 1e3:.4g} kPa", panels, size=(6.0 * n, 4.8),
+                                  f"E1* = {pred.reduced_modulus / 1e3:.4g} kPa{_adhesion_title(pred)}", panels,
+                      size=(6.0 * n, 4.8),
                       margins={"left": 0.065 if n == 2 else 0.045, "right": 0.985, "bottom": 0.12, "top": 0.88,
                                "wspace": 0.22})
 
@@ -201,14 +233,27 @@ def zones_figure(pred: Prediction) -> FigureSpec:
             disc.labels.append(Label(radius * math.cos(t), radius * math.sin(t), f"{radius * 1e3:.3g} mm"))
 
     r = np.linspace(0.0, a, 300)
-    p = np.asarray(pad_pressure(r, z["load"], z["ridge_area"]), float)
+    if getattr(pred.primary_cell, "adhesive", False):
+        from ..micro.adhesive_pad import adhesive_pad
+
+        # the JKR pad's pressure over the ridge disc (Eq. 3.17): a tension at its edge
+        c_h, c_a = adhesive_pad(pred.study.finger, pred.primary_cell).pressure_coefficients(
+            np.array([z["load"]]), np.array([z["ridge_area"]]))
+        s_r = np.sqrt(np.clip(1.0 - (r[:-1] / a) ** 2, 0.0, None))
+        r = r[:-1]
+        p = c_h[0] * s_r - c_a[0] / s_r
+        label, floor = "pad pressure p(r) (JKR, Eq. 3.17)", max(float(pred.primary_cell.pull_off_pressure), float(p.min()))
+    else:
+        p = np.asarray(pad_pressure(r, z["load"], z["ridge_area"]), float)
+        label, floor = "pad pressure p(r) (Eq. 3.7)", 0.0
     psi = np.asarray(pred.primary_cell.contact_fraction(p), float)
     profile = PlotSpec(
         key="zone-profile", title=f"A_re/A_fr = {z['area_ratio']:.3g}, centre: {z['contact_state']}",
-        x=Axis("radius r", limits=(0.0, a), **mm), y=Axis("pressure", "Pa", "kPa", 1e-3, limits=(0.0, None)),
+        x=Axis("radius r", limits=(0.0, a), **mm),
+        y=Axis("pressure", "Pa", "kPa", 1e-3, limits=(1.1 * floor if floor < 0 else 0.0, None)),
         y2=Axis("local real-area fraction ψ", limits=(0.0, 1.02)), legend="lower left", grid=False,
         meta={**_meta(pred), "zones": dict(z)},
-        lines=[Line("pad pressure p(r) (Eq. 3.7)", r, p, "black"),
+        lines=[Line(label, r, p, "black"),
                Line(f"ψ(p(r)) ({pred.primary_model})", r, psi, RED, axis="right")])
     for lo, hi, state in ((at, a, "asperity"), (af, at, "transition"), (0.0, af, "full")):
         if hi > lo:

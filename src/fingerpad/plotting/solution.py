@@ -84,7 +84,9 @@ def figure_solution(results: Any, *, index: int = -1, title: str | None = None):
     hs = 1e6
     im_h = ax_c.imshow(heights.T * hs, origin="lower", extent=extent, cmap="Greys_r", interpolation="nearest")
     fig.colorbar(im_h, ax=ax_c, label="texture height (µm)")
-    contact = np.ma.masked_where(~(pressure > 0), np.ones_like(pressure))
+    # with adhesion a contact is a closed gap (it may carry tension): the result's own mask
+    closed = np.asarray(sel.contact) if getattr(sel, "adhesion", None) is not None else pressure > 0
+    contact = np.ma.masked_where(~closed, np.ones_like(pressure))
     ax_c.imshow(contact.T, origin="lower", extent=extent, cmap=ListedColormap(["tab:red"]), alpha=0.6,
                 interpolation="nearest", vmin=0, vmax=1)
     ax_c.set_title(f"contact in red ({sel.contact_state}, psi = {sel.contact_fraction:.3g})")

@@ -107,6 +107,13 @@ def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger],
     return cells
 
 
+#: Why a population (or a robust design) with a work of adhesion is refused.
+ADHESION_REFUSED = (
+    "a population of fingers with a work of adhesion: not supported yet. Each member's w / E* makes "
+    "its own adhesive unit cell (a continuation of ~120 solves, ~15 s at grid 128), not one cell read at "
+    "every member's modulus; predict single fingers with --work-of-adhesion (docs/model.md 6.6)")
+
+
 def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,
                     progress: Callable[[int, int], None] | None = None,
                     stats: dict[str, int] | None = None) -> tuple[
@@ -128,6 +135,8 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_cont
         full-contact loads (N; ``inf`` if never reached, full contact NaN for Hertz) and the
         contact state at the pad centre at each load.
     """
+    if nominal.adhesion is not None or any(f.adhesive for f in fingers):
+        raise FingerpadError(ADHESION_REFUSED)
     from ..micro.hertz import hertz_cell_for
 
     study = nominal.study

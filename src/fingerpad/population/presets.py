@@ -43,6 +43,10 @@ POPULATION_PRESETS: dict[str, dict[str, Any]] = {
         # ASSUMED: no value in docs/model.md; 0.05-0.15 about the assumed default 0.1 (friction
         # "mostly adhesive", so the hysteresis term stays small; 0.05-0.2 had its median at 0.125).
         "beta": {"distribution": "uniform", "low": 0.05, "high": 0.15},
+        # not sampled: work_of_adhesion. A dry finger's effective w is at most ~0.24-0.40 J/m^2, an
+        # UPPER BOUND from a whole finger's 15 mN pull-off on smooth epoxy (Spinner et al. 2016,
+        # with R_fp 8-10 mm), none measurable on clean glass (Tiwari, Wang, Persson 2020); every member keeps
+        # the finger's w (0 by default): a population with adhesion is not supported yet.
         # no "correlations": docs/model.md (the thesis and its literature) gives no correlation
         # between any two of these parameters, so they are drawn independently.
     },

@@ -16,7 +16,8 @@ with the same message:
    layered finger given in the study: they are how a layered skin is declared at all (with a
    half-space preset); the population then draws its own values for every member, and a note
    says so.
-3. **No sliding direction** (:data:`DIRECTION_REFUSED` says why).
+3. **No sliding direction** (:data:`DIRECTION_REFUSED` says why), **no work of adhesion** on the
+   study's finger or drawn by the population (:data:`~.members.ADHESION_REFUSED` says why).
 4. **Quantile levels** (:func:`quantile_levels`): numbers in [0, 1], each once, ascending, at most
    :data:`MAX_QUANTILES`; they need a population.
 5. **Sobol indices** (:func:`sensitivity_samples`): they need a population whose parameters are
@@ -45,7 +46,7 @@ from ..errors import FingerpadError
 from ..finger import LAYER_FIELDS, Finger
 from ..study.spec import Study
 from .distributions import Population, members_plausible, population_from_table
-from .members import member_finger
+from .members import ADHESION_REFUSED, member_finger
 from .sources import load_population
 
 __all__ = ["DEFAULT_QUANTILES", "DIRECTION_REFUSED", "MAX_QUANTILES", "PopulationStudy", "RIDGE_FRACTION_NOTE",
@@ -269,6 +270,8 @@ def attach(study: Study, population: Population | Mapping[str, Any] | str | Path
         raise FingerpadError(f"[sweep.axes] direction: {DIRECTION_REFUSED}")
     if study.direction is not None:
         raise FingerpadError(f"--direction ([model] direction) with --population: {DIRECTION_REFUSED}")
+    if study.finger.adhesive or "work_of_adhesion" in pop.distributions:
+        raise FingerpadError(ADHESION_REFUSED)
     notes = _refuse_fixed(pop, study, fixed or {})
     members = pop.sample()
     fingers = tuple(member_finger(study.finger, m) for m in members)  # bounds checked before any solve

@@ -19,6 +19,8 @@ from .. import references
 from .._version import __version__
 from ..errors import FingerpadError
 from ..materials import DEFAULT_SKIN_MODULUS, DEFAULT_SKIN_POISSON, check_modulus, check_poisson, reduced_modulus
+import numpy as np
+
 from ..units import parse_int, parse_positive, parse_quantity, parse_range, parse_size
 
 __all__ = ["MaterialsSpec", "SolveJob", "SolveOutcome", "build_solve_job", "parse_materials", "run_solve",
@@ -27,7 +29,7 @@ __all__ = ["MaterialsSpec", "SolveJob", "SolveOutcome", "build_solve_job", "pars
 
 #: Units of the per-pressure results (CSV headers).
 SUMMARY_UNITS = {"mean_pressure": "Pa", "real_contact_area": "m2", "max_pressure": "Pa", "mean_gap": "m",
-                 "approach": "m", "seconds": "s"}
+                 "approach": "m", "seconds": "s", "work_of_adhesion": "J/m2", "adhesion_range": "m"}
 
 
 def _parse_float(text: str, name: str) -> float:
@@ -38,21 +40,28 @@ def _parse_float(text: str, name: str) -> float:
 MAX_PRESSURES = 10_000
 
 
-def _parse_pressures(texts: Sequence[str], log: bool) -> list[float]:
+def _parse_pressures(texts: Sequence[str], log: bool, adhesive: bool = False) -> list[float]:
+    """The mean pressures (Pa) of ``--pressure``: positive, or with adhesion of any sign (a comma
+    list ``-2kPa,0Pa,5kPa`` too)."""
     from ..plausibility import check_plausible
 
     pressures: list[float] = []
     for text in texts:
-        for value in parse_range(text, "pressure", name="--pressure", log=log, max_count=MAX_PRESSURES):
-            if not (math.isfinite(value) and value > 0):
-                raise FingerpadError(f"--pressure: must be positive, got {text!r}")
-            pressures.append(value)
+        pieces = [t for t in str(text).split(",")] if adhesive else [text]
+        for piece in pieces:
+            for value in parse_range(piece, "pressure", name="--pressure", log=log and not adhesive,
+                                     max_count=MAX_PRESSURES):
+                if not math.isfinite(value) or (value <= 0 and not adhesive):
+                    raise FingerpadError(f"--pressure: must be positive, got {text!r}"
+                                         + ("" if adhesive else " (zero and tensions need --work-of-adhesion)"))
+                pressures.append(value)
         if len(pressures) > MAX_PRESSURES:
             raise FingerpadError(f"--pressure: more than {MAX_PRESSURES} pressures asked for (each is a solve)")
     if not pressures:
         raise FingerpadError("give at least one --pressure (e.g. --pressure 20kPa or --pressure 1kPa:100kPa:10)")
     for value in (min(pressures), max(pressures)):
-        check_plausible(value, "pressure", "--pressure")
+        if value > 0:
+            check_plausible(value, "pressure", "--pressure")
     return pressures
 
 
@@ -217,6 +226,8 @@ class SolveJob:
     plot_at: float | None = None  # mean pressure whose maps are plotted (nearest solved); None: last
     show_table: bool = True
     critical_rtol: float | None = None  # bracket the transition pressure to this relative width
+    #: Adhesion: ``{"work_of_adhesion": J/m2, "adhesion_range": m, "adhesion_law": name}``; None without.
+    adhesion: dict[str, Any] | None = None
 
     def inputs(self) -> dict[str, Any]:
         from ..textures import describe
@@ -238,6 +249,7 @@ class SolveJob:
             "tol": self.tol,
             "max_iter": self.max_iter,
             "formulation": self.formulation,
+            **({} if self.adhesion is None else {"adhesion": dict(self.adhesion)}),
             "fingerpad_version": __version__,
         }
 
@@ -261,7 +273,7 @@ class SolveJob:
         """The publications of the solve's method (:mod:`fingerpad.references` keys)."""
         from .citations import solve_references
 
-        return solve_references(self.texture, self.materials.layer)
+        return solve_references(self.texture, self.materials.layer, self.adhesion)
 
 
 def _check_outputs(job: SolveJob) -> None:
@@ -306,6 +318,8 @@ def run_solve(
     from ..contact import HalfSpaceSolver
     from ..micro.loadcurve import critical_pressure, load_curve
 
+    if job.adhesion is not None:
+        return _run_adhesive(job, progress, iterations)
     with warnings.catch_warnings():
         # Unconverged solves are reported by the caller, once per pressure, with the exit code.
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
@@ -315,6 +329,60 @@ def run_solve(
         curve = load_curve(solver, job.pressures, progress=progress)
         critical = critical_pressure(solver, rtol=job.critical_rtol) if job.critical_rtol is not None else None
     return SolveOutcome(curve, critical, _results_json(job, list(curve.results), critical))
+
+
+def _run_adhesive(job: SolveJob, progress: Callable[[int, int], None] | None,
+                  iterations: Callable[[tuple[int, int], int, float], None] | None) -> SolveOutcome:
+    """The adhesive solves of ``job`` along the loading branch (docs/model.md 6.6): zero mean
+    pressure first (the skin resting on the texture's top, the adhesion pulling it on), the
+    positive pressures upward from it and the negative ones downward, each from the last; then the
+    pull-off pressure by pulling the skin apart from the zero-load state (its range regularised
+    to the grid where it is below a pixel)."""
+    from ..contact import HalfSpaceSolver
+    from ..contact.interaction import make_interaction, resolved_range
+    from ..micro.adhesive_cell import SEPARATION_STEP, pull_apart
+    from ..micro.loadcurve import LoadCurve
+
+    adh = job.adhesion
+    assert adh is not None
+    tex = job.texture
+    e = job.materials.modulus
+    used = max(float(adh["adhesion_range"]), resolved_range(adh["work_of_adhesion"], e, float(min(tex.spacing))))
+    law = make_interaction(adh["adhesion_law"], adh["work_of_adhesion"], used)
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
+        solver = HalfSpaceSolver(tex, e, layer=job.materials.layer, tol=job.tol, max_iter=job.max_iter,
+                                 progress=iterations, interaction=law)
+        zero = solver.solve_pressure(0.0)
+        n = len(job.pressures)
+        results: list[Any] = [None] * n
+        done = 0
+        for branch in (sorted((p, i) for i, p in enumerate(job.pressures) if p >= 0),
+                       sorted(((p, i) for i, p in enumerate(job.pressures) if p < 0), reverse=True)):
+            previous = zero
+            for p, i in branch:
+                previous = results[i] = zero if p == 0 else solver.solve_pressure(p, initial=previous)
+                done += 1
+                if progress is not None:
+                    progress(done, n)
+        pulled = pull_apart(solver, zero, SEPARATION_STEP * law.range)
+    curve = LoadCurve(
+        mean_pressure=np.array([r.mean_pressure for r in results]),
+        contact_fraction=np.array([r.contact_fraction for r in results]),
+        mean_gap=np.array([r.mean_gap for r in results]), max_pressure=np.array([r.max_pressure for r in results]),
+        contact_state=[r.contact_state for r in results], iterations=np.array([r.iterations for r in results]),
+        converged=np.array([r.converged for r in results]), seconds=np.array([r.seconds for r in results]),
+        results=results,
+    )
+    payload = _results_json(job, results)
+    payload["pull_off_pressure"] = pulled["pull_off"]
+    payload["adhesion"] = {**law.describe(), "adhesion_range_given": float(adh["adhesion_range"]),
+                           "range_regularised": bool(used > float(adh["adhesion_range"])),
+                           "pull_off_pressure": pulled["pull_off"], "work_of_separation": pulled["work"],
+                           "pull_off_solves": pulled["solves"],
+                           "branch": "loading: from zero load up through the positive pressures and down through the "
+                                     "negative ones; pull-off by pulling apart from zero load"}
+    return SolveOutcome(curve, None, payload)
 
 
 def write_solve_outputs(job: SolveJob, outcome: SolveOutcome) -> None:
@@ -365,7 +433,7 @@ def _results_json(job: SolveJob, results: Sequence[Any], critical: Any = None) -
 
     payload: dict[str, Any] = {
         "inputs": job.inputs(),
-        "converged": all(bool(r.converged) for r in results),
+        "converged": all(bool(r.converged) or r.contact_state == "detached" for r in results),
         "references": references.metadata(job.references()),
         "results": [r.summary() for r in results],
     }
@@ -379,6 +447,25 @@ def _results_json(job: SolveJob, results: Sequence[Any], critical: Any = None) -
     return to_jsonable(payload)
 
 
+def parse_adhesion(work: str | None, range_: str | None, law: str | None) -> dict[str, Any] | None:
+    """``--work-of-adhesion``, ``--adhesion-range``, ``--adhesion-law`` checked by the finger's
+    declarations (:data:`fingerpad.finger.FINGER_PARAMS`): the adhesion, or ``None`` without a
+    positive work of adhesion (a range or law alone is refused: it would do nothing)."""
+    from ..finger import finger_param
+
+    w = finger_param("work_of_adhesion").parse(work, "--work-of-adhesion") if work is not None else 0.0
+    if w == 0:
+        given = [o for o, v in (("--adhesion-range", range_), ("--adhesion-law", law)) if v is not None]
+        if given:
+            raise FingerpadError(f"{', '.join(given)} needs a positive --work-of-adhesion")
+        return None
+    rho = finger_param("adhesion_range")
+    return {"work_of_adhesion": w,
+            "adhesion_range": rho.parse(range_, "--adhesion-range") if range_ is not None else rho.default,
+            "adhesion_law": finger_param("adhesion_law").parse(law, "--adhesion-law") if law is not None
+            else finger_param("adhesion_law").default}
+
+
 def build_solve_job(
     *, ctx_args: Sequence[str] = (), texture: str | None, surface: str | None, size: str | None,
     height_unit: str | None, periodic: bool | None, fill_missing: bool = False, grid: str | None,
@@ -389,6 +476,7 @@ def build_solve_job(
     plot_at: str | None = None, critical: str | None = None, skin_layer_thickness: str | None = None,
     skin_layer_modulus: str | None = None, skin_substrate_modulus: str | None = None,
     skin_substrate_poisson: str | None = None, skin_base: str | None = None,
+    work_of_adhesion: str | None = None, adhesion_range: str | None = None, adhesion_law: str | None = None,
 ) -> SolveJob:
     """Validate every option of ``fingerpad solve`` (cheap checks first) and build the texture."""
     if (texture is None) == (surface is None):
@@ -396,7 +484,8 @@ def build_solve_job(
     materials = parse_materials(modulus, skin_modulus, skin_poisson, material_modulus, material_poisson,
                                 skin_layer_thickness, skin_layer_modulus, skin_substrate_modulus,
                                 skin_substrate_poisson, skin_base)
-    pressures = _parse_pressures(pressure, log)
+    adhesion = parse_adhesion(work_of_adhesion, adhesion_range, adhesion_law)
+    pressures = _parse_pressures(pressure, log, adhesive=adhesion is not None)
     tol_v = _parse_float(tol, "--tol")
     if not (0 < tol_v < 1):
         raise FingerpadError(f"--tol must lie in (0, 1), got {tol!r}")
@@ -418,7 +507,12 @@ def build_solve_job(
     job = SolveJob(texture=None, materials=materials, pressures=pressures, tol=tol_v, max_iter=max_iter_v,
                    formulation=formulation, json_path=json_path, csv_path=csv_path, save_path=save, plot_path=plot,
                    plot_at=plot_at_v,
-                   critical_rtol=critical_v)
+                   critical_rtol=critical_v, adhesion=adhesion)
+    if adhesion is not None:
+        for option, given in (("--critical", critical_v), ("--formulation", formulation if formulation != "auto" else None)):
+            if given is not None:
+                raise FingerpadError(f"{option} is not available with --work-of-adhesion (the adhesive solve has its "
+                                     "own formulation; the pull-off pressure is reported)")
     _check_outputs(job)
     from .overrides import split_texture_options
     from .texture import TextureSpec

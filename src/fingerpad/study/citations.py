@@ -18,11 +18,14 @@ from ..references import keys_of
 __all__ = ["prediction_references", "solve_references"]
 
 
-def solve_references(texture: Any, layer: Any = None) -> tuple[str, ...]:
-    """A contact solve of ``texture`` (periodic cell or measured map), with a layered skin or not."""
+def solve_references(texture: Any, layer: Any = None, adhesion: Any = None) -> tuple[str, ...]:
+    """A contact solve of ``texture`` (periodic cell or measured map), with a layered skin or not,
+    adhesive or not (``adhesion``: the solve job's, with its ``adhesion_law``)."""
     from ..contact.solver import solver_references
 
-    return keys_of(solver_references(bool(texture.periodic), layer is not None))
+    adhesive: tuple[str, ...] = () if adhesion is None else (
+        ("rey2017", "johnson1971") + (("maugis1992",) if adhesion.get("adhesion_law") == "maugis" else ()))
+    return keys_of(solver_references(bool(texture.periodic), layer is not None), adhesive)
 
 
 def prediction_references(pred: Any, population: Any = None) -> tuple[str, ...]:

@@ -51,6 +51,15 @@ OUTPUT_UNITS = {
 }
 
 
+#: Units of the adhesion's outputs (only in the outputs of an adhesive prediction).
+ADHESION_UNITS = {
+    "work_of_adhesion": "J/m^2", "pad_work_of_adhesion": "J/m^2", "work_of_separation": "J/m^2 (of nominal area)",
+    "adhesion_range": "m", "adhesion_range_used": "m", "pull_off_force": "N", "pull_off_pressure": "Pa",
+    "threshold_load": "N", "reference_load": "N", "real_area_without_adhesion": "m^2",
+    "adhesive_share": "1 (1 - A_re without adhesion / A_re)", "zero_load_contact_fraction": "1",
+}
+
+
 def prediction_json(pred: Prediction, population: Any = None) -> dict[str, Any]:
     """The content of ``predict.json`` (SI units, listed in its ``units``; NaN and inf -> ``None``).
 
@@ -99,6 +108,11 @@ def prediction_json(pred: Prediction, population: Any = None) -> dict[str, Any]:
             "mu_normalised": None if cur.mu_normalised is None else cur.mu_normalised[i],
             "contact_state": states[i],
         }
+        if pred.adhesion is not None and "adhesive_share" in pred.adhesion:
+            # the real area without adhesion (the finger's own pad on the non-adhesive cell) and
+            # the share of A_re that adhesion adds
+            row["real_area_without_adhesion"] = pred.adhesion["real_area_without_adhesion"][i]
+            row["adhesive_share"] = pred.adhesion["adhesive_share"][i]
         if pred.directional is not None:
             d = pred.directional
             row["mu_parallel"] = d["mu_parallel"][i]
@@ -185,8 +199,12 @@ def prediction_json(pred: Prediction, population: Any = None) -> dict[str, Any]:
         "directional": None if pred.directional is None else {
             k: v for k, v in pred.directional.items() if not k.startswith(("mu_", "area_ratio_"))},
         "model": pred.primary_model,
+        # with adhesion: its block (the per-load arrays are in the results' rows)
+        **({} if pred.adhesion is None else {"adhesion": {k: v for k, v in pred.adhesion.items()
+                                                          if k not in ("real_area_without_adhesion", "adhesive_share")}}),
         # a layered skin's fields (inputs.finger) with their units; a half-space's units as before
-        "units": {**OUTPUT_UNITS, **({} if study.finger.layer is None else skin_units())},
+        "units": {**OUTPUT_UNITS, **({} if study.finger.layer is None else skin_units()),
+                  **({} if pred.adhesion is None else ADHESION_UNITS)},
         "inputs": inputs,
         "cell": cell,
         "hertz_cell": hertz_cell,
@@ -237,6 +255,12 @@ def prediction_dataset(pred: Prediction, population: Any = None):
         add("hertz_", pred.hertz, ["real_area", "area_ratio", "transition_radius", "mu", "mu_normalised"], "hertz")
         data["hertz_contact_state"] = xr.Variable(("load",), np.array(pred.states("hertz"), dtype=object),
                                                   {"units": "1", "long_name": "contact state at the pad centre (hertz)"})
+    if pred.adhesion is not None and "adhesive_share" in pred.adhesion:
+        data["real_area_without_adhesion"] = xr.Variable(
+            ("load",), np.asarray(pred.adhesion["real_area_without_adhesion"], float),
+            {"units": "m^2", "long_name": "real contact area without adhesion (the same finger's own pad, non-adhesive cell)"})
+        data["adhesive_share"] = xr.Variable(("load",), np.asarray(pred.adhesion["adhesive_share"], float),
+                                             {"units": "1", "long_name": "share of A_re that adhesion adds"})
     if pred.directional is not None:
         d = pred.directional
         for name, long_name in (("mu_parallel", "friction coefficient sliding along the asperities' long axis"),
@@ -277,6 +301,7 @@ def prediction_dataset(pred: Prediction, population: Any = None):
         "inputs": {k: v for k, v in payload["inputs"].items() if k != "loads"},
         "notes": payload["notes"],
         **({} if pred.study.finger.layer is None else {"units": skin_units()}),
+        **({} if "adhesion" not in payload else {"adhesion": payload["adhesion"]}),
     }))
     return xr.Dataset(data, coords=coords, attrs=attrs)
 

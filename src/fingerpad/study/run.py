@@ -96,6 +96,9 @@ class Prediction:
     pressure_range: tuple[float, float]
     timings: dict[str, float]
     notes: list[str] = field(default_factory=list)
+    #: With a work of adhesion: the adhesive cell's and pad's numbers (pull-off force and
+    #: pressure, works of adhesion and separation, the threshold load; SI), ``None`` without.
+    adhesion: dict[str, Any] | None = None
 
     @property
     def primary(self) -> CurvePrediction:
@@ -114,6 +117,11 @@ class Prediction:
         """Contact state at the pad centre for each load (``asperity``/``transition``/``full``)."""
         curve, cell = (self.hertz, self.hertz_cell) if which == "hertz" else (self.primary, self.primary_cell)
         assert curve is not None and cell is not None
+        if getattr(cell, "adhesive", False):
+            from ..micro.adhesive_pad import adhesive_pad  # the adhesive pad's centre (Eq. 3.17)
+
+            centre = adhesive_pad(self.study.finger, cell).centre_pressure(curve.load, curve.ridge_area)
+            return [centre_state(p, cell) for p in centre]
         return [centre_state(p, cell) for p in 1.5 * curve.load / curve.ridge_area]
 
     @property
@@ -195,10 +203,77 @@ def pad_layer_note(finger: Finger, load: float) -> str | None:
             "E_fp*; set the finger's modulus to the skin's for one skin through the scales")
 
 
+def _centre_load(finger: Finger, cell: Any) -> Callable[[float], float]:
+    """``pressure -> load`` (N) at which the pad centre reaches ``pressure`` (Pa): the Hertz
+    pad's ``1.5 F / A_fr`` (:func:`load_at_centre_pressure`), or with an adhesive cell the
+    adhesive pad's centre pressure (Eq. 3.17)."""
+    if not getattr(cell, "adhesive", False):
+        return lambda p: load_at_centre_pressure(finger, p)
+    from ..micro.adhesive_pad import adhesive_pad
+    from ..micro.response import DEFAULT_LOAD_RANGE, solve_load
+
+    pad = adhesive_pad(finger, cell)
+
+    def centre(load: float) -> float:
+        f = np.array([load])
+        return float(pad.centre_pressure(f, pad.areas(f)[1])[0])
+
+    def load_at(p: float) -> float:
+        if math.isinf(p):
+            return math.inf
+        if not math.isfinite(p):
+            return math.nan
+        if p <= centre(0.0):
+            return 0.0
+        try:
+            return solve_load(lambda f: centre(f) - p, DEFAULT_LOAD_RANGE, "load", lambda lo, hi: "")
+        except FingerpadError:
+            return math.nan
+
+    return load_at
+
+
+def _threshold_pressures(finger: Finger, p_range: tuple[float, float]) -> tuple[float, float]:
+    """The local pressures (Pa) a non-adhesive cell is prepared over for the threshold load's
+    search (:data:`fingerpad.micro.adhesive_pad.THRESHOLD_RANGE`), with those of the study."""
+    from ..micro.adhesive_pad import threshold_loads
+
+    f = threshold_loads()
+    p_mean = f / np.asarray(finger.ridge_area(f), dtype=float)
+    return min(P_LOW * float(p_mean.min()), p_range[0]), max(P_HIGH * float(p_mean.max()), p_range[1])
+
+
+def _adhesion_report(curve: CurvePrediction, finger: Finger, notes: list[str]) -> dict[str, Any]:
+    """The adhesion block of a prediction (SI) and its notes."""
+    info = dict(curve.adhesion or {})
+    notes.extend(info.pop("notes", []))
+    threshold = info.get("threshold_load")
+    if threshold is not None:
+        from ..micro.adhesive_pad import THRESHOLD_CHANGE, THRESHOLD_RANGE
+
+        lo, hi = THRESHOLD_RANGE
+        # a threshold outside the range searched is reported as that end and which side it lies on
+        info["threshold_load_bound"] = "exact"
+        if math.isnan(threshold):
+            info["threshold_load"], info["threshold_load_bound"] = lo, "at most"
+            notes.append(f"adhesion changes the real area by less than {100 * THRESHOLD_CHANGE:g} % down to {lo:g} N")
+        elif math.isinf(threshold):
+            info["threshold_load"], info["threshold_load_bound"] = hi, "at least"
+            notes.append(f"adhesion changes the real area by more than {100 * THRESHOLD_CHANGE:g} % up to {hi:g} N "
+                         "(the skin pulled onto the texture's base past the transition, not only the light touch)")
+    if info.get("range_regularised"):
+        notes.append(f"adhesion: the range {finger.adhesion_range:.3g} m is below a pixel; the JKR limit is solved "
+                     f"with the range {info['adhesion_range_used']:.3g} m, whose cohesive zone spans a pixel "
+                     "(docs/model.md 6.6)")
+    return info
+
+
 def _zones(study: Study, cell: Any, hertz_cell: Any) -> dict[str, Any]:
     """Zone radii of the ridge-contact disc at the zone load (primary cell; Hertz radius too)."""
     from ..coupling import couple
 
+    if getattr(cell, "adhesive", False):
+        return _adhesive_zones(study, cell)
     f = study.zone_load
     ar = float(study.finger.ridge_area(f))
     res = couple(f, ar, cell)
@@ -217,6 +292,23 @@ def _zones(study: Study, cell: Any, hertz_cell: Any) -> dict[str, Any]:
     if hertz_cell is not None and hertz_cell is not cell:
         out["hertz_transition_radius"] = float(couple(f, ar, hertz_cell).transition_radius)
     return out
+
+
+def _adhesive_zones(study: Study, cell: Any) -> dict[str, Any]:
+    """:func:`_zones` with the adhesive pad (Eq. 3.17)."""
+    from ..coupling import predict_curve
+    from ..micro.adhesive_pad import adhesive_pad
+
+    f = study.zone_load
+    curve = predict_curve([f], study.finger, cell, reference=False)
+    pad = adhesive_pad(study.finger, cell)
+    ar = float(curve.ridge_area[0])
+    peak = float(pad.centre_pressure(np.array([f]), np.array([ar]))[0])
+    return {"load": f, "ridge_area": ar, "ridge_radius": float(curve.ridge_radius[0]),
+            "transition_radius": float(curve.transition_radius[0]),
+            "full_contact_radius": float(curve.full_contact_radius[0]), "mean_pressure": f / ar,
+            "peak_pressure": peak, "area_ratio": float(curve.area_ratio[0]),
+            "contact_state": centre_state(peak, cell), "hertz_transition_radius": None}
 
 
 def bem_pressure_range(study: Study) -> tuple[float, float]:
@@ -328,6 +420,39 @@ def _load_floor(finger: Finger, st: Any) -> float:
     return abs(f2 / f - 1.0) if math.isfinite(f) and math.isfinite(f2) and f > 0 else 0.0
 
 
+#: The automatic grid of an adhesive cell stops at this many points along x: each of its ~120
+#: solves is a continuation step (grid 128: ~15 s on one core, 256: ~1.5 min; measured on the
+#: default cell), and the estimate is reported where it stays above the accuracy.
+MAX_ADHESIVE_GRID = 256
+
+
+def _adhesive_resolved_cell(study: Study, grid: int, e1: float, progress: Callable[[int, int], None] | None,
+                            estimate: bool = True) -> Any:
+    """The adhesive cell (:class:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell`) of the study's
+    texture, from the grid ``grid`` the non-adhesive cell took, doubled while the estimate of its
+    A_re/A_fr error (the adhesive pad's, the range following the pixel) exceeds the accuracy."""
+    from ..coupling import predict_curve
+    from ..micro.adhesive_cell import AdhesiveUnitCell
+    from ..micro.resolution import choose_grid
+    from .texture import TextureSpec
+
+    finger = study.finger
+    loads = np.append(study.loads, study.zone_load)
+    generated = isinstance(study.texture, TextureSpec) and study.texture.name is not None
+    make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
+    tex = make(grid) if make is not None else study.build_texture()
+    target = None if study.grid is not None or make is None else study.accuracy
+    ratio = (lambda cell: predict_curve(loads, finger, cell, reference=False).area_ratio) \
+        if estimate or target is not None else (lambda cell: np.full(loads.size, np.nan))
+    return choose_grid(
+        make, tex, e1, (0.0, 0.0), ratio, target=target, max_grid=MAX_ADHESIVE_GRID,
+        cell_options={"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache(),
+                      "layer": finger.layer, "work_of_adhesion": finger.work_of_adhesion,
+                      "adhesion_range": finger.adhesion_range, "law": finger.adhesion_law},
+        progress=progress, cell_type=AdhesiveUnitCell,
+    )
+
+
 def _resolution_report(choice: Any, study: Study, states: dict[str, Any] | None = None) -> dict[str, Any]:
     pressures = {k: v.error for k, v in states.items()} if states else choice.state_pressure_errors()
     return {
@@ -392,8 +517,11 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
     # the sections of the three directions (two distinct ones at most) and their pressure levels
     # solved together, in worker processes (issue 23); the numbers do not depend on the count
     settings = directional_settings(finger, cell, centre)
-    gains = dict(zip(names, directional_gains(geometry, materials, directions, p_range, tau0=finger.tau0,
-                                              alpha=finger.alpha, settings=settings, cache=cache_arg,
+    # the deflection model's local shear fixed point is written for tau = tau0 + alpha p: the
+    # finger's friction law gives it (a law of another form refuses)
+    tau0, alpha = finger.friction.affine_shear()
+    gains = dict(zip(names, directional_gains(geometry, materials, directions, p_range, tau0=tau0,
+                                              alpha=alpha, settings=settings, cache=cache_arg,
                                               progress=notice, on_free_core=on_free_core)))
 
     def curve_at(name: str) -> tuple[Any, Any, float]:
@@ -403,7 +531,7 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
         # texture keeps the isotropic friction exactly.
         factor = 1.0 if gain.is_identity else geometry_hysteresis_factor(geometry, direction)
         textured = finger.with_overrides(beta=min(1.0, finger.beta * factor))
-        curve = predict_curve(loads, textured, DirectionalCell(cell, gain, finger.tau0, finger.alpha))
+        curve = predict_curve(loads, textured, DirectionalCell(cell, gain, tau0, alpha))
         reference = predict_curve(loads, finger, cell)  # the flat reference is isotropic
         curve = dataclasses.replace(curve, mu_ref=reference.mu_ref, mu_normalised=curve.mu / reference.mu_ref)
         return curve, gain, factor
@@ -424,7 +552,7 @@ def directional_friction(study: Study, tex: Texture, cell: Any, notes: list[str]
         g = curves[name][1]
         if g.is_identity:
             return [False] * len(centre)
-        cell_dir = DirectionalCell(cell, g, finger.tau0, finger.alpha)
+        cell_dir = DirectionalCell(cell, g, tau0, alpha)
         return [bool(v) for v in np.asarray(cell_dir.local_shear(np.asarray(centre, float)).saturated)]
 
     saturated = held("direction")
@@ -481,6 +609,9 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
     study.check()
     tex = study.build_texture()
     if study.direction is not None:
+        if study.finger.adhesive:
+            raise FingerpadError("directional friction (--direction) with a work of adhesion is not modelled: "
+                                 "drop one of them")
         # directional friction needs the family's deflection model: refuse before solving the cell
         from ..micro.deflection import texture_geometry
 
@@ -506,7 +637,7 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
         if note:
             notes.append(note)
 
-    cell = bem = hertz = None
+    cell = bem = hertz = plain = None
     directional: dict[str, Any] | None = None
     timings_extra: dict[str, float] = {}
     resolution: dict[str, Any] | None = None
@@ -524,18 +655,31 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
         cell, tex = choice.cell, choice.cell.texture
         if not cell.flat:
             cell.adopt_states(states["transition"].cell, states["full"].cell)
-        resolution = _resolution_report(choice, study, states)
+        solves_before = 0
+        if finger.adhesive:
+            # the same texture without adhesion (A_re without it, over the threshold's loads too),
+            # then the adhesive cell from its grid: the prediction's cell (its state brackets are
+            # its own, so the plain cell's state grids are not reported for it)
+            plain = cell
+            plain.prepare(*_threshold_pressures(finger, p_range))
+            solves_before = choice.solves
+            choice = _adhesive_resolved_cell(study, tex.shape[0], e1, progress)
+            cell, tex = choice.cell, choice.cell.texture
+        resolution = _resolution_report(choice, study, None if finger.adhesive else states)
+        resolution["solves"] += solves_before
+        what = "A_re/A_fr (with adhesion)" if finger.adhesive else "A_re/A_fr"
         if study.grid is None and choice.met is False:
-            notes.append(f"the estimated discretisation error of A_re/A_fr, {100 * choice.error:.2g} %, exceeds "
+            notes.append(f"the estimated discretisation error of {what}, {100 * choice.error:.2g} %, exceeds "
                          f"the target {100 * choice.target:g} % at the largest automatic grid")
         elif study.grid is not None and not math.isnan(choice.error) and choice.error > study.accuracy:
-            notes.append(f"grid {study.grid}: estimated discretisation error of A_re/A_fr {100 * choice.error:.2g} % "
+            notes.append(f"grid {study.grid}: estimated discretisation error of {what} {100 * choice.error:.2g} % "
                          f"(above {100 * study.accuracy:g} %; leave the grid to the default to reach it)")
         elif choice.target is None and study.grid is None and not math.isnan(choice.error) \
                 and choice.error > study.accuracy:
             notes.append(f"measured map at its own grid: A_re/A_fr changes by {100 * choice.error:.2g} % from the map "
                          f"averaged 2 x 2 (pixel-scale roughness resolved by the pixels alone)")
-        for name, label in (("transition", "transition"), ("full", "full-contact")):
+        # (an adhesive cell's state brackets are its own: the plain cell's state grids not reported)
+        for name, label in () if finger.adhesive else (("transition", "transition"), ("full", "full-contact")):
             st = states[name]
             if st.met is False and math.isfinite(st.error):
                 notes.append(f"the estimated error of the {label} pressure, {100 * st.error:.2g} %, exceeds the target "
@@ -543,7 +687,7 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
                              f"({st.cell.texture.shape[0]} points along x)")
         t_cell = time.perf_counter() - t0
         t0 = time.perf_counter()
-        bem = predict_curve(loads, finger, cell)
+        bem = predict_curve(loads, finger, cell, plain=plain if finger.adhesive else None)
         t_coupling += time.perf_counter() - t0
         if study.direction is not None:
             t0 = time.perf_counter()
@@ -563,18 +707,19 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
     }
     full: dict[str, float | None] = {"bem": None}
     brackets: dict[str, Any] = {}
-    state_report = _state_report(states, finger) if cell is not None and not cell.flat else {}
+    state_report = _state_report(states, finger) if cell is not None and not cell.flat and not finger.adhesive else {}
+    centre_load = _centre_load(finger, cell)
     if cell is not None and not cell.flat:
-        full["bem"] = load_at_centre_pressure(finger, cell.full_contact_pressure)
+        full["bem"] = centre_load(cell.full_contact_pressure)
         for state, bracket in (("transition", cell.transition), ("full", cell.full)):
             lo, hi = (float(b) for b in bracket)
             brackets[state] = {
                 "pressure": [lo, hi],
-                "load": [load_at_centre_pressure(finger, lo), load_at_centre_pressure(finger, hi)],
+                "load": [centre_load(lo), centre_load(hi)],
                 "relative_width": (hi - lo) / hi if math.isfinite(hi) else None,
                 **(state_report.get(state, {})),
             }
-        for name, f in (("critical", crit["bem"]), ("full-contact", full["bem"])):
+        for name, f in (("critical", crit["bem"]), ("full-contact", full["bem"])):  # noqa: B007
             if f is not None and math.isfinite(f) and f > FINGER_LOAD_LIMIT:
                 notes.append(f"BEM {name} load {f:.4g} N lies beyond the loads a finger exerts "
                              f"(above {FINGER_LOAD_LIMIT:g} N)")
@@ -584,12 +729,16 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
     elif cell is not None:
         full["bem"] = 0.0
     primary_cell = cell if cell is not None else hertz_cell
+    adhesion = None
+    if bem is not None and bem.adhesion is not None:
+        adhesion = _adhesion_report(bem, finger, notes)
     pred = Prediction(
         study=study, texture=tex, reduced_modulus=e1, bem=bem, hertz=hertz, cell=cell, hertz_cell=hertz_cell,
         critical_load=crit, full_contact_load=full, state_brackets=brackets, resolution=resolution,
         directional=directional,
         zones=_zones(study, primary_cell, hertz_cell),
         pressure_range=p_range, timings={"cell": t_cell, "coupling": t_coupling, **timings_extra}, notes=notes,
+        adhesion=adhesion,
     )
     if pred.unconverged:
         notes.append(f"{pred.unconverged} unit-cell solve(s) did not reach the tolerance {study.tol:g}")

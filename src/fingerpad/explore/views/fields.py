@@ -30,7 +30,7 @@ from .scanfield import scan_input, scan_slider
 __all__ = ["Field", "Form", "css_name"]
 
 MEASURED = "measured map (upload)"
-_DIM_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "none": "-"}
+_DIM_UNIT = {"length": "m", "pressure": "Pa", "force": "N", "none": "-", "surface energy": "J/m2"}
 
 
 def css_name(fid: str) -> str:

@@ -1,140 +1,19 @@
-"""Friction of the finger pad: adhesion plus hysteresis (thesis ch. 2.1).
-
-* adhesion ``F_adh = tau A_re`` with ``tau = tau0 + alpha p_re``, Eqs. 2.2-2.3; with the mean
-  real pressure ``p_re = F / A_re`` this is ``F_adh = tau0 A_re + alpha F``;
-* hysteresis ``F_def`` (Greenwood-Tabor), Eq. 2.4;
-* total ``F_f = F_adh + F_def``, Eq. 2.1, and ``mu = F_f / F``;
-* the flat reference sample (real area = ridge area) and the normalisation ``mu_tex / mu_ref``;
-* :func:`fit_power_law` for ``mu = k F^(n-1)``.
-
-SI units (m, N, Pa). Load arguments accept floats or arrays.
+"""Power-law fits of friction against load, ``mu = k F^(n-1)`` (docs/model.md, section 3): the one
+result type of every such fit and the least-squares fit of independent points (a helper module of
+:mod:`fingerpad.friction`: it declares no friction law).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .checks import ArrayLike, as_loads, scalar_out
-from .errors import FingerpadError
+from ..checks import ArrayLike, as_loads, scalar_out
+from ..errors import FingerpadError
 
-#: The publications of the friction law (:mod:`fingerpad.references` keys): adhesion is the
-#: thesis' Eqs. 2.1-2.3, the hysteresis term Greenwood-Tabor's, Eq. 2.4.
-REFERENCES = ("greenwood1958",)
-
-if TYPE_CHECKING:
-    from .finger import Finger
-
-
-def _areas(value: ArrayLike, name: str) -> np.ndarray:
-    arr = as_loads(value, name)
-    if np.any(arr <= 0):
-        raise FingerpadError(f"{name} must be positive")
-    return arr
-
-
-def shear_strength(real_pressure: ArrayLike, tau0: float, alpha: float) -> float | np.ndarray:
-    """Interfacial shear strength ``tau = tau0 + alpha p_re``, Eq. 2.3 (Pa)."""
-    p = as_loads(real_pressure, "real contact pressure")
-    return scalar_out(tau0 + alpha * p)
-
-
-def adhesion_force(load: ArrayLike, real_area: ArrayLike, tau0: float, alpha: float) -> float | np.ndarray:
-    """Adhesive friction ``F_adh = tau A_re``, Eqs. 2.2-2.3 (N).
-
-    With ``p_re = F / A_re`` the pressure term integrates to ``alpha F`` whatever the area, so
-    ``F_adh = tau0 A_re + alpha F``.
-
-    Parameters
-    ----------
-    load
-        Normal load F, N.
-    real_area
-        Real contact area A_re, m^2.
-    tau0, alpha
-        Shear strength at zero pressure (Pa) and its pressure coefficient.
-    """
-    return scalar_out(_adhesion(as_loads(load, strict=True), _areas(real_area, "real contact area"), tau0, alpha))
-
-
-def _adhesion(f: np.ndarray, a: np.ndarray, tau0: float, alpha: float) -> np.ndarray:
-    return tau0 * a + alpha * f
-
-
-def hysteresis_force(load: ArrayLike, radius: float, modulus: float, beta: float) -> float | np.ndarray:
-    """Viscoelastic hysteresis friction (Greenwood-Tabor), Eq. 2.4 (N).
-
-    ``F_def = beta (9 / (128 R))^(2/3) (F^4 / E0*)^(1/3)``, identical to
-    ``beta (3/16) a F / R`` with the Hertz contact radius ``a = (3 F R / (4 E0*))^(1/3)``.
-
-    Parameters
-    ----------
-    load
-        Normal load F, N.
-    radius
-        Pad radius R_fp, m.
-    modulus
-        Pad reduced modulus E0* (= E_fp*), Pa.
-    beta
-        Viscoelastic loss fraction.
-    """
-    if not (radius > 0 and modulus > 0 and beta >= 0):
-        raise FingerpadError("hysteresis needs a positive radius and modulus and a non-negative beta")
-    return scalar_out(_hysteresis(as_loads(load), radius, modulus, beta))
-
-
-def _hysteresis(f: np.ndarray, radius: float, modulus: float, beta: float) -> np.ndarray:
-    return beta * (9.0 / (128.0 * radius)) ** (2.0 / 3.0) * np.cbrt(f**4 / modulus)
-
-
-def friction_force(load: ArrayLike, real_area: ArrayLike, finger: Finger) -> float | np.ndarray:
-    """Total friction force ``F_f = F_adh + F_def``, Eq. 2.1 (N), with ``finger``'s parameters."""
-    return scalar_out(_friction(as_loads(load, strict=True), _areas(real_area, "real contact area"), finger))
-
-
-def _friction(f: np.ndarray, a: np.ndarray, finger: Finger) -> np.ndarray:
-    """Eq. 2.1 on loads and real areas already checked (the prediction job's path)."""
-    return _adhesion(f, a, finger.tau0, finger.alpha) + _hysteresis(f, finger.radius, finger.modulus, finger.beta)
-
-
-def friction_coefficient(load: ArrayLike, real_area: ArrayLike, finger: Finger) -> float | np.ndarray:
-    """Friction coefficient ``mu = F_f / F`` (Eq. 2.1 over the load)."""
-    f = as_loads(load, strict=True)
-    return scalar_out(_friction(f, _areas(real_area, "real contact area"), finger) / f)
-
-
-def reference_real_area(load: ArrayLike, finger: Finger) -> float | np.ndarray:
-    """Real contact area on the flat reference sample: the skin fully touches a smooth flat, so
-    ``A_re,ref = A_fr`` (the ridge contact)."""
-    return finger.ridge_area(as_loads(load, strict=True))
-
-
-def reference_friction_coefficient(load: ArrayLike, finger: Finger) -> float | np.ndarray:
-    """``mu_ref(F)`` on the flat reference sample of the same material."""
-    f = as_loads(load, strict=True)
-    return scalar_out(mu_checked(f, finger.areas_checked(f)[1], finger))  # A_re,ref = A_fr
-
-
-def mu_checked(f: np.ndarray, real_area: np.ndarray, finger: Finger) -> np.ndarray:
-    """``mu = F_f / F`` on loads (> 0) and real areas already checked: the path of
-    :func:`fingerpad.coupling.predict_curve`, which checks its loads once at its entry."""
-    return _friction(f, real_area, finger) / f
-
-
-def normalised_friction(mu_texture: ArrayLike, mu_reference: ArrayLike) -> float | np.ndarray:
-    """``mu_tex / mu_ref`` (docs/model.md "Normalisation").
-
-    With the same shear strength on both samples and negligible hysteresis this equals
-    ``A_re,tex / A_re,ref``, so the person's unknown ridge-area function cancels.
-    """
-    mt = np.asarray(mu_texture, dtype=float)
-    mr = np.asarray(mu_reference, dtype=float)
-    if not (np.all(np.isfinite(mt)) and np.all(np.isfinite(mr))) or np.any(mr <= 0):
-        raise FingerpadError("normalisation needs finite friction coefficients and a positive reference")
-    return scalar_out(mt / mr)
+__all__ = ["PowerLaw", "PowerLawFit", "fit_power_law"]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -330,16 +209,3 @@ def fit_power_law(loads: ArrayLike, mu: ArrayLike, sigma: ArrayLike | None = Non
     )
 
 
-__all__ = [
-    "PowerLaw",
-    "PowerLawFit",
-    "adhesion_force",
-    "fit_power_law",
-    "friction_coefficient",
-    "friction_force",
-    "hysteresis_force",
-    "normalised_friction",
-    "reference_friction_coefficient",
-    "reference_real_area",
-    "shear_strength",
-]

@@ -1,0 +1,168 @@
+"""Adhesion at the command line: ``solve``, ``predict`` and ``sweep`` with ``--work-of-adhesion``.
+
+* w = 0 (or no flag) is the non-adhesive prediction to the bit, its outputs without a key more;
+* solve prints per pressure the contact fraction, mean gap and converged flag, and the pull-off
+  pressure; tensions beyond it lift the skin off (a result, exit 0);
+* predict reports the pull-off force, the adhesive share of A_re per load and the threshold load;
+* bad adhesion input is one ``error:`` line, exit 2, at every door.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from fingerpad.cli import app
+
+runner = CliRunner()
+
+CAPS = ["--texture", "caps", "--radius", "100um", "--height", "20um", "--spacing", "175um", "--lattice",
+        "hexagonal", "--grid", "32"]
+MATERIAL = ["--material-modulus", "0.5GPa", "--material-poisson", "0.4"]
+
+
+def invoke(*args: str):
+    return runner.invoke(app, [str(a) for a in args])
+
+
+def one_error(result) -> str:
+    assert result.exit_code == 2, (result.exit_code, result.output)
+    lines = [line for line in result.stderr.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("error: "), result.stderr
+    assert "Traceback" not in result.output
+    return lines[0]
+
+
+def test_solve_prints_the_loading_branch_and_the_pull_off() -> None:
+    result = invoke("solve", *CAPS, *MATERIAL, "--work-of-adhesion", "0.05J/m2",
+                    "--pressure", "-2kPa,0Pa,5kPa", "--json", "-")
+    assert result.exit_code == 0, result.output
+    payload = json.loads(result.stdout)
+    rows = payload["results"]
+    assert [r["mean_pressure"] for r in rows] == [-2000.0, 0.0, 5000.0]  # in the order given
+    for row in rows:
+        assert {"contact_fraction", "mean_gap", "converged", "law", "work_of_adhesion"} <= set(row)
+    # adhesion holds a contact at zero load; -2 kPa is beyond the pull-off: the skin lifts off
+    assert rows[1]["contact_fraction"] > 0 and rows[1]["converged"]
+    assert rows[0]["contact_state"] == "detached" and rows[0]["contact_fraction"] == 0
+    assert rows[0]["mean_gap"] is None
+    assert -2000.0 < payload["pull_off_pressure"] < 0
+    assert payload["adhesion"]["range_regularised"] is True
+    assert payload["inputs"]["adhesion"] == {"work_of_adhesion": 0.05, "adhesion_range": 3e-10,
+                                             "adhesion_law": "exponential"}
+
+
+def test_solve_table_says_the_pull_off_and_the_lift_off() -> None:
+    result = invoke("solve", *CAPS, *MATERIAL, "--work-of-adhesion", "50mJ/m2", "--adhesion-law", "maugis",
+                    "--pressure", "-2kPa", "--pressure", "1kPa")
+    assert result.exit_code == 0, result.output
+    assert "pull-off pressure:" in result.stdout
+    assert "lifts off" in result.stderr
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--pressure", "-1kPa"], "zero and tensions need --work-of-adhesion"),
+    (["--pressure", "1kPa", "--adhesion-law", "sticky", "--work-of-adhesion", "0.1J/m2"],
+     "--adhesion-law: must be one of exponential, maugis"),
+    (["--pressure", "1kPa", "--adhesion-range", "1nm"], "--adhesion-range needs a positive --work-of-adhesion"),
+    (["--pressure", "1kPa", "--work-of-adhesion", "5um"], "is a length, expected a surface energy"),
+    (["--pressure", "1kPa", "--work-of-adhesion", "-0.1J/m2"], "--work-of-adhesion: must lie in"),
+    (["--pressure", "1kPa", "--work-of-adhesion", "0.1J/m2", "--adhesion-range", "2"], "has no unit"),
+    (["--pressure", "1kPa", "--work-of-adhesion", "0.1J/m2", "--critical", "1e-3"], "--critical is not available"),
+])
+def test_solve_refuses_bad_adhesion(args: list[str], message: str) -> None:
+    assert message in one_error(invoke("solve", *CAPS, *MATERIAL, *args))
+
+
+def test_predict_without_adhesion_is_unchanged(tmp_path) -> None:
+    base = ["predict", *CAPS, *MATERIAL, "--loads", "0.2N:2N:4", "--model", "bem", "--cache", str(tmp_path),
+            "--json", "-"]
+    plain = json.loads(invoke(*base).stdout)
+    zero = json.loads(invoke(*base, "--work-of-adhesion", "0J/m2").stdout)
+    for doc in (plain, zero):
+        doc.pop("timings")
+        doc["cell"].pop("seconds")
+        doc["cell"].pop("solves")
+        doc["cell"].pop("cached")
+        doc["cell"]["resolution"].pop("solves")
+    assert zero == plain  # the same numbers to the bit, not a key more
+    assert "adhesion" not in plain and "adhesive_share" not in plain["results"][0]
+
+
+def test_solve_without_adhesion_is_unchanged() -> None:
+    base = ["solve", *CAPS, *MATERIAL, "--pressure", "1kPa:30kPa:3", "--json", "-"]
+    plain = json.loads(invoke(*base).stdout)
+    zero = json.loads(invoke(*base, "--work-of-adhesion", "0J/m2").stdout)
+    for doc in (plain, zero):
+        doc.pop("timings", None)
+        for row in doc["results"]:
+            row.pop("seconds")
+    assert zero == plain  # the same numbers to the bit, not a key more
+    assert "pull_off_pressure" not in plain and "adhesion" not in plain["results"][0]
+
+
+def test_predict_reports_pull_off_share_and_threshold(tmp_path) -> None:
+    base = ["predict", *CAPS, *MATERIAL, "--loads", "0.05N:2N:4", "--model", "bem", "--cache", str(tmp_path)]
+    plain = json.loads(invoke(*base, "--json", "-").stdout)
+    result = invoke(*base, "--work-of-adhesion", "0.3J/m2", "--json", "-")
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    adh = doc["adhesion"]
+    assert adh["pull_off_force"] > 0 and adh["pad_work_of_adhesion"] > 0
+    assert adh["pull_off_force"] == pytest.approx(1.5 * 3.141592653589793 * adh["pad_work_of_adhesion"] * 9e-3)
+    assert adh["threshold_load_bound"] in ("exact", "at least", "at most") and adh["threshold_load"] > 0
+    for row, ref in zip(doc["results"], plain["results"], strict=True):
+        # adhesion enlarges the real contact and raises the friction at a given load
+        assert row["real_area"] > ref["real_area"] and row["mu"] > ref["mu"]
+        # the same cell, prepared over the threshold search's loads too: more nodes, the same curve
+        # to within its interpolation error
+        assert row["real_area_without_adhesion"] == pytest.approx(ref["real_area"], rel=1e-4)
+        assert 0 < row["adhesive_share"] < 1
+    assert doc["inputs"]["finger"]["work_of_adhesion"] == 0.3
+    assert doc["units"]["pull_off_force"] == "N"
+
+
+def test_predict_table_and_errors(tmp_path) -> None:
+    base = ["predict", *CAPS, *MATERIAL, "--loads", "0.5N", "--model", "bem", "--cache", str(tmp_path)]
+    result = invoke(*base, "--work-of-adhesion", "0.05J/m2", "--out", str(tmp_path / "out"))
+    assert result.exit_code == 0, result.output
+    assert "pull-off force" in result.stdout
+    assert "--adhesion-law: must be one of" in one_error(invoke(*base, "--adhesion-law", "glue"))
+    assert "directional friction (--direction) with a work of adhesion" in one_error(
+        invoke(*base, "--work-of-adhesion", "0.05J/m2", "--direction", "0"))
+    assert "a population of fingers with a work of adhesion" in one_error(
+        invoke(*base, "--work-of-adhesion", "0.05J/m2", "--population", "adults"))
+
+
+def test_sweep_checks_the_adhesion_flags(tmp_path) -> None:
+    study = tmp_path / "s.toml"
+    study.write_text('[texture]\nname = "caps"\nradius = "100um"\nheight = "20um"\nspacing = "175um"\n'
+                     '[model]\ngrid = 32\n[sweep]\nspacing = ["150um", "200um"]\n')
+    assert "--work-of-adhesion" in one_error(invoke("sweep", str(study), "--work-of-adhesion", "0.1um",
+                                                    "--out", str(tmp_path / "r.zarr")))
+
+
+@pytest.mark.slow  # an adhesive cell inside a sweep worker: ~15 s on 2 cores
+def test_sweep_axis_of_the_work_of_adhesion(tmp_path) -> None:
+    pytest.importorskip("zarr")
+    xr = pytest.importorskip("xarray")
+    study = tmp_path / "s.toml"
+    study.write_text('[texture]\nname = "caps"\nradius = "100um"\nheight = "20um"\nspacing = "175um"\n'
+                     'lattice = "hexagonal"\n[material]\nmodulus = "0.5GPa"\npoisson = 0.4\n'
+                     '[model]\nkind = "bem"\ngrid = 32\n[sweep]\nloads = "0.1N:1N:3"\n'
+                     '[sweep.axes]\nwork_of_adhesion = ["0J/m2", "0.05J/m2"]\n')
+    store = tmp_path / "r.zarr"
+    result = invoke("sweep", str(study), "--out", str(store), "--workers", "1")
+    assert result.exit_code == 0, result.output
+    data = xr.open_zarr(store)
+    assert list(data["work_of_adhesion"].values) == [0.0, 0.05]
+    assert data["work_of_adhesion"].attrs["units"] == "J/m2"
+    mu = data["mu"].values
+    assert np.all(np.isfinite(mu)) and np.all(mu[1] > mu[0])  # adhesion raises friction at every load
+    # the w = 0 point is the plain prediction of the same finger and cell
+    plain = json.loads(invoke("predict", *CAPS, *MATERIAL, "--loads", "0.1N:1N:3", "--model", "bem",
+                              "--cache", str(tmp_path / "c"), "--json", "-").stdout)
+    assert mu[0].tolist() == pytest.approx([r["mu"] for r in plain["results"]], rel=1e-12)
