@@ -483,3 +483,21 @@ def test_scan_steps_in_the_declared_unit_and_stays_in_the_limits():
     zone = scan_for(ZONE_LOAD, "zone-map load", fallback=4.0).with_slider(0.1, 4.0)
     assert zone.slider == (0.1, 4.0) and step_text(zone, "0.1N", -1) == "0.1N" and step_text(zone, "2N", 3) == "2.3N"
     assert scan_for(get_family("caps").param("lattice"), "lattice") is None  # a choice: no steps
+
+
+def test_every_declared_number_of_the_finger_steps_and_reads_back():
+    """Every number the finger declares gets a step in a unit its own field reads back (a new
+    dimension, e.g. the work of adhesion's surface energy, must not break the page)."""
+    from fingerpad.explore.scan import scan_for, step_text, value_text
+    from fingerpad.finger import FINGER_PARAMS, finger_param
+
+    for p in FINGER_PARAMS:
+        scan = scan_for(p, p.name, fallback=1.0)
+        if scan is None:
+            assert p.kind == "choice"
+            continue
+        text = step_text(scan, value_text(scan, scan.step * scan.factor * 3), 1)
+        assert scan.read(text) > 0, (p.name, text)
+    w = scan_for(finger_param("work_of_adhesion"), "work of adhesion")
+    assert (w.unit, w.step) == ("mJ/m2", 1.0) and step_text(w, "0.05J/m2", 1) == "51mJ/m2"
+    assert step_text(w, "5mJ/m2", -10) == "0mJ/m2"  # w >= 0, closed: stops on it

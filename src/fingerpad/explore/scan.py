@@ -53,6 +53,7 @@ _PREFIXES = {
     "length": ("m", "mm", "um", "nm"),
     "pressure": ("GPa", "MPa", "kPa", "Pa"),
     "force": ("kN", "N", "mN"),
+    "surface energy": ("J/m2", "mJ/m2"),
 }
 
 
