@@ -152,7 +152,7 @@ def test_docs_refer_inside_the_repository():
 #: in the foundation, whose small modules form a chain (the cycle test keeps it acyclic).
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("foundation", ("errors", "_version", "cancel", "extras", "references", "units", "checks", "materials", "plausibility",
-                    "discover", "params", "encode", "locks", "io", "netcdf")),
+                    "person", "discover", "params", "encode", "locks", "io", "netcdf")),
     ("surfaces", ("textures",)),
     ("contact engine", ("contact",)),
     ("macro scale", ("macro",)),
@@ -164,6 +164,7 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("figures", ("plotting",)),
     ("jobs", ("study", "measure")),
     ("population", ("population",)),
+    ("perception", ("perception",)),
     ("design", ("design",)),
     ("explorer", ("explore",)),
     ("command line", ("cli",)),

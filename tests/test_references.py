@@ -34,6 +34,7 @@ def _declarations() -> dict[str, tuple[str, ...]]:
     from fingerpad.micro.bem import BEMUnitCell
     from fingerpad.micro.deflection import gain
     from fingerpad.micro.hertz import HertzUnitCell
+    from fingerpad.perception import discrimination, roughness, vibration
     from fingerpad.population import correlations as population_correlations
     from fingerpad.population.sobol import SensitivityResult
 
@@ -50,7 +51,8 @@ def _declarations() -> dict[str, tuple[str, ...]]:
     found.update({name: tuple(obj.REFERENCES) for name, obj in (
         ("friction", friction), ("BEMUnitCell", BEMUnitCell), ("HertzUnitCell", HertzUnitCell),
         ("deflection", gain), ("correlations", population_correlations), ("sensitivity", SensitivityResult),
-        ("analysis", analysis))})
+        ("analysis", analysis), ("discrimination", discrimination), ("vibration", vibration),
+        ("roughness", roughness))})
     for periodic in (True, False):
         for layered in (True, False):
             found[f"solver {periodic} {layered}"] = solver_references(periodic, layered)
@@ -95,6 +97,7 @@ def test_citation_and_bibtex_of_the_thesis():
 
 def test_keys_of_puts_thesis_and_package_first_and_dedupes():
     from fingerpad.micro.hertz import HertzUnitCell
+    from fingerpad.perception import discrimination, roughness, vibration
 
     assert refs.keys_of(HertzUnitCell, "johnson1985", None, ("polonsky1999",)) == (
         "sergachev2021", "fingerpad", "johnson1985", "polonsky1999")

@@ -35,6 +35,10 @@ UNITS: dict[str, tuple[str, float]] = {
     # angle
     "deg": ("angle", math.pi / 180.0),
     "rad": ("angle", 1.0),
+    # speed (of a finger's stroke)
+    "m/s": ("speed", 1.0),
+    "cm/s": ("speed", 1e-2),
+    "mm/s": ("speed", 1e-3),
     # surface energy (work of adhesion), J/m^2 = N/m
     "J/m2": ("surface energy", 1.0),
     "J/m^2": ("surface energy", 1.0),
@@ -57,10 +61,11 @@ def _decimal_exponent(factor: float) -> int | None:
 #: either way gives the same numbers, the same cache keys and the same file names.
 _EXPONENT = {unit: _decimal_exponent(factor) for unit, (_, factor) in UNITS.items()}
 
-SI_SYMBOL = {"length": "m", "pressure": "Pa", "force": "N", "angle": "rad", "surface energy": "J/m2"}
+SI_SYMBOL = {"length": "m", "pressure": "Pa", "force": "N", "angle": "rad", "speed": "m/s",
+             "surface energy": "J/m2"}
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
-# a unit: letters, or a quotient such as J/m2, J/m^2, mN/m
+# a unit: letters, or a quotient such as J/m2, J/m^2, mN/m, mm/s
 _QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*([A-Za-zµμ]*(?:/[A-Za-z]+(?:\^?2)?)?)\s*$")
 
 
@@ -72,7 +77,8 @@ def parse_quantity(text: str | float | int, dimension: str, *, name: str = "valu
     text
         A number (taken as SI) or a string such as ``"50um"``, ``"0.3 MPa"``, ``"2N"``, ``"1e-3"``.
     dimension
-        One of ``"length"``, ``"pressure"``, ``"force"``, ``"angle"``, or ``"none"``.
+        One of ``"length"``, ``"pressure"``, ``"force"``, ``"angle"``, ``"speed"`` (m/s:
+        ``20mm/s``), or ``"none"``.
     name
         The parameter's name, used in error messages.
 

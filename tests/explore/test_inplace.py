@@ -241,7 +241,6 @@ def test_the_page_runs_its_background_work(tmp_path, population, monkeypatch):
     """In a page (no server): a population choice computes in the background and shows its bands
     (with the study shown), and a contact-map pressure typed in gives maps at that pressure."""
     pytest.importorskip("panel")
-    import asyncio
 
     from fingerpad.explore.app import ExplorerApp, ServerState
     from fingerpad.explore.views import population as popview
@@ -275,7 +274,16 @@ def test_the_page_runs_its_background_work(tmp_path, population, monkeypatch):
         marks = [v.x for v in view.cards["psi"].spec.vlines if v.label.startswith("contact map")]
         assert marks == [pytest.approx(5e3)]
 
-    # a thread of its own: a browser test of the session may hold the main thread's event loop
+    _run_page(main)
+
+
+def _run_page(main, timeout: float = 300) -> None:
+    """Run the coroutine function ``main`` (a page's test) in a thread of its own (a browser test
+    of the session may hold the main thread's event loop), at most ``timeout`` s; its error is
+    raised here."""
+    import asyncio
+    import threading
+
     errors: list[BaseException] = []
 
     def run() -> None:
@@ -284,12 +292,10 @@ def test_the_page_runs_its_background_work(tmp_path, population, monkeypatch):
         except BaseException as exc:  # noqa: BLE001 -- reported below, in the test's thread
             errors.append(exc)
 
-    import threading
-
     worker = threading.Thread(target=run)
     worker.start()
-    worker.join(300)
-    assert not worker.is_alive(), "the page's background work did not end within 300 s"
+    worker.join(timeout)
+    assert not worker.is_alive(), f"the page's background work did not end within {timeout:g} s"
     if errors:
         raise errors[0]
 

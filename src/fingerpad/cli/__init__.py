@@ -37,7 +37,7 @@ from typer.core import TyperGroup
 
 from .._version import __version__
 from ..errors import FingerpadError, one_line
-from . import cite, deflection, design, explore, fingers, measure, predict, solve, sweep, textures
+from . import cite, compare, deflection, design, explore, fingers, measure, predict, solve, sweep, textures
 from . import common
 from .common import EXIT_INTERRUPTED, EXIT_USER_ERROR, report_interrupt
 
@@ -130,7 +130,7 @@ class _OneLineErrors(TyperGroup):
 
 
 #: The command modules, in the order ``fingerpad --help`` lists their commands.
-_MODULES = (solve, textures, predict, fingers, measure, sweep, design, deflection, explore, cite)
+_MODULES = (solve, textures, predict, compare, fingers, measure, sweep, design, deflection, explore, cite)
 
 
 def _version_callback(value: bool) -> None:

@@ -34,12 +34,23 @@ def design_map_command(
         help="Draw the population the sweep ran (fingerpad sweep --population NAME|FILE, the same one): median "
              "colour, critical loads of the 10/50/90 % fingers, the region in asperity contact over the range "
              "for >= 90 % of fingers.")] = None,
+    tell_apart: Annotated[str | None, typer.Option(
+        "--tell-apart", metavar="REF", help="Contours of who tells each texture from REF at --at by friction: "
+                                            "'flat' or a study file; with --population the 10/50/90 % fractions "
+                                            "of fingers (flat only), else the study's finger's P = 0.75 "
+                                            "(docs/perception.md).")] = None,
+    weber_fraction: Annotated[str | None, typer.Option(
+        "--weber-fraction", metavar="W", help="With --tell-apart (no population): the finger's Weber fraction "
+                                              "(default: the sweep study's [perception] weber_fraction, "
+                                              "0.11).")] = None,
 ) -> None:
     """Draw the design map of a sweep: critical-load contours, mu/mu_ref, contact-state regions.
 
     Writes DIR/design_map.png and .svg, and the data behind them as design_map.nc and
     design_map.csv. Literature markers: spacing 160 um (felt smooth below), the fingerprint
-    ridge wavelength 0.4-0.5 mm, ridge heights 33.5 um and 105 um (interlocking).
+    ridge wavelength 0.4-0.5 mm, ridge heights 33.5 um and 105 um (interlocking), the spacing
+    felt at 250 Hz at 50 mm/s (200 um). --tell-apart adds who tells each texture from a
+    reference (docs/perception.md).
     With --population (docs/sweeps.md): the colour is the median over the fingers.
     """
     from .. import io as fio
@@ -65,7 +76,9 @@ def design_map_command(
             ds = open_sweep(store).load()
             if population is not None:
                 check_store_population(ds, store, population)
-            data = map_data(ds, x, y, at=at_v, select=sel, quantity=quantity, population=population is not None)
+            tell = _tell_apart(ds, tell_apart, weber_fraction, at_v, population is not None)
+            data = map_data(ds, x, y, at=at_v, select=sel, quantity=quantity, population=population is not None,
+                            tell_apart=tell)
             fig = figure_design_map(data)
         with fio.OutputFolder(out, MAP_FILES) as folder:  # errors name the user's path
             fig.savefig(folder.path("design_map.png"), format="png", dpi=120)
@@ -74,6 +87,31 @@ def design_map_command(
             data.to_dataframe().reset_index().to_csv(folder.path("design_map.csv"), index=False)
             folder.commit()
         say(err, "wrote " + ", ".join(str(folder.final_path(n)) for n in MAP_FILES))
+
+
+def _tell_apart(ds: Any, reference: str | None, weber: str | None, at: float | None,
+                population: bool) -> dict[str, Any] | None:
+    """``--tell-apart REF``'s settings for :func:`fingerpad.design.designmap.map_data` (REF's
+    friction at the map's load predicted directly for a study file)."""
+    if reference is None:
+        if weber is not None:
+            raise FingerpadError("--weber-fraction needs --tell-apart")
+        return None
+    from ..perception.compare import parse_weber
+
+    w = parse_weber(weber)
+    if reference.strip().lower() == "flat":
+        return {"reference": "flat", "mu": None, "weber": w}
+    from pathlib import Path
+
+    if not Path(reference).is_file():
+        raise FingerpadError(f"--tell-apart {reference!r}: neither 'flat' nor a study file")
+    if population:
+        return {"reference": Path(reference).stem, "mu": None, "weber": w}  # map_data refuses it, in one place
+    from ..design.designmap import default_at, reference_friction
+
+    at_v = at if at is not None else default_at(ds["load"].values)
+    return {"reference": Path(reference).stem, "mu": reference_friction(ds, reference, at_v), "weber": w}
 
 
 def design_command(
@@ -85,7 +123,9 @@ def design_command(
                                                  "spacing=100um:400um; log-uniform unless LOW is 0.")],
     target: Annotated[list[str], typer.Option("--target", metavar="QUANTITY=VALUE@LOAD",
                                               help="A friction target (repeatable), e.g. mu_rel=0.5@1N; quantities: "
-                                                   "mu_rel, mu, mu_ref, area_ratio.")],
+                                                   "mu_rel, mu, mu_ref, area_ratio; or a perception target "
+                                                   "feels-like=REF@1N or feels-different-from=REF@1N, REF a study "
+                                                   "file or 'flat' (docs/perception.md).")],
     min_critical_load: Annotated[str | None, typer.Option(
         "--min-critical-load", metavar="LOAD", help="Stay in asperity contact up to this load, e.g. 4N.")] = None,
     min_feature: Annotated[str | None, typer.Option(
@@ -113,6 +153,10 @@ def design_command(
     quantile: Annotated[str | None, typer.Option(
         "--quantile", metavar="Q", help="With --population: this quantile of the fingers, in [0, 1], meets the "
                                         "targets, e.g. 0.5 (the median finger).")] = None,
+    weber_fraction: Annotated[str | None, typer.Option(
+        "--weber-fraction", metavar="W", help="With a perception target: the person's Weber fraction W, for every "
+                                              "finger (default: the study's [perception] weber_fraction, 0.11, or "
+                                              "each member's own where the population draws it).")] = None,
 ) -> None:
     """Find textures of a family, within bounds, that give a wanted friction (inverse design).
 
@@ -137,7 +181,8 @@ def design_command(
             result = design_textures(study, vary, target, min_critical_load=min_critical_load,
                                      min_feature=min_feature, max_aspect=max_aspect, tolerance=tolerance,
                                      from_sweep=from_sweep, candidates=candidates, evaluations=evaluations,
-                                     progress=bar, population=population, coverage=coverage, quantile=quantile)
+                                     progress=bar, population=population, coverage=coverage, quantile=quantile,
+                                     weber=weber_fraction)
             bar.finish()  # the search may stop inside its --evaluations budget
     if json_path == "-":
         sys.stdout.write(json.dumps(result.document(), indent=2) + "\n")
@@ -154,8 +199,12 @@ def design_command(
 
 
 def _print_candidates(best: list, axes: list, targets: list) -> None:
+    """The candidates of a plain design: each target's value (P, the probability of telling the
+    texture from REF in a forced choice, for a perception target), the critical load, a verdict."""
     from rich import box
     from rich.table import Table
+
+    from ..design.perception_targets import is_perception
 
     table = Table(title="candidates (each a direct prediction), best first", box=box.SIMPLE_HEAD)
     for a in axes:
@@ -166,7 +215,8 @@ def _print_candidates(best: list, axes: list, targets: list) -> None:
         table.add_column(col, justify="right")
     for c in best:
         table.add_row(*[f"{a.display(c.params[a.name]):.4g}" for a in axes],
-                      *[f"{c.values.get(str(t), float('nan')):.4g}" for t in targets],
+                      *[("P " if is_perception(t) else "") + f"{c.values.get(str(t), float('nan')):.4g}"
+                        for t in targets],
                       f"{c.critical_load:.3g}", "yes" if c.meets else "no: " + "; ".join(c.violations or ["off target"]))
     stdout_console(120).print(table)
 
@@ -198,6 +248,9 @@ def _print_population_candidates(result: Any) -> None:
             continue
         cells = []
         for t in problem.targets:
+            if str(t) in pop.get("perception", {}):  # the fraction that tells it from REF
+                cells.append(f"{100 * pop['perception'][str(t)]['fraction_telling_apart']:.3g} % tell apart")
+                continue
             qs = pop["quantiles"][str(t)]
             cells.append(f"{qs[level]:.3g} [{qs['0.05']:.3g}-{qs['0.95']:.3g}]")
         verdict = "yes" if c.meets else "no: " + "; ".join(c.violations or ["off target"])

@@ -32,11 +32,12 @@ from .common import (
     warnings_to,
 )
 from ._sensitivity import sensitivity_asked
+from ._perception import perception_options
 from .solve import _HELP
 
 _SURFACE, _MATERIALS, _FINGER, _LOADS, _NUMERICS, _OUTPUT = "Surface", "Materials", "Finger", "Loads", "Numerics", "Output"
 
-_STUDY, _FINGER = "Study", "Finger"
+_STUDY, _FINGER, _PERCEPTION = "Study", "Finger", "Perception"
 
 _PREDICT_HELP = {
     "--texture": _HELP["--texture"],
@@ -94,6 +95,13 @@ _PREDICT_HELP = {
     "--sensitivity": "With a population: Sobol indices (first-order and total) of mu/mu_ref and the critical load "
                      "per parameter; N (d + 2) more fingers (docs/population.md).",
     "--sensitivity-samples": "Base samples N of the sensitivity design (default 256; a power of two).",
+    "--perception": "Add what a person feels (docs/perception.md): who tells the texture from the flat reference "
+                    "by friction, its vibration frequencies and channels along x and y (or --direction), an "
+                    "amplitude estimate and the roughness regime; JSON 'perception', perception.png.",
+    "--speed": "With --perception: stroke speed(s), one speed or LOW:HIGH, e.g. 20mm/s:100mm/s (the default).",
+    "--weber-fraction": "With --perception: the person's Weber fraction W, for every finger (the study file's "
+                        "[perception] weber_fraction; default 0.11, or each member's own where the population "
+                        "draws it).",
 }
 
 
@@ -314,12 +322,16 @@ def _print_population(payload: Mapping[str, Any]) -> None:
 
 
 def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path: str | None = None,
-                   extra: Mapping[str, Any] | None = None, population: Any = None) -> int:
+                   extra: Mapping[str, Any] | None = None, population: Any = None,
+                   perception: Mapping[str, Any] | None = None) -> int:
     """Run ``study``, write its outputs (all or none), report. Returns the exit code.
 
     ``out``: the output folder (replaced as a whole), or ``None`` for none; ``extra``: more
     figures for it (name -> callable returning a Figure); ``population``: a
-    :class:`~fingerpad.population.rules.PopulationStudy` of ``study`` to predict as well.
+    :class:`~fingerpad.population.rules.PopulationStudy` of ``study`` to predict as well;
+    ``perception``: the single-texture verdicts against the flat reference
+    (:func:`fingerpad.perception.compare.against_flat`'s ``speeds`` and ``directions``; the
+    Weber fraction is the study's, or each member's own).
     """
     import warnings
 
@@ -332,6 +344,8 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
         from ..population.outputs import population_files
 
         pop_files = population_files(population.sensitivity is not None)
+    if perception is not None:
+        pop_files = (*pop_files, "perception.png")
     check_outputs(out, json_path, csv_path, sorted({*FOLDER_FILES, *(extra or {}), *pop_files}))  # before solving
     err = stderr_console()
     with warnings_to(err):
@@ -348,8 +362,6 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
                 result = run_population(population, progress=bar,
                                         member_progress=lambda i, n: show(f"{i}/{n} solved or read"))
             pred = result.nominal
-            figures = {name: make() for name, make in (extra or {}).items()}
-            paths = write_population_outputs(result, out, json_path=json_path, csv_path=csv_path, extra=figures)
         else:
             from ..study.outputs import load_output_modules
 
@@ -359,11 +371,33 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
                 # less after the last ramp, issue 23)
                 pred = run_study(study, progress=bar, notice=bar.stage("deflection ramps"),
                                  on_free_core=load_output_modules if out is not None else None)
-            figures = {name: make() for name, make in (extra or {}).items()}
-            paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures)
+        figures = {name: make() for name, make in (extra or {}).items()}
+        verdicts, sections = None, None
+        if perception is not None:
+            from ..perception.compare import against_flat
+            from ..references import keys_of, metadata
+            from ..study.citations import prediction_references
+
+            doc = against_flat(pred, result, **perception).as_dict()
+            if out is not None:  # from the numbers themselves (the JSON writes infinities as null)
+                from ..plotting.perception import figure_comparison
+
+                figures["perception.png"] = figure_comparison(doc)
+            verdicts = to_jsonable(doc)
+            # the JSON's references: the prediction's (and its population's) and the perception models'
+            keys = keys_of(prediction_references(pred, result), [r["key"] for r in verdicts["references"]])
+            sections = {"perception": verdicts, "references": to_jsonable(metadata(keys))}
+        if result is not None:
+            paths = write_population_outputs(result, out, json_path=json_path, csv_path=csv_path, extra=figures,
+                                             sections=sections)
+        else:
+            paths = write_outputs(pred, out, json_path=json_path, csv_path=csv_path, extra=figures,
+                                  sections=sections)
     payload = to_jsonable(prediction_json(pred, result))
     if result is not None:
         payload["population"] = to_jsonable(result.as_dict())
+    if sections is not None:
+        payload.update(sections)
     if json_path == "-":
         sys.stdout.write(json_text(payload))
         sys.stdout.flush()
@@ -375,6 +409,10 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
             print_sensitivity(payload["population"]["sensitivity"])
     else:
         _print_prediction(payload)
+    if verdicts is not None and json_path != "-":
+        from ._perception import print_comparison
+
+        print_comparison(payload["perception"])
     for note in pred.notes:
         say(err, f"note: {note}")
     cell = payload["cell"]
@@ -441,6 +479,9 @@ def predict(
     sensitivity: Annotated[bool, _popt("--sensitivity", panel=_FINGER)] = False,
     sensitivity_samples: Annotated[str | None, _popt("--sensitivity-samples", panel=_FINGER, metavar="N")] = None,
     device: Annotated[str | None, _popt("--device", panel=_NUMERICS, metavar="cpu|cupy|torch")] = None,
+    perception: Annotated[bool, _popt("--perception", panel=_PERCEPTION)] = False,
+    speed: Annotated[str | None, _popt("--speed", panel=_PERCEPTION, metavar="V|LOW:HIGH")] = None,
+    weber_fraction: Annotated[str | None, _popt("--weber-fraction", panel=_PERCEPTION, metavar="W")] = None,
 ) -> None:
     """Predict contact areas, contact zones and friction of a finger on a texture against load.
 
@@ -465,7 +506,7 @@ def predict(
         "--work-of-adhesion": work_of_adhesion, "--adhesion-range": adhesion_range, "--adhesion-law": adhesion_law,
         "--loads": loads or None, "--zones-at": zones_at, "--model": model, "--grid": grid,
         "--accuracy": accuracy, "--direction": direction,
-        "--tol": tol, "--max-iter": max_iter, "--cache": cache,
+        "--tol": tol, "--max-iter": max_iter, "--cache": cache, "--weber-fraction": weber_fraction,
     }
     with user_errors(), device_option(device):
         flags["--periodic"] = flag_pair(periodic, no_periodic, "--periodic", "--no-periodic")
@@ -474,13 +515,14 @@ def predict(
         with warnings_to(stderr_console()):
             study = build_study(ctx_args=list(ctx.args), flags=flags, finger_param=finger_param or [],
                                 options=command_options(ctx), extra_sections=sections)
+            verdicts = perception_options(perception, speed, weber_fraction, study)
             from ..population.rules import attach
 
             plan = attach(study, population, table=sections["population"], quantiles=quantiles,
                           sensitivity=sensitivity_asked(sensitivity, sensitivity_samples))
         if out is None and json_path != "-":
             out = "out"  # files only where asked: with --json - and no --out, none
-        code = run_prediction(study, out, json_path, csv_path, population=plan)
+        code = run_prediction(study, out, json_path, csv_path, population=plan, perception=verdicts)
     if code:
         raise typer.Exit(code)
 

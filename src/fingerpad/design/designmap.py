@@ -11,7 +11,9 @@ reference mu/mu_ref at a chosen load, and the contact-state region over the expl
 
 Literature markers (docs/model.md, design map): textures with a spacing below 160 um are felt
 smooth; the fingerprint ridge wavelength is 0.4-0.5 mm (the finger filters it out); ridges of
-33.5 um and more bring interlocking, dominant from 105 um.
+33.5 um and more bring interlocking, dominant from 105 um; a spacing of v / 250 Hz (200 um at
+50 mm/s) is felt at the Pacinian optimum (docs/perception.md). With ``tell_apart``, who tells
+each texture from a reference surface (:func:`map_data`).
 """
 
 from __future__ import annotations
@@ -24,8 +26,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import FingerpadError
+from ..perception.vibration import PACINIAN_BEST
 
-__all__ = ["MARKERS", "POPULATION_COVERAGE", "REGIONS", "map_data", "swept_axes"]
+__all__ = ["MARKERS", "POPULATION_COVERAGE", "REGIONS", "default_at", "map_data", "reference_friction", "swept_axes"]
 
 #: The share of a population for which the design map marks "asperity contact over the whole
 #: range" (and whose complement's quantiles give the contours: 10 % and 90 % fingers).
@@ -33,12 +36,30 @@ POPULATION_COVERAGE = 0.9
 
 #: The contact-state regions (the ``region`` variable's ``flag_meanings``, in this order).
 REGIONS = {0: "transition below the range", 1: "transition inside the range", 2: "asperity contact over the range"}
+#: The stroke speed of the map's lambda = v / 250 Hz line, m/s: 50 mm/s, inside the 20-100 mm/s of
+#: active touch (docs/perception.md); f = v / lambda moves the line in proportion to the speed.
+TYPICAL_SPEED = 0.05
 #: Literature markers: (axis-name fragment, value in m, label); bands as (fragment, low, high, label).
 MARKERS = {
     "lines": [("spacing", 160e-6, "felt smooth below 160 µm"), ("height", 33.5e-6, "interlocking from 33.5 µm"),
-              ("height", 105e-6, "interlocking dominant from 105 µm")],
+              ("height", 105e-6, "interlocking dominant from 105 µm"),
+              # lambda = v / 250 Hz: the period felt at the Pacinian optimum at a typical stroke speed
+              ("spacing", TYPICAL_SPEED / PACINIAN_BEST[0], f"250 Hz at {1e3 * TYPICAL_SPEED:g} mm/s")],
     "bands": [("spacing", 400e-6, 500e-6, "fingerprint ridge wavelength")],
 }
+
+
+def study_weber(ds: Any) -> float:
+    """The Weber fraction W of a sweep's person: its base study's ``[perception] weber_fraction``,
+    else the default 0.11 (a population that draws W stores its members' fractions instead)."""
+    from ..perception.discrimination import WEBER_FRACTION
+
+    try:
+        base = json.loads(ds.attrs.get("study") or "{}")
+    except (TypeError, ValueError):
+        base = {}
+    value = (base.get("perception") or {}).get("weber_fraction") if isinstance(base, dict) else None
+    return WEBER_FRACTION.default if value is None else float(WEBER_FRACTION.parse(value, "[perception] weber_fraction"))
 
 
 def swept_axes(ds: Any) -> list[str]:
@@ -55,7 +76,7 @@ COLOUR_QUANTITIES = {"mu_rel": "μ/μ_ref", "mu_perp_over_par": "μ⊥/μ∥", "
 
 
 def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[str, Any] | None = None,
-             quantity: str = "mu_rel", population: bool = False) -> Any:
+             quantity: str = "mu_rel", population: bool = False, tell_apart: Mapping[str, Any] | None = None) -> Any:
     """The data behind a design map: ``critical_load`` (N), ``mu_rel`` (at load ``at``) and
     ``region`` (see the module docstring) on the axes ``x`` and ``y``, with the literature
     markers (:data:`MARKERS`, JSON) in the attribute ``markers``.
@@ -84,6 +105,13 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
         every exploration load) and ``robust_asperity`` (1 where that fraction is at least
         :data:`POPULATION_COVERAGE`, else 0). ``critical_load`` and ``region`` stay the
         nominal finger's.
+    tell_apart
+        Who tells each texture from a reference surface at ``at`` (docs/perception.md):
+        ``{"reference": "flat" or a label, "mu": REF's friction at ``at`` for the study's finger
+        (``None`` for flat), "weber": W}``. Adds ``tell_apart``: with ``population``, the stored
+        fraction of the members telling the texture from the flat reference (``tell_flat``,
+        interpolated in log load to ``at``; flat only, with the W the sweep stored); otherwise
+        the study's finger's probability P of telling them apart in a forced choice.
 
     Returns
     -------
@@ -110,7 +138,7 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
     loads = ds["load"].values
     lo, hi = float(loads.min()), float(loads.max())
     if at is None:
-        at = 1.0 if lo <= 1.0 <= hi else float(np.sqrt(lo * hi))
+        at = default_at(loads)
     if not lo * (1 - 1e-9) <= at <= hi * (1 + 1e-9):
         raise FingerpadError(f"--at {at:g} N is outside the sweep's exploration loads {lo:g}-{hi:g} N")
     sel = dict(select or {})
@@ -139,6 +167,24 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
         colour = ds[band].sel(quantile=0.5)
     else:
         colour = ds[quantity]
+    if tell_apart is not None:
+        if population:
+            if tell_apart.get("reference") != "flat":
+                raise FingerpadError("--tell-apart with --population: a sweep stores the fraction telling each "
+                                     "texture from the flat reference only (no friction per finger); use "
+                                     "--tell-apart flat, or fingerpad compare for the textures of interest")
+            if "tell_flat" not in ds.variables:
+                raise FingerpadError("--tell-apart: this sweep store holds no perception fractions (made before "
+                                     "they were stored): run the sweep again")
+            stored_w = float(ds.attrs.get("weber_fraction", math.nan))
+            if tell_apart.get("weber") is not None and float(tell_apart["weber"]) != stored_w:
+                raise FingerpadError(
+                    f"--weber-fraction: this sweep stored its fractions with W = {stored_w:g}" if math.isfinite(stored_w)
+                    else "--weber-fraction: this sweep's population draws each finger's W; its fractions are those "
+                         "of the members' own")
+            names.append("tell_flat")
+        else:
+            names += ["mu", "mu_ref"]
     data = ds[names].assign(mu_rel=colour)
     if design == "grid":
         for name, value in sel.items():
@@ -156,11 +202,14 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
     elif sel:
         raise FingerpadError("--select applies to grid sweeps; a scattered design is drawn as it is")
     log_load = np.log(loads)
-    mu = data["mu_rel"]
     # log-load interpolation between the two bracketing exploration loads
     k = int(np.clip(np.searchsorted(loads, at), 1, loads.size - 1))
     w = (math.log(at) - log_load[k - 1]) / (log_load[k] - log_load[k - 1])
-    mu_at = (1 - w) * mu.isel(load=k - 1) + w * mu.isel(load=k)
+
+    def at_load(var: Any) -> Any:
+        return (1 - w) * var.isel(load=k - 1) + w * var.isel(load=k)
+
+    mu_at = at_load(data["mu_rel"])
     crit = data["critical_load_bem"].where(np.isfinite(data["critical_load_bem"]) | np.isinf(data["critical_load_bem"]),
                                            data["critical_load_hertz"])
     region = xr.where(crit < lo, 0, xr.where(crit > hi, 2, 1)).where(data["valid"] & data["done"])
@@ -172,6 +221,21 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
                                       flag_values="0 1 2", flag_meanings="; ".join(REGIONS.values())),
     })
     ok = data["valid"] & data["done"]
+    if tell_apart is not None:
+        ref = str(tell_apart["reference"])
+        if population:
+            out["tell_apart"] = at_load(data["tell_flat"]).where(ok).assign_attrs(
+                units="1", long_name=f"fraction of fingers telling it from the flat reference at {at:g} N "
+                                     "(interpolated in log load)")
+        else:
+            from ..perception.discrimination import p_correct
+
+            mu = at_load(data["mu"])
+            ref_mu = at_load(data["mu_ref"]) if ref == "flat" else float(tell_apart["mu"])
+            weber = tell_apart.get("weber")  # --weber-fraction, else the sweep study's W
+            p = p_correct(mu.values, np.asarray(ref_mu), study_weber(ds) if weber is None else float(weber))
+            out["tell_apart"] = mu.copy(data=p).where(ok).assign_attrs(
+                units="1", long_name=f"probability that the study's finger tells it from {ref} at {at:g} N")
     if population:
         if quantity == "mu_rel":
             out["mu_rel"].attrs["long_name"] = f"median over the population of mu/mu_ref at {at:g} N"
@@ -199,11 +263,33 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
                  "quantity": quantity, "quantity_label": COLOUR_QUANTITIES[quantity],
                  "population": _population_name(ds) if population else "",
                  "coverage": POPULATION_COVERAGE,
+                 "tell_apart": "" if tell_apart is None else str(tell_apart["reference"]),
                  # the literature markers travel with the data (plotting draws them, knows none)
                  "markers": json.dumps(MARKERS)}
     return out
 
 
+def default_at(loads: Any) -> float:
+    """The map's load when none is given: 1 N, or the middle of the exploration loads in log."""
+    lo, hi = float(np.min(loads)), float(np.max(loads))
+    return 1.0 if lo <= 1.0 <= hi else float(np.sqrt(lo * hi))
+
+
 def _population_name(ds: Any) -> str:
     """The population of a store, in a few words (its name and size)."""
     return f"{ds.attrs.get('population_name', 'population')} ({ds.attrs.get('population_size', '?')} fingers)"
+
+
+def reference_friction(ds: Any, reference: str, at: float) -> float:
+    """The friction (mu) of a reference surface for the sweep study's finger at ``at`` (N): a
+    direct prediction of the study file ``reference`` (its texture, material and numerics) with
+    the finger of the sweep's study."""
+    import dataclasses
+
+    from ..study.run import run_study
+    from ..study.spec import load_study_file, study_from_dict
+
+    base = json.loads(ds.attrs["study"])
+    finger = study_from_dict({k: v for k, v in base.items() if k in ("finger", "material", "texture")}).finger
+    ref = dataclasses.replace(load_study_file(reference), finger=finger, loads=np.array([float(at)]), zones_at=None)
+    return float(np.asarray(run_study(ref).primary.mu, float)[0])

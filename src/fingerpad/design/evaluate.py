@@ -197,7 +197,7 @@ def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: S
         out.update({k: np.full((nq, loads.size), np.nan) for k in POPULATION_BANDS})
         out.update({k: np.full(nq, np.nan) for k in POPULATION_LOAD_BANDS})
         out.update(state_probability=np.full((len(STATE_CODES), loads.size), np.nan),
-                   asperity_over_range=math.nan)
+                   asperity_over_range=math.nan, tell_flat=np.full(loads.size, np.nan))
     t0 = time.perf_counter()
     try:
         with warnings.catch_warnings():
@@ -263,6 +263,12 @@ def _population_bands(pred: Any, population: Mapping[str, Any]) -> dict[str, Any
                 for name, attr in POPULATION_LOAD_BANDS.items()})
     out["state_probability"] = np.array([np.mean(values.states == code, axis=0) for code in STATE_CODES.values()])
     out["asperity_over_range"] = float(np.mean(np.all(values.states == STATE_CODES["asperity"], axis=1)))
+    # who tells the texture from the flat reference by friction (docs/perception.md, Eqs. P.1-P.3)
+    from ..perception.compare import member_weber
+    from ..perception.discrimination import p_correct, summarise
+
+    weber = member_weber(pred.study, population["members"])  # a member's own W where the population draws it
+    out["tell_flat"] = summarise(p_correct(values.mu, values.mu_ref, weber[:, None]))["fraction"]
     out["solves_population"] = after - before
     return out
 

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..errors import FingerpadError, SetupError
 from .axes import Axis
+from .perception_targets import PerceptionTarget, member_verdicts
 
 __all__ = ["QUANTITIES", "XATOL", "Candidate", "DesignProblem", "Target", "candidate_study", "critical_penalty",
            "parse_target", "rank_sweep", "search", "texture_limits"]
@@ -51,16 +52,22 @@ class Target:
         return f"{self.quantity}={self.value:g}@{self.load:g}N"
 
 
-def parse_target(text: str) -> Target:
-    """``QUANTITY=VALUE@LOAD`` (e.g. ``mu_rel=0.5@1N``) -> :class:`Target`."""
+def parse_target(text: str) -> Any:
+    """``QUANTITY=VALUE@LOAD`` (e.g. ``mu_rel=0.5@1N``) -> :class:`Target`; a perception target
+    ``feels-like=REF@LOAD`` or ``feels-different-from=REF@LOAD`` (REF a study file or ``flat``) ->
+    :class:`~fingerpad.design.perception_targets.PerceptionTarget`."""
     from ..units import parse_positive, parse_quantity
+    from .perception_targets import KINDS, parse_perception_target
 
-    m = re.fullmatch(r"\s*([A-Za-z_]+)\s*=\s*([^@]+)@\s*(\S+)\s*", str(text))
+    m = re.fullmatch(r"\s*([A-Za-z_-]+)\s*=\s*(.+)@\s*(\S+)\s*", str(text))
     if not m:
         raise FingerpadError(f"--target {text!r}: expected QUANTITY=VALUE@LOAD, e.g. mu_rel=0.5@1N")
     name, value, load = m.groups()
+    if name in KINDS:
+        return parse_perception_target(name, value, load, str(text))
     if name not in QUANTITIES:
-        raise FingerpadError(f"--target {text!r}: no quantity {name!r} (quantities: {', '.join(QUANTITIES)})")
+        raise FingerpadError(f"--target {text!r}: no quantity {name!r} (quantities: {', '.join(QUANTITIES)}; "
+                             f"perception: {', '.join(KINDS)})")
     v = parse_quantity(value, "none", name="--target")
     if not v > 0:
         raise FingerpadError(f"--target {text!r}: the value must be positive")
@@ -85,15 +92,22 @@ class DesignProblem:
         Manufacturing limits (m; height / lateral feature), or ``None``.
     tolerance
         Relative deviation within which a target counts as met.
+    reference_mu
+        Per perception target (``str(target)``), the reference surface's friction per member at its load
+        (``None`` for the flat reference; :mod:`fingerpad.design.perception_targets`).
+    weber
+        The members' Weber fractions (one per member; the study's finger alone: one).
     """
 
     base: dict[str, dict[str, Any]]
     axes: list[Axis]
-    targets: list[Target]
+    targets: list[Any]  # Target or PerceptionTarget
     min_critical_load: float | None = None
     min_feature: float | None = None
     max_aspect: float | None = None
     tolerance: float = 0.05
+    reference_mu: dict[str, Any] = field(default_factory=dict)
+    weber: Any = None
 
     def __post_init__(self) -> None:
         # each range decided here, once, for the command line and the Python API alike
@@ -236,6 +250,13 @@ def predict_candidate(problem: DesignProblem, params: Mapping[str, float], loads
     errors = []
     for t in problem.targets:
         i = int(np.argmin(np.abs(f - t.load)))
+        if isinstance(t, PerceptionTarget):  # the study's finger tells it from REF, or not
+            verdict = member_verdicts(t, np.asarray(cur.mu)[i:i + 1], np.asarray(cur.mu_ref)[i:i + 1],
+                                      problem.reference_mu.get(str(t)), np.asarray(problem.weber, float)[:1],
+                                      problem.tolerance)
+            cand.values[str(t)] = float(verdict["p_correct"][0])
+            errors.append(float(verdict["score"][0]))
+            continue
         got = float(np.asarray(series[t.quantity])[i])
         cand.values[str(t)] = got
         errors.append((got / t.value - 1.0) ** 2)

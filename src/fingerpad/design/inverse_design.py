@@ -22,6 +22,7 @@ from ..errors import FingerpadError
 from ..population.distributions import Population
 from .axes import Axis
 from .inverse import XATOL, Candidate, DesignProblem, Target, parse_target, predict_candidate, rank_sweep, search
+from .perception_targets import PerceptionTarget, is_perception
 from .robust import PopulationGoal, population_candidate, population_goal, screen_candidate
 
 __all__ = ["DesignResult", "design_textures", "free_axes", "merge_close"]
@@ -88,7 +89,8 @@ class DesignResult:
             return None
         if self.goal is not None:
             return None if self.met else _population_shortfall(self.problem, self.goal, self.candidates)
-        what = ", ".join(f"{k} = {v:.3g}" for k, v in best.values.items()) if best else "nothing valid"
+        what = ", ".join(f"{k} = {'P ' if k in self.problem.reference_mu else ''}{v:.3g}"
+                         for k, v in best.values.items()) if best else "nothing valid"
         if best is not None and best.violations:
             what += f" ({'; '.join(best.violations)})"
         return (f"no texture in the box meets the target within {100 * self.problem.tolerance:g} %; "
@@ -197,6 +199,7 @@ def design_textures(
     population: str | Mapping[str, Any] | Population | None = None,
     coverage: str | float | None = None,
     quantile: str | float | None = None,
+    weber: str | float | None = None,
 ) -> DesignResult:
     """Find textures of the study's family, within bounds, that give a wanted friction.
 
@@ -237,6 +240,9 @@ def design_textures(
     quantile
         With ``population``: the quantile, in [0, 1], of the members' values that must meet the
         targets (0.5: the median finger); excludes ``coverage``.
+    weber
+        The Weber fraction W of every finger for perception targets (``feels-like=REF@LOAD``,
+        ``feels-different-from=REF@LOAD``; default 0.11, :mod:`fingerpad.perception`).
 
     Returns
     -------
@@ -267,8 +273,13 @@ def design_textures(
         data = read_study_file(study, extra_sections=("sweep", "population"))
         data.pop("sweep", None)
     table = data.pop("population", None)
-    base = study_from_dict(data)  # the base must be a valid study
+    if weber is not None:  # the person's W, for every candidate's study: a value the user fixed
+        from ..perception.compare import parse_weber
+
+        data["perception"] = {**data.get("perception", {}), "weber_fraction": parse_weber(weber)}
+    base = study_from_dict(data, {("perception", "weber_fraction"): "--weber-fraction"} if weber is not None else None)
     axes = free_axes(vary, data.get("texture", {}).get("name"))
+    members = None
     if population is not None or (table is not None and (coverage is not None or quantile is not None)):
         # the population, else the study file's own [population] table (as predict uses it),
         # checked against the study and the free parameters by the one set of rules
@@ -277,10 +288,14 @@ def design_textures(
         plan = attach(base, population, table=table if population is None else None,
                       fixed={a.key: f"--vary {a.name}" for a in axes if a.section == "finger"})
         population = None if plan is None else plan.population
+        members = None if plan is None else plan.members
     goal = population_goal(population, coverage, quantile)
-    parsed = [t if isinstance(t, Target) else parse_target(t) for t in targets]
+    parsed = [t if isinstance(t, (Target, PerceptionTarget)) else parse_target(t) for t in targets]
     if not parsed:
         raise FingerpadError("give at least one --target QUANTITY=VALUE@LOAD")
+    from .perception_targets import check_goal, reference_friction
+
+    check_goal(parsed, goal, from_sweep)
     n_cand = parse_int(candidates, "--candidates", 1, MAX_EVALUATIONS)
     n_eval = parse_int(evaluations, "--evaluations", 1, MAX_EVALUATIONS)
     problem = DesignProblem(
@@ -290,6 +305,17 @@ def design_textures(
         max_aspect=_number(max_aspect, "none", "--max-aspect"),
         tolerance=parse_quantity(tolerance, "none", name="--tolerance"),
     )
+    if weber is not None and not any(is_perception(t) for t in parsed):
+        raise FingerpadError("--weber-fraction needs a perception target (feels-like=REF@LOAD or "
+                             "feels-different-from=REF@LOAD)")
+    if any(is_perception(t) for t in parsed):
+        from ..perception.compare import member_weber
+
+        # every finger's W: a member's own where the population draws it, else the study's person's
+        problem.weber = member_weber(base, None if goal is None else members)
+        # REF predicted once, directly, on the same fingers; every candidate is compared with it
+        problem.reference_mu = reference_friction(parsed, data, None if goal is None else goal.population,
+                                                problem.weber)
     curve_loads = parse_range(DEFAULT_SWEEP_LOADS, "force", log=True)
     screen = None if goal is None else screen_candidate(problem, goal)
     if from_sweep is not None:

@@ -38,6 +38,7 @@ from ..population.distributions import Population
 from ..population.members import member_finger
 from ..population.run import DEFAULT_QUANTILES, run_population
 from ..population.sources import load_population
+from .perception_targets import is_perception, member_verdicts
 from .inverse import (
     Candidate,
     DesignProblem,
@@ -195,15 +196,40 @@ def _quantile(values: np.ndarray, q: float) -> float:
     return math.inf if out >= np.finfo(float).max / 2 else out
 
 
+def _target_values(problem: DesignProblem, row: Any) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+    """The members' values at each target (``row(name, load)``: a per-load member quantity at the
+    load, ``name`` one of mu, mu_ref, mu_rel, area_ratio) and, per perception target, its member
+    verdicts (:func:`~fingerpad.design.perception_targets.member_verdicts`; the value is then P)."""
+    values: dict[str, np.ndarray] = {}
+    verdicts: dict[str, Any] = {}
+    for t in problem.targets:
+        if is_perception(t):
+            v = member_verdicts(t, row("mu", t.load), row("mu_ref", t.load), problem.reference_mu.get(str(t)),
+                                problem.weber, problem.tolerance)
+            verdicts[str(t)] = v
+            values[str(t)] = v["p_correct"]
+        else:
+            values[str(t)] = row(t.quantity, t.load)
+    return values, verdicts
+
+
 def _score(problem: DesignProblem, goal: PopulationGoal, cand: Candidate, values: Mapping[str, np.ndarray],
-          critical: np.ndarray, penalty: float) -> None:
+          critical: np.ndarray, penalty: float, verdicts: Mapping[str, Any] | None = None) -> None:
     """Score ``cand`` from its members' values at the targets (``values[str(target)]``, one per
-    member) and critical loads (N), plus the texture's own ``penalty``; see the module docstring.
-    Sets ``objective``, ``meets``, ``values``, ``critical_load``, ``violations`` and the
-    ``population`` summary (coverage, quantiles)."""
+    member; P for a perception target, whose ``verdicts`` give each member's score and whether it
+    meets it) and critical loads (N), plus the texture's own ``penalty``; see the module
+    docstring. Sets ``objective``, ``meets``, ``values``, ``critical_load``, ``violations`` and the
+    ``population`` summary (coverage, quantiles; per perception target the fraction telling the
+    textures apart and the median P)."""
+    from ..perception.discrimination import summarise
+
     targets = problem.targets
-    dev = np.array([np.asarray(values[str(t)], float) / t.value - 1.0 for t in targets])  # (targets, members)
-    member_ok = np.all(np.abs(dev) <= problem.tolerance, axis=0)
+    verdicts = verdicts or {}
+    # (targets, members): a friction target's squared relative deviation, a perception target's score
+    dev = {str(t): np.asarray(values[str(t)], float) / t.value - 1.0 for t in targets if str(t) not in verdicts}
+    scores = np.array([verdicts[str(t)]["score"] if str(t) in verdicts else dev[str(t)] ** 2 for t in targets])
+    member_ok = np.all([verdicts[str(t)]["ok"] if str(t) in verdicts else np.abs(dev[str(t)]) <= problem.tolerance
+                        for t in targets], axis=0)
     limit = problem.min_critical_load
     if limit is not None:
         member_ok &= critical >= limit
@@ -213,17 +239,24 @@ def _score(problem: DesignProblem, goal: PopulationGoal, cand: Candidate, values
         "quantiles": {str(t): {f"{q:g}": _quantile(values[str(t)], q) for q in goal.levels} for t in targets},
         "critical_load": {f"{q:g}": _quantile(critical, q) for q in goal.levels},
     }
+    if verdicts:
+        summary["perception"] = {}
+        for key, v in verdicts.items():
+            s = summarise(np.asarray(v["p_correct"], float)[:, None])
+            summary["perception"][key] = {"fraction_telling_apart": float(s["fraction"][0]),
+                                          "p_correct_median": float(s["p_correct_median"][0])}
     if goal.coverage is not None:
         # the critical load that the covered fraction of the members reaches or exceeds
         cand.critical_load = _quantile(critical, 1.0 - goal.coverage)
         # the JSON beside it names that level too, so the number can be checked from the file
         summary["critical_load"][f"{1.0 - goal.coverage:g}"] = cand.critical_load
         member_pen = np.array([critical_penalty(float(c), limit)[0] for c in critical])
-        member_score = np.max(dev**2, axis=0) + member_pen
+        member_score = np.max(scores, axis=0) + member_pen
         kth = float(np.sort(member_score)[goal.needed - 1])
         cand.objective = kth + penalty
         for t in targets:
-            cand.values[str(t)] = summary["quantiles"][str(t)]["0.5"]
+            cand.values[str(t)] = summary["perception"][str(t)]["fraction_telling_apart"] if str(t) in verdicts \
+                else summary["quantiles"][str(t)]["0.5"]
         if coverage < goal.coverage - 1e-12:
             cand.violations.append(f"coverage {100 * coverage:.3g} % below {100 * goal.coverage:g} %")
         cand.meets = not cand.violations
@@ -276,8 +309,9 @@ class _Screen:
             cand.reason = str(exc)
             return cand
         index = {float(f): i for i, f in enumerate(np.asarray(study.loads, float))}
-        values = {str(t): got[t.quantity][:, index[float(t.load)]] for t in problem.targets}
-        _score(problem, self.goal, cand, values, got["critical_load"], texture_limits(problem, cand, pred.texture))
+        values, verdicts = _target_values(problem, lambda name, load: got[name][:, index[float(load)]])
+        _score(problem, self.goal, cand, values, got["critical_load"], texture_limits(problem, cand, pred.texture),
+               verdicts)
         return cand
 
 
@@ -329,11 +363,10 @@ def population_candidate(problem: DesignProblem, goal: PopulationGoal, params: M
 
     cand.references = prediction_references(res.nominal, res)
     f = np.asarray(study.loads, float)
-    values = {}
-    for t in problem.targets:
-        i = int(np.argmin(np.abs(f - t.load)))
-        values[str(t)] = res.values(_CURVE_NAME[t.quantity])[:, i]
-    _score(problem, goal, cand, values, res.critical_load, texture_limits(problem, cand, res.nominal.texture))
+    values, verdicts = _target_values(problem, lambda name, load: res.values(_CURVE_NAME[name])[
+        :, int(np.argmin(np.abs(f - load)))])
+    _score(problem, goal, cand, values, res.critical_load, texture_limits(problem, cand, res.nominal.texture),
+           verdicts)
     if curve_loads is not None:
         keep = np.isin(f, np.asarray(curve_loads, float))
         cur = res.nominal.primary

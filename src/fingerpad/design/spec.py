@@ -133,6 +133,10 @@ class SweepSpec:
             from ..population import correlations
 
             sources.append(correlations)
+        if self.population is not None:  # tell_flat: who tells each texture from the flat
+            from ..perception import discrimination
+
+            sources.append(discrimination)
         return keys_of(*sources)
 
     def study_data(self, assignment: Mapping[str, Any]) -> dict[str, dict[str, Any]]:

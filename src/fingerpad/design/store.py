@@ -32,7 +32,9 @@ from ..extras import require
 from ..references import netcdf_attribute
 from .evaluate import STATE_CODES
 from .spec import SweepSpec
+from ..perception.discrimination import WEBER_FRACTION
 from .store_population import (
+    POP_FRACTION_VARS,
     POP_LOAD_VARS,
     POP_QUANTILE_VARS,
     POPULATION_LAYOUT,
@@ -150,6 +152,9 @@ class SweepStore:
             attrs.update({"fingerpad_sweep_population": POPULATION_LAYOUT,
                           "population": json.dumps(spec.population_description()),
                           "population_name": spec.population.name, "population_size": spec.population.size,
+                          # the W of tell_flat: the study's person's, NaN where the members draw their own
+                          "weber_fraction": math.nan if "weber_fraction" in spec.population.distributions else
+                          float(WEBER_FRACTION.parse(spec.base.get("perception", {}).get("weber_fraction", WEBER_FRACTION.default))),
                           # how the sweep named it: the flags a resume or a repair must repeat
                           "population_source": spec.population_source or ""})
         return xr.Dataset(data, coords=coords, attrs=attrs)
@@ -170,6 +175,7 @@ class SweepStore:
             for name in POP_QUANTILE_VARS:
                 enc[name] = {"chunks": (*lead, nq)}
             enc["state_probability"] = {"chunks": (*lead, len(STATE_CODES), spec.loads.size)}
+            enc.update({name: {"chunks": (*lead, spec.loads.size)} for name in POP_FRACTION_VARS})
             enc["asperity_over_range"] = {"chunks": lead}
         return enc
 
@@ -277,6 +283,7 @@ class SweepStore:
             block.update({n: np.full((*shape, nq, nl), np.nan) for n in POP_LOAD_VARS})
             block.update({n: np.full((*shape, nq), np.nan) for n in POP_QUANTILE_VARS})
             block["state_probability"] = np.full((*shape, len(STATE_CODES), nl), np.nan)
+            block.update({n: np.full((*shape, nl), np.nan) for n in POP_FRACTION_VARS})
             block["asperity_over_range"] = np.full(shape, np.nan)
         done = np.zeros(shape, bool)
         for index, res in results:
@@ -289,7 +296,8 @@ class SweepStore:
             block["converged"][local] = res["converged"]
             block["reason"][local] = str(res["reason"])[:200]
             if pop:
-                for name in (*POP_LOAD_VARS, *POP_QUANTILE_VARS, "state_probability", "asperity_over_range"):
+                for name in (*POP_LOAD_VARS, *POP_QUANTILE_VARS, *POP_FRACTION_VARS, "state_probability",
+                             "asperity_over_range"):
                     block[name][local] = res[name]
             done[local] = True
         for name, values in block.items():
@@ -303,7 +311,7 @@ class SweepStore:
 
 #: The variables a sweep computes (the others are its inputs: axis values, loads, pressures).
 _RESULT_VARS = {*_FLOAT_VARS, *_LOAD_VARS, "contact_state", "psi", "valid", "converged", "reason", "done",
-                *POP_LOAD_VARS, *POP_QUANTILE_VARS, "state_probability", "asperity_over_range"}
+                *POP_LOAD_VARS, *POP_QUANTILE_VARS, *POP_FRACTION_VARS, "state_probability", "asperity_over_range"}
 
 
 @dataclass

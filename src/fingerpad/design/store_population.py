@@ -14,7 +14,7 @@ from ..errors import FingerpadError
 from .evaluate import POPULATION_BANDS, POPULATION_LOAD_BANDS, STATE_CODES
 from .spec import SweepSpec
 
-__all__ = ["POPULATION_LAYOUT", "POP_LOAD_VARS", "POP_QUANTILE_VARS", "check_store_population",
+__all__ = ["POPULATION_LAYOUT", "POP_FRACTION_VARS", "POP_LOAD_VARS", "POP_QUANTILE_VARS", "check_store_population",
            "population_flags", "population_template", "shell_path", "stored_population_text"]
 
 #: Population variables (a sweep with ``--population``): name -> (units, long name).
@@ -29,6 +29,14 @@ POP_QUANTILE_VARS = {
                                 "none left out)"),
     "band_full_contact_load": ("N", "quantiles over the population of the full-contact load (members that "
                                     "reach none left out)"),
+}
+#: Per-load fractions of the members (a sweep with ``--population``): name -> (units, long name).
+#: ``tell_flat``: the members telling the texture from the flat reference by friction (P >= 0.75
+#: in a forced choice, docs/perception.md; each member's Weber fraction, the attribute
+#: ``weber_fraction`` when it is one for all).
+POP_FRACTION_VARS = {
+    "tell_flat": ("1", "fraction of the population's members telling the texture from the flat reference by "
+                       "friction (P >= 0.75)"),
 }
 assert set(POP_LOAD_VARS) == set(POPULATION_BANDS) and set(POP_QUANTILE_VARS) == set(POPULATION_LOAD_BANDS)
 #: Version of the population variables' layout (attribute ``fingerpad_sweep_population``). The
@@ -58,6 +66,8 @@ def population_template(spec: SweepSpec, coords: dict[str, Any], data: dict[str,
     data["state_probability"] = xr.Variable(
         (*dims, "state", "load"), np.full((*shape, len(STATE_CODES), nl), np.nan),
         {"units": "1", "long_name": "fraction of the population's members whose pad centre is in each state"})
+    for name, (unit, long) in POP_FRACTION_VARS.items():
+        data[name] = xr.Variable((*dims, "load"), np.full((*shape, nl), np.nan), {"units": unit, "long_name": long})
     data["asperity_over_range"] = xr.Variable(
         dims, np.full(shape, np.nan),
         {"units": "1", "long_name": "fraction of the population's members in asperity contact at the pad "

@@ -134,6 +134,9 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
     out["critical_load"] = crit
     out["mu_rel"] = sub["mu_rel"].sel(load=at_sel)
     out["region"] = _region(crit, np.asarray(ds["load"].values, float))
+    tell = tell_flat(sub, at_sel)
+    if tell is not None:  # none for a texture that is not possible
+        out["tell_flat"] = tell.where(sub["valid"])
     if "reason" in sub:
         out["reason"] = sub["reason"]
     if "done" in sub:
@@ -146,6 +149,23 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
     out.attrs.update({"x_log": axis_info(ds, x)["log"], "y_log": axis_info(ds, y)["log"], "at": at_sel,
                       "x": x, "y": y, "fixed": {k: _plain(v) for k, v in (select or {}).items()}})
     return out.load()
+
+
+def tell_flat(sub: Any, at: float) -> Any:
+    """Who tells each design from the flat reference by friction at the load ``at`` (N), as
+    ``fingerpad design-map --tell-apart flat`` reads it: a population store's stored fraction of its
+    members (each with its own W where the population draws it), else the probability that the
+    study's finger does (Eqs. P.1-P.3 on the stored mu and mu_ref, the study's W); ``None`` for a
+    store without them."""
+    if "tell_flat" in sub:
+        return sub["tell_flat"].sel(load=at)
+    if "mu" not in sub or "mu_ref" not in sub:
+        return None
+    from ..design.designmap import study_weber
+    from ..perception.discrimination import p_correct
+
+    mu, ref = sub["mu"].sel(load=at), sub["mu_ref"].sel(load=at)
+    return mu.copy(data=p_correct(mu.values, ref.values, study_weber(sub)))
 
 
 def _plain(v: Any) -> Any:

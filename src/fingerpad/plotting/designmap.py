@@ -115,6 +115,8 @@ def figure_design_map(data: Any) -> Any:
                 axis.set_minor_locator(NullLocator())
             else:
                 axis.set_major_formatter(ScalarFormatter())
+        if "tell_apart" in panel:
+            _tell_apart(ax, xv, yv, panel, x, y, design, population)
         limits = ax.get_xlim(), ax.get_ylim()
         _markers(ax, x, y, xs_kind, ys_kind, markers, limits)
         ax.set_xlim(*limits[0])
@@ -138,10 +140,12 @@ def figure_design_map(data: Any) -> Any:
         _population_legend(fig, axes[:n], data)
         return fig
     legend = "; ".join(f"{'hatched' if k == 0 else 'dotted' if k == 2 else 'plain'}: {v}" for k, v in regions.items())
+    tell = (f"; red: the study's finger tells it from {data.attrs['tell_apart']} at {data.attrs['at']:g} N "
+            "(P = 0.75)") if data.attrs.get("tell_apart") else ""
     fig.suptitle(f"Design map: critical load (white contours), {data.attrs.get('quantity_label', 'μ/μ_ref')} at "
                  f"{data.attrs['at']:g} N (colour), "
                  f"exploration loads {data.attrs['load_min']:g}-{data.attrs['load_max']:g} N\n{legend}; "
-                 f"grey: texture not possible", fontsize="small", wrap=True)
+                 f"grey: texture not possible{tell}", fontsize="small", wrap=True)
     return fig
 
 
@@ -186,6 +190,36 @@ def _levels(crits: list[np.ndarray]) -> list[float]:
     if good.size == 0:
         return []
     return [c for c in CRITICAL_CONTOURS if good.min() < c < good.max()]
+
+
+#: Who tells a texture from the reference: the contours drawn (fraction of a population, or the
+#: study's finger's forced-choice threshold P = 0.75), in red.
+TELL_LEVELS = {"population": (0.1, 0.5, 0.9), "finger": (0.75,)}
+
+
+def _tell_apart(ax: Any, xv: np.ndarray, yv: np.ndarray, panel: Any, x: str, y: str, design: str,
+                population: bool) -> None:
+    """Red contours of who tells each texture from the reference (docs/perception.md): the
+    fraction of a population's fingers (10/50/90 %), or the study's finger's P = 0.75."""
+    levels = TELL_LEVELS["population" if population else "finger"]
+    fmt = {v: (f"{100 * v:g} % tell apart" if population else "tells apart (P 0.75)") for v in levels}
+    if design == "grid":
+        values = panel["tell_apart"].transpose(y, x).values
+        good = np.isfinite(values)
+        if good.sum() >= 4 and len(xv) > 1 and len(yv) > 1:
+            inside = [v for v in levels if np.nanmin(values) < v < np.nanmax(values)]
+            if inside:
+                cs = ax.contour(xv, yv, np.where(good, values, np.nan), levels=inside, colors="red",
+                                linewidths=1.3, linestyles="dashdot")
+                ax.clabel(cs, fmt={v: fmt[v] for v in inside}, fontsize="x-small")
+    else:
+        values = panel["tell_apart"].values
+        good = np.isfinite(values)
+        inside = [v for v in levels if good.any() and np.nanmin(values) < v < np.nanmax(values)]
+        if good.sum() >= 6 and inside:
+            cs = ax.tricontour(xv[good], yv[good], values[good], levels=inside, colors="red", linewidths=1.2,
+                               linestyles="dashdot")
+            ax.clabel(cs, fmt={v: fmt[v] for v in inside}, fontsize="x-small")
 
 
 def _population_grid(ax: Any, xv: np.ndarray, yv: np.ndarray, panel: Any, x: str, y: str) -> None:
@@ -261,6 +295,9 @@ def _population_legend(fig: Any, axes: Any, data: Any) -> None:
     colour = "white" if data.attrs["design"] == "grid" else "k"
     handles = [Line2D([], [], color=colour, linestyle=style, label=f"critical load (N), {q} % finger")
                for q, style in zip((10, 50, 90), POPULATION_STYLES.values(), strict=True)]
+    if data.attrs.get("tell_apart"):
+        handles.append(Line2D([], [], color="red", linestyle="dashdot",
+                              label=f"fingers telling it from {data.attrs['tell_apart']} at {data.attrs['at']:g} N"))
     region = f"asperity contact over {lo:g}-{hi:g} N for >= {share:g} % of fingers"
     robust = np.asarray(data["robust_asperity"].values)
     if not np.any(robust == 1):  # said, not drawn: the legend lists only what the map shows

@@ -38,6 +38,7 @@ import numpy as np
 from ..errors import FingerpadError
 from ..finger import FINGER_PARAMS, RIDGE_FRACTION
 from ..params import Param, _is_bare_number
+from ..person import PERSON_PARAMS
 from ..plausibility import check_plausible_range
 from .correlations import Correlation, correlate, parse_correlations
 
@@ -66,10 +67,15 @@ DISTRIBUTIONS: dict[str, tuple[str, ...]] = {
 }
 #: The parameters a population may vary, each declared once (:class:`~fingerpad.params.Param`): the
 #: finger's numeric fields and the ridge fraction (all of them ``--finger-param`` names; not a
-#: choice such as the skin's structure: a population's members share it). A parameter of a
-#: person that is not the finger's is added here; a member carries it and
-#: :func:`~.members.member_finger` leaves it to whoever reads it.
-POPULATION_PARAMS: dict[str, Param] = {p.name: p for p in (*FINGER_PARAMS, RIDGE_FRACTION) if p.kind != "choice"}
+#: choice such as the skin's structure: a population's members share it), and a person's
+#: parameters that are not the finger's (:data:`fingerpad.person.PERSON_PARAMS`: the Weber
+#: fraction W); a member carries those and :func:`~.members.member_finger` leaves them to whoever
+#: reads them (:mod:`fingerpad.perception`).
+POPULATION_PARAMS: dict[str, Param] = {p.name: p for p in (*FINGER_PARAMS, RIDGE_FRACTION, *PERSON_PARAMS)
+                                       if p.kind != "choice"}
+#: The person's parameters of :data:`POPULATION_PARAMS`: drawn from a quasi-random sequence of
+#: their own (:meth:`Population.sample`), so that drawing them changes no finger.
+PERSON_NAMES: frozenset[str] = frozenset(p.name for p in PERSON_PARAMS)
 
 
 @dataclass(frozen=True)
@@ -156,15 +162,25 @@ class Population:
         names = list(self.distributions)
         if not names:
             return [{} for _ in range(self.size)]
-        if self.method == "sobol":
-            engine: Any = qmc.Sobol(len(names), scramble=True, seed=self.seed)
-        else:
-            engine = qmc.LatinHypercube(len(names), scramble=True, seed=self.seed)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # Sobol's note on sizes that are not powers of two
-            u = engine.random(self.size)
-        u = correlate(u, self.correlations, names)
-        columns = {n: self.distributions[n].ppf(u[:, j]) for j, n in enumerate(names)}
+        # The finger's parameters, then the person's from a sequence of their own (its seed
+        # spawned from the population's): a population that also draws W has the very fingers of
+        # the one that does not, so a perception verdict changes with W alone.
+        finger = [n for n in names if n not in PERSON_NAMES]
+        person = [n for n in names if n in PERSON_NAMES]
+        columns: dict[str, np.ndarray] = {}
+        person_seed = np.random.default_rng(np.random.SeedSequence(self.seed).spawn(1)[0])
+        for group, seed in ((finger, self.seed), (person, person_seed)):
+            if not group:
+                continue
+            if self.method == "sobol":
+                engine: Any = qmc.Sobol(len(group), scramble=True, seed=seed)
+            else:
+                engine = qmc.LatinHypercube(len(group), scramble=True, seed=seed)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # Sobol's note on sizes that are not powers of two
+                u = engine.random(self.size)
+            u = correlate(u, [c for c in self.correlations if c[0] in group], group)
+            columns.update({n: self.distributions[n].ppf(u[:, j]) for j, n in enumerate(group)})
         members = []
         for i in range(self.size):
             row = {}
@@ -301,6 +317,11 @@ def population_from_table(table: Mapping[str, Any], where: str = "[population]",
                     par.check(args[k], f"{w} {k}")
         dists[key] = Distribution(par, kind, args)
     pairs = parse_correlations(correlations, list(dists), where)
+    for a, b, _ in pairs:
+        if (a in PERSON_NAMES) != (b in PERSON_NAMES):
+            raise FingerpadError(f"{where} correlations: {a!r} with {b!r}: a person's {a if a in PERSON_NAMES else b} "
+                                 "is drawn apart from the finger's parameters (so that drawing it changes no "
+                                 "finger); it may be correlated with another of the person's parameters only")
     return Population(dists, size=size, seed=seed, method=method, name=name, correlations=pairs)
 
 

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -99,11 +99,13 @@ def _csv_text(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
 
 def write_population_outputs(result: PopulationResult, out_dir: str | os.PathLike[str] | None, *,
                              json_path: str | None = None, csv_path: str | None = None,
-                             extra: dict[str, Any] | None = None, dpi: int = 110) -> list[Path]:
+                             extra: dict[str, Any] | None = None, dpi: int = 110,
+                             sections: Mapping[str, Any] | None = None) -> list[Path]:
     """Write the outputs of a population prediction, all of them or none (see the module docstring;
     :func:`fingerpad.study.outputs.write_outputs` writes them, ``result.nominal``'s files with the
     population's added). ``json_path``/``csv_path``: as there; ``extra``: more files for the
-    folder. Returns the files written."""
+    folder; ``sections``: more top-level entries of the JSON (e.g. ``predict --perception``'s).
+    Returns the files written."""
     from ..encode import to_jsonable
 
     files: dict[str, Any] = dict(extra or {})
@@ -119,5 +121,5 @@ def write_population_outputs(result: PopulationResult, out_dir: str | os.PathLik
         for name, table in zip(POPULATION_CSV, (band_table, member_table), strict=True):
             files[name] = _csv_text(*table(result))
     return write_outputs(result.nominal, out_dir, json_path=json_path, csv_path=csv_path, extra=files, dpi=dpi,
-                         sections={"population": to_jsonable(result.as_dict())}, dataset=result.add_to_dataset,
+                         sections={"population": to_jsonable(result.as_dict()), **(sections or {})}, dataset=result.add_to_dataset,
                          cited=result)

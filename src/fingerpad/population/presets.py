@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from ..person import WEBER_SPREAD
+
 __all__ = ["POPULATION_PRESETS"]
 
 POPULATION_PRESETS: dict[str, dict[str, Any]] = {
@@ -47,6 +49,11 @@ POPULATION_PRESETS: dict[str, dict[str, Any]] = {
         # UPPER BOUND from a whole finger's 15 mN pull-off on smooth epoxy (Spinner et al. 2016,
         # with R_fp 8-10 mm), none measurable on clean glass (Tiwari, Wang, Persson 2020); every member keeps
         # the finger's w (0 by default): a population with adhesion is not supported yet.
+        # ASSUMED shape around published values: the Weber fraction of friction, lognormal with
+        # its median at 0.11 (Gueorguiev et al. 2017) and 0.2 (Fehlberg et al. 2022) at the 95th
+        # percentile; no study reports W person by person (fingerpad.person.WEBER_SPREAD). Drawn
+        # from a sequence of its own: the fingers above are those of the table without it.
+        "weber_fraction": dict(WEBER_SPREAD),
         # no "correlations": docs/model.md (the thesis and its literature) gives no correlation
         # between any two of these parameters, so they are drawn independently.
     },

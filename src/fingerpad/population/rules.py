@@ -50,7 +50,7 @@ from .members import ADHESION_REFUSED, member_finger
 from .sources import load_population
 
 __all__ = ["DEFAULT_QUANTILES", "DIRECTION_REFUSED", "MAX_QUANTILES", "PopulationStudy", "RIDGE_FRACTION_NOTE",
-           "attach", "quantile_levels", "resolve_population", "sensitivity_samples"]
+           "attach", "quantile_levels", "refuse_fixed", "resolve_population", "sensitivity_samples"]
 
 #: Quantiles reported by default.
 DEFAULT_QUANTILES: tuple[float, ...] = (0.05, 0.25, 0.5, 0.75, 0.95)
@@ -173,9 +173,12 @@ def sensitivity_samples(value: bool | int | str | None, population: Population |
     return samples
 
 
-def _refuse_fixed(population: Population, study: Study, fixed: Mapping[str, str]) -> list[str]:
-    """Rule 2; returns the notes of its exception."""
+def refuse_fixed(population: Population, study: Study, fixed: Mapping[str, str] | None = None) -> list[str]:
+    """Rule 2 (a value the user fixed is never drawn over), also for a value fixed after the
+    population was attached (a Weber fraction typed beside a population's result); returns the
+    notes of its exception."""
     notes = []
+    fixed = fixed or {}
     declaring = study.finger.skin == "layered"
     given = {**study.fixed, **fixed}
     for name, label in given.items():
@@ -272,7 +275,7 @@ def attach(study: Study, population: Population | Mapping[str, Any] | str | Path
         raise FingerpadError(f"--direction ([model] direction) with --population: {DIRECTION_REFUSED}")
     if study.finger.adhesive or "work_of_adhesion" in pop.distributions:
         raise FingerpadError(ADHESION_REFUSED)
-    notes = _refuse_fixed(pop, study, fixed or {})
+    notes = refuse_fixed(pop, study, fixed)
     members = pop.sample()
     fingers = tuple(member_finger(study.finger, m) for m in members)  # bounds checked before any solve
     members_plausible(pop, members)

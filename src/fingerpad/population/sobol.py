@@ -40,7 +40,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..errors import FingerpadError
-from .distributions import MAX_MEMBERS, Population
+from .distributions import MAX_MEMBERS, PERSON_NAMES, Population
 from .members import member_finger, predict_fingers
 from ..study.run import Prediction
 
@@ -229,9 +229,11 @@ def check_design(population: Population, samples: int) -> list[str]:
     if getattr(population, "measured", ()):
         raise FingerpadError("--sensitivity: a population of measured members (an analyse folder) has no "
                              "distributions to vary; give a [population] table of distributions")
-    names = [k for k, d in population.distributions.items() if d.spread]
+    # a person's parameter (the Weber fraction) changes no finger's curve: not a parameter of the
+    # design (its indices would be 0 exactly), it costs no design fingers and is not listed
+    names = [k for k, d in population.distributions.items() if d.spread and k not in PERSON_NAMES]
     if not names:
-        raise FingerpadError("--sensitivity: no parameter of the population has a spread")
+        raise FingerpadError("--sensitivity: no parameter of the population's fingers has a spread")
     fingers = samples * (len(names) + 2)
     if fingers > MAX_MEMBERS:
         raise FingerpadError(f"--sensitivity-samples {samples}: N (d + 2) = {fingers} fingers for the {len(names)} "
@@ -301,6 +303,7 @@ def population_sensitivity(
     fingers = [member_finger(nominal.study.finger, m) for m in members]
     outputs = (evaluate or _evaluate)(nominal, fingers)
     n, d = samples, len(names)
+    unvaried = [p for p in population.distributions if p not in names and p not in PERSON_NAMES]
     notes: list[str] = []
     if getattr(population, "correlations", ()):
         notes.append("the population's correlations are not used here: Sobol indices are defined for "
@@ -321,13 +324,12 @@ def population_sensitivity(
                              for i, p in enumerate(names)}
         # a listed parameter without spread explains no variance: its indices are 0 by definition
         zero = np.zeros(np.shape(y)[1:]) if y.ndim > 1 else 0.0
-        for p in population.distributions:
-            if p not in names:
-                indices[quantity][p] = {k: zero for k in ("first", "total", "first_conf", "total_conf")}
+        for p in unvaried:
+            indices[quantity][p] = {k: zero for k in ("first", "total", "first_conf", "total_conf")}
     note = first_above_total_note(indices, confidence)
     if note:
         notes.append(note)
-    return SensitivityResult(names + [p for p in population.distributions if p not in names], np.asarray(nominal.study.loads, float), indices, n, n * (d + 2), seed,
+    return SensitivityResult(names + unvaried, np.asarray(nominal.study.loads, float), indices, n, n * (d + 2), seed,
                              int(bootstrap), float(confidence), notes)
 
 

@@ -49,6 +49,7 @@ FLAGS: dict[str, tuple[str, str]] = {
     "--tol": ("model", "tol"),
     "--max-iter": ("model", "max_iter"),
     "--cache": ("model", "cache"),
+    "--weber-fraction": ("perception", "weber_fraction"),
 }
 
 

@@ -52,6 +52,9 @@ Study files (TOML, read with :func:`load_study_file`)::
     max_iter = 5000
     cache = "~/.cache/fingerpad"   # folder of cached unit-cell curves; false: no cache
 
+    [perception]              # the person, beyond the finger's mechanics (fingerpad.person)
+    weber_fraction = 0.11     # Weber fraction W of friction (docs/perception.md); default 0.11
+
 Unknown sections or keys are a :class:`~fingerpad.errors.FingerpadError` that names them.
 Relative paths (``surface``, ``cache``) are taken relative to the study file.
 
@@ -72,6 +75,7 @@ import numpy as np
 from ..errors import FingerpadError
 from ..finger import FINGER_FIELDS, FINGER_PRESETS, Finger, finger_param, get_finger, model_from_spec
 from ..materials import check_modulus, check_poisson
+from ..person import PERSON_PARAMS, WEBER_FRACTION
 from ..plausibility import check_plausible
 from ..textures import MAX_GRID, Texture
 from .texture import TEXTURE_KEYS, TextureSpec
@@ -119,6 +123,7 @@ SECTION_KEYS: dict[str, tuple[str, ...]] = {
     "finger": ("preset", "gross", "ridges", *FINGER_FIELDS),
     "loads": ("range", "values", "log", "zones_at"),
     "model": ("kind", "grid", "accuracy", "tol", "max_iter", "cache", "direction"),
+    "perception": tuple(p.name for p in PERSON_PARAMS),
 }
 
 
@@ -164,12 +169,17 @@ class Study:
         Load (N) of the zone map; ``None``: the largest load (where most zones are present).
     source
         The study file, if any.
+    weber_fraction
+        The person's Weber fraction W of friction (:data:`fingerpad.person.WEBER_FRACTION`;
+        ``[perception] weber_fraction``, ``--weber-fraction``); ``None``: not given, so the
+        default 0.11 or, with a population that draws it, each member's own. A value given is
+        one the user fixed (:attr:`fixed`).
     fixed
         The finger values the user gave explicitly (a study file's ``[finger]`` key, a flag, a
         field typed in the explorer), by parameter name: how the user named each (``--skin-modulus``,
         ``study.toml [finger] tau0``). A population refuses to draw them
         (:func:`fingerpad.population.rules.attach`); ``ridge_fraction`` stands for a
-        constant-fraction ridge model given.
+        constant-fraction ridge model given; ``weber_fraction`` a person's W given.
     """
 
     texture: TextureSpec | Texture
@@ -186,6 +196,7 @@ class Study:
     cache: str | os.PathLike[str] | None | bool = None
     zones_at: float | None = None
     source: str | None = None
+    weber_fraction: float | None = None
     fixed: dict[str, str] = field(default_factory=dict, repr=False, compare=False)
     _texture: Texture | None = field(default=None, init=False, repr=False, compare=False)
 
@@ -219,6 +230,16 @@ class Study:
             raise FingerpadError(f"zones_at must be a positive load, got {self.zones_at!r}")
         if isinstance(self.texture, Texture):
             self._texture = self.texture
+        if self.weber_fraction is not None:
+            self.weber_fraction = WEBER_FRACTION.check(self.weber_fraction, "weber_fraction")
+            # a W given is fixed, however it came (a file, a flag, Python): no population draws over it
+            self.fixed = {"weber_fraction": "weber_fraction", **self.fixed}
+
+    @property
+    def weber(self) -> float:
+        """The person's Weber fraction W: the one given, else :data:`fingerpad.person.WEBER_FRACTION`'s
+        default."""
+        return WEBER_FRACTION.default if self.weber_fraction is None else float(self.weber_fraction)
 
     @property
     def reduced_modulus(self) -> float:
@@ -482,10 +503,16 @@ def study_from_dict(
     elif cache is not None and not isinstance(cache, (str, os.PathLike)):
         raise FingerpadError(f"{name('model', 'cache')}: expected a folder or false, got {cache!r}")
 
+    weber, fixed = None, _fixed_finger_values(data.get("finger", {}), name)
+    psec = data.get("perception", {})
+    if psec.get("weber_fraction") is not None:
+        weber = WEBER_FRACTION.parse(psec["weber_fraction"], name("perception", "weber_fraction"))
+        fixed["weber_fraction"] = name("perception", "weber_fraction")
+
     return Study(
         texture=texture, material_modulus=em, material_poisson=num, finger=finger, loads=loads,
         model=kind.strip().lower(), grid=grid_v, accuracy=accuracy, direction=direction, tol=tol, max_iter=max_iter, cache=cache,
-        zones_at=zones_v, source=src, fixed=_fixed_finger_values(data.get("finger", {}), name),
+        zones_at=zones_v, source=src, weber_fraction=weber, fixed=fixed,
     )
 
 

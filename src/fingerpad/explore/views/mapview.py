@@ -25,7 +25,8 @@ from .common import download, fmt, guard_choices, html_pane, html_table
 
 __all__ = ["MapView", "map_table"]
 
-_QUANTITIES = {"critical load (N)": "critical_load", "mu / mu_ref at the load": "mu_rel", "region": "region"}
+_QUANTITIES = {"critical load (N)": "critical_load", "mu / mu_ref at the load": "mu_rel", "region": "region",
+               "telling it from flat at the load": "tell_flat"}
 _NAMES = {v: k for k, v in _QUANTITIES.items()}
 _REGION_COLOURS = ("#f7c9c9", "#fde3c8", "#dbe9f6")
 
@@ -50,6 +51,35 @@ def _edges(values: np.ndarray, log: bool) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate([[first], mid]), np.concatenate([mid, [last]])
 
 
+def _markers(p: Any, axes: Any) -> None:
+    """The literature's and perception's markers on length axes whose name matches, as the
+    command's map draws them (:data:`fingerpad.design.designmap.MARKERS`): dashed lines (160 µm
+    felt smooth, the interlocking heights, lambda = v / 250 Hz at 50 mm/s) and the fingerprint
+    ridge band, where they fall inside the map."""
+    from bokeh.models import BoxAnnotation, Label, Span
+
+    from ...design.designmap import MARKERS
+
+    for name, info, factor, values, vertical in axes:
+        if not info["numeric"] or info["units"] != "m" or not len(values):
+            continue
+        lo, hi = float(np.min(values)) * factor, float(np.max(values)) * factor
+        for fragment, value, label in MARKERS["lines"]:
+            v = value * factor
+            if fragment in name and lo <= v <= hi:
+                p.add_layout(Span(location=v, dimension="height" if vertical else "width", line_dash="dashed",
+                                  line_color="#333333", line_width=1, name=f"marker-{label}"))
+                p.add_layout(Label(x=v, y=5, x_units="data", y_units="screen", text=label, angle=math.pi / 2,
+                                   text_font_size="9px", text_color="#333333") if vertical else
+                             Label(x=5, y=v, x_units="screen", y_units="data", text=label, text_font_size="9px",
+                                   text_color="#333333"))
+        for fragment, low, high, label in MARKERS["bands"]:
+            a, b = low * factor, high * factor
+            if fragment in name and a < hi and b > lo:
+                box = dict(left=max(a, lo), right=min(b, hi)) if vertical else dict(bottom=max(a, lo), top=min(b, hi))
+                p.add_layout(BoxAnnotation(**box, fill_color="#888888", fill_alpha=0.15, name=f"marker-{label}"))
+
+
 def map_table(md: Any, x: str, y: str) -> list[dict[str, Any]]:
     """One row per design of a map (what the hover shows, what the downloads carry)."""
     rows = []
@@ -60,11 +90,13 @@ def map_table(md: Any, x: str, y: str) -> list[dict[str, Any]]:
             for i in range(xs.size):
                 rows.append({"i": i, "j": j, x: xs[i].item(), y: ys[j].item(),
                              **{k: _val(md[k].values[j, i]) for k in ("critical_load", "mu_rel", "region", "valid")},
+                             "tell_flat": _val(md["tell_flat"].values[j, i]) if "tell_flat" in md else None,
                              "reason": str(md["reason"].values[j, i]) if "reason" in md else ""})
     else:
         for n in range(md.sizes["point"]):
             rows.append({"i": n, "j": n, x: _val(md[x].values[n]), y: _val(md[y].values[n]),
                          **{k: _val(md[k].values[n]) for k in ("critical_load", "mu_rel", "region", "valid")},
+                         "tell_flat": _val(md["tell_flat"].values[n]) if "tell_flat" in md else None,
                          "reason": str(md["reason"].values[n]) if "reason" in md else ""})
     return rows
 
@@ -88,6 +120,8 @@ def colour_label(quantity: str, at: float) -> str:
     """The colour bar's title: the quantity with its unit (and the load of mu / mu_ref)."""
     if quantity == "mu_rel":
         return f"mu / mu_ref at {at:.4g} N (-)"
+    if quantity == "tell_flat":
+        return f"telling it from flat at {at:.4g} N: fraction of the fingers (a population) or P (the study's finger)"
     if quantity == "region":
         return "region at the load: " + ", ".join(f"{k} {v}" for k, v in sorted(sd.REGIONS.items()))
     return _NAMES[quantity]
@@ -221,6 +255,7 @@ class MapView:
             data["value"].append(math.nan if v is None else float(v))
             data["crit"].append(fmt(row["critical_load"]))
             data["mu"].append(fmt(row["mu_rel"]))
+            data.setdefault("tell", []).append(fmt(row["tell_flat"]) if row.get("tell_flat") is not None else "-")
             data["region"].append(sd.REGIONS.get(int(row["region"]), "-") if row["region"] is not None and
                                   not math.isnan(float(row["region"])) else "-")
             data["valid"].append("yes" if row["valid"] else f"no: {row['reason']}")
@@ -231,7 +266,9 @@ class MapView:
         src = ColumnDataSource(data)
         vals = np.asarray(data["value"], float)
         fin = vals[np.isfinite(vals)]
-        if q == "region":
+        if q == "tell_flat":  # a fraction or a probability: the whole of [0, 1], not the range shown
+            mapper = LinearColorMapper(palette=Viridis256, low=0.0, high=1.0, nan_color="#dddddd")
+        elif q == "region":
             mapper = LinearColorMapper(palette=list(_REGION_COLOURS), low=-0.5, high=2.5, nan_color="#dddddd")
         elif q == "critical_load" and fin.size and fin.min() > 0:
             mapper = LogColorMapper(palette=Viridis256, low=float(fin.min()), high=float(max(fin.max(), fin.min() * 1.01)),
@@ -261,7 +298,8 @@ class MapView:
             p.yaxis.major_label_overrides = {k: str(v) for k, v in enumerate(ys)}
         p.add_tools(HoverTool(renderers=[r], tooltips=[(x, "@xlabel"), (y, "@ylabel"), ("critical load (N)", "@crit"),
                                                         ("mu / mu_ref", "@mu"), ("region", "@region"),
-                                                        ("valid", "@valid")]))
+                                                        ("telling it from flat", "@tell"), ("valid", "@valid")]))
+        _markers(p, ((x, xi, fx, xs, True), (y, yi, fy, ys, False)))
         p.select_one(TapTool).renderers = [r]
         p.add_layout(ColorBar(color_mapper=mapper, title=colour_label(q, md.attrs["at"]), width=12), "right")
         src.selected.on_change("indices", self._tapped)

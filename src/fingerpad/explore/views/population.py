@@ -101,6 +101,8 @@ class PopulationPanel:
         self.result: Any = None
         self._token = CancelToken()
         self._key: tuple[str, str] | None = None  # what the token's work computes
+        #: (the design's data key, the population's name) of :attr:`result`
+        self.result_key: tuple[str, str] | None = None
         self.inputs = pn.Column(self.choice, self.message, self.help, sizing_mode="stretch_width")
         self.panel = pn.Column(
             pn.pane.HTML("<h4 style='margin:6px 0'>Population of fingers</h4>"), self.status, self.summary,
@@ -131,7 +133,8 @@ class PopulationPanel:
         self._token = token = CancelToken()
         if name == NONE:
             self.panel.visible = False
-            self.result = None
+            self.result = self.result_key = None
+            self._changed()
             return
         self.panel.visible = True
         if name not in population_choices(self.extra):  # a forged choice: nothing is read, the choice is reset
@@ -145,7 +148,7 @@ class PopulationPanel:
             return
         hit = self.cache.get_key(key)
         if hit is not None:
-            self._show(hit)
+            self._show(hit, key)
             return
         self._key = key
         self._say(f"population {name}: computing its fingers...", "fp-population-running")
@@ -187,18 +190,18 @@ class PopulationPanel:
                 self._clear()
                 self._say(f"population {name}: {self.view._words(error)}", "fp-population-error", "#b00020")
             elif result is not None:
-                self._show(result)
+                self._show(result, key)
 
         self.view._locked(apply)
 
     def _clear(self) -> None:
-        self.result = None
+        self.result = self.result_key = None
         self.summary.object = ""
         for card in self.cards.values():
             card.set(None)
 
-    def _show(self, result: Any) -> None:
-        self.result = result
+    def _show(self, result: Any, key: tuple[str, str] | None = None) -> None:
+        self.result, self.result_key = result, key
         set_cards((card, spec, None) for card, spec in zip(self.cards.values(), builders.population_specs(result),
                                                            strict=True))
         q = result.quantiles()["critical_load"]
@@ -217,3 +220,10 @@ class PopulationPanel:
         notes = "; ".join(result.notes)
         self._say(f"population {result.population.name}: the study shown, {len(result.members)} fingers"
                   + (f" ({notes})" if notes else ""), "fp-population-done")
+        self._changed()
+
+    def _changed(self) -> None:
+        """The view's perception section follows the population shown (issue 32)."""
+        perception = getattr(self.view, "perception", None)
+        if perception is not None:
+            perception.update()

@@ -37,6 +37,7 @@ from .common import PlotCard, download, html_pane, html_table, num_span, set_car
 from .contactmaps import ContactMaps
 from .sequence import Sequence
 from .fields import MEASURED, Field, Form
+from .perception import PerceptionPanel
 from .population import PopulationPanel
 from ..uploads import StoredUpload, page_message
 from .upload import Upload
@@ -119,6 +120,7 @@ class SingleView:
         self.population = PopulationPanel(self)
         self.maps = ContactMaps(self)
         self.sequence = Sequence(self)
+        self.perception = PerceptionPanel(self)
         self._watch_form()
         self.panel = self._layout()
         self.refresh()
@@ -139,6 +141,7 @@ class SingleView:
             self._card("Loads", *(x.panel for x in f.loads.values())),
             self._card("Model", *(x.panel for x in f.model.values())),
             self._card("Population", self.population.inputs),
+            self._card("Perception", self.perception.inputs),
             width=340, css_classes=["fp-inputs"], styles={"overflow-y": "auto"}, margin=(0, 8, 0, 0),
         )
         bem = self.bem.bar
@@ -149,6 +152,7 @@ class SingleView:
                        ncols=2, sizing_mode="stretch_width"),
             c["friction-directional"].panel,
             self.population.panel,
+            self.perception.panel,
             pn.pane.HTML("<h4 style='margin:6px 0'>Unit cell</h4>"),
             pn.Row(self.pressure.panel, width=340),
             pn.GridBox(c["height-map"].panel, c["pressure-map"].panel, c["contact-map"].panel, ncols=3,
@@ -393,6 +397,7 @@ class SingleView:
             updates.append((c["psi"], self._derived(pred, ("psi", mark), lambda: builders.psi_spec(pred, mark)), None))
         set_cards(updates)
         self.population.update()
+        self.perception.update()
         self.maps.update()  # psi was drawn above with the contact map's pressure
 
     def _derived(self, pred: Any, what: Any, make: Any) -> Any:
