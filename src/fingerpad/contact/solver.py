@@ -75,6 +75,7 @@ from typing import Any
 
 import numpy as np
 
+from ..cancel import current as cancel_scope
 from ..errors import FingerpadError, one_line
 from ..extras import missing, require
 from ..materials import check_modulus
@@ -506,11 +507,22 @@ class HalfSpaceSolver:
         return self._Sh_field
 
     def _callback(self) -> Callable[[int, float], None] | None:
-        """The per-iteration callback of the conjugate gradient: ``progress`` with this grid."""
-        if self.progress is None:
+        """The per-iteration callback of the conjugate gradient: ``progress`` with this grid, and
+        the check of the caller's cancellation scope (:mod:`fingerpad.cancel`: a solve nobody
+        waits for stops within one iteration, before it returns or stores anything)."""
+        token = cancel_scope()
+        if self.progress is None and token is None:
             return None
         report, shape = self.progress, self.texture.shape
-        return lambda it, residual: report(shape, it, residual)
+        if token is None:
+            return lambda it, residual: report(shape, it, residual)  # type: ignore[misc]
+
+        def callback(it: int, residual: float) -> None:
+            token.check()
+            if report is not None:
+                report(shape, it, residual)
+
+        return callback
 
     def _precond(self, form: str) -> Any:
         if not self.precondition:

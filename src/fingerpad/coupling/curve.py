@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from ..cancel import check as check_cancelled
 from ..checks import ArrayLike, as_areas, as_loads, scalar_out
 from ..errors import FingerpadError
 from ..finger import Finger
@@ -136,6 +137,7 @@ def disc_ratio(cell: UnitCellResponse, peak: np.ndarray, breaks: tuple[float, ..
     and was off by up to a few 1e-3 relative on BEM cells; it stays for analytic cells (Hertz,
     power law), where it is accurate to 1e-13. Values checked as :func:`checked_psi` checks psi.
     """
+    check_cancelled()  # once per curve or block of fingers: a population nobody waits for stops here
     method = getattr(cell, "disc_fraction", None)
     if method is None:
         return disc_average(checked_psi(cell), peak, breaks, n_nodes=int(n_rings))
