@@ -166,7 +166,8 @@ def test_a_layer_modulus_is_named_as_given_at_every_door(here):
 
 
 def test_fingers_lists_models_in_words_and_units():
-    res = runner.invoke(app, ["fingers"], env={"COLUMNS": "200"})
+    # wide enough that no model's cell wraps (main's adhesion columns widened the table)
+    res = runner.invoke(app, ["fingers"], env={"COLUMNS": "300"})
     assert res.exit_code == 0
     assert "HertzArea(" not in res.stdout and "ConstantFractionRidges(" not in res.stdout  # Python reprs
     assert "hertz: R_fp 9 mm, E_fp* 40 kPa" in res.stdout and "constant_fraction: fraction 0.5" in res.stdout
