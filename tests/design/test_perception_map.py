@@ -128,3 +128,51 @@ def test_population_map_tells_each_texture_from_any_reference(tmp_path):
     low_w = map_data(ds, "spacing", "height", at=load, population=True,
                      tell_apart={"reference": "ref", "mu": ref_mu, "weber": 0.01})
     assert (low_w["tell_apart"].values >= out["tell_apart"].values).all()
+
+
+def test_design_map_command_tells_the_population_from_a_reference(tmp_path):
+    """``fingerpad design-map --population P --tell-apart REF.toml`` draws the fraction of the
+    fingers telling each texture from REF (was refused: flat only); each finger's own W where the
+    population draws W, and a W fixed beside it refused."""
+    import xarray as xr
+    from typer.testing import CliRunner
+
+    from fingerpad.cli import app
+    from fingerpad.design.designmap import reference_member_friction
+
+    ref_file = tmp_path / "ref.toml"
+    ref_file.write_text(REF_TOML, encoding="utf-8")
+    pop_file = tmp_path / "people.toml"
+    pop_file.write_text("""[population]
+size = 24
+skin_modulus = { distribution = "uniform", low = "0.2MPa", high = "0.5MPa" }
+ridge_fraction = { distribution = "uniform", low = 0.1, high = 0.7 }
+tau0 = { distribution = "uniform", low = "4kPa", high = "12kPa" }
+""", encoding="utf-8")
+    ds = _store(tmp_path, population=True, kind="hertz")
+    store = str(tmp_path / "r.zarr")
+    load = float(ds["load"].values[2])
+    result = CliRunner().invoke(app, ["design-map", store, "--x", "spacing", "--y", "height", "--at", f"{load!r}N",
+                                      "--population", str(pop_file), "--tell-apart", str(ref_file),
+                                      "--out", str(tmp_path / "map")])
+    assert result.exit_code == 0, result.output
+    got = xr.open_dataset(tmp_path / "map" / "design_map.nc")["tell_apart"].load()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        want = map_data(ds, "spacing", "height", at=load, population=True,
+                        tell_apart={"reference": "ref", "mu": reference_member_friction(ds, str(ref_file), load),
+                                    "weber": None})["tell_apart"]
+    np.testing.assert_array_equal(got.values, want.values)
+    assert got.attrs["long_name"] == f"fraction of fingers telling it from ref at {load:g} N"
+    # a population that draws W: each finger's own, a fixed W refused (flat or REF, one rule)
+    ref_mu = reference_member_friction(ds, str(ref_file), load)
+    drawn = ds.assign(member_weber_fraction=("member", np.full(ds.sizes["member"], 0.15)))
+    own = map_data(drawn, "spacing", "height", at=load, population=True,
+                   tell_apart={"reference": "ref", "mu": ref_mu, "weber": None})["tell_apart"]
+    fixed = map_data(ds, "spacing", "height", at=load, population=True,
+                     tell_apart={"reference": "ref", "mu": ref_mu, "weber": 0.15})["tell_apart"]
+    np.testing.assert_array_equal(own.values, fixed.values)
+    for ref, mu in (("ref", ref_mu), ("flat", None)):
+        with pytest.raises(FingerpadError, match="draws each finger's W"):
+            map_data(drawn, "spacing", "height", at=load, population=True,
+                     tell_apart={"reference": ref, "mu": mu, "weber": 0.2})

@@ -177,11 +177,10 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
                 raise FingerpadError("--tell-apart: this sweep store holds no perception fractions (made before "
                                      "they were stored): run the sweep again")
             stored_w = float(ds.attrs.get("weber_fraction", math.nan))
-            if tell_apart.get("weber") is not None and float(tell_apart["weber"]) != stored_w:
-                raise FingerpadError(
-                    f"--weber-fraction: this sweep stored its fractions with W = {stored_w:g}" if math.isfinite(stored_w)
-                    else "--weber-fraction: this sweep's population draws each finger's W; its fractions are those "
-                         "of the members' own")
+            if tell_apart.get("weber") is not None:
+                member_weber_of_store(ds, tell_apart["weber"])  # refused where the population draws W
+                if float(tell_apart["weber"]) != stored_w:
+                    raise FingerpadError(f"--weber-fraction: this sweep stored its fractions with W = {stored_w:g}")
             names.append("tell_flat")
         elif population:
             if "mu_members" not in ds.variables:
@@ -317,9 +316,7 @@ def reference_friction(ds: Any, reference: str, at: float) -> float:
 def store_members(ds: Any) -> list[dict[str, float]]:
     """The members of a population sweep store (their drawn parameters, SI, from the
     ``member_NAME`` variables)."""
-    names = list(json.loads(ds.attrs["population"]).get("distributions", {})) if "population" in ds.attrs else []
-    names = [n for n in names if f"member_{n}" in ds.variables] or [
-        str(v)[len("member_"):] for v in ds.variables if str(v).startswith("member_")]
+    names = [str(v)[len("member_"):] for v in ds.variables if str(v).startswith("member_")]
     return [{n: float(ds[f"member_{n}"].values[i]) for n in names} for i in range(ds.sizes["member"])]
 
 
