@@ -302,15 +302,21 @@ def reference_friction(ds: Any, reference: str, at: float) -> float:
     """The friction (mu) of a reference surface for the sweep study's finger at ``at`` (N): a
     direct prediction of the study file ``reference`` (its texture, material and numerics) with
     the finger of the sweep's study."""
+    from ..study.run import run_study
+
+    return float(np.asarray(run_study(_reference_study(ds, reference, at)).primary.mu, float)[0])
+
+
+def _reference_study(ds: Any, reference: str, at: float) -> Any:
+    """The study file ``reference`` (its texture, material and numerics) with the finger of the
+    sweep's study, at the one load ``at`` (N)."""
     import dataclasses
 
-    from ..study.run import run_study
     from ..study.spec import load_study_file, study_from_dict
 
     base = json.loads(ds.attrs["study"])
     finger = study_from_dict({k: v for k, v in base.items() if k in ("finger", "material", "texture")}).finger
-    ref = dataclasses.replace(load_study_file(reference), finger=finger, loads=np.array([float(at)]), zones_at=None)
-    return float(np.asarray(run_study(ref).primary.mu, float)[0])
+    return dataclasses.replace(load_study_file(reference), finger=finger, loads=np.array([float(at)]), zones_at=None)
 
 
 def store_members(ds: Any) -> list[dict[str, float]]:
@@ -343,18 +349,9 @@ def reference_member_friction(ds: Any, reference: str, at: float) -> np.ndarray:
     ``at`` (N): one direct prediction of the study file ``reference`` (its texture, material and
     numerics) with the sweep study's finger, then every member on it
     (:func:`fingerpad.population.members.evaluate_members`, the members' path of every point)."""
-    import dataclasses
-    import warnings
-
     from ..population.members import evaluate_members, member_finger
     from ..study.run import run_study
-    from ..study.spec import load_study_file, study_from_dict
 
-    base = json.loads(ds.attrs["study"])
-    finger = study_from_dict({k: v for k, v in base.items() if k in ("finger", "material", "texture")}).finger
-    ref = dataclasses.replace(load_study_file(reference), finger=finger, loads=np.array([float(at)]), zones_at=None)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        pred = run_study(ref)
-        values = evaluate_members(pred, [member_finger(finger, m) for m in store_members(ds)])
+    ref = _reference_study(ds, reference, at)
+    values = evaluate_members(run_study(ref), [member_finger(ref.finger, m) for m in store_members(ds)])
     return np.asarray(values.mu, float)[:, 0]
