@@ -1,43 +1,49 @@
-"""Benchmark of ``fingerpad analyse`` on a lab-sized study.
+"""Benchmark of ``fingerpad analyse`` on lab-sized studies of several shapes.
 
-10 participants x 5 samples (a flat reference and four bump textures) x 3 recordings of 60 s at
-1 kHz: 150 CSV files, 9 million rows. Goals: read and analyse in under 10 s on a 2-core machine
-(issue 10); the whole command with every figure in <= 15 s (issue 23, where it took 88-92 s).
+A study of P participants x (a flat reference and T textures) x 3 recordings of 60 s at 1 kHz
+(46 strokes each, loads 0.1-5 N), generated once per shape by ``fingerpad
+simulate-measurement --samples`` as a new user would make it: the first texture is the Hertz
+cell with contact spreading over the base (``full_contact_ratio`` 1.5: a contact transition
+in the load range), the others caps of 8-22 um on the BEM cell (the default micro-model). The
+shapes (``--shapes``, ``PxT``) default to issue 34's panel, 10 people x 4 textures (150 files,
+9 M rows), and its corners, 3 x 1 and 20 x 8. Goals: the whole command with every figure in
+<= 15 s (issue 34: 70 s wall, 65 s CPU on the 2-core machine for 10 x 4).
 
-Phases, each timed in the same run (wall and CPU seconds of this process; ``--no-phases``
+For the first shape, the phases timed in one process (wall and CPU seconds; ``--no-phases``
 skips them):
 
-* ``read``: :func:`fingerpad.measure.load_study` (vectorised parsing, row numbers kept);
+* ``read``: :func:`fingerpad.measure.load_study`;
 * ``analyse``: :func:`fingerpad.measure.analyse_study` without texture geometry (strokes,
   outliers, normalisation, power laws with recording-level intervals, breakpoint tests with
   999 null simulations each, population fits);
-* ``analyse + E_s``: the same with the texture table (Hertz micro-model): the E_s fits and
-  their sensitivity refits (other micro-model, friction parameters);
+* ``analyse + E_s``: the same with the texture table: the E_s fits and their sensitivity
+  refits (other micro-model, friction parameters);
 * ``report``: tables, NetCDF and HTML without figures;
-* ``report + figures``: the same with every figure (participants, samples and the 150 per-recording
+* ``report + figures``: the same with every figure (participants, samples and the per-recording
   QC figures, drawn by the default process pool), as ``fingerpad analyse`` writes it; ``figures``
   is its difference from ``report``; ``participant + sample figures`` and ``QC figures`` draw
   them in this process alone (``--no-serial`` leaves those out);
 * the line-by-line reader (the exact fallback, as slow as the former cell-by-cell parser) on
   one file, against the vectorised reader on the same file: their ratio.
 
-Then the command itself as a user runs it (``fingerpad analyse``, defaults: start-up, read,
-analysis with E_s, report with every figure) in a subprocess: wall seconds and CPU seconds (its
-processes together), with the load average before each run. With ``--baseline PYTHON`` (the
-interpreter of another checkout, e.g. the main branch's virtual environment) the same command
-runs under that interpreter too, alternating with this one (``--reps`` each), so that both see
-the same load; the ratios of their medians are the speed-up, and the two reports are compared
-file by file (PNG images by their pixels: the encoder's settings may differ; ``report.html``
-with its embedded images decoded).
+Then, for every shape, the command itself as a user runs it (``fingerpad analyse``, defaults:
+start-up, read, analysis with E_s, report with every figure) in a subprocess, after one
+untimed run that fills the unit-cell cache (``FINGERPAD_CACHE``, a folder of the data's): wall
+seconds and CPU seconds (its processes together), with the load average before each run. With
+``--baseline PYTHON`` (the interpreter of another checkout, e.g. the main branch's virtual
+environment) the same command runs under that interpreter too, alternating with this one
+(``--reps`` each), so that both see the same load; the ratios of their medians are the
+speed-up, and the two reports are compared file by file (byte for byte; PNGs that differ are
+also compared by their pixels, to tell an encoding from a drawing difference).
 
-The study is generated once into ``--data`` (default: a folder in the system's temp dir) and
-reused. The JSON report (default ``out/bench/analyse.json``) holds issue 23's row under
-``"issue23"`` for ``benchmarks/report.py``.
+The studies are generated into ``--data`` (default: a folder in the system's temp dir, one
+subfolder per shape) and reused. The JSON report (default ``out/bench/analyse.json``) holds the
+rows of issue 23 (``"issue23"``) and issue 34 (``"issue34"``) for ``benchmarks/report.py``.
 
 Usage::
 
-    python benchmarks/bench_analyse.py [--data DIR] [--json OUT.json] [--baseline PYTHON] [--reps N]
-        [--no-phases] [--no-serial]
+    python benchmarks/bench_analyse.py [--shapes 10x4,3x1,20x8] [--data DIR] [--json OUT.json]
+        [--baseline PYTHON] [--reps N] [--no-phases] [--no-serial]
 """
 
 from __future__ import annotations
@@ -53,49 +59,51 @@ from pathlib import Path
 
 import numpy as np
 
+#: Recordings per participant and sample, strokes per recording and samples per second: 46
+#: strokes of 1 s with 0.15 s pauses make a 60 s recording.
+REPETITIONS, STROKES, RATE = 3, 46, 1000
 
-def generate(folder: Path, participants: int = 10, repetitions: int = 3, seconds: float = 60.0,
-             rate: float = 1000.0) -> None:
-    """Write the study (recordings, manifest, samples table) unless it is there already."""
-    from fingerpad import measure as m
-    from fingerpad.measure.simulate import _simulate_file
 
+def samples_table(textures: int) -> str:
+    """The texture table (``simulate-measurement --samples``) of ``textures`` textures: the
+    first with a contact transition (Hertz, contact spreading over the base), the others caps
+    on the BEM cell, heights spread over 8-22 um."""
+    lines = ["sample,radius,height,spacing,micro_model,full_contact_ratio",
+             "transition,50um,18um,100um,hertz,1.5"]
+    heights = np.linspace(8, 22, max(textures - 1, 1)) if textures > 2 else [14.0][: textures - 1]
+    lines += [f"bumps{round(h)},50um,{h:.4g}um,100um,bem," for h in heights]
+    return "\n".join(lines) + "\n"
+
+
+def _shape(text: str) -> tuple[int, int]:
+    people, _, textures = text.lower().partition("x")
+    p, t = int(people), int(textures)
+    if not (1 <= p <= 99 and 1 <= t <= 12):
+        raise argparse.ArgumentTypeError(f"a shape is PxT with 1-99 people and 1-12 textures, got {text!r}")
+    return p, t
+
+
+def generate(folder: Path, participants: int = 10, textures: int = 4, python: str = sys.executable) -> None:
+    """Write the study (recordings, manifest, samples table, truth) with ``fingerpad
+    simulate-measurement`` unless it is there already."""
     stamp = folder / ".complete"
     if stamp.is_file():
         return
-    folder.mkdir(parents=True, exist_ok=True)
-    textures = {f"bumps{i}": m.TextureGeometry(radius=50e-6, height=h, spacing=100e-6, micro_model="hertz")
-                for i, h in enumerate((10e-6, 14e-6, 18e-6, 22e-6), start=1)}
-    cfg = m.SimulationConfig(participants=participants, repetitions=repetitions, strokes_per_file=52,
-                             sampling_rate=rate, textures=textures)
-    rng = np.random.default_rng(0)
-    finger = m.models.resolve_finger("default")
-    models = {name: m.texture_model(g, finger) for name, g in textures.items()}
-    grid = np.geomspace(0.01, 10.0, 64)
-    rows = []
-    for p in range(participants):
-        pid = f"P{p + 1:02d}"
-        es, k, n = rng.uniform(0.25e6, 0.4e6), rng.uniform(0.35, 0.8), rng.uniform(0.6, 0.8)
-        laws = {"flat": (lambda f, k=k, n=n: k * f ** (n - 1))}
-        for name, model in models.items():
-            curve = np.log(np.asarray(model(grid, es), dtype=float))
-            laws[name] = (lambda f, k=k, n=n, c=curve: k * f ** (n - 1) * np.exp(np.interp(np.log(f), np.log(grid), c)))
-        for sample, law in laws.items():
-            for rep in range(1, repetitions + 1):
-                data, _ = _simulate_file(rng, cfg, law, first_sense=1 if rep % 2 else -1)
-                keep = data["time"] < seconds
-                table = np.column_stack([data["time"][keep], data["normal"][keep], data["friction"][keep] * 1e3,
-                                         data["position"][keep] * 1e3])
-                name = f"{pid}_{sample}_{rep}.csv"
-                with (folder / name).open("w") as fh:
-                    fh.write("time [s],Fn [N],Ft [mN],x [mm]\n")
-                    np.savetxt(fh, table, fmt="%.4f,%.5f,%.3f,%.4f")
-                rows.append(name)
-    with (folder / "samples.csv").open("w") as fh:
-        fh.write("sample,radius,height,spacing,micro_model\nflat,,,,\n")
-        for name, g in textures.items():
-            fh.write(f"{name},{g.radius},{g.height},{g.spacing},hertz\n")
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    table = folder.parent / f"samples-{textures}.csv"
+    table.write_text(samples_table(textures))
+    subprocess.run([python, "-c", _COMMAND, "simulate-measurement", "--out", str(folder), "--seed", "0",
+                    "--participants", str(participants), "--repetitions", str(REPETITIONS), "--strokes",
+                    str(STROKES), "--sampling-rate", str(RATE), "--samples", str(table)],
+                   check=True, stdout=subprocess.DEVNULL, env=_env(folder))
     stamp.write_text("ok")
+
+
+def _env(folder: Path) -> dict[str, str]:
+    """The environment of the commands: this one, with the unit-cell cache of the data's folder."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    env["FINGERPAD_CACHE"] = str(folder.parent / "cell-cache")
+    return env
 
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -109,12 +117,11 @@ def run_command(python: str, folder: Path, out: Path) -> dict[str, float]:
     (user + system of the command and the processes it waited for), load average before."""
     import resource
 
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     load = os.getloadavg()[0]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t = time.perf_counter()
     subprocess.run([python, "-c", _COMMAND, "analyse", str(folder), "--reference", "flat", "--out", str(out)],
-                   check=True, stdout=subprocess.DEVNULL, env=env)
+                   check=True, stdout=subprocess.DEVNULL, env=_env(folder))
     wall = time.perf_counter() - t
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
@@ -145,20 +152,23 @@ def _html_parts(text: str) -> tuple[str, list[bytes]]:
     return re.sub(r"data:image/png;base64,([A-Za-z0-9+/=]+)", cut, text), images
 
 
-def same_report(a: Path, b: Path) -> tuple[int, list[str]]:
-    """Files of two reports compared, and those that differ (or are on one side only): PNGs by
-    their pixels, ``report.html`` with its embedded PNGs decoded, the rest byte by byte."""
+def same_report(a: Path, b: Path) -> tuple[int, list[str], list[str]]:
+    """Files of two reports compared: how many, those whose bytes differ (or that are on one
+    side only), and among them those whose content differs too (PNGs by their pixels,
+    ``report.html`` with its embedded PNGs decoded)."""
     names = sorted({p.relative_to(a).as_posix() for p in a.rglob("*") if p.is_file()}
                    | {p.relative_to(b).as_posix() for p in b.rglob("*") if p.is_file()})
-    differ = []
+    bytes_differ, content_differs = [], []
     for name in names:
         fa, fb = a / name, b / name
         if not (fa.is_file() and fb.is_file()):
-            differ.append(name)
+            bytes_differ.append(name)
+            content_differs.append(name)
             continue
         da, db = fa.read_bytes(), fb.read_bytes()
         if da == db:
             continue
+        bytes_differ.append(name)
         if name.endswith(".png"):
             same = _pixels(da) == _pixels(db)
         elif name.endswith(".html"):
@@ -166,8 +176,8 @@ def same_report(a: Path, b: Path) -> tuple[int, list[str]]:
         else:
             same = False
         if not same:
-            differ.append(name)
-    return len(names), differ
+            content_differs.append(name)
+    return len(names), bytes_differ, content_differs
 
 
 def phases(folder: Path, serial: bool) -> tuple[dict[str, float], dict[str, float], int, object]:
@@ -240,36 +250,66 @@ def parse_ratio(one: Path) -> tuple[float, float, int]:
     return fast, time.perf_counter() - t, len(table.rows)
 
 
+def _median(runs: list[dict[str, float]], key: str) -> float:
+    return float(np.median([r[key] for r in runs]))
+
+
+def command_runs(folder: Path, python: dict[str, str], reps: int) -> tuple[dict[str, list[dict[str, float]]],
+                                                                          tuple[int, list[str], list[str]] | None]:
+    """The command on ``folder`` under each interpreter of ``python`` (``"this"`` and maybe
+    ``"baseline"``), alternating, ``reps`` times each, after one untimed run of each that fills
+    the unit-cell cache; and the two reports compared (:func:`same_report`) with a baseline."""
+    runs: dict[str, list[dict[str, float]]] = {side: [] for side in python}
+    with tempfile.TemporaryDirectory() as tmp:
+        for side in python:  # untimed: the cells of the textures solved or read into the cache
+            run_command(python[side], folder, Path(tmp) / f"warm-{side}")
+        for rep in range(max(reps, 1)):
+            order = ["baseline", "this"] if rep % 2 == 0 else ["this", "baseline"]
+            for side in order:
+                if side in python:
+                    runs[side].append(run_command(python[side], folder, Path(tmp) / side))
+        compared = same_report(Path(tmp) / "this", Path(tmp) / "baseline") if "baseline" in python else None
+    return runs, compared
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--data", default=os.path.join(tempfile.gettempdir(), "fingerpad-bench-analyse"))
+    parser.add_argument("--shapes", default="10x4,3x1,20x8",
+                        help="studies to time, PxT: P participants, T textures (default 10x4,3x1,20x8)")
+    parser.add_argument("--data", default=os.path.join(tempfile.gettempdir(), "fingerpad-bench-analyse-34"))
     parser.add_argument("--json", type=Path, default=DEFAULT_OUT, help="JSON report (default: out/bench/analyse.json)")
     parser.add_argument("--no-serial", action="store_true", help="leave out the one-process figure timings")
-    parser.add_argument("--no-phases", action="store_true", help="time the command only")
+    parser.add_argument("--no-phases", action="store_true", help="time the commands only")
     parser.add_argument("--baseline", default=None, metavar="PYTHON",
                         help="interpreter of another checkout: its command runs alternately with this one")
     parser.add_argument("--reps", type=int, default=1, help="runs of each command (median)")
     args = parser.parse_args(argv)
+    shapes = [_shape(text) for text in args.shapes.split(",") if text.strip()]
 
-    folder = Path(args.data)
-    t0 = time.perf_counter()
-    generate(folder)
-    print(f"data: {folder} (generated/checked in {time.perf_counter() - t0:.1f} s), {os.cpu_count()} CPU(s)")
+    data = Path(args.data)
     report: dict[str, object] = {"date": time.strftime("%Y-%m-%dT%H:%M:%S"), "cores": os.cpu_count(),
-                                 "load_average_start": os.getloadavg(), "issue23": []}
-    print(f"  load average at the start: {', '.join(f'{x:.2f}' for x in os.getloadavg())} "
+                                 "load_average_start": os.getloadavg(), "issue23": [], "issue34": [], "shapes": {}}
+    folders = {}
+    for people, textures in shapes:
+        folder = data / f"{people}x{textures}"
+        t0 = time.perf_counter()
+        generate(folder, people, textures)
+        folders[(people, textures)] = folder
+        print(f"data {people} people x {textures} texture(s) + flat x {REPETITIONS} recordings: {folder} "
+              f"(generated/checked in {time.perf_counter() - t0:.1f} s)")
+    print(f"{os.cpu_count()} CPU(s); load average at the start: {', '.join(f'{x:.2f}' for x in os.getloadavg())} "
           "(other work on the machine slows the wall time; compare the ratios of one run)")
 
     if not args.no_phases:
+        folder = folders[shapes[0]]
+        os.environ["FINGERPAD_CACHE"] = _env(folder)["FINGERPAD_CACHE"]
         timings, cpu, n_qc, result = phases(folder, not args.no_serial)
         report.update(phases_s=timings, phases_cpu_s=cpu)
-        print(f"in-process phases ({len(result.strokes)} strokes, {n_qc} QC figures; load average now "
+        print(f"in-process phases, {folder.name} ({len(result.strokes)} strokes, {n_qc} QC figures; load average now "
               f"{os.getloadavg()[0]:.2f}):")
         for name, seconds in timings.items():
             extra = f"   (CPU {cpu[name]:.2f} s)" if name in cpu else ""
             print(f"  {name:30s} {seconds:7.2f} s{extra}")
-        print(f"  read + analyse (goal < 10 s): {timings['read'] + timings['analyse']:.2f} s; with E_s "
-              f"{timings['read'] + timings['analyse + E_s']:.2f} s")
         if "QC figures" in cpu:
             print(f"  one QC figure: {cpu['QC figures'] / max(n_qc, 1):.3f} s of CPU in one process")
         fast, slow, n_rows = parse_ratio(Path(result.recordings[0].source))
@@ -277,48 +317,45 @@ def main(argv: list[str] | None = None) -> int:
         print(f"  one file ({n_rows} rows): vectorised {fast * 1e3:.0f} ms, line by line {slow * 1e3:.0f} ms "
               f"(x{slow / fast:.0f})")
 
-    runs: dict[str, list[dict[str, float]]] = {"this": []}
-    python = {"this": sys.executable}
-    if args.baseline:
-        runs["baseline"] = []
-        python["baseline"] = args.baseline
-    with tempfile.TemporaryDirectory() as tmp:
-        for rep in range(max(args.reps, 1)):
-            order = ["baseline", "this"] if rep % 2 == 0 else ["this", "baseline"]
-            for side in order:
-                if side in runs:
-                    runs[side].append(run_command(python[side], folder, Path(tmp) / side))
-        compared = same_report(Path(tmp) / "this", Path(tmp) / "baseline") if args.baseline else None
-
-    def median(side: str, key: str) -> float:
-        return float(np.median([r[key] for r in runs[side]]))
-
-    print("fingerpad analyse (the command, defaults, every figure), a subprocess:")
-    for side, rs in runs.items():
-        walls = ", ".join(f"{r['wall_s']:.1f}" for r in rs)
-        cpus = ", ".join(f"{r['cpu_s']:.1f}" for r in rs)
-        loads = ", ".join(f"{r['load_before']:.1f}" for r in rs)
-        print(f"  {side:8s} ({python[side]}): wall {median(side, 'wall_s'):6.2f} s (runs {walls}), CPU "
-              f"{median(side, 'cpu_s'):6.2f} s (runs {cpus}); load average before each run {loads}")
-    wall, cpu_s = median("this", "wall_s"), median("this", "cpu_s")
-    load = ", ".join(f"{r['load_before']:.1f}" for rs in runs.values() for r in rs)
-    now = f"{wall:.1f} s wall, {cpu_s:.1f} s CPU"
-    if args.baseline:
-        n, differ = compared  # type: ignore[misc]
-        base_wall, base_cpu = median("baseline", "wall_s"), median("baseline", "cpu_s")
-        print(f"  this / baseline, same run: wall x{base_wall / wall:.2f} faster, CPU x{base_cpu / cpu_s:.2f} less")
-        print(f"  reports compared file by file: {n} files, "
-              + ("all the same" if not differ else f"{len(differ)} differ: {', '.join(differ[:5])}"))
-        now += (f" (baseline in the same run: {base_wall:.1f} s wall, {base_cpu:.1f} s CPU; x{base_wall / wall:.2f} "
-                f"wall, x{base_cpu / cpu_s:.2f} CPU; reports {'the same' if not differ else 'DIFFER'})")
-        report["compared"] = {"files": n, "differ": differ}
-    print(f"  against issue 23: x{ISSUE_START_S / wall:.1f} of {ISSUE_START_S:.0f} s; goal <= 15 s: "
-          f"{'met' if wall <= 15 else 'not met'} in this run")
-    report["command"] = runs
-    report["issue23"].append({  # type: ignore[union-attr]
-        "row": "`fingerpad analyse`, 150 recordings / 9 M rows, every figure", "script": "bench_analyse.py",
-        "today": "88-92 s", "now": now, "ratio": ISSUE_START_S / wall, "ratio_of": "issue 23's 90 s / now",
-        "goal": "<= 15 s", "met": wall <= 15, "load": load})
+    python = {"this": sys.executable, **({"baseline": args.baseline} if args.baseline else {})}
+    print("fingerpad analyse (the command, defaults, every figure), a subprocess, after one untimed run:")
+    print(f"  {'study':>6s} {'files':>5s} {'side':8s} {'wall s':>7s} {'CPU s':>7s}  runs (wall/CPU), load before")
+    for (people, textures), folder in folders.items():
+        runs, compared = command_runs(folder, python, args.reps)
+        files = people * (textures + 1) * REPETITIONS
+        label = f"{people}x{textures}"
+        for side, rs in runs.items():
+            detail = ", ".join(f"{r['wall_s']:.1f}/{r['cpu_s']:.1f}" for r in rs)
+            loads = ", ".join(f"{r['load_before']:.1f}" for r in rs)
+            print(f"  {label:>6s} {files:5d} {side:8s} {_median(rs, 'wall_s'):7.2f} {_median(rs, 'cpu_s'):7.2f}  "
+                  f"{detail}; load {loads}")
+        wall, cpu_s = _median(runs["this"], "wall_s"), _median(runs["this"], "cpu_s")
+        now = f"{wall:.1f} s wall, {cpu_s:.1f} s CPU"
+        entry: dict[str, object] = {"people": people, "textures": textures, "files": files, "runs": runs}
+        if compared is not None:
+            n, bytes_differ, content_differs = compared
+            base_wall, base_cpu = _median(runs["baseline"], "wall_s"), _median(runs["baseline"], "cpu_s")
+            print(f"  {label:>6s} this / baseline, same run: wall x{base_wall / wall:.2f} faster, CPU "
+                  f"x{base_cpu / cpu_s:.2f} less; reports: {n} files, "
+                  + ("all byte-identical" if not bytes_differ else
+                     f"{len(bytes_differ)} differ in bytes ({', '.join(bytes_differ[:4])}), "
+                     f"{len(content_differs)} in content"))
+            now += (f" (baseline in the same run: {base_wall:.1f} s wall, {base_cpu:.1f} s CPU; x{base_wall / wall:.2f} "
+                    f"wall, x{base_cpu / cpu_s:.2f} CPU; reports {'identical' if not bytes_differ else 'DIFFER'})")
+            entry["compared"] = {"files": n, "bytes_differ": bytes_differ, "content_differs": content_differs}
+        report["shapes"][label] = entry  # type: ignore[index]
+        load = ", ".join(f"{r['load_before']:.1f}" for rs in runs.values() for r in rs)
+        report["issue34"].append({  # type: ignore[union-attr]
+            "row": f"`analyse`, {people} people x {textures + 1} samples x {REPETITIONS} recordings, every figure",
+            "script": "bench_analyse.py", "today": "70 s wall" if (people, textures) == (10, 4) else "-",
+            "now": now, "ratio": 70.0 / wall if (people, textures) == (10, 4) else None,
+            "ratio_of": "issue 34's 70 s / now", "goal": "<= 15 s", "met": wall <= 15, "load": load})
+        if (people, textures) == (10, 4):
+            report["issue23"].append({  # type: ignore[union-attr]
+                "row": "`fingerpad analyse`, 150 recordings / 9 M rows, every figure", "script": "bench_analyse.py",
+                "today": "88-92 s", "now": now, "ratio": ISSUE_START_S / wall, "ratio_of": "issue 23's 90 s / now",
+                "goal": "<= 15 s", "met": wall <= 15, "load": load})
+        print(f"  {label:>6s} goal <= 15 s: {'met' if wall <= 15 else 'not met'} in this run")
     args.json.parent.mkdir(parents=True, exist_ok=True)
     args.json.write_text(json.dumps(report, indent=2, default=float) + "\n")
     return 0

@@ -30,8 +30,18 @@ figure has a paint pending (``benchmarks/_explorer_browser.py`` says how). The s
 on the served explorer (``fingerpad explore``), the BEM cells from the disk cache the server-side
 runs filled. Its medians are the ``issue23`` row of the report (the server-side numbers beside).
 
+**At a designer's pace** (issue 37, ``benchmarks/_explorer_hands.py``; in the browser, on by
+default): the first change after the page opened, going back and forth between two computed
+designs without a pause, a computed design right after a new one, bursts of changes 0.3 s apart,
+a slider dragged over 20 values in 3 s, and the server's CPU time spent on designs no longer
+shown; printed as issue 37's goal table, with the issue's numbers of the code before it.
+``--server-path DIR`` serves another source tree (``PYTHONPATH=DIR``, e.g. a checkout of the
+code before) for these cases; ``--before REV`` runs them first on the code of git revision REV
+(its ``src/``, e.g. ``8e9c3cf``, the commit before issue 37), then on this tree, and prints both
+with their ratios (the same run, the same load).
+
 Usage: ``.venv/bin/python benchmarks/bench_explorer.py [--repeats 6] [--busy 0] [--no-browser]
-[--browser-only]``.
+[--browser-only] [--hands-only] [--no-hands] [--first-runs 3] [--server-path DIR] [--before REV]``.
 """
 
 from __future__ import annotations
@@ -150,6 +160,16 @@ async def _run(path: str, cache: str, repeats: int) -> dict[str, dict[str, float
     return results
 
 
+def _source_of(rev: str, cache: str) -> str:
+    """The ``src/`` of git revision ``rev`` of this repository, unpacked under ``cache`` (a
+    path for ``PYTHONPATH``)."""
+    root = Path(__file__).resolve().parent.parent
+    dest = Path(tempfile.mkdtemp(prefix="fingerpad-bench-before-", dir=cache))
+    tar = subprocess.run(["git", "-C", str(root), "archive", "--format=tar", rev, "src"], capture_output=True, check=True)
+    subprocess.run(["tar", "-x", "-C", str(dest)], input=tar.stdout, check=True)
+    return str(dest / "src")
+
+
 def _burn(n: int) -> list[subprocess.Popen]:
     return [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(n)]
 
@@ -161,8 +181,19 @@ def main() -> None:
     ap.add_argument("--browser", action=argparse.BooleanOptionalAction, default=True,
                     help="also time the page in headless Chromium (default: where it is installed)")
     ap.add_argument("--browser-only", action="store_true", help="only the browser's timings")
+    ap.add_argument("--hands", action=argparse.BooleanOptionalAction, default=True,
+                    help="the cases at a designer's pace (issue 37), in the browser")
+    ap.add_argument("--hands-only", action="store_true", help="only the cases at a designer's pace")
+    ap.add_argument("--first-runs", type=int, default=3, help="fresh servers for the first change")
+    ap.add_argument("--first-wait", type=float, default=10.0, help="seconds from the page's opening to its first change")
+    ap.add_argument("--server-path", default=None, help="serve this source tree (PYTHONPATH) for the designer's cases")
+    ap.add_argument("--before", default=None, metavar="REV",
+                    help="also run the designer's cases on the code of git revision REV (its src/, served "
+                         "first, in the same run), e.g. the commit before issue 37: ratios in the table")
     ap.add_argument("--out", default="out/bench/explorer.json")
     args = ap.parse_args()
+    if args.hands_only:
+        args.browser_only, args.hands = True, True
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     import _explorer_browser as eb
 
@@ -176,18 +207,32 @@ def main() -> None:
     burners = _burn(args.busy)
     try:
         load0 = os.getloadavg()
-        asyncio.run(_run("rebuild", cache, 1))  # warm-up: imports, and the BEM cells into the disk cache
+        if not args.hands_only:
+            asyncio.run(_run("rebuild", cache, 1))  # warm-up: imports, and the BEM cells into the disk cache
         rebuild = None if args.browser_only else asyncio.run(_run("rebuild", cache, args.repeats))
         in_place = None if args.browser_only else asyncio.run(_run("in place", cache, args.repeats))
         load1 = os.getloadavg()
-        browser = None
-        if why_not is None:
+        browser = hands = hands_before = load_mid = None
+        if why_not is None and not args.hands_only:
             try:
                 browser = eb.run(cache, args.repeats)
             except Exception as exc:  # noqa: BLE001 -- the server side's numbers are kept
                 why_not = f"failed: {type(exc).__name__}: {str(exc)[:300]}"
                 print(f"browser timings {why_not}")
         load2 = os.getloadavg()
+        if why_not is None and args.hands:
+            import _explorer_hands as eh
+
+            try:
+                if args.before:
+                    hands_before = eh.run(cache, first_runs=args.first_runs, first_wait=args.first_wait,
+                                          server_path=_source_of(args.before, cache))
+                load_mid = os.getloadavg()
+                hands = eh.run(cache, first_runs=args.first_runs, first_wait=args.first_wait,
+                               server_path=args.server_path)
+            except Exception as exc:  # noqa: BLE001 -- the other numbers are kept
+                print(f"designer's cases failed: {type(exc).__name__}: {str(exc)[:300]}")
+        load3 = os.getloadavg()
     finally:
         for p in burners:
             p.kill()
@@ -220,10 +265,32 @@ def main() -> None:
                   f"{b['settled_s']:.3f} (max {b['settled_s_max']:.3f}) | {b['numbers_frame_s']:.3f} | "
                   f"{b['apply_s']:.3f} | {b['paint_s']:.3f} | {b['style_s'] + b['layout_s']:.3f} | "
                   f"{b['server_cpu_s']:.2f} / {b['chromium_cpu_s']:.2f} | <= {goal} |")
+    if hands is not None:
+        import _explorer_hands as eh
+
+        where = f", server code from {args.server_path}" if args.server_path else ""
+        print(f"\nat a designer's pace (issue 37; headless Chromium, default page, spacing field): cores "
+              f"{os.cpu_count()}, load average {load2[0]:.2f} before, {load3[0]:.2f} after{busy}{where}")
+        yes = lambda met: "-" if met is None else "yes" if met else "**no**"  # noqa: E731
+        if hands_before is None:
+            print("| what the designer does | issue 37: before | now | goal | met |")
+            print("|---|---|---|---|---|")
+            for case, today, now, goal, met in eh.rows(hands):
+                print(f"| {case} | {today} | {now} | {goal} | {yes(met)} |")
+        else:
+            print(f"the code of {args.before} first (load average {load2[0]:.2f} -> {load_mid[0]:.2f}), then "
+                  f"this tree's ({load_mid[0]:.2f} -> {load3[0]:.2f}); ratio: before / now of the medians "
+                  "(the slider: now / before of the updates per second)")
+            print(f"| what the designer does | issue 37: before | {args.before} (this run) | now | ratio | goal | met |")
+            print("|---|---|---|---|---|---|---|")
+            for case, today, then, now, ratio, goal, met in eh.rows_against(hands_before, hands):
+                print(f"| {case} | {today} | {then} | {now} | {ratio} | {goal} | {yes(met)} |")
     report: dict[str, Any] = {"cpu_count": os.cpu_count(), "loadavg_before": load0, "loadavg_after": load1,
                               "busy_processes": args.busy, "repeats": args.repeats, "goals_s": GOALS,
                               "in_place": in_place, "rebuild": rebuild, "browser": browser,
                               "browser_skipped": why_not, "sched_fifo": os.sched_getscheduler(0) == os.SCHED_FIFO,
+                              "hands": hands, "loadavg_hands": [load2, load3], "hands_before": hands_before,
+                              "before": args.before, "loadavg_hands_mid": load_mid,
                               "issue23": [_row(in_place, browser, busy, load0, load2)]}
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -15,6 +15,8 @@ The row order and the scripts: ``bench_analyse.py`` (the analysis with its figur
 ``bench_deflection.py`` (``predict --direction 0``), ``bench_explorer.py`` (a texture
 parameter changed in the explorer), ``bench_solver.py`` (the whole ``solve`` command against
 tamaas), ``bench_sweep.py`` (points per minute of ``examples/sweep.toml``; 2 workers against 1).
+A second table gives issue 34's rows (``"issue34"`` in the reports: ``bench_population_sweep.py``,
+``bench_analyse.py``, ``bench_sweep_scheduler.py``).
 """
 
 from __future__ import annotations
@@ -41,6 +43,22 @@ ROWS: list[tuple[str, str, str, str]] = [
     ("2 workers against 1, 16-point sweep", "bench_sweep.py", "1.46x", ">= 1.7x"),
 ]
 
+#: Issue 34's rows ("a design map of 10,000 textures for 1,000 fingers in ten minutes"), read from
+#: the reports' ``"issue34"`` lists; told apart by a word of their wording where one script gives
+#: several: (what is measured, the script, a word of its row, today, goal).
+ROWS34: list[tuple[str, str, str, str, str]] = [
+    ("a 16-point sweep with `adults` against the same sweep without a population", "bench_population_sweep.py",
+     "without a population", "2.1x", "<= 1.3x"),
+    ("members' coupling against its floor", "bench_population_sweep.py", "floor", "not measured", "<= 3x"),
+    ("a 64-point nominal sweep at grid 48 on 2 workers, against the code before", "-", "-", "1x", ">= 5x"),
+    ("`adults` sweep extrapolated to 10,000 points on 2 cores", "bench_population_sweep.py", "extrapolated",
+     "~1.5 h", "<= 10 min"),
+    ("`analyse`, 10 people x 5 samples x 3 recordings, every figure", "bench_analyse.py", "10 people", "70 s wall",
+     "<= 15 s"),
+    ("the same sweep on an external scheduler with N local workers", "bench_sweep_scheduler.py", "external",
+     "-", "a scaling table in docs/benchmarks.md"),
+]
+
 #: What ``--run`` runs (each once, in this order) and with which arguments.
 COMMANDS: dict[str, list[str]] = {
     "bench_analyse.py": [],
@@ -48,18 +66,20 @@ COMMANDS: dict[str, list[str]] = {
     "bench_explorer.py": [],
     "bench_solver.py": ["--sections", "command", "--grids", "1024", "--no-cm", "--no-previous"],
     "bench_sweep.py": [],
+    "bench_population_sweep.py": [],
+    "bench_sweep_scheduler.py": [],
 }
 
 
-def collect(folder: Path) -> list[dict[str, Any]]:
-    """Every ``issue23`` row of the JSON reports in ``folder`` (unreadable files are skipped)."""
+def collect(folder: Path, key: str = "issue23") -> list[dict[str, Any]]:
+    """Every ``key`` row of the JSON reports in ``folder`` (unreadable files are skipped)."""
     rows: list[dict[str, Any]] = []
     for path in sorted(folder.glob("*.json")):
         try:
             data = json.loads(path.read_text(encoding="utf-8"))
         except (OSError, ValueError):
             continue
-        for row in data.get("issue23", []) if isinstance(data, dict) else []:
+        for row in data.get(key, []) if isinstance(data, dict) else []:
             if isinstance(row, dict) and "row" in row:
                 rows.append({**row, "report": path.name})
     return rows
@@ -99,6 +119,23 @@ def table(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def table34(rows: list[dict[str, Any]]) -> str:
+    """Issue 34's Markdown table, its rows in the issue's order (unmeasured ones say so)."""
+    lines = ["| case | script | today (issue 34) | now | ratio | goal | met | load |",
+             "|---|---|---|---|---:|---|---|---|"]
+    for label, script, word, today, goal in ROWS34:
+        mine = [r for r in rows if r.get("script") == script and word in str(r.get("row"))]
+        if not mine:
+            lines.append(f"| {label} | {script} | {today} | not measured | | {goal} | | |")
+        for r in mine:
+            ratio = r.get("ratio")
+            ratio_text = f"{ratio:.2f}x" if isinstance(ratio, (int, float)) else _cell(ratio)
+            met = {True: "yes", False: "**no**"}.get(r.get("met"), _cell(r.get("met")))
+            lines.append(f"| {_cell(r['row'])} | {script} | {_cell(r.get('today', today))} | {_cell(r.get('now'))} "
+                         f"| {ratio_text} ({_cell(r.get('ratio_of'))}) | {goal} | {met} | {_cell(r.get('load'))} |")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--folder", type=Path, default=DEFAULT_FOLDER, help="where the reports are (out/bench)")
@@ -115,6 +152,8 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"[report] {script} failed (exit {done.returncode})", file=sys.stderr)
     print("## Issue 23: where a user waits\n")
     print(table(collect(args.folder)))
+    print("\n## Issue 34: a design map of 10,000 textures for 1,000 fingers in ten minutes\n")
+    print(table34(collect(args.folder, "issue34")))
     return 0
 
 

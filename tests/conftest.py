@@ -28,3 +28,68 @@ def prediction(tmp_path_factory):
         "model": {"kind": "both", "grid": 32, "cache": str(tmp_path_factory.mktemp("cells"))},
     })
     return study_run.run_study(study)
+
+
+@pytest.fixture
+def slow_token():
+    """``slow_token(delay, after)``: a cancellation token (:mod:`fingerpad.cancel`) whose checks,
+    one per solver iteration, each wait ``delay`` s (a solve made slow on purpose, so that it can
+    be cancelled in its middle); it counts them (``checks``), sets ``reached`` after ``after`` of
+    them and records the count when cancelled (``at_cancel``)."""
+    import threading
+
+    from fingerpad.cancel import CancelToken
+
+    class SlowToken(CancelToken):
+        __slots__ = ("after", "at_cancel", "checks", "delay", "reached")
+
+        def __init__(self, delay: float, after: int) -> None:
+            super().__init__()
+            self.delay, self.after, self.checks, self.at_cancel = delay, after, 0, None
+            self.reached = threading.Event()
+
+        def check(self) -> None:
+            self.checks += 1
+            if self.checks >= self.after:
+                self.reached.set()
+            if self.delay:
+                threading.Event().wait(self.delay)
+            super().check()
+
+        def cancel(self) -> None:
+            if self.at_cancel is None:
+                self.at_cancel = self.checks
+            super().cancel()
+
+    return SlowToken
+
+
+@pytest.fixture
+def cancel_midway(slow_token):
+    """``cancel_midway(work, delay, after)``: run ``work()`` in a thread, in a cancellation scope
+    whose token is ``slow_token(delay, after)``, cancel it once ``after`` checks are reached, and
+    return (what ``work`` returned or raised, the token)."""
+    import threading
+
+    from fingerpad.cancel import Cancelled, cancellable
+
+    def run(work, delay: float, after: int):
+        token = slow_token(delay, after)
+        out = []
+
+        def body() -> None:
+            try:
+                with cancellable(token):
+                    out.append(work())
+            except Cancelled as exc:
+                out.append(exc)
+
+        worker = threading.Thread(target=body)
+        worker.start()
+        assert token.reached.wait(60), "the work ended before it could be cancelled"
+        token.cancel()
+        worker.join(60)
+        assert not worker.is_alive()
+        return out[0], token
+
+    return run

@@ -314,3 +314,22 @@ def test_couple_bem_cell_matches_adaptive_quadrature(bem_caps, factor):
     got = couple(loads, ridge, cell).area_ratio
     ref = np.array([_disc_mean_by_quad(cell, 1.5 * f / a) for f, a in zip(loads, ridge)])
     assert np.max(np.abs(got / ref - 1.0)) < 1e-12
+
+
+def test_predict_curve_without_critical_loads_gives_the_same_curve():
+    """critical_loads=False skips the two root searches and nothing else: every other field is
+    the same array, bit for bit (a Hertz cell, which also has the Eq. 3.6 load)."""
+    from fingerpad.coupling import predict_curve
+    from fingerpad.finger import get_finger
+    from fingerpad.micro.hertz import HertzUnitCell
+
+    finger = get_finger("default")
+    cell = HertzUnitCell.for_finger(finger, radius=50e-6, height=18e-6, spacing=100e-6)
+    loads = np.geomspace(0.05, 5.0, 17)
+    full = predict_curve(loads, finger, cell)
+    light = predict_curve(loads, finger, cell, critical_loads=False)
+    assert math.isfinite(full.critical_load) and full.critical_load_hertz is not None
+    assert math.isnan(light.critical_load) and light.critical_load_hertz is None
+    for name, value in full.as_dict().items():
+        if name not in ("critical_load", "critical_load_hertz"):
+            np.testing.assert_array_equal(getattr(light, name), value, err_msg=name)

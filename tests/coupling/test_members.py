@@ -1,6 +1,8 @@
-"""The vectorised coupling of many fingers (fingerpad.coupling.members) and the members' full-contact
-loads (fingerpad.population.members): every member's numbers are those of a predict_curve and a
-load search per member, to the bit (issue 22, cost)."""
+"""The vectorised coupling of many fingers (fingerpad.coupling.members), their areas as one
+(fingerpad.coupling.loads.FingerStack) and the one search of their loads (centre_loads): every
+member's numbers, its critical and full-contact loads included, are those of a predict_curve and
+a load_at_centre_pressure of that member alone, to the bit; the search agrees with Brent's
+method and with closed forms to LOAD_RTOL (issue 22, cost; issue 34, all members' loads at once)."""
 
 from __future__ import annotations
 
@@ -17,7 +19,11 @@ from fingerpad.macro.pressure import disc_average
 from fingerpad.meso import ConstantFractionRidges
 from fingerpad.micro.bem import BEMUnitCell
 from fingerpad.micro.response import PowerLawUnitCell
+from fingerpad.coupling import critical_load
+from fingerpad.coupling.loads import LOAD_RTOL, FingerStack, centre_loads
 from fingerpad.coupling.members import predict_members
+from fingerpad.macro import DzidekArea, HertzArea, PowerLawArea, TwoRegimePowerLawArea
+from fingerpad.meso import PowerLawRidges, SinusoidalRidges
 from fingerpad.population.members import member_full_contact_loads
 from fingerpad.study.run import load_at_centre_pressure
 
@@ -55,6 +61,10 @@ def test_members_equal_predict_curve_per_member_bit_for_bit(cell, monkeypatch):
                 assert other is None, key
             else:
                 np.testing.assert_array_equal(np.asarray(other), np.asarray(value), err_msg=key)
+        assert math.isfinite(curve.critical_load)
+        # the one search against Brent's method per finger (coupling.critical_load)
+        brent = critical_load(cell.at_modulus(e), finger.ridge_area_law())
+        assert curve.critical_load == pytest.approx(brent, rel=LOAD_RTOL)
     # the members span asperity contact and the transition: discs over the transition bracket's
     # nodes (the interpolant's kinks) are exercised
     assert any(c.centre_past_transition.any() for c in got) and any(not c.centre_past_transition.all() for c in got)
@@ -96,3 +106,95 @@ def test_disc_average_per_disc_breakpoints_equal_one_call_per_disc():
     c, m = 1e-4, 0.8
     got = disc_average(lambda p: c * p**m, peaks, (5e3,))
     np.testing.assert_allclose(got, 2 * c * peaks**m / (m + 2), rtol=1e-13)
+
+
+def _hertz_centre_load(finger, p):
+    """Closed form of 1.5 F / (c pi (3 F R / 4 E)^(2/3)) = p (Hertz pad, constant ridge fraction)."""
+    c = finger.ridges.fraction
+    return (p * c * math.pi * (3.0 * finger.radius / (4.0 * finger.modulus)) ** (2.0 / 3.0) / 1.5) ** 3
+
+
+def test_centre_loads_closed_form_and_independent_of_company():
+    fingers = _fingers(40, seed=3)
+    rng = np.random.default_rng(4)
+    pressures = rng.uniform(1e3, 1e6, len(fingers))
+    got = centre_loads(FingerStack(fingers), pressures)
+    want = [_hertz_centre_load(f, p) for f, p in zip(fingers, pressures, strict=True)]
+    np.testing.assert_allclose(got, want, rtol=1e-13, atol=0)
+    # each finger's load does not depend on the others in the search (alone, or shuffled)
+    order = rng.permutation(len(fingers))
+    shuffled = centre_loads(FingerStack([fingers[i] for i in order]), pressures[order])
+    np.testing.assert_array_equal(shuffled, got[order])
+    alone = centre_loads(FingerStack(fingers[7:8]), pressures[7:8])
+    assert alone[0] == got[7]
+
+
+def test_centre_loads_edges():
+    fingers = _fingers(5, seed=5)
+    # inf: never reached; NaN: 0 Pa, NaN, and a pressure the centre never reaches in 1e-9..1e9 N
+    # (Hertz: 1.5 F / A_fr grows as F^(1/3), ~1e-2 Pa at 1e-9 N for these pads)
+    got = centre_loads(FingerStack(fingers), [math.inf, 0.0, math.nan, 1e-9, 2e4])
+    assert math.isinf(got[0]) and np.isnan(got[1:4]).all()
+    assert got[4] == pytest.approx(_hertz_centre_load(fingers[4], 2e4), rel=1e-13)
+    with pytest.raises(FingerpadError, match="3 pressures for 5 fingers"):
+        centre_loads(FingerStack(fingers), [1.0, 2.0, 3.0])
+
+
+def _varied(model, n: int, rng, fields: dict[str, tuple[float, float]]) -> list:
+    import dataclasses
+
+    return [dataclasses.replace(model, **{k: float(rng.uniform(*v)) for k, v in fields.items()}) for _ in range(n)]
+
+
+def test_finger_stack_rows_equal_each_finger_bit_for_bit():
+    """Every model class that declares STACKS, with its fields varied between fingers: each row
+    of the stack is that finger's areas_checked, to the bit; models that do not stack run per row."""
+    rng = np.random.default_rng(6)
+    base = get_finger("default")
+    n = 64
+    gross_sets = {
+        "hertz": _varied(HertzArea(9e-3, 40e3), n, rng, {"radius": (7e-3, 11e-3), "modulus": (1e4, 1e5)}),
+        "dzidek": _varied(DzidekArea(9e-3, 40e3, 5.0), n, rng, {"radius": (7e-3, 11e-3), "stiffening": (1.0, 5.0),
+                                                                 "exponent": (2.0, 4.0)}),
+        "power_law": _varied(PowerLawArea(1e-4, 0.6), n, rng, {"coefficient": (5e-5, 2e-4), "exponent": (0.4, 0.8)}),
+        "two_regime": _varied(TwoRegimePowerLawArea(1e-4, 0.4, 0.2), n, rng,
+                              {"coefficient": (5e-5, 2e-4), "exponent_low": (0.3, 0.5), "break_load": (1.0, 3.0)}),
+    }
+    ridge_sets = {
+        "constant": [ConstantFractionRidges(float(c)) for c in rng.uniform(0.1, 0.7, n)],
+        "power_law": _varied(PowerLawRidges(5e-5, 0.5), n, rng, {"coefficient": (2e-5, 8e-5), "exponent": (0.3, 0.7)}),
+        "sinusoidal": [SinusoidalRidges(wavelength=float(w), modulus=100e3, amplitude=30e-6) for w in rng.uniform(0.4e-3, 0.5e-3, n)],
+    }
+    loads = np.tile(np.geomspace(0.05, 8.0, 13), (n, 1))
+    for gname, gross in gross_sets.items():
+        for rname, ridges in ridge_sets.items():
+            fingers = [base.with_overrides(gross=g, ridges=r, radius=getattr(g, "radius", base.radius),
+                                           modulus=getattr(g, "modulus", base.modulus))
+                       for g, r in zip(gross, ridges, strict=True)]
+            stacked_g, stacked_r = FingerStack(fingers).areas(loads)
+            for i, finger in enumerate(fingers):
+                g, r = finger.areas_checked(loads[i])
+                np.testing.assert_array_equal(stacked_g[i], g, err_msg=f"{gname}/{rname} gross")
+                np.testing.assert_array_equal(stacked_r[i], r, err_msg=f"{gname}/{rname} ridge")
+
+
+class _PatchRidges:
+    """Half the gross area, refused above 1e3 N (as a fingerprint patch too small for the load)."""
+
+    def area(self, load, gross_area):
+        if np.any(np.asarray(load) > 1e3):
+            raise FingerpadError("the gross contact reaches the edge of the patch")
+        return 0.5 * np.asarray(gross_area, float)
+
+
+def test_centre_loads_of_a_finger_without_an_area_at_some_load():
+    """A model that refuses a trial load (the bracket reaches 1e9 N) gives that finger no load, as
+    a single finger's search reports it, and leaves the others' bits as they are alone."""
+    fingers = _fingers(3, seed=8)
+    patch = fingers[1].with_overrides(ridges=_PatchRidges())
+    stack = FingerStack([fingers[0], patch, fingers[2]])
+    got = centre_loads(stack, [2e4, 2e4, 2e4])
+    assert np.isnan(got[1])
+    assert math.isnan(centre_loads(FingerStack([patch]), [2e4])[0])
+    for i in (0, 2):
+        assert got[i] == centre_loads(FingerStack([fingers[i]]), [2e4])[0]

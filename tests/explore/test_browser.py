@@ -41,6 +41,11 @@ def num(page, key: str) -> float:
 
 
 def table(page) -> list[dict[str, str]]:
+    """The results table's rows, once it is the design of the summary: in a sequence of changes
+    the page dims the table of the design before until the hand pauses (docs/explorer.md)."""
+    from playwright.sync_api import expect
+
+    expect(page.locator(".fp-results-pane").first).to_have_css("opacity", "1")
     return page.locator(".fp-results").evaluate(
         "t => [...t.querySelectorAll('tbody tr')].map(r => Object.fromEntries("
         "[...r.querySelectorAll('td')].map(c => [c.dataset.key, c.dataset.value])))")

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from fingerpad.cancel import Cancelled
 from fingerpad.cli import app
 from fingerpad.explore import builders
 from fingerpad.explore.inputs import study_data, to_toml, validate
@@ -396,3 +397,107 @@ def test_switching_families_watches_each_field_once(tmp_path, monkeypatch):
     for name in ("caps", MEASURED, "ridges", MEASURED, "caps", MEASURED):
         view.form.family.widget.value = name
     assert counts() == first, (first, counts())
+
+
+# ---------------------------------------------------------------------------------------------
+# superseded work stops (issue 37)
+
+
+def test_superseded_contact_map_stops_and_is_not_remembered(cancel_midway):
+    from fingerpad.explore.jobs import LRU, remembered_contact
+
+    pred = run_data(HERTZ)
+    cache = LRU(4)
+    out, token = cancel_midway(lambda: contact_at(pred.texture, pred.reduced_modulus, 20e3, cache=cache), 0.01, 3)
+    assert isinstance(out, Cancelled)
+    assert token.checks <= token.at_cancel + 1  # within one iteration
+    assert len(cache) == 0 and remembered_contact(pred.texture, pred.reduced_modulus, 20e3, cache=cache) is None
+    res = contact_at(pred.texture, pred.reduced_modulus, 20e3, cache=cache)  # not superseded: remembered
+    assert res.converged and remembered_contact(pred.texture, pred.reduced_modulus, 20e3, cache=cache) is res
+
+
+def test_superseded_bem_job_stops_mid_solve_and_stores_nothing_partial(tmp_path, slow_token):
+    """A BEM run cancelled in the middle of a contact solve (each iteration made slow) ends
+    within one iteration; every node it left in the cache is the node an uninterrupted run
+    stores, bit for bit (nothing partial), and a run afterwards gives the numbers of a run on an
+    empty cache."""
+    def rows(folder):
+        return {(p.name, q): row for p in folder.rglob("*.json") for q, row in json.loads(p.read_text())
+                .get("points", {}).items()}
+
+    data = {**copy.deepcopy(DEFAULT_STUDY), "model": {"kind": "bem", "grid": 32, "cache": str(tmp_path / "a")}}
+    token = slow_token(0.002, 400)  # the coarse cell done, the fine one in the middle of a solve
+    job = Job(data, token=token)
+    assert token.reached.wait(300), job.state
+    job.cancel()
+    assert job.wait(60) and job.state == "cancelled" and job.result is None
+    assert token.checks <= token.at_cancel + 1
+    left = rows(tmp_path / "a")
+    assert left  # the coarse cell's nodes, complete before the cancel
+    fresh = Job({**data, "model": {**data["model"], "cache": str(tmp_path / "b")}})
+    assert fresh.wait(300) and fresh.state == "done"
+    full = rows(tmp_path / "b")
+    assert len(left) < len(full) and all(full[k] == row for k, row in left.items())
+    again = Job(data)
+    assert again.wait(300) and again.state == "done"
+    assert again.result.critical_load["bem"] == fresh.result.critical_load["bem"]
+    assert np.array_equal(again.result.bem.area_ratio, fresh.result.bem.area_ratio)
+
+
+# ---------------------------------------------------------------------------------------------
+# scanning a number field (issue 37): steps, units, limits and slider ranges from the Param
+
+
+def test_scan_steps_in_the_declared_unit_and_stays_in_the_limits():
+    from fingerpad.errors import FingerpadError
+    from fingerpad.explore.scan import ZONE_LOAD, scan_for, slider_text, step_text
+    from fingerpad.finger import finger_param
+    from fingerpad.materials import MATERIAL_MODULUS, MATERIAL_POISSON
+    from fingerpad.textures import get_family
+
+    spacing = scan_for(get_family("caps").param("spacing"), "spacing", slider=True)
+    assert (spacing.unit, spacing.step, spacing.hint) == ("um", 10.0, "↑↓ 10 µm (Shift ×10)")
+    assert step_text(spacing, "175um", 1) == "185um" and step_text(spacing, "175um", -10) == "75um"
+    assert step_text(spacing, "0.175mm", 2) == "195um"  # read as the field reads it, written in um
+    assert step_text(spacing, "15um", -3) == "5um"  # a length is positive: the last step above zero
+    assert spacing.slider == (50.0, 700.0)  # 175 um / 4 .. x 4 on the 10 um grid
+    assert slider_text(spacing, 183.3) == "180um" and slider_text(spacing, 1e9) == "700um"
+    with pytest.raises(FingerpadError, match="cannot read"):
+        step_text(spacing, "abc", 1)  # what the field refuses is not stepped
+    with pytest.raises(FingerpadError):
+        step_text(spacing, "175um", 10**6)  # a forged count of steps
+    with pytest.raises(FingerpadError):
+        slider_text(spacing, float("nan"))
+    beta = scan_for(finger_param("beta"), "beta")  # in [0, 1], closed
+    assert (beta.unit, beta.step) == ("", 0.01)
+    assert step_text(beta, "0.95", 10) == "1" and step_text(beta, "1", 1) == "1" and step_text(beta, "0.05", -10) == "0"
+    poisson = scan_for(MATERIAL_POISSON, "material Poisson ratio")  # in (-1, 0.5]
+    assert step_text(poisson, "0.4", 1) == "0.41" and step_text(poisson, "0.45", 10) == "0.5"
+    assert step_text(poisson, "-0.99", -1) == "-0.99"  # -1 is open: the last step short of it
+    modulus = scan_for(MATERIAL_MODULUS, "material modulus")
+    assert (modulus.unit, modulus.step) == ("MPa", 10.0) and step_text(modulus, "0.5GPa", 1) == "510MPa"
+    with pytest.raises(FingerpadError):
+        step_text(modulus, "rigid", 1)
+    pad = scan_for(finger_param("radius"), "pad radius")
+    assert (pad.unit, pad.step) == ("mm", 0.1) and step_text(pad, "9mm", -1) == "8.9mm"
+    zone = scan_for(ZONE_LOAD, "zone-map load", fallback=4.0).with_slider(0.1, 4.0)
+    assert zone.slider == (0.1, 4.0) and step_text(zone, "0.1N", -1) == "0.1N" and step_text(zone, "2N", 3) == "2.3N"
+    assert scan_for(get_family("caps").param("lattice"), "lattice") is None  # a choice: no steps
+
+
+def test_every_declared_number_of_the_finger_steps_and_reads_back():
+    """Every number the finger declares gets a step in a unit its own field reads back (a new
+    dimension, e.g. the work of adhesion's surface energy, must not break the page)."""
+    from fingerpad.explore.scan import scan_for, step_text, value_text
+    from fingerpad.finger import FINGER_PARAMS, finger_param
+
+    for p in FINGER_PARAMS:
+        scan = scan_for(p, p.name, fallback=1.0)
+        if scan is None:
+            assert p.kind == "choice"
+            continue
+        text = step_text(scan, value_text(scan, scan.step * scan.factor * 3), 1)
+        assert scan.read(text) > 0, (p.name, text)
+    w = scan_for(finger_param("work_of_adhesion"), "work of adhesion")
+    assert (w.unit, w.step) == ("mJ/m2", 1.0) and step_text(w, "0.05J/m2", 1) == "51mJ/m2"
+    assert step_text(w, "5mJ/m2", -10) == "0mJ/m2"  # w >= 0, closed: stops on it

@@ -153,3 +153,41 @@ def test_analyse_summary_at_80_columns(app, small_study_dir, tmp_path):
         interval = str(row.skin_modulus_interval).removesuffix(" MPa")
         assert any(line.startswith(row.participant) and interval in line for line in table), interval
     assert np.isfinite(parts["skin_modulus"]).all()
+
+
+def test_simulate_several_textures_from_a_sample_table(app, tmp_path):
+    """``simulate-measurement --samples``: the textures of a sample table (the format ``analyse
+    --samples`` reads), each with its own micro-model; the study's samples.csv lists them as
+    the table gave them, and a recording per participant, sample and repetition is written."""
+    table = tmp_path / "textures.csv"
+    table.write_text("sample,radius,height,spacing,micro_model,full_contact_ratio\n"
+                     "flat,,,,,\n"
+                     "edge,50um,18um,100um,hertz,1.5\n"
+                     "low,40um,8um,90um,hertz,\n")
+    out = tmp_path / "sim"
+    res = CliRunner().invoke(app, ["simulate-measurement", "--out", str(out), "--participants", "2",
+                                   "--repetitions", "1", "--strokes", "4", "--samples", str(table)])
+    assert res.exit_code == 0, res.output
+    assert sorted(p.name for p in out.glob("P*.csv")) == [f"P0{i}_{s}_1.csv" for i in (1, 2)
+                                                          for s in ("edge", "flat", "low")]
+    assert m.read_textures(out / "samples.csv") == {k: v for k, v in m.read_textures(table).items()}
+    assert "wrote 6 recordings" in res.stdout
+
+
+@pytest.mark.parametrize("extra, rows, message", [
+    (["--height", "20um"], "bumps,50um,18um,100um\n", "--samples gives the textures: leave out --height"),
+    (["--texture", "x", "--micro-model", "hertz"], "bumps,50um,18um,100um\n",
+     "--samples gives the textures: leave out --texture, --micro-model"),
+    ([], "glass,,,\nbumps,50um,18um,100um\n", "sample 'glass' has no geometry"),
+    ([], "flat,,,\n", "no textured sample"),
+    ([], "flat,50um,18um,100um\n", "the reference 'flat' cannot also be a textured sample"),
+    ([], "bumps,50um,-1um,100um\n", "row 2"),
+])
+def test_simulate_sample_table_mistakes_are_one_line(app, tmp_path, extra, rows, message):
+    table = tmp_path / "textures.csv"
+    table.write_text("sample,radius,height,spacing\n" + rows)
+    out = tmp_path / "sim"
+    res = CliRunner().invoke(app, ["simulate-measurement", "--out", str(out), "--samples", str(table), *extra])
+    assert res.exit_code == 2, res.output
+    assert res.stderr.startswith("error: ") and message in res.stderr and res.stderr.count("\n") == 1
+    assert not out.exists()

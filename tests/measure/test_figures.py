@@ -102,13 +102,22 @@ def test_decimation_keeps_each_bucket_extremes_and_the_tail():
 
 def test_qc_png_on_a_reused_figure_is_the_same_as_on_a_new_one(study_small):
     """qc_png redraws one kept figure: each recording's PNG is byte-identical to the PNG of a
-    new figure, whatever recording was drawn on it before (limits, labels, legend, title)."""
-    from fingerpad.plotting.measure import png_bytes, qc_inputs, qc_png
+    new figure, whatever recording was drawn on it before (limits, labels, legend, title),
+    including a recording without strokes (no legend) before and after ones with strokes."""
+    import dataclasses
+
+    from fingerpad.plotting.measure import _draw_qc, png_bytes, qc_inputs, qc_png
 
     sources = [r.source for r in study_small.recordings][:4]
+    inputs = [qc_inputs(study_small, s) for s in sources]
+    empty = dataclasses.replace(inputs[0], strokes=inputs[0].strokes.iloc[:0])
     fresh = [png_bytes(figure_qc(study_small, s), 40) for s in sources]
-    for s, want in zip(sources + sources[::-1], fresh + fresh[::-1]):
-        assert qc_png(qc_inputs(study_small, s), 40) == want, s
+    fresh_empty = png_bytes(_draw_qc(empty), 40)
+    assert fresh_empty not in fresh
+    order = [*zip(inputs, fresh), (empty, fresh_empty), *zip(inputs[::-1], fresh[::-1]), (empty, fresh_empty),
+             (inputs[0], fresh[0])]
+    for i, (given, want) in enumerate(order):
+        assert qc_png(given, 40) == want, i
 
 
 def test_participant_and_sample_pngs_on_kept_figures_are_the_same_as_on_new_ones(study_small):

@@ -108,3 +108,17 @@ def test_closed_form_agrees_with_the_hertz_model_transition():
     cell = fp.HertzUnitCell.for_finger(finger.with_overrides(skin_modulus=es), radius=R, height=H, spacing=LAM)
     assert 1.5 * fcrit / finger.ridge_area(fcrit) == pytest.approx(cell.transition_pressure, rel=1e-9)
     assert math.isfinite(es) and es > 0
+
+
+def test_model_table_rows_kept_for_a_scan_are_the_splines():
+    """ModelTable.log_rows keeps the rows of the last scans (every E_s fit starts from the same
+    coarse scan): the same values as the spline, clipped to the table, read-only, and a kept
+    scan's rows come back as they were computed."""
+    table = m.ModelTable(lambda loads, e: (1.0 + 0.0 * loads) * (e / 1e6) ** 0.1 * loads ** -0.05, (0.1, 5.0))
+    scan = np.linspace(math.log(1e4), math.log(5e7), 41)  # beyond both ends of the table
+    rows = table.log_rows(scan)
+    np.testing.assert_array_equal(rows, table._spline(np.clip(scan, table.log_moduli[0], table.log_moduli[-1])))
+    assert not rows.flags.writeable
+    assert table.log_rows(scan.copy()) is rows
+    other = table.log_rows(scan[:7])
+    assert other.shape == (7, table.loads.size) and table.log_rows(scan) is rows

@@ -166,6 +166,63 @@ def test_strokes_found_by_the_qc_pool_give_the_same_report(small_study_dir, tmp_
     assert [r.used for r in result.stroke_reports.values()] == [r.used for r in plain_result.stroke_reports.values()]
 
 
+def _figures_to_draw(result):
+    from fingerpad.plotting.measure import participant_png, sample_png
+
+    return ([("participant", p, participant_png) for p in sorted(result.strokes["participant"].unique())]
+            + [("sample", s, sample_png) for s in sorted(result.strokes["sample"].unique())])
+
+
+def test_participant_and_sample_figures_drawn_by_a_worker_are_the_same_bytes(study_small):
+    """A pool's worker draws a participant or sample figure from the result pickled without its
+    recordings, stroke reports and models (_figure_payload): the same PNG bytes as here."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    from fingerpad.measure.report import _figure_payload, _pool_figure
+
+    drawn = _figures_to_draw(study_small)
+    here = [draw(study_small, key, 30) for _, key, draw in drawn]
+    payload = _figure_payload(study_small)
+    assert b"recordings" in payload and len(payload) < 2e6  # the samples are not in it
+    with ProcessPoolExecutor(2) as pool:
+        there = list(pool.map(_pool_figure, *zip(*[(kind, key, 30, "t", payload) for kind, key, _ in drawn])))
+    assert len(there) == len(here) >= 4 and there == here
+
+
+class _Pool:
+    """A pool whose workers have taken the first ``taken`` tasks (they cannot be cancelled) and
+    draw them in this process (_pool_figure, as a worker would)."""
+
+    def __init__(self, taken: int) -> None:
+        self.taken, self.submitted = taken, 0
+
+    def submit(self, fn, *args):
+        from concurrent.futures import Future
+
+        future: Future = Future()
+        if self.submitted < self.taken:
+            future.set_running_or_notify_cancel()
+            future.set_result(fn(*args))
+        self.submitted += 1
+        return future
+
+
+@pytest.mark.parametrize("taken", [0, 2, 99])
+def test_figures_are_drawn_here_unless_a_worker_took_them(study_small, monkeypatch, taken):
+    """_draw_figures: every figure is a pool task; this process cancels and draws, from the last
+    one back, those no worker has started, and takes the others' results: in order, the same
+    bytes, whichever side drew each."""
+    from fingerpad.measure import report
+
+    drawn = _figures_to_draw(study_small)
+    here = [draw(study_small, key, 30) for _, key, draw in drawn]
+    calls = []
+    counted = [(kind, key, lambda r, k, d, draw=draw: calls.append(k) or draw(r, k, d)) for kind, key, draw in drawn]
+    got = list(report._draw_figures(study_small, counted, 30, _Pool(taken)))
+    assert got == here
+    assert calls == [key for _, key, _ in counted][min(taken, len(drawn)):][::-1]  # the rest, from the back
+
+
 def _stream_of_worker(parent_stderr_id: int) -> tuple[bool, bool]:
     import sys
     import warnings

@@ -91,3 +91,21 @@ def test_bin_strokes_means_per_bin():
     assert both.loc[1, "mu"] == pytest.approx(0.3) and both.loc[1, "n"] == 1  # the outlier is left out
     assert np.isnan(both.loc[0, "mu_sem"]), "one recording: no between-recording error"
     assert (both["bin_low"].to_numpy() == edges[:2]).all()
+
+
+def test_the_median_of_three_samples_is_numpys():
+    """A stroke's travel reads the median of its first and last three positions by a shortcut
+    (_median3): the same number as numpy's median, NaN included, for every order and ties."""
+    import itertools
+
+    import numpy as np
+
+    from fingerpad.measure.strokes import _median3
+
+    values = [-1.5, 0.0, 2e-3, 2e-3, 7.25, float("nan"), -0.0]
+    for triple in itertools.product(values, repeat=3):
+        a = np.array(triple)
+        want = float(np.median(a))
+        got = _median3(a)
+        assert (got == want or (np.isnan(got) and np.isnan(want))), triple
+    assert _median3(np.array([3.0, 1.0])) == 2.0  # other sizes: numpy's median itself

@@ -65,3 +65,18 @@ def test_a_chunk_takes_the_points_its_cell_tasks_predicted(monkeypatch):
     out = evaluate.evaluate_chunk([((0, 0), {"a": 0}), ((0, 1), {"a": 1})], [1.0], [1.0], known=known)
     assert out == [((0, 0), {"solves": 3}), ((0, 1), {"solves": 0, "mu": "from the cell task"})]
     assert evaluated == [{"a": 0}]  # only the point no cell task predicted
+
+
+def test_the_nodes_read_are_those_of_the_cell_after_it_adds_more(cell_texture):
+    """The node arrays every psi reads are kept until the cell's nodes change: a cell prepared
+    over a wider range reads all its nodes, the new ones included."""
+    import numpy as np
+
+    cell = BEMUnitCell(cell_texture, 2e5, cache=False).prepare(1e3, 1e4)
+    before = len(cell._nodes()[0])
+    cell.contact_fraction(np.array([3e3]))
+    cell.prepare(1e2, 1e5)
+    ps, psi = cell._nodes()
+    assert len(ps) == len(cell._unit_points) > before
+    np.testing.assert_array_equal(ps, sorted(cell._unit_points))
+    np.testing.assert_array_equal(psi, np.maximum.accumulate([cell._unit_points[p]["contact_fraction"] for p in ps]))

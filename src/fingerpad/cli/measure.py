@@ -314,7 +314,12 @@ def _print_summary(result: Any, written: list[Path], out: Path, shown: list[str]
     show(f"wrote {len(written)} files to {out} (report: {out / 'report.html'})")
 
 
+#: The options of ``simulate-measurement`` that describe its one texture, which ``--samples`` replaces.
+_ONE_TEXTURE = ("texture", "radius", "height", "spacing", "micro_model", "full_contact_ratio")
+
+
 def simulate_command(
+    ctx: typer.Context,
     out: Annotated[str, _opt("--out", "-o", panel=_OUTPUT, metavar="DIR", help="Output folder.")],
     seed: Annotated[str, _opt("--seed", panel=_INPUT, metavar="N", help="Random seed.")] = "0",
     participants: Annotated[str, _opt("--participants", panel=_INPUT, metavar="N")] = "4",
@@ -336,6 +341,9 @@ def simulate_command(
     skin_modulus: Annotated[str, _opt("--skin-modulus", panel=_INPUT, metavar="LOW:HIGH",
                                       help="Range of the participants' E_s.")] = "0.25MPa:0.4MPa",
     sampling_rate: Annotated[str, _opt("--sampling-rate", panel=_INPUT, metavar="HZ")] = "200",
+    samples: Annotated[str | None, _opt("--samples", panel=_INPUT, metavar="CSV",
+                                        help="Several textures: a sample table as `analyse --samples` reads "
+                                             "it; replaces --texture and its geometry options.")] = None,
 ) -> None:
     """Write synthetic tribometer recordings with known skin modulus and friction law.
 
@@ -345,28 +353,33 @@ def simulate_command(
         from .. import measure as m
         from ..io import OutputFolder
 
-        OutputFolder.check(out)  # before anything is simulated
+        OutputFolder.check(out, inputs=[samples] if samples else [])  # before anything is simulated
+        if samples is not None:
+            given = [f"--{name.replace('_', '-')}" for name in _ONE_TEXTURE
+                     if getattr(ctx.get_parameter_source(name), "name", "DEFAULT") != "DEFAULT"]
+            if given:
+                raise FingerpadError(f"--samples gives the textures: leave out {', '.join(given)}")
         parts = skin_modulus.split(":")
         if len(parts) != 2:
             raise FingerpadError(f"--skin-modulus: expected LOW:HIGH, got {skin_modulus!r}")
         e_range = tuple(parse_quantity(p, "pressure", name="--skin-modulus") for p in parts)
         if not 0 < e_range[0] <= e_range[1]:
             raise FingerpadError(f"--skin-modulus: need 0 < LOW <= HIGH, got {skin_modulus!r}")
-        geometry = m.TextureGeometry(
+        textures = _simulated_textures(samples, reference) if samples is not None else {texture: m.TextureGeometry(
             radius=parse_quantity(radius, "length", name="--radius"),
             height=parse_quantity(height, "length", name="--height"),
             spacing=parse_quantity(spacing, "length", name="--spacing"),
             full_contact_ratio=(_number(full_contact_ratio, "--full-contact-ratio", low=1.0 + 1e-9)
                                 if full_contact_ratio else None),
             micro_model=micro_model,
-        )
+        )}
         config = m.SimulationConfig(
             participants=parse_int(participants, "--participants"),
             repetitions=parse_int(repetitions, "--repetitions"),
             strokes_per_file=parse_int(strokes, "--strokes", minimum=2),
             load_range=_load_range(loads),
             reference=reference,
-            textures={texture: geometry},
+            textures=textures,
             skin_modulus_range=e_range,  # type: ignore[arg-type]
             sampling_rate=_number(sampling_rate, "--sampling-rate", low=1.0),
         )
@@ -377,6 +390,22 @@ def simulate_command(
     for pid, p in truth["participants"].items():
         console.print(f"{pid}: E_s = {p['skin_modulus'] / 1e6:.3f} MPa, k = {p['k']:.3f}, n = {p['n']:.3f}")
     console.print(f"wrote {len(truth['files'])} recordings, manifest.csv, samples.csv and truth.json to {out}")
+
+
+def _simulated_textures(path: str, reference: str) -> dict[str, Any]:
+    """The textured samples of a sample table (:func:`~fingerpad.measure.read_textures`): every
+    row but a flat one of the reference, which needs none."""
+    from .. import measure as m
+
+    table = m.read_textures(path)
+    flat = [name for name, geom in table.items() if geom is None and name != reference]
+    if flat:
+        raise FingerpadError(f"{path}: sample {flat[0]!r} has no geometry (radius, height, spacing); a "
+                             f"simulated texture needs them, and the flat reference is --reference ({reference!r})")
+    textures = {name: geom for name, geom in table.items() if geom is not None}
+    if not textures:
+        raise FingerpadError(f"{path}: no textured sample (rows with radius, height and spacing)")
+    return textures
 
 
 def register(app: typer.Typer) -> None:

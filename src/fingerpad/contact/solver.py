@@ -75,6 +75,7 @@ from typing import Any
 
 import numpy as np
 
+from ..cancel import current as cancel_scope
 from ..errors import FingerpadError, one_line
 from ..extras import missing, require
 from ..materials import check_modulus
@@ -398,8 +399,12 @@ class HalfSpaceSolver:
         if self.interaction is not None:
             # the interaction is a term of the energy the gap form minimises: its own iteration
             return self._solve_adhesive(mode, value, initial)
-        if (self._kernels_choice == "auto" and self.backend.is_numpy and not self._compiled and not _jit_disabled()
-                and (self._work >= COMPILED_AFTER_WORK or math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS)):
+        # _jit_disabled last: it asks the import system for Numba (~50 us, ~7 ms of a grid-48
+        # sweep point's 140 solves when it ran before every one), needed only once the work
+        # calls for compiled loops
+        if (self._kernels_choice == "auto" and self.backend.is_numpy and not self._compiled
+                and (self._work >= COMPILED_AFTER_WORK or math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS)
+                and not _jit_disabled()):
             # a long curve or table, or one very long solve: the compiled loops' load pays back
             self._use_compiled()
         if form is None:
@@ -502,11 +507,22 @@ class HalfSpaceSolver:
         return self._Sh_field
 
     def _callback(self) -> Callable[[int, float], None] | None:
-        """The per-iteration callback of the conjugate gradient: ``progress`` with this grid."""
-        if self.progress is None:
+        """The per-iteration callback of the conjugate gradient: ``progress`` with this grid, and
+        the check of the caller's cancellation scope (:mod:`fingerpad.cancel`: a solve nobody
+        waits for stops within one iteration, before it returns or stores anything)."""
+        token = cancel_scope()
+        if self.progress is None and token is None:
             return None
         report, shape = self.progress, self.texture.shape
-        return lambda it, residual: report(shape, it, residual)
+        if token is None:
+            return lambda it, residual: report(shape, it, residual)  # type: ignore[misc]
+
+        def callback(it: int, residual: float) -> None:
+            token.check()
+            if report is not None:
+                report(shape, it, residual)
+
+        return callback
 
     def _precond(self, form: str) -> Any:
         if not self.precondition:

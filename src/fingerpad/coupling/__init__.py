@@ -4,7 +4,9 @@
   :func:`adhesion_integral`, :func:`predict_curve` (Eqs. 3.6-3.12);
 * :mod:`.members` - many fingers on one unit cell at once, :func:`predict_members`: the
   vectorised twin of :func:`predict_curve`, bit for bit (an equation changed in one is changed
-  in the other, here beside it).
+  in the other, here beside it);
+* :mod:`.loads` - many fingers' areas as one (:class:`~.loads.FingerStack`) and the one search
+  of the load at which a pad centre reaches a pressure (:func:`~.loads.centre_loads`).
 
 SI units (m, N, Pa).
 """

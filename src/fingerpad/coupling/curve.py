@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from ..cancel import check as check_cancelled
 from ..checks import ArrayLike, as_areas, as_loads, scalar_out
 from ..errors import FingerpadError
 from ..finger import Finger
@@ -35,6 +36,7 @@ from ..micro.response import (
     checked_psi,
     solve_load,
 )
+from .loads import FingerStack, centre_loads
 
 
 def _zone_radius(a: np.ndarray, peak: np.ndarray, p_zone: float) -> np.ndarray:
@@ -135,6 +137,7 @@ def disc_ratio(cell: UnitCellResponse, peak: np.ndarray, breaks: tuple[float, ..
     and was off by up to a few 1e-3 relative on BEM cells; it stays for analytic cells (Hertz,
     power law), where it is accurate to 1e-13. Values checked as :func:`checked_psi` checks psi.
     """
+    check_cancelled()  # once per curve or block of fingers: a population nobody waits for stops here
     method = getattr(cell, "disc_fraction", None)
     if method is None:
         return disc_average(checked_psi(cell), peak, breaks, n_nodes=int(n_rings))
@@ -270,8 +273,10 @@ class CurvePrediction:
     mu_ref, mu_normalised
         On the flat reference (``A_re = A_fr``) and ``mu / mu_ref``; ``None`` without a reference.
     critical_load
-        Load (N) at which the centre reaches the cell's transition (:func:`critical_load`) with
-        the finger's ``A_fr(F)``; NaN when there is none in :data:`DEFAULT_LOAD_RANGE`.
+        Load (N) at which the centre reaches the cell's transition with the finger's ``A_fr(F)``
+        (:func:`~fingerpad.coupling.loads.centre_loads`, the same root as :func:`critical_load`'s
+        to 1e-12); NaN when there is none in :data:`DEFAULT_LOAD_RANGE`, inf for a cell that
+        never reaches its transition.
     critical_load_hertz
         Eq. 3.6 solved with ``A_fr(F)`` when the cell is a :class:`HertzUnitCell`, else ``None``
         (NaN when no solution lies in the range).
@@ -304,7 +309,7 @@ class CurvePrediction:
 
 def predict_curve(
     loads: ArrayLike, finger: Finger, cell: UnitCellResponse, reference: bool = True, n_rings: int = 16,
-    plain: UnitCellResponse | None = None,
+    plain: UnitCellResponse | None = None, *, critical_loads: bool = True,
 ) -> CurvePrediction:
     """Predict areas and friction of ``finger`` on the texture described by ``cell``.
 
@@ -328,6 +333,10 @@ def predict_curve(
         With an adhesive ``cell`` (:class:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell`):
         the same texture's non-adhesive cell, for the real area without adhesion, the adhesive
         share and the threshold load (:func:`_predict_adhesive`); ignored otherwise.
+    critical_loads
+        Find the critical loads (two root searches, some 20 % of a curve's time); ``False``
+        leaves ``critical_load`` NaN and ``critical_load_hertz`` ``None`` (callers that read the
+        friction alone, e.g. the E_s fits' model tables); the other fields are the same.
     """
     if not isinstance(finger, Finger):
         raise FingerpadError(f"finger must be a Finger, got {type(finger).__name__}")
@@ -346,18 +355,21 @@ def predict_curve(
         mu_ref = mu_checked(f, ridge, finger)  # on the flat the real area is the ridge area
         mu_norm = mu / mu_ref
 
-    # the root finders call A_fr(F) some 25 times each: the law builds the gross-area model once
-    # (the numbers of finger.ridge_area, without checking each trial load again)
-    ridge_law = finger.ridge_area_law()
-    if math.isinf(float(cell.transition_pressure)):
-        f_crit = math.inf  # the cell never reaches its transition (a state search found none)
-    else:
-        try:
-            f_crit = critical_load(cell, ridge_law)
-        except FingerpadError:  # no crossing in the (very wide) load range: report as NaN
-            f_crit = math.nan
+    if not critical_loads:
+        return CurvePrediction(
+            load=f, gross_area=gross, ridge_area=ridge, real_area=res.real_area, area_ratio=res.area_ratio,
+            real_pressure=res.real_pressure, ridge_radius=res.ridge_radius, transition_radius=res.transition_radius,
+            full_contact_radius=res.full_contact_radius, centre_past_transition=res.centre_past_transition,
+            mu=mu, mu_ref=mu_ref, mu_normalised=mu_norm, critical_load=math.nan, critical_load_hertz=None)
+    # the package's one search of 1.5 F / A_fr(F) = p_t (a population's members take the same,
+    # all at once: a member's critical load is the bits of its finger predicted alone); inf: the
+    # cell never reaches its transition, NaN: no crossing in the (very wide) load range
+    pt = float(check_cell(cell)[0])
+    f_crit = float(centre_loads(FingerStack([finger]), [pt])[0]) if pt > 0 else math.nan
     f_hertz: float | None = None
     if isinstance(cell, HertzUnitCell):
+        # Eq. 3.6's own solver; A_fr(F) built once for its ~25 calls
+        ridge_law = finger.ridge_area_law()
         try:
             f_hertz = cell.critical_load(ridge_law)
         except FingerpadError:

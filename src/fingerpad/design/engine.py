@@ -1,14 +1,14 @@
-"""Running a sweep on Dask distributed: a LocalCluster by default, an existing scheduler if given.
+"""Running a sweep: its plan's tasks on Dask distributed, a LocalCluster by default, an existing
+scheduler if given.
 
 The client (the ``fingerpad sweep`` process) lays the store out, finds the chunks not yet done,
-and submits two kinds of tasks: one per distinct unit cell (its first point, which solves the
-cell into the shared on-disk cache over what every point sharing it asks for, in the order of
-their indices), then one per chunk of points, each depending on the cells its points use, so
-that identical cells are solved once per sweep and every point reads its cell as it is in the
-end, whatever order the chunks run in. A chunk whose every point is
-its cell's first point has no task: the client writes it from those cells' results. Finished
-chunks are written into the store as they come back. Workers run one thread each, and BLAS and FFT threads are
-capped at one inside them: the parallelism of a sweep is its workers.
+and makes the sweep's plan (:mod:`.plan`: one task per distinct unit cell, for its first point,
+which solves the cell into the shared on-disk cache over what every point sharing it asks for;
+one per chunk of points, after the cells its points use; no task for a chunk whose every point
+is its cell's first point, written from those cells' results). :func:`execute_plan` submits the
+tasks to an executor (:mod:`.executor`: Dask here, or in this process for tests) and writes
+finished chunks into the store as they come back. Workers run one thread each, and BLAS and FFT
+threads are capped at one inside them: the parallelism of a sweep is its workers.
 
 To use more than one machine, start ``dask scheduler`` on one, ``dask worker tcp://HOST:8786
 --nthreads 1`` on each (with fingerpad installed, and ``FINGERPAD_CACHE`` on a shared folder if
@@ -30,11 +30,14 @@ import numpy as np
 
 from ..errors import FingerpadError, one_line
 from ..extras import require
-from .evaluate import cell_key, evaluate_chunk, prepare_cell
+from .evaluate import evaluate_chunk, prepare_cell
+from .executor import Executor, _close_quietly
+from .plan import SweepPlan, plan_sweep
 from .spec import SweepSpec
-from .store import SweepStore, check_store_path, chunk_slices, pressure_grid
+from .store import SweepStore, check_store_path, pressure_grid
 
-__all__ = ["SweepReport", "check_address", "check_workers", "max_workers", "connect", "probe_scheduler", "run_sweep", "sweep_pressures"]
+__all__ = ["SweepReport", "check_address", "check_workers", "connect", "execute_plan", "max_workers", "probe_scheduler",
+           "run_sweep", "sweep_pressures"]
 
 #: Local worker processes per core a sweep may start (``--workers``): one per core is the
 #: default; more only share the cores, and each costs ~0.1-0.3 GB of memory.
@@ -275,16 +278,6 @@ def _interrupt_deferred() -> Iterator[list[int]]:
         signal.signal(signal.SIGINT, before)
 
 
-def _close_quietly(client: Any) -> None:
-    """Close a Client whose constructor failed, so that its ``__del__`` has nothing left to do."""
-    import contextlib
-
-    with contextlib.suppress(Exception):
-        client.close(timeout=2)
-    with contextlib.suppress(Exception):
-        client.status = "closed"
-
-
 def run_sweep(
     spec: SweepSpec,
     store_path: str | Path,
@@ -302,7 +295,9 @@ def run_sweep(
     ``repair``, which recomputes the points of its damaged chunks and rewrites its metadata.
     When every point is done already, no cluster is started. With an existing ``scheduler``
     that has no worker yet, ``notice`` is told so after :data:`NO_WORKER_NOTICE` s, and again
-    every minute, while the sweep waits for one.
+    every minute, while the sweep waits for one. The tasks are those of the sweep's plan
+    (:func:`~.plan.plan_sweep`), run by :func:`execute_plan` on Dask
+    (:class:`~.executor.DaskExecutor`).
 
     Raises
     ------
@@ -337,7 +332,7 @@ def _run_sweep(spec: SweepSpec, store_path: str | Path, workers: int | None, sch
                overwrite: bool, repair: bool, progress: Callable[[SweepReport], None] | None,
                notice: Callable[[str], None] | None) -> SweepReport:
     """:func:`run_sweep` once the store is this process's to write."""
-    from distributed import as_completed
+    from .executor import DaskExecutor
 
     t_start = time.perf_counter()
     pressures = sweep_pressures(spec)
@@ -358,134 +353,107 @@ def _run_sweep(spec: SweepSpec, store_path: str | Path, workers: int | None, sch
             report.seconds = time.perf_counter() - t_start
             return report
     client, cluster = connect(scheduler, workers)
+    executor = DaskExecutor(client, cluster)
     try:
         if cluster is None:
             _wait_for_a_worker(client, scheduler or "", notice)
             t_start = time.perf_counter()  # the rate of the summary counts computing, not waiting
+        # (no client.run of limit_threads first: every task caps its own threads, and that round
+        # trip to each worker held the first task back)
+        report.workers = executor.workers
+        report.dashboard = executor.dashboard if cluster is not None or scheduler else None
+        resume = store.check_existing(overwrite) == "resume"
+        plan = plan_sweep(spec, store.done() if resume else None)
         # The store is laid out once the tasks are submitted, while the workers compute: its
         # template (xarray, which imports dask.array, and zarr) took 1-4 s in this process, during
         # which the workers sat idle (profiled for issue 23).
-        resume = store.check_existing(overwrite) == "resume"
-        done = store.done() if resume else np.zeros(spec.shape, bool)
-        report.done_before = int(done.sum())
-        report.workers = len(client.scheduler_info().get("workers", {}))
-        report.dashboard = getattr(client, "dashboard_link", None) if cluster is not None or scheduler else None
-        # (no client.run of limit_threads first: every task caps its own threads, and that round
-        # trip to each worker held the first task back)
-        todo = [region for region in chunk_slices(spec.shape, spec.chunk) if not done[region].all()]
-        # One task per distinct cell, for its first point: the other points read it from the cache.
-        chunk_items: list[tuple[tuple[slice, ...], list[tuple[tuple[int, ...], dict[str, Any]]], set[str]]] = []
-        first_of: dict[str, tuple[tuple[int, ...], dict[str, Any]]] = {}
-        keyed: dict[str, list[tuple[tuple[int, ...], dict[str, Any]]]] = {}
-        for region in todo:
-            items, keys = [], set()
-            for index in np.ndindex(*(s.stop - s.start for s in region)):
-                idx = tuple(i + s.start for i, s in zip(index, region, strict=True))
-                if done[idx]:
-                    continue
-                data = spec.study_data(spec.assignment(idx))
-                key = cell_key(data)
-                if key is not None:
-                    keys.add(key)
-                    first_of.setdefault(key, (idx, data))
-                    keyed.setdefault(key, []).append((idx, data))
-                items.append((idx, data))
-            chunk_items.append((region, items, keys))
-        report.cells = len(first_of)
-        sharing = _sharing(spec, keyed, done)
-        loads, ps = spec.loads.tolist(), pressures.tolist()
-        # the members (the same at every point), sent to each worker once
-        population = spec.population_payload()
-        if population is not None:
-            population = client.scatter([population], broadcast=True)[0]  # a list: a dict would be keys
-        # A cell task predicts its first point in full and returns that result, which the point's
-        # chunk takes as it is: each such point is predicted once, not twice (the second time from
-        # the cache: ~a quarter of a point at grid 48, profiled for issue 23).
-        # The cell task prepares the cell for every point that shares it (a modulus axis), before
-        # any of them is predicted: the chunks then only read it, in whatever order they run.
-        cell_futures = {key: client.submit(prepare_cell, data, loads, ps, population, idx, sharing[key], pure=False,
-                                           key=f"cell-{key[:16]}")
-                        for key, (idx, data) in first_of.items()}
-        firsts = {idx for idx, _ in first_of.values()}
-        futures: dict[Any, tuple[slice, ...]] = {}
-        # Chunks whose every point is the first point of its cell (every point of a sweep over the
-        # texture's shape) need no task of their own: they are written here from their cells'
-        # results as those come in. Their task only passed those results on, from worker to
-        # worker and back here, and queued behind the cell tasks: issue 23, 2 workers against 1.
-        # (chunks by their number in chunk_items: slices are not hashable before Python 3.12)
-        gathered: dict[int, tuple[list[Any], list[str], set[str]]] = {}
-        waiting_on: dict[str, list[int]] = {}
-        for n, (region, items, keys) in enumerate(chunk_items):
-            if items and all(idx in firsts for idx, _ in items):
-                gathered[n] = (items, sorted(keys), set(keys))
-                for k in keys:
-                    waiting_on.setdefault(k, []).append(n)
-                continue
-            deps = [cell_futures[k] for k in sorted(keys)]
-            fut = client.submit(_after, deps, items, loads, ps, population, pure=False)
-            futures[fut] = region
-        store.create(overwrite=overwrite)
-        if progress is not None:
-            progress(report)  # the start: the store is laid out and the workers are there
-        key_of = {cf: key for key, cf in cell_futures.items()}
-        key_at = {idx: key for key, (idx, _) in first_of.items()}
-        cells: dict[str, Any] = {}  # the results of the cells whose chunks are written here
-        failed: dict[str, BaseException] = {}
-        for fut in as_completed([*cell_futures.values(), *futures], loop=client.loop):
-            if fut in key_of:
-                key = key_of[fut]
-                if fut.status != "finished":
-                    failed[key] = fut.exception()
-                else:
-                    cell = fut.result()
-                    solves = int(cell["solves"])
-                    report.cells_solved += int(solves > 0)
-                    report.cache_hits += int(solves == 0)
-                    report.solves += solves
-                    if key in waiting_on:
-                        cells[key] = cell
-                for n in waiting_on.pop(key, []):
-                    items, keys, left = gathered[n]
-                    left.discard(key)
-                    if left:
-                        continue  # other cells of this chunk are still running
-                    del gathered[n]
-                    region = chunk_items[n][0]
-                    error = next((failed[k] for k in keys if k in failed), None)
-                    if error is not None:  # what the chunk's task would have failed with
-                        report.failures.append(f"chunk {_region_text(region)}: {error!r}")
-                        continue
-                    # as evaluate_chunk takes a point its cell task predicted (the solves were
-                    # counted with the cell)
-                    _record(store, region, [(idx, {**cells.pop(key_at[idx])["result"], "solves": 0})
-                                            for idx, _ in items], report, t_start, progress)
-                continue
-            region = futures[fut]
-            if fut.status != "finished":
-                report.failures.append(f"chunk {_region_text(region)}: {fut.exception()!r}")
-                continue
-            _record(store, region, fut.result(), report, t_start, progress)
+        execute_plan(plan, executor, store, spec.loads, pressures, report, t_start=t_start, progress=progress,
+                     population=spec.population_payload(), before_results=lambda: store.create(overwrite=overwrite))
     finally:
-        _close_quietly(client)
-        if cluster is not None:
-            cluster.close()
+        executor.close()
     report.seconds = time.perf_counter() - t_start
     return report
 
 
-def _sharing(spec: SweepSpec, keyed: dict[str, list[tuple[tuple[int, ...], dict[str, Any]]]],
-             done: np.ndarray) -> dict[str, list[dict[str, Any]]]:
-    """The study data of the points that share each cell to compute (``keyed``: the points left
-    to compute, by cell), in the order of their indices, with the points of those cells already
-    done: a resumed sweep prepares each curve over the same points as a sweep run at once."""
-    found = {key: list(items) for key, items in keyed.items()}
-    for idx in zip(*np.nonzero(done), strict=True):
-        index = tuple(int(i) for i in idx)
-        data = spec.study_data(spec.assignment(index))
-        key = cell_key(data)
-        if key in found:
-            found[key].append((index, data))
-    return {key: [data for _, data in sorted(items, key=lambda t: t[0])] for key, items in found.items()}
+def execute_plan(plan: SweepPlan, executor: Executor, store: SweepStore, loads: np.ndarray, pressures: np.ndarray,
+                 report: SweepReport, *, t_start: float | None = None,
+                 progress: Callable[[SweepReport], None] | None = None,
+                 population: dict[str, Any] | None = None,
+                 before_results: Callable[[], None] | None = None) -> SweepReport:
+    """Run ``plan``'s tasks on ``executor`` and write each chunk into ``store`` as it comes back.
+
+    The cell tasks are submitted first (:func:`~.evaluate.prepare_cell`), then one task per chunk
+    that needs one, after the cells it uses (:func:`~.evaluate.evaluate_chunk`); the chunks of
+    first points alone are written here from their cells' results. A chunk whose task, or one of
+    whose cells, failed is named in ``report.failures``; the others go on. ``before_results``
+    runs once every task is submitted, before any result is written (the store is laid out
+    there). ``population``: the members of :meth:`~.spec.SweepSpec.population_payload`, sent to
+    every worker once.
+    """
+    t_start = time.perf_counter() if t_start is None else t_start
+    report.done_before = plan.done_before
+    report.cells = len(plan.cells)
+    loads_, ps = np.asarray(loads, float).tolist(), np.asarray(pressures, float).tolist()
+    shared = executor.broadcast(population) if population is not None else None
+    # A cell task prepares the cell for every point that shares it (a modulus axis) before any
+    # of them is predicted: the chunks then only read it, in whatever order they run. It predicts
+    # its first point in full and returns that result, which the point's chunk takes as it is:
+    # each such point is predicted once, not twice (the second time from the cache: ~a quarter
+    # of a point at grid 48, profiled for issue 23).
+    cell_tasks = {key: executor.submit(prepare_cell, task.data, loads_, ps, shared, task.index, list(task.sharing),
+                                       name=task.name)
+                  for key, task in plan.cells.items()}
+    # Chunks whose every point is the first point of its cell (every point of a sweep over the
+    # texture's shape) need no task of their own: they are written here from their cells'
+    # results as those come in. Their task only passed those results on, from worker to worker
+    # and back here, and queued behind the cell tasks (issue 23, 2 workers against 1).
+    chunk_tasks = [(executor.submit(_after, list(chunk.items), loads_, ps, shared,
+                                    after=[cell_tasks[k] for k in chunk.cells]), n)
+                   for n, chunk in plan.chunk_tasks()]
+    if before_results is not None:
+        before_results()
+    if progress is not None:
+        progress(report)  # the start: the store is laid out and the workers are there
+    waiting = plan.written_from_cells()
+    left = {n: set(plan.chunks[n].cells) for ns in waiting.values() for n in ns}
+    key_at = plan.first_points()
+    # tasks by identity: a Dask future compares by its key, an in-process task by value
+    cell_of = {id(handle): key for key, handle in cell_tasks.items()}
+    chunk_of = {id(handle): n for handle, n in chunk_tasks}
+    cells: dict[str, Any] = {}  # the results of the cells whose chunks are written here
+    failed: dict[str, BaseException] = {}
+    for done in executor.as_completed([*cell_tasks.values(), *(handle for handle, _ in chunk_tasks)]):
+        key = cell_of.get(id(done.handle))
+        if key is None:
+            chunk = plan.chunks[chunk_of[id(done.handle)]]
+            if done.error is not None:
+                report.failures.append(f"chunk {chunk.label}: {done.error!r}")
+            else:
+                _record(store, chunk.region, done.result, report, t_start, progress)
+            continue
+        if done.error is not None:
+            failed[key] = done.error
+        else:
+            solves = int(done.result["solves"])
+            report.cells_solved += int(solves > 0)
+            report.cache_hits += int(solves == 0)
+            report.solves += solves
+            if key in waiting:
+                cells[key] = done.result
+        for n in waiting.pop(key, []):
+            left[n].discard(key)
+            if left[n]:
+                continue  # other cells of this chunk are still running
+            chunk = plan.chunks[n]
+            error = next((failed[k] for k in chunk.cells if k in failed), None)
+            if error is not None:  # what the chunk's task would have failed with
+                report.failures.append(f"chunk {chunk.label}: {error!r}")
+                continue
+            # as evaluate_chunk takes a point its cell task predicted (the solves were counted
+            # with the cell)
+            _record(store, chunk.region, [(idx, {**cells.pop(key_at[idx])["result"], "solves": 0})
+                                          for idx, _ in chunk.items], report, t_start, progress)
+    return report
 
 
 def _record(store: SweepStore, region: tuple[slice, ...], results: list[Any], report: SweepReport, t_start: float,
@@ -525,10 +493,6 @@ def _after(deps: list[Any], items: list[Any], loads: list[float], pressures: lis
     results: the points the cell tasks predicted are taken from them)."""
     known = {tuple(d["index"]): d["result"] for d in deps if d.get("index") is not None and "result" in d}
     return evaluate_chunk(items, loads, pressures, population, known)
-
-
-def _region_text(region: tuple[slice, ...]) -> str:
-    return "[" + ", ".join(f"{s.start}:{s.stop}" for s in region) + "]"
 
 
 def eta(report: SweepReport) -> float:

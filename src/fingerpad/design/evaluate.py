@@ -139,7 +139,7 @@ def prepare_shared_cell(sharing: Sequence[Mapping[str, Any]], loads: Sequence[fl
     stores them invalid.
     """
     from ..micro.bem import BEMUnitCell
-    from ..population.members import member_cells, member_finger
+    from ..population.members import member_cells, member_fingers
     from ..study.run import prepare_bem_cell
 
     points = []
@@ -149,8 +149,7 @@ def prepare_shared_cell(sharing: Sequence[Mapping[str, Any]], loads: Sequence[fl
                 warnings.simplefilter("ignore")
                 study = _point_study(data, loads)
                 _check_resolved(study)
-                fingers = None if population is None else [member_finger(study.finger, m)
-                                                           for m in population["members"]]
+                fingers = None if population is None else member_fingers(study.finger, population["members"])
         except SetupError:
             raise
         except FingerpadError:
@@ -164,10 +163,10 @@ def prepare_shared_cell(sharing: Sequence[Mapping[str, Any]], loads: Sequence[fl
                 warnings.simplefilter("ignore")
                 choice = prepare_bem_cell(study)
                 solves += choice.solves
-                if fingers:
+                if fingers is not None and fingers[0]:
                     cell = choice.cell
                     before = cell.solves
-                    own = member_cells(study, cell, fingers)
+                    own = member_cells(study, cell, fingers[0], stack=fingers[1])
                     solves += cell.solves - before + sum(c.solves for c in own if isinstance(c, BEMUnitCell))
         except SetupError:
             raise
@@ -250,14 +249,13 @@ def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: S
 def _population_bands(pred: Any, population: Mapping[str, Any]) -> dict[str, Any]:
     """The population's numbers at one point (see the module docstring); the extra unit-cell
     solves the members' wider p/E* range needs are counted in ``solves``."""
-    from ..population.members import evaluate_members, member_quantiles
-    from ..population.members import member_finger
+    from ..population.members import evaluate_members, member_fingers, member_quantiles
 
     levels = [float(q) for q in population["quantiles"]]
     cell = pred.cell
     before = int(getattr(cell, "solves", 0) or 0) if cell is not None else 0
-    fingers = [member_finger(pred.study.finger, m) for m in population["members"]]
-    values = evaluate_members(pred, fingers)
+    fingers, stack = member_fingers(pred.study.finger, population["members"])
+    values = evaluate_members(pred, fingers, stack)
     after = int(getattr(cell, "solves", 0) or 0) if cell is not None else 0
     out: dict[str, Any] = {name: member_quantiles(getattr(values, attr), levels)
                            for name, attr in POPULATION_BANDS.items()}

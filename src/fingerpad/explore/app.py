@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import copy
+import os
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -10,8 +11,9 @@ import lazy_loader
 
 pn = lazy_loader.load("panel")
 
-from .jobs import LRU, Memo
+from .jobs import LRU, Memo, WorkLog
 from .methods import METHODS_MARKDOWN
+from .views.common import html_pane
 
 __all__ = ["ExplorerApp", "ServerState"]
 
@@ -35,6 +37,8 @@ class ServerState:
     populations: LRU = field(default_factory=lambda: LRU(8))
     # populations given at start (`fingerpad explore --population`), by the label the page shows
     extra_populations: dict[str, Any] = field(default_factory=dict)
+    # the CPU time of the background work (and of the work for designs no longer shown)
+    worklog: WorkLog = field(default_factory=lambda: WorkLog(os.environ.get("FINGERPAD_EXPLORE_WORKLOG") or None))
 
 
 class ExplorerApp:
@@ -49,6 +53,7 @@ class ExplorerApp:
         self.contacts = state.contacts
         self.populations = state.populations
         self.derived = state.derived
+        self.worklog = state.worklog
         self.upload_dir = state.upload_dir
         self.max_upload_bytes = state.max_upload_bytes
         self.pins: list[dict[str, Any]] = []
@@ -66,7 +71,7 @@ class ExplorerApp:
         tabs.append(("Methods and references", pn.pane.Markdown(METHODS_MARKDOWN, sizing_mode="stretch_width",
                                                                 css_classes=["fp-methods"], max_width=1100)))
         self.tabs = pn.Tabs(*tabs, sizing_mode="stretch_width", css_classes=["fp-tabs"], dynamic=False)
-        self.pin_message = pn.pane.HTML("", css_classes=["fp-pin-message"])
+        self.pin_message = html_pane("", css_classes=["fp-pin-message"])
         header = pn.pane.HTML(
             "<div style='display:flex;align-items:baseline;gap:12px'><span style='font-size:20px;font-weight:600'>"
             "fingerpad &middot; texture design explorer</span><span style='font-size:12px;color:#555'>finger-pad "

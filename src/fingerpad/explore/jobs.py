@@ -5,19 +5,23 @@ A prediction is always :func:`fingerpad.study.run.run_study` on a study that
 
 * :func:`run_data` runs a study's sections in the calling thread (the Hertz cell: milliseconds).
 * :class:`Job` runs one in a background thread, reports progress after each unit-cell solve and
-  can be cancelled: the progress callback raises :class:`JobCancelled` at the next solve, so the
-  cache is left consistent (the BEM cell stores complete phases only, under a file lock). The BEM
+  can be cancelled: the job runs in a cancellation scope (:mod:`fingerpad.cancel`), so the contact
+  solve under way stops within one iteration of its conjugate gradient and nothing of it is
+  stored (the BEM cell writes the nodes solved before, complete ones, under a file lock). The BEM
   curves go through the on-disk cache of unit cells (:mod:`fingerpad.micro.cache`), so a revisited
   design runs no solve; :class:`Memo` also remembers the last predictions in memory.
 * :func:`contact_at` solves the contact on the unit cell at one mean pressure
   (:class:`fingerpad.contact.HalfSpaceSolver`), remembered in an :class:`LRU` by the texture's
-  heights, the modulus and the pressure.
+  heights, the modulus and the pressure; given a token, it stops as a job does.
+* :class:`WorkLog` counts the CPU time of the background work, and that of work whose design
+  was no longer shown when it ended (``benchmarks/bench_explorer.py`` reads it).
 """
 
 from __future__ import annotations
 
 import hashlib
 import threading
+from contextlib import nullcontext
 import time
 import warnings
 from collections import OrderedDict
@@ -26,14 +30,14 @@ from typing import Any
 
 import numpy as np
 
+from ..cancel import CancelToken, Cancelled, cancellable
 from ..errors import FingerpadError, one_line
 from .inputs import data_key, labels_for
 
-__all__ = ["LRU", "Job", "JobCancelled", "Memo", "contact_at", "run_data", "texture_key"]
+__all__ = ["LRU", "Job", "JobCancelled", "Memo", "WorkLog", "contact_at", "remembered_contact", "run_data", "texture_key"]
 
-
-class JobCancelled(Exception):
-    """Raised inside a job's progress callback once the job is cancelled."""
+#: What a cancelled job raised (the library's :class:`fingerpad.cancel.Cancelled`).
+JobCancelled = Cancelled
 
 
 def run_data(data: Mapping[str, Mapping[str, Any]], progress: Callable[[int, int], None] | None = None) -> Any:
@@ -117,9 +121,12 @@ class Job:
         Unit-cell solves so far and the current estimate of their number.
     result
         The Prediction once done; ``error`` the message once failed.
+    token
+        Its :class:`~fingerpad.cancel.CancelToken` (given: cancelled with the work it belongs to).
     """
 
-    def __init__(self, data: Mapping[str, Mapping[str, Any]], memo: Memo | None = None) -> None:
+    def __init__(self, data: Mapping[str, Mapping[str, Any]], memo: Memo | None = None, *,
+                 token: CancelToken | None = None, log: WorkLog | None = None) -> None:
         self.data = {k: dict(v) for k, v in data.items()}
         self.memo = memo
         self.state = "running"
@@ -129,28 +136,27 @@ class Job:
         self.error: str | None = None
         self.started = time.monotonic()
         self.seconds = 0.0
-        self._cancel = threading.Event()
+        self.token = token if token is not None else CancelToken()
+        self._log = log
         self._thread = threading.Thread(target=self._run, name="fingerpad-explore-job", daemon=True)
         self._thread.start()
 
     def _progress(self, i: int, n: int) -> None:
         self.done, self.total = i, n
-        if self._cancel.is_set():
-            raise JobCancelled
 
     def _run(self) -> None:
+        cpu = time.thread_time()
         try:
-            if self._cancel.is_set():
-                raise JobCancelled
-            pred = run_data(self.data, self._progress)
-        except JobCancelled:
+            with cancellable(self.token):
+                pred = run_data(self.data, self._progress)
+        except Cancelled:
             self.state = "cancelled"
         except FingerpadError as exc:
             self.error, self.state = one_line(str(exc)), "failed"
         except Exception as exc:  # noqa: BLE001 -- a bug must show in the page, not kill the thread silently
             self.error, self.state = f"internal error: {type(exc).__name__}: {one_line(str(exc))}", "failed"
         else:
-            if self._cancel.is_set():
+            if self.token.cancelled:
                 self.state = "cancelled"
             else:
                 self.result = pred
@@ -159,14 +165,16 @@ class Job:
                 self.state = "done"
         finally:
             self.seconds = time.monotonic() - self.started
+            if self._log is not None:
+                self._log.add("bem", time.thread_time() - cpu, self.token.cancelled, self.token)
 
     def cancel(self) -> None:
-        """Ask the job to stop at its next unit-cell solve."""
-        self._cancel.set()
+        """Stop the job: the contact solve under way ends within one iteration."""
+        self.token.cancel()
 
     @property
     def cancelling(self) -> bool:
-        return self._cancel.is_set() and self.state == "running"
+        return self.token.cancelled and self.state == "running"
 
     @property
     def finished(self) -> bool:
@@ -186,26 +194,74 @@ class Job:
         return min(1.0, self.done / self.total) if self.total else 0.0
 
 
+class WorkLog:
+    """CPU seconds of the explorer's background work (contact maps, BEM jobs, populations), in
+    all and of the work that ended for a design no longer shown (cancelled, or its result thrown
+    away). Thread-safe; with ``path`` (``$FINGERPAD_EXPLORE_WORKLOG`` for the server) each piece of
+    work is appended there as a JSON line, for benchmarks."""
+
+    def __init__(self, path: str | None = None) -> None:
+        self.path = path
+        self.cpu_s = 0.0
+        self.superseded_cpu_s = 0.0
+        self.counts: dict[str, int] = {}
+        self._lock = threading.Lock()
+        if path:
+            open(path, "a", encoding="utf-8").close()  # there from the start: this server keeps a log
+
+    def add(self, kind: str, cpu_s: float, superseded: bool, token: CancelToken | None = None) -> None:
+        """Record ``cpu_s`` seconds of ``kind`` work (``superseded``: its design no longer shown;
+        ``token``: the work's, whose cancellation time gives how long the work took to stop)."""
+        import json
+
+        stopped = None
+        if token is not None and token.cancelled_at is not None:
+            stopped = time.monotonic() - token.cancelled_at
+        with self._lock:
+            self.cpu_s += cpu_s
+            if superseded:
+                self.superseded_cpu_s += cpu_s
+            key = f"{kind} {'superseded' if superseded else 'shown'}"
+            self.counts[key] = self.counts.get(key, 0) + 1
+            if self.path:
+                with open(self.path, "a", encoding="utf-8") as fh:
+                    fh.write(json.dumps({"t": time.time(), "kind": kind, "cpu_s": cpu_s, "superseded": superseded,
+                                         "stopped_s": stopped}) + "\n")
+
+
 def contact_at(texture: Any, modulus: float, pressure: float, *, tol: float = 1e-8, max_iter: int = 5000,
-               cache: LRU | None = None) -> Any:
+               cache: LRU | None = None, token: CancelToken | None = None, workers: int | None = None) -> Any:
     """The contact of the skin on the unit cell at mean nominal pressure ``pressure`` (Pa):
     a :class:`~fingerpad.contact.ContactResult` of :class:`~fingerpad.contact.HalfSpaceSolver`
     with the reduced modulus E1* (Eq. 3.4).
 
     With ``cache``, a contact solved before (same heights, grid, size, modulus, pressure, tolerance
-    and iteration cap) is returned without a solve: a design seen before costs nothing.
+    and iteration cap) is returned without a solve: a design seen before costs nothing. With
+    ``token`` (else the caller's cancellation scope), the solve stops within one iteration once the
+    token is cancelled (:class:`~fingerpad.cancel.Cancelled` is raised; nothing is remembered). ``workers``: the FFT
+    threads (default: all cores).
     """
     from ..contact import HalfSpaceSolver
 
-    key = (texture_key(texture), float(modulus), float(pressure), float(tol), int(max_iter)) \
-        if cache is not None else None
+    key = _contact_key(texture, modulus, pressure, tol, max_iter) if cache is not None else None
     if key is not None:
         hit = cache.get_key(key)
         if hit is not None:
             return hit
-    with warnings.catch_warnings():
+    with warnings.catch_warnings(), (cancellable(token) if token is not None else nullcontext()):
         warnings.simplefilter("ignore")
-        res = HalfSpaceSolver(texture, modulus, tol=tol, max_iter=max_iter).solve_pressure(pressure)
+        res = HalfSpaceSolver(texture, modulus, tol=tol, max_iter=max_iter,
+                              workers=workers).solve_pressure(pressure)
     if key is not None:
         cache.put_key(key, res)
     return res
+
+
+def remembered_contact(texture: Any, modulus: float, pressure: float, *, tol: float = 1e-8,
+                       max_iter: int = 5000, cache: LRU) -> Any:
+    """The contact :func:`contact_at` remembered in ``cache`` (``None``: not solved yet)."""
+    return cache.get_key(_contact_key(texture, modulus, pressure, tol, max_iter))
+
+
+def _contact_key(texture: Any, modulus: float, pressure: float, tol: float, max_iter: int) -> tuple[Any, ...]:
+    return (texture_key(texture), float(modulus), float(pressure), float(tol), int(max_iter))

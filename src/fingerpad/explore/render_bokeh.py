@@ -322,8 +322,13 @@ def _show(drawn: Drawn, spec: PlotSpec) -> None:
         if not on and slot.source.data and any(len(v) for v in slot.source.data.values()):
             slot.source.data = _empty(slot.source.data)
     order = [r for key in shown for r in drawn.slots[key].renderers]
-    hidden = [r for key, slot in drawn.slots.items() if key not in wanted for r in slot.renderers]
-    p.renderers = order + hidden
+    placed = {id(r) for r in p.renderers}
+    if any(id(r) not in placed for r in order) or [r for r in p.renderers if r.visible] != order:
+        # a new series, or the shown ones in another drawing order: the figure's list changes,
+        # which makes BokehJS lay the whole page out again (seconds of Chromium for a page of ten
+        # figures on a loaded machine); series only shown or hidden keep their places
+        hidden = [r for key, slot in drawn.slots.items() if key not in wanted for r in slot.renderers]
+        p.renderers = order + hidden
     drawn.shown = shown
 
     # the legend: one entry per label, in drawing order (as Bokeh groups legend_label)
@@ -425,14 +430,15 @@ def figure_content(drawn: Drawn) -> dict[str, Any]:
             extras.append((type(m).__name__, None if src is None else {k: plain(v) for k, v in src.data.items()},
                            getattr(getattr(m, "color_mapper", None), "low", None),
                            getattr(getattr(m, "color_mapper", None), "high", None)))
-    legend = [(getattr(it.label, "value", None), [p.renderers.index(r) for r in it.renderers])
+    shown = [r for r in p.renderers if r.visible]  # indices below: in the drawing order of what is shown
+    legend = [(getattr(it.label, "value", None), [shown.index(r) if r in shown else None for r in it.renderers])
               for lg in p.legend for it in lg.items] if p.legend else []
     ticks = [(getattr(ax.ticker, "ticks", None), getattr(ax.ticker, "minor_ticks", None)) for ax in (*p.xaxis,
                                                                                                    *p.yaxis)]
     ranges = [(getattr(r, "start", None), getattr(r, "end", None)) for r in (p.x_range, p.y_range,
                                                                              *p.extra_y_ranges.values())]
     hover = [(t.tooltips if isinstance(t.tooltips, str) else [tuple(x) for x in t.tooltips],
-              sorted(p.renderers.index(r) for r in t.renderers if r.visible))
+              sorted(shown.index(r) for r in t.renderers if r.visible))
              for t in p.tools if type(t).__name__ == "HoverTool" and t.renderers and
              any(r.visible for r in t.renderers)]
     return {"title": p.title.text, "glyphs": glyphs, "extras": extras, "legend": legend, "ticks": ticks,

@@ -157,6 +157,19 @@ def mu_checked(f: np.ndarray, real_area: np.ndarray, finger: Finger) -> np.ndarr
     return law_of(finger).friction(f, real_area) / f
 
 
+def mu_stacked(f: np.ndarray, real_area: np.ndarray, fingers: Any) -> np.ndarray:
+    """:func:`mu_checked` of many fingers at once (``f``, ``real_area``: ``(fingers, loads)``
+    arrays, row ``i`` that of ``fingers[i]``), each entry the bits of ``mu_checked`` of its finger:
+    fingers whose laws are all of one class with a ``friction_of_many`` (the thesis's law) in one
+    evaluation, any others row by row by their own law."""
+    laws = [law_of(finger) for finger in fingers]
+    kind = type(laws[0]) if laws else None
+    many = getattr(kind, "friction_of_many", None)
+    if many is not None and all(type(law) is kind for law in laws):
+        return many(laws, f, real_area) / f
+    return np.array([law.friction(f[i], real_area[i]) / f[i] for i, law in enumerate(laws)])
+
+
 def normalised_friction(mu_texture: ArrayLike, mu_reference: ArrayLike) -> float | np.ndarray:
     """``mu_tex / mu_ref`` (docs/model.md "Normalisation").
 
@@ -187,6 +200,7 @@ __all__ = [
     "hysteresis_force",
     "law_of",
     "mu_checked",
+    "mu_stacked",
     "normalised_friction",
     "reference_friction_coefficient",
     "reference_real_area",

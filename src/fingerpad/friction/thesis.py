@@ -10,6 +10,7 @@ SI units (m, N, Pa).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -17,7 +18,7 @@ import numpy as np
 
 from ._base import LawSpec
 
-__all__ = ["ThesisFriction", "adhesion_term", "hysteresis_term"]
+__all__ = ["ThesisFriction", "adhesion_term", "hysteresis_coefficient", "hysteresis_term"]
 
 
 def adhesion_term(f: np.ndarray, a: np.ndarray, tau0: float, alpha: float) -> np.ndarray:
@@ -25,9 +26,15 @@ def adhesion_term(f: np.ndarray, a: np.ndarray, tau0: float, alpha: float) -> np
     return tau0 * a + alpha * f
 
 
+def hysteresis_coefficient(radius: float, beta: float) -> float:
+    """``beta (9 / (128 R))^(2/3)`` of Eq. 2.4 (a Python float: the same bits for one law and for
+    a stack of them, :meth:`ThesisFriction.friction_of_many`)."""
+    return beta * (9.0 / (128.0 * radius)) ** (2.0 / 3.0)
+
+
 def hysteresis_term(f: np.ndarray, radius: float, modulus: float, beta: float) -> np.ndarray:
     """``beta (9 / (128 R))^(2/3) (F^4 / E0*)^(1/3)`` (N), Eq. 2.4."""
-    return beta * (9.0 / (128.0 * radius)) ** (2.0 / 3.0) * np.cbrt(f**4 / modulus)
+    return hysteresis_coefficient(radius, beta) * np.cbrt(f**4 / modulus)
 
 
 @dataclass(frozen=True)
@@ -75,6 +82,20 @@ class ThesisFriction:
 
     def affine_shear(self) -> tuple[float, float]:
         return self.tau0, self.alpha
+
+    @staticmethod
+    def friction_of_many(laws: Sequence["ThesisFriction"], load: np.ndarray, real_area: np.ndarray) -> np.ndarray:
+        """:meth:`friction` of many laws at once: ``load`` and ``real_area`` are ``(laws, ...)``
+        arrays, row ``i`` that of ``laws[i]``; each entry the bits of that law's own
+        :meth:`friction` (its constants as column arrays, Eq. 2.4's field-only factor as Python
+        floats, as for one law)."""
+        def column(values: list[float]) -> np.ndarray:
+            return np.array(values, dtype=float).reshape(-1, *([1] * (load.ndim - 1)))
+
+        coef = column([hysteresis_coefficient(law.radius, law.beta) for law in laws])
+        return (adhesion_term(load, real_area, column([law.tau0 for law in laws]),  # type: ignore[arg-type]
+                              column([law.alpha for law in laws]))
+                + coef * np.cbrt(load**4 / column([law.modulus for law in laws])))
 
 
 LAWS = (

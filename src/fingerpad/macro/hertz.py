@@ -29,6 +29,10 @@ class HertzArea:
     #: The declared fields (units, bounds), so study files can give "9mm", "40kPa", ...
     #: The publications of this model (:mod:`fingerpad.references` keys; Hertz contact of a sphere).
     REFERENCES: ClassVar[tuple[str, ...]] = ("johnson1985",)
+    #: ``area_checked`` is elementwise in the fields, with no arithmetic of the fields alone: many
+    #: fingers' models of this class are evaluated as one with column arrays of the fields they
+    #: differ in, each row the bits of its own model (fingerpad.coupling.members.FingerStack)
+    STACKS: ClassVar[bool] = True
     PARAMS: ClassVar[tuple[Param, ...]] = (PAD_RADIUS, PAD_MODULUS)
 
     radius: float

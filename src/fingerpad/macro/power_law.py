@@ -28,6 +28,10 @@ class PowerLawArea:
     #: The declared fields (units, bounds).
     #: The publications of this model (:mod:`fingerpad.references` keys; an empirical law: the thesis, cited by every run).
     REFERENCES: ClassVar[tuple[str, ...]] = ()
+    #: ``area_checked`` is elementwise in the fields, with no arithmetic of the fields alone: many
+    #: fingers' models of this class are evaluated as one with column arrays of the fields they
+    #: differ in, each row the bits of its own model (fingerpad.coupling.members.FingerStack)
+    STACKS: ClassVar[bool] = True
     PARAMS: ClassVar[tuple[Param, ...]] = (
         Param("coefficient", "ratio", "c of A_g = c F^m, m^2/N^m", low=0, low_open=True, example=1e-4,
               label="power-law coefficient c"),

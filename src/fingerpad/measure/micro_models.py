@@ -230,7 +230,9 @@ def hertz_texture_model(
         )
         if geometry.full_contact_ratio is not None:
             cell = BaseContactCell(cell, geometry.full_contact_ratio)
-        curve = coupling.predict_curve(np.asarray(loads, dtype=float), f, cell, n_rings=n_rings)
+        # the friction alone: a fit reads no critical load
+        curve = coupling.predict_curve(np.asarray(loads, dtype=float), f, cell, n_rings=n_rings,
+                                       critical_loads=False)
         return np.asarray(curve.mu_normalised, dtype=float)
 
     model.geometry = geometry  # type: ignore[attr-defined]
@@ -340,7 +342,8 @@ def _bem_model(cell: Any, geometry: TextureGeometry, finger: Any, modulus_range:
     def model(loads: np.ndarray, skin_modulus: float) -> np.ndarray:
         f = finger.with_overrides(skin_modulus=float(skin_modulus))
         scaled = cell.at_modulus(float(f.micro_modulus(mm, mp)))
-        curve = coupling.predict_curve(np.asarray(loads, dtype=float), f, scaled, n_rings=n_rings)
+        curve = coupling.predict_curve(np.asarray(loads, dtype=float), f, scaled, n_rings=n_rings,
+                                       critical_loads=False)
         return np.asarray(curve.mu_normalised, dtype=float)
 
     model.geometry = geometry  # type: ignore[attr-defined]
@@ -423,6 +426,32 @@ class ModelTable:
             rows.append(np.log(curve))
         self.table = np.array(rows)
         self._spline = CubicSpline(self.log_moduli, self.table, axis=0)
+        self._rows: dict[tuple[Any, ...], np.ndarray] = {}
+
+    def detached(self) -> ModelTable:
+        """The table without its model: what it holds, for another process (a model may be a
+        closure, which does not pickle); calling it interpolates as before."""
+        import copy
+
+        table = copy.copy(self)
+        table.model = None  # type: ignore[assignment]
+        table._rows = {}
+        return table
+
+    def log_rows(self, log_moduli: np.ndarray) -> np.ndarray:
+        """``log model`` at the table's loads (columns) for each ``log E_s`` of ``log_moduli``
+        (rows, clipped to the table's range): the spline's rows. The last few scans asked for are
+        kept: every E_s fit on this table starts from the same coarse scan."""
+        scan = np.asarray(log_moduli, dtype=float)
+        key = (scan.shape, scan.tobytes())
+        rows = self._rows.get(key)
+        if rows is None:
+            rows = self._spline(np.clip(scan, self.log_moduli[0], self.log_moduli[-1]))
+            rows.flags.writeable = False
+            if len(self._rows) >= 4:
+                self._rows.pop(next(iter(self._rows)))
+            self._rows[key] = rows
+        return rows
 
     def covers(self, loads: np.ndarray) -> bool:
         """Whether ``loads`` lie inside the tabulated range."""

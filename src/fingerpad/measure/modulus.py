@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy import stats
+from scipy import special, stats
 
 from ..errors import FingerpadError
 from ..friction import fit_inputs
@@ -148,7 +148,7 @@ def _log_predictions(datasets: Sequence[tuple[np.ndarray, np.ndarray, ModelTable
     """``ln model`` of every point (columns) at every trial ``ln E_s`` (rows), from the tables."""
     cols = []
     for f, _, t in datasets:
-        rows = t._spline(np.clip(scan, t.log_moduli[0], t.log_moduli[-1]))  # (scan, table loads)
+        rows = t.log_rows(scan)  # (scan, table loads)
         lx, tx = np.log(f), np.log(t.loads)
         j = np.clip(np.searchsorted(tx, lx) - 1, 0, tx.size - 2)
         w = np.clip((lx - tx[j]) / (tx[j + 1] - tx[j]), 0.0, 1.0)
@@ -239,7 +239,9 @@ def _infer(
             df_all = var**2 / (var_tex**2 / df_tex + (var_ref**2 / df_ref if math.isfinite(df_ref) else 0.0))
         df_all = np.where(np.isfinite(df_all), np.maximum(df_all, 1.0), df_tex)
         tstat = np.abs(delta) / np.sqrt(np.maximum(var, 1e-300))
-        out.update(delta=delta, df=df_all, excess=tstat - stats.t.ppf(0.5 + level / 2.0, df_all))
+        # the t quantile of every df: scipy.stats.t.ppf's own function, without its argument
+        # checks (all df >= 1, the level in (0, 1)), ~10 % of a fit
+        out.update(delta=delta, df=df_all, excess=tstat - special.stdtrit(df_all, 0.5 + level / 2.0))
         return out
 
     coarse = np.linspace(lo_b, hi_b, int(n_scan))

@@ -327,12 +327,19 @@ class EarlyQC:
         """The future of ``source``'s PNG at ``dpi``, or ``None`` if it was not started."""
         return self._futures.get(source) if dpi == self.dpi else None
 
+    @property
+    def pool(self) -> Any:
+        """The process pool drawing the QC figures (``None`` before :meth:`start` or
+        :meth:`find_strokes` started one)."""
+        return self._pool
+
 
 @contextmanager
 def _qc_drawer(result: StudyResult, sources: list[str], dpi: int, workers: int | None,
-               early: EarlyQC | None = None) -> Iterator[Any]:
+               early: EarlyQC | None = None) -> Iterator[tuple[Any, Any]]:
     """Start drawing the QC figure of every recording in ``sources``; yields ``png(i)``, the PNG
-    bytes of ``sources[i]``.
+    bytes of ``sources[i]``, and the process pool drawing them (``None`` where they are drawn
+    here).
 
     With more than one worker a process pool starts on all of them at once, so that it draws
     while this process draws the participant and sample figures; each task carries only its own
@@ -341,19 +348,80 @@ def _qc_drawer(result: StudyResult, sources: list[str], dpi: int, workers: int |
     started are taken from it."""
     started = [early.png(source, dpi) for source in sources] if early is not None else []
     if started and all(f is not None for f in started):
-        yield lambda i: started[i].result()
+        yield (lambda i: started[i].result()), early.pool  # type: ignore[union-attr]
         return
     n = _qc_workers(workers, len(sources))
     if n <= 1:
-        yield lambda i: qc_png(qc_inputs(result, sources[i]), dpi)
+        yield (lambda i: qc_png(qc_inputs(result, sources[i]), dpi)), None
         return
     with _start_pool(n) as pool:
         futures = [pool.submit(qc_png, qc_inputs(result, source), dpi) for source in sources]
         try:
-            yield lambda i: futures[i].result()
+            yield (lambda i: futures[i].result()), pool
         finally:
             for future in futures:
                 future.cancel()
+
+
+#: A result the pool's workers draw participant and sample figures of, by its token (each
+#: worker unpickles it once).
+_FIGURE_RESULTS: dict[str, Any] = {}
+
+
+def _pool_figure(kind: str, key: str, dpi: int, token: str, payload: bytes) -> bytes:
+    """:func:`participant_png` or :func:`sample_png` in a pool's worker, of the result pickled in
+    ``payload`` (:func:`_figure_payload`)."""
+    import pickle
+
+    result = _FIGURE_RESULTS.get(token)
+    if result is None:
+        _FIGURE_RESULTS.clear()
+        result = _FIGURE_RESULTS[token] = pickle.loads(payload)
+    return (participant_png if kind == "participant" else sample_png)(result, key, dpi)
+
+
+def _figure_payload(result: StudyResult) -> bytes:
+    """``result`` pickled with what the participant and sample figures read: without the
+    recordings and stroke reports (hundreds of MB) and the models (closures), the tables
+    without their models (~2 MB for 150 recordings, 20 ms)."""
+    import dataclasses
+    import pickle
+
+    light = dataclasses.replace(result, recordings=[], stroke_reports={}, models={},
+                                tables={name: table.detached() for name, table in result.tables.items()})
+    return pickle.dumps(light, protocol=pickle.HIGHEST_PROTOCOL)
+
+
+def _draw_figures(result: StudyResult, drawn: list[tuple[str, str, Any]], dpi: int, pool: Any) -> Iterator[bytes]:
+    """The PNG bytes of each figure of ``drawn`` (kind, key, function), in order, drawn here or,
+    with a ``pool``, by whichever is free first: every figure is also a task of the pool, queued
+    behind its QC figures, and this process draws the figures from the last one back, each whose
+    task no worker has started (it cancels the task). So the workers take over figures only when
+    their QC figures are done and this process is still drawing, and neither waits on the other
+    until the two meet. The same bytes either way (each process keeps its own figures)."""
+    if pool is None or not drawn:
+        for _kind, key, draw in drawn:
+            yield draw(result, key, dpi)
+        return
+    import uuid
+
+    payload, token = _figure_payload(result), uuid.uuid4().hex
+    futures = [pool.submit(_pool_figure, kind, key, dpi, token, payload) for kind, key, _ in drawn]
+    pngs: dict[int, bytes] = {}
+    try:
+        for i in reversed(range(len(drawn))):
+            if futures[i].cancel():
+                pngs[i] = drawn[i][2](result, drawn[i][1], dpi)
+        for i in range(len(drawn)):
+            if i not in pngs:
+                try:
+                    pngs[i] = futures[i].result()
+                except Exception:  # noqa: BLE001 - a worker that failed: the figure drawn here says why
+                    pngs[i] = drawn[i][2](result, drawn[i][1], dpi)
+            yield pngs.pop(i)
+    finally:
+        for future in futures:
+            future.cancel()
 
 
 def write_report(
@@ -440,12 +508,12 @@ def write_report(
             (tmp / "figures").mkdir()
             # the pool starts on the QC figures now and draws them while the participant
             # and sample figures are drawn here
-            with _qc_drawer(result, sources, dpi, workers, early_qc) as qc_png_of:
+            with _qc_drawer(result, sources, dpi, workers, early_qc) as (qc_png_of, pool):
                 # each kind drawn on one kept figure (the same image as a new one's)
                 drawn = [("participant", p, participant_png) for p in participants] + \
                         [("sample", s, sample_png) for s in samples]
-                for kind, key, draw in drawn:
-                    pngs[f"{kind} {key}"] = png = draw(result, key, dpi)
+                for (kind, key, _), png in zip(drawn, _draw_figures(result, drawn, dpi, pool), strict=True):
+                    pngs[f"{kind} {key}"] = png
                     name = f"figures/{kind}_{_safe(key)}.png"
                     (tmp / name).write_bytes(png)
                     written.append(name)

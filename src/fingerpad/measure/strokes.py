@@ -176,10 +176,21 @@ def _check_motion(rec: Recording, name: str, options: StrokeOptions) -> None:
         )
 
 
+def _median3(values: np.ndarray) -> float:
+    """``np.median`` of three samples (the middle one; NaN if one is NaN), without its overhead:
+    ~20 us a call, two calls per stroke, a fifth of finding a recording's strokes."""
+    if values.size != 3:
+        return float(np.median(values))
+    a, b, c = (float(v) for v in values)
+    if a != a or b != b or c != c:
+        return math.nan
+    return max(min(a, b), min(max(a, b), c))
+
+
 def _travel(rec: Recording, a: int, b: int, source: str, signal: np.ndarray, use_position: bool) -> float:
     if use_position and rec.position is not None:
         seg = rec.position[a:b]
-        return float(abs(np.median(seg[-3:]) - np.median(seg[:3])))
+        return float(abs(_median3(seg[-3:]) - _median3(seg[:3])))
     if source == "velocity" and rec.time is not None and b - a > 1:
         return float(np.sum(np.abs(signal[a:b - 1]) * np.diff(rec.time[a:b])))
     return math.nan

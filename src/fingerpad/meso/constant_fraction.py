@@ -27,6 +27,10 @@ class ConstantFractionRidges:
     #: The declared fields (units, bounds).
     #: The publications of this model (:mod:`fingerpad.references` keys; the thesis, cited by every run).
     REFERENCES: ClassVar[tuple[str, ...]] = ()
+    #: ``area_checked`` is elementwise in the fields, with no arithmetic of the fields alone: many
+    #: fingers' models of this class are evaluated as one with column arrays of the fields they
+    #: differ in, each row the bits of its own model (fingerpad.coupling.members.FingerStack)
+    STACKS: ClassVar[bool] = True
     PARAMS: ClassVar[tuple[Param, ...]] = (
         Param("fraction", "ratio", "A_fr / A_g (docs/model.md: 0.5 after Duvefelt)", 0.5, low=0, low_open=True,
               high=1.0, label="ridge fraction"),

@@ -211,6 +211,7 @@ class BEMUnitCell(InterpolatedCurve):
         self.solves = 0
         self._interp = None
         self._phi: tuple[np.ndarray, np.ndarray, float] | None = None
+        self._node_arrays: tuple[np.ndarray, np.ndarray] | None = None
         self._progress: tuple[Progress | None, int, int] = (None, 0, 0)
         #: What prepare() computed and has not yet written to the cache (None outside prepare()).
         self._pending: dict[str, Any] | None = None
@@ -238,6 +239,7 @@ class BEMUnitCell(InterpolatedCurve):
             self._unit_points[key] = row
             self._interp = None
             self._phi = None
+            self._node_arrays = None
             self._points = None
 
     @property

@@ -5,7 +5,8 @@ Split from :mod:`fingerpad.micro.bem`, which solves and caches the nodes; this m
 reads them. :class:`InterpolatedCurve` is the reading half of
 :class:`~fingerpad.micro.bem.BEMUnitCell`: it needs the cell's unit nodes ``_unit_points``
 (pressures in units of E*), its transition bracket ``_transition``, ``flat``, ``modulus`` (E*,
-Pa) and the two memo slots ``_interp`` and ``_phi``.
+Pa) and the three memo slots ``_interp``, ``_phi`` and ``_node_arrays``, emptied whenever the
+nodes change.
 """
 
 from __future__ import annotations
@@ -29,15 +30,19 @@ class InterpolatedCurve:
     _transition: tuple[float, float] | None
     _interp: Any
     _phi: tuple[np.ndarray, np.ndarray, float] | None
+    _node_arrays: tuple[np.ndarray, np.ndarray] | None
     flat: bool
     modulus: float
 
     def _nodes(self) -> tuple[np.ndarray, np.ndarray]:
-        """The unit cell's nodes: pressures (units of E*) and psi."""
-        ps = np.array(sorted(self._unit_points))
-        psi = np.array([self._unit_points[p]["contact_fraction"] for p in ps])
-        # A monotone curve by construction of the physics; enforce it against last-digit noise.
-        return ps, np.maximum.accumulate(psi)
+        """The unit cell's nodes: pressures (units of E*) and psi (kept until the nodes change:
+        every psi and disc fraction reads them, a model table some 2000 times)."""
+        if self._node_arrays is None:
+            ps = np.array(sorted(self._unit_points))
+            psi = np.array([self._unit_points[p]["contact_fraction"] for p in ps])
+            # A monotone curve by construction of the physics; enforce it against last-digit noise.
+            self._node_arrays = (ps, np.maximum.accumulate(psi))
+        return self._node_arrays
 
     def _pieces(self) -> list[np.ndarray]:
         """Index sets of the nodes on either side of the transition kink (PCHIP per piece)."""

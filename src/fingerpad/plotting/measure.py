@@ -290,10 +290,19 @@ def _decimate(t: np.ndarray, y: np.ndarray, max_points: int = 6000) -> tuple[np.
     pick = np.minimum(np.column_stack([base + np.minimum(lo, hi), base + np.maximum(lo, hi)]).ravel(), n - 1)
     return t[pick], y[pick]
 
-def _span_verts(spans: list[tuple[float, float]]) -> list[list[tuple[float, float]]]:
+def _span_verts(spans: list[tuple[float, float]]) -> np.ndarray:
     """Vertical bands ``(x0, x1)`` (data units) as polygons in the axis's x-grid transform
-    (x data, y axes fraction: full height), as ``axvspan`` draws them."""
-    return [[(a, 0.0), (a, 1.0), (b, 1.0), (b, 0.0)] for a, b in spans]
+    (x data, y axes fraction: full height), as ``axvspan`` draws them: an array of shape
+    ``(bands, 4, 2)``, which ``PolyCollection.set_verts`` turns into paths without closing each
+    one on its own (the same paths; a seventh of a QC figure's time as a list)."""
+    if not spans:
+        return np.zeros((0, 4, 2))
+    x = np.asarray(spans, dtype=float)
+    out = np.empty((len(spans), 4, 2))
+    out[:, 0, 0] = out[:, 1, 0] = x[:, 0]
+    out[:, 2, 0] = out[:, 3, 0] = x[:, 1]
+    out[:, :, 1] = (0.0, 1.0, 1.0, 0.0)
+    return out
 
 
 def figure_qc(result: StudyResult, source: str):
@@ -465,16 +474,27 @@ def _draw_qc(inputs: QCInputs, reuse: Any = None):
         axes[0 if clip.channel == "normal" else 1].axhline(clip.level, color="magenta", lw=1.0, ls="--")
     axes[n_rows - 2].set_xlabel(xlabel, fontsize=8)
     ax = axes[-1]
-    parts = [strokes[(strokes["sense"] == sense) & ~strokes["outlier"]] for sense in _SENSE_STYLE]
-    parts.append(strokes[strokes["outlier"]])
-    for line, part in zip(ax.lines, parts, strict=True):
-        line.set_data(np.asarray(part["stroke"]), np.asarray(part["mu"]))
-    if ax.get_legend() is not None:
-        ax.get_legend().remove()
-    if len(strokes):
-        place_legend_once(ax.legend(fontsize=7, loc="best", ncol=3))
+    number, mu = np.asarray(strokes["stroke"]), np.asarray(strokes["mu"])
+    sense, flagged = np.asarray(strokes["sense"]), np.asarray(strokes["outlier"], dtype=bool)
+    picks = [(sense == s) & ~flagged for s in _SENSE_STYLE] + [flagged]
+    for line, pick in zip(ax.lines, picks, strict=True):
+        line.set_data(number[pick], mu[pick])
+    # the legend (the same three entries on every recording, placed at each draw) is made once
+    # per kept figure and taken out for a recording without strokes
+    legend = getattr(fig, "_fingerpad_qc_legend", None)
+    if legend is None and len(strokes):
+        legend = fig._fingerpad_qc_legend = ax.legend(fontsize=7, loc="best", ncol=3)
+        place_legend_once(legend)
+    if legend is not None:
+        ax.legend_ = legend if len(strokes) else None
+        legend.stale = True
     ax.relim()
-    ax.autoscale(True)
+    if len(strokes):
+        ax.autoscale(True)
+    else:
+        # no data to scale to: autoscaling would keep a reused figure's last limits (matplotlib
+        # keeps set limits when there is nothing to fit), so both kinds of figure get these
+        ax.set(xlim=(0.0, 1.0), ylim=(0.0, 1.0))
     from pathlib import Path
 
     n_drop = len(report.strokes) - len(report.used)

@@ -71,7 +71,8 @@ def encode_png(rgba: Any, dpi: float, *, software: str | None = None, level: int
 
 def figure_png(fig: Any, dpi: float, *, level: int = PNG_COMPRESS_LEVEL) -> bytes:
     """``fig`` drawn by Agg at ``dpi`` as PNG bytes: the pixels and metadata of
-    ``fig.savefig(..., format="png", dpi=dpi)``, encoded by :func:`encode_png`.
+    ``fig.savefig(..., format="png", dpi=dpi)``, encoded by :func:`encode_png`, its text drawn
+    laid out and rasterised once (:mod:`.glyphs`: the same pixels).
 
     Only for figures that ``savefig`` draws as they are (no ``bbox_inches``, no transparency:
     the figure's own face colour).
@@ -79,11 +80,17 @@ def figure_png(fig: Any, dpi: float, *, level: int = PNG_COMPRESS_LEVEL) -> byte
     import matplotlib
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
+    from .glyphs import cache_glyphs, laid_out_once
+
     canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
     previous = fig.dpi
     fig.dpi = dpi
     try:
-        canvas.draw()
+        # the renderer the draw uses (the canvas keeps one per size and dpi) draws its text from
+        # glyphs rasterised once, and the texts are laid out once: the same pixels
+        cache_glyphs(canvas.get_renderer())
+        with laid_out_once():
+            canvas.draw()
         image = np.asarray(canvas.buffer_rgba())
         return encode_png(image, dpi, software=f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/",
                           level=level)

@@ -23,14 +23,15 @@ from typing import Any
 import numpy as np
 
 from ..coupling import CurvePrediction, predict_curve
-from ..coupling.members import predict_members
+from ..coupling.loads import FingerStack, centre_loads
+from ..coupling.members import MemberCurves, member_curves, predict_members
 from ..errors import FingerpadError
 from ..finger import FINGER_FIELDS, LAYER_FIELDS, Finger
 from ..meso import ConstantFractionRidges
 from ..micro.bem import BEMUnitCell
-from ..study.run import P_HIGH, P_LOW, Prediction, load_at_centre_pressure
+from ..study.run import P_HIGH, P_LOW, Prediction
 
-__all__ = ["STATES", "MemberValues", "evaluate_members", "member_cells", "member_finger",
+__all__ = ["STATES", "MemberValues", "evaluate_members", "member_cells", "member_finger", "member_fingers",
            "member_full_contact_loads", "member_quantiles", "predict_fingers"]
 
 #: Contact states at the pad centre, in the order of their codes (0, 1, 2).
@@ -57,12 +58,36 @@ def member_finger(finger: Finger, params: Mapping[str, float]) -> Finger:
     return finger.with_overrides(**values) if values else finger
 
 
-def member_full_contact_loads(fingers: Sequence[Finger], pressures: Sequence[float]) -> np.ndarray:
+#: How many (finger, members) pairs :func:`member_fingers` keeps (a sweep's points share one).
+MEMBER_SETS_KEPT = 4
+_member_sets: dict[Any, tuple[tuple[Finger, ...], FingerStack]] = {}
+
+
+def member_fingers(finger: Finger, members: Sequence[Mapping[str, float]]) -> tuple[tuple[Finger, ...], FingerStack]:
+    """``[member_finger(finger, m) for m in members]`` and their :class:`~fingerpad.coupling.members.FingerStack`,
+    kept for the last :data:`MEMBER_SETS_KEPT` pairs asked (keyed by the finger and the members'
+    values): a sweep's points with one finger share its members, and building 1,000 checked
+    fingers took longer than coupling them. The fingers are immutable and equal to fresh ones,
+    so what is kept changes no number."""
+    key = (finger, tuple(tuple(sorted(m.items())) for m in members))
+    found = _member_sets.get(key)
+    if found is None:
+        fingers = tuple(member_finger(finger, m) for m in members)
+        found = (fingers, FingerStack(fingers))
+        while len(_member_sets) >= MEMBER_SETS_KEPT:
+            del _member_sets[next(iter(_member_sets))]
+        _member_sets[key] = found
+    return found
+
+
+def member_full_contact_loads(fingers: Sequence[Finger], pressures: Sequence[float],
+                              stack: FingerStack | None = None) -> np.ndarray:
     """Per finger, the load (N) at which its pad-centre pressure ``1.5 F / A_fr(F)`` reaches its
-    cell's full-contact pressure ``pressures[i]`` (Pa): :func:`~fingerpad.study.run.load_at_centre_pressure`
-    with the finger's area law called directly (``inf`` for an infinite pressure, NaN if none)."""
-    return np.array([load_at_centre_pressure(finger, float(p), ridge_area=finger.ridge_area_law())
-                     for finger, p in zip(fingers, pressures, strict=True)], dtype=float)
+    cell's full-contact pressure ``pressures[i]`` (Pa), all fingers in one search
+    (:func:`~fingerpad.coupling.loads.centre_loads`; ``inf`` for an infinite pressure, NaN if
+    none): :func:`~fingerpad.study.run.load_at_centre_pressure` of each finger, bit for bit.
+    ``stack``: the fingers' stack if one is at hand."""
+    return centre_loads(FingerStack(fingers) if stack is None else stack, np.asarray(pressures, dtype=float))
 
 
 def _member_moduli(study: Any, fingers: Sequence[Finger]) -> list[float]:
@@ -72,7 +97,8 @@ def _member_moduli(study: Any, fingers: Sequence[Finger]) -> list[float]:
 
 
 def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger],
-                 progress: Callable[[int, int], None] | None = None) -> list[Any]:
+                 progress: Callable[[int, int], None] | None = None,
+                 stack: FingerStack | None = None) -> list[Any]:
     """The BEM cell of each finger on the study's (prepared) ``cell``, prepared over what that
     finger's loads ask for: ``cell`` itself over the union of the fingers' pressures in units of
     E* (no solve when that lies inside what is cached), read at each finger's E1*; a layered
@@ -82,15 +108,19 @@ def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger],
     A sweep's cell task calls this for every point sharing a cell before any of them is
     predicted (:func:`fingerpad.design.evaluate.prepare_shared_cell`): :func:`predict_fingers`
     then solves nothing. ``progress(done, total)`` after each layered finger's cell (a cell of its
-    own takes seconds to solve). Returns one response per finger."""
+    own takes seconds to solve); ``stack``: the fingers' :class:`~fingerpad.coupling.members.FingerStack`
+    if one is at hand. Returns one response per finger."""
     loads = study.loads
     moduli = _member_moduli(study, fingers)
     if not cell.flat:
         # the pressures every finger asks for, in units of E*: one prepare covers them all
+        # every finger's A_fr at the loads in one evaluation (FingerStack: each row the bits of
+        # finger.ridge_area(loads))
+        f_rows = np.tile(np.asarray(loads, dtype=float), (len(fingers), 1))
+        p_rows = f_rows / (FingerStack(fingers) if stack is None else stack).ridge_area(f_rows)
         lo, hi = math.inf, 0.0
-        for f, e in zip(fingers, moduli, strict=True):
-            p = loads / np.asarray(f.ridge_area(loads), float)
-            lo, hi = min(lo, P_LOW * float(p.min()) / e), max(hi, P_HIGH * float(p.max()) / e)
+        for row, e in zip(p_rows, moduli, strict=True):
+            lo, hi = min(lo, P_LOW * float(row.min()) / e), max(hi, P_HIGH * float(row.max()) / e)
         cell.prepare(lo * cell.modulus, hi * cell.modulus)
     cells: list[Any] = []
     layered = sum(1 for f in fingers if not (f.layer is None and cell.layer is None))
@@ -107,34 +137,12 @@ def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger],
     return cells
 
 
-#: Why a population (or a robust design) with a work of adhesion is refused.
-ADHESION_REFUSED = (
-    "a population of fingers with a work of adhesion: not supported yet. Each member's w / E* makes "
-    "its own adhesive unit cell (a continuation of ~120 solves, ~15 s at grid 128), not one cell read at "
-    "every member's modulus; predict single fingers with --work-of-adhesion (docs/model.md 6.6)")
-
-
-def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,
+def _predict_codes(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,
                     progress: Callable[[int, int], None] | None = None,
-                    stats: dict[str, int] | None = None) -> tuple[
-        list[CurvePrediction], np.ndarray, np.ndarray, list[list[str]]]:
-    """Every finger on the texture of a study already predicted (``nominal``, its cell reused).
-
-    The BEM cell is prepared over the union of the fingers' pressures in units of E* (no solve
-    when that lies inside what is cached: psi depends on p/E* only) and read at each finger's E1*
-    (Eq. 3.4); with the Hertz model each finger gets its own per-asperity cell (no solve).
-    ``full_contact=False`` skips the search of the full-contact loads (NaN then; the robust
-    design's screen does not use them). ``progress``: as for :func:`member_cells`; ``stats``, if
-    given, gets ``own_cells`` (members on a BEM cell of their own) and ``solves`` (unit-cell
-    solves the members added, 0 when the cache held them).
-
-    Returns
-    -------
-    curves, critical_load, full_contact_load, states
-        Per finger: its :class:`~fingerpad.coupling.CurvePrediction`, its critical and
-        full-contact loads (N; ``inf`` if never reached, full contact NaN for Hertz) and the
-        contact state at the pad centre at each load.
-    """
+                    stats: dict[str, int] | None = None, stack: FingerStack | None = None) -> tuple[
+        _Rows, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`predict_fingers` with the curves as rows of arrays and the centre states as their
+    codes, ``(members, loads)`` int8."""
     if nominal.adhesion is not None or any(f.adhesive for f in fingers):
         raise FingerpadError(ADHESION_REFUSED)
     from ..micro.hertz import hertz_cell_for
@@ -145,38 +153,102 @@ def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_cont
     cell = nominal.cell
     if nominal.bem is not None:
         before = int(getattr(cell, "solves", 0) or 0)
-        cells = member_cells(study, cell, fingers, progress)
+        stack = FingerStack(fingers) if stack is None else stack
+        cells = member_cells(study, cell, fingers, progress, stack)
         own = {i for i, c in enumerate(cells) if isinstance(c, BEMUnitCell)}
         if stats is not None:
             stats["own_cells"] = len(own)
             stats["solves"] = int(getattr(cell, "solves", 0) or 0) - before + sum(int(cells[i].solves) for i in own)
         shared = [i for i in range(len(fingers)) if i not in own]
-        curves = [None] * len(fingers)
-        if shared:
-            done = predict_members(loads, [fingers[i] for i in shared], cell, [moduli[i] for i in shared])
-            for i, curve in zip(shared, done, strict=True):
-                curves[i] = curve
-        for i in sorted(own):
-            curves[i] = predict_curve(loads, fingers[i], cells[i])
-        crit = [c.critical_load for c in curves]
+        table: MemberCurves | None = None
+        curves: list[Any] | None = None
+        if not own:  # every member on the one cell: arrays throughout
+            table = member_curves(loads, stack, cell, moduli)
+            crit = table.critical_load
+        else:
+            curves = [None] * len(fingers)
+            if shared:
+                done = predict_members(loads, [fingers[i] for i in shared], cell, [moduli[i] for i in shared],
+                                       stack=stack.subset(shared))
+                for i, curve in zip(shared, done, strict=True):
+                    curves[i] = curve
+            for i in sorted(own):
+                curves[i] = predict_curve(loads, fingers[i], cells[i])
+            crit = [c.critical_load for c in curves]
         if cell.flat:
             full = np.zeros(len(fingers))
         elif full_contact:
-            full = member_full_contact_loads(fingers, [c.full_contact_pressure for c in cells])
+            full = member_full_contact_loads(fingers, [c.full_contact_pressure for c in cells], stack)
         else:
             full = np.full(len(fingers), math.nan)
     else:
         cells = [hertz_cell_for(nominal.texture, e)[0] for e in moduli]
         curves = predict_members(loads, fingers, cells)
+        table = None
         crit = [c.critical_load_hertz if c.critical_load_hertz is not None else math.nan for c in curves]
         full = np.full(len(fingers), math.nan)
     # centre_state's comparisons (peak >= pf: full, >= pt: transition), on arrays
-    peak = np.array([1.5 * curve.load / curve.ridge_area for curve in curves])
+    if table is not None:
+        peak = 1.5 * table.load / table.rows["ridge_area"]
+    else:
+        peak = np.array([1.5 * curve.load / curve.ridge_area for curve in curves])  # type: ignore[union-attr]
     pt = np.array([[float(c.transition_pressure)] for c in cells])
     pf = np.array([[float(c.full_contact_pressure)] for c in cells])
-    codes = np.where(peak >= pf, 2, np.where(peak >= pt, 1, 0))
-    states = [[STATES[k] for k in row] for row in codes.tolist()]
-    return curves, np.asarray(crit, float), np.asarray(full, float), states
+    codes = np.where(peak >= pf, 2, np.where(peak >= pt, 1, 0)).astype(np.int8)
+    return _Rows(table, curves), np.asarray(crit, float), np.asarray(full, float), codes
+
+
+class _Rows:
+    """The members' curves, as the arrays of :func:`~fingerpad.coupling.members.member_curves`
+    (all members on one cell) or as a list (members on cells of their own, Hertz cells)."""
+
+    def __init__(self, table: MemberCurves | None, curves: list[Any] | None) -> None:
+        self.table, self._curves = table, curves
+
+    def curves(self) -> list[CurvePrediction]:
+        return self._curves if self._curves is not None else self.table.curves()  # type: ignore[union-attr]
+
+    def rows(self, name: str) -> np.ndarray:
+        """``(members, loads)`` array of a per-load field."""
+        if self.table is not None:
+            return np.asarray(self.table.rows[name], float)
+        return np.array([np.asarray(getattr(c, name), float) for c in self._curves])  # type: ignore[union-attr]
+
+
+#: Why a population (or a robust design) with a work of adhesion is refused.
+ADHESION_REFUSED = (
+    "a population of fingers with a work of adhesion: not supported yet. Each member's w / E* makes "
+    "its own adhesive unit cell (a continuation of ~120 solves, ~15 s at grid 128), not one cell read at "
+    "every member's modulus; predict single fingers with --work-of-adhesion (docs/model.md 6.6)")
+
+
+def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,
+                    progress: Callable[[int, int], None] | None = None,
+                    stats: dict[str, int] | None = None, stack: FingerStack | None = None) -> tuple[
+        list[CurvePrediction], np.ndarray, np.ndarray, list[list[str]]]:
+    """Every finger on the texture of a study already predicted (``nominal``, its cell reused).
+
+    The BEM cell is prepared over the union of the fingers' pressures in units of E* (no solve
+    when that lies inside what is cached: psi depends on p/E* only) and read at each finger's E1*
+    (Eq. 3.4); with the Hertz model each finger gets its own per-asperity cell (no solve).
+    ``full_contact=False`` skips the search of the full-contact loads (NaN then; the robust
+    design's screen does not use them). ``progress``: as for :func:`member_cells`; ``stats``, if
+    given, gets ``own_cells`` (members on a BEM cell of their own) and ``solves`` (unit-cell
+    solves the members added, 0 when the cache held them); ``stack``: the fingers' stack if one
+    is at hand (:func:`member_fingers`).
+
+    Returns
+    -------
+    curves, critical_load, full_contact_load, states
+        Per finger: its :class:`~fingerpad.coupling.CurvePrediction` (equal to
+        :func:`~fingerpad.coupling.predict_curve`'s, bit for bit), its critical and full-contact
+        loads (N; ``inf`` if never reached, full contact NaN for Hertz; all members' in one
+        search, :func:`~fingerpad.coupling.loads.centre_loads`, the one a prediction takes) and
+        the contact state at the pad centre at each load.
+    """
+    rows, crit, full, codes = _predict_codes(nominal, fingers, full_contact=full_contact, progress=progress,
+                                             stats=stats, stack=stack)
+    return rows.curves(), crit, full, [[STATES[k] for k in row] for row in codes.tolist()]
 
 
 @dataclass
@@ -204,7 +276,7 @@ class MemberValues:
     states: np.ndarray
 
 
-def evaluate_members(nominal: Prediction, fingers: Sequence[Finger]) -> MemberValues:
+def evaluate_members(nominal: Prediction, fingers: Sequence[Finger], stack: FingerStack | None = None) -> MemberValues:
     """The members' numbers on the nominal prediction's texture as arrays (a sweep point's
     population): :func:`predict_fingers`, so every member's numbers are those of a plain
     :func:`~fingerpad.coupling.predict_curve` of that member, bit for bit.
@@ -216,19 +288,16 @@ def evaluate_members(nominal: Prediction, fingers: Sequence[Finger]) -> MemberVa
         prepared over the members' pressures, solving only what they add).
     fingers
         The members' fingers (:func:`member_finger`).
+    stack
+        Their :class:`~fingerpad.coupling.members.FingerStack` if one is at hand (:func:`member_fingers`).
 
     Returns
     -------
     MemberValues
     """
-    curves, crit, full, states = predict_fingers(nominal, fingers)
-    codes = {s: i for i, s in enumerate(STATES)}
-
-    def rows(name: str) -> np.ndarray:
-        return np.array([np.asarray(getattr(c, name), float) for c in curves])
-
-    return MemberValues(rows("area_ratio"), rows("mu"), rows("mu_ref"), rows("mu_normalised"), crit, full,
-                        np.array([[codes[s] for s in row] for row in states], dtype=np.int8))
+    table, crit, full, codes = _predict_codes(nominal, fingers, stack=stack)
+    return MemberValues(table.rows("area_ratio"), table.rows("mu"), table.rows("mu_ref"), table.rows("mu_normalised"),
+                        crit, full, codes)
 
 
 def member_quantiles(values: np.ndarray, levels: Sequence[float], drop_nan: bool = False) -> np.ndarray:
@@ -251,6 +320,8 @@ def member_quantiles(values: np.ndarray, levels: Sequence[float], drop_nan: bool
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # inf - inf inside numpy's interpolation
         res = np.quantile(v, q, axis=0)
+    if not np.isnan(res).any():  # nothing to mend (the two quantiles below cost as much again)
+        return res
     lower = np.quantile(v, q, axis=0, method="lower")
     upper = np.quantile(v, q, axis=0, method="higher")
     pos = q * (v.shape[0] - 1)

@@ -145,33 +145,15 @@ def centre_state(peak_pressure: float, cell: Any) -> str:
 FINGER_LOAD_LIMIT = 100.0
 
 
-def load_at_centre_pressure(finger: Finger, pressure: float,
-                            ridge_area: Callable[[float], Any] | None = None) -> float:
+def load_at_centre_pressure(finger: Finger, pressure: float) -> float:
     """Load (N) at which the centre pressure ``1.5 F / A_fr(F)`` equals ``pressure`` (Pa);
-    ``inf`` for an infinite pressure, NaN if none in the searched load range. ``ridge_area``:
-    the finger's ``F -> A_fr`` (m^2) if a leaner one than ``finger.ridge_area`` is at hand (a
-    population calls this once per member)."""
-    from scipy.optimize import brentq
+    ``inf`` for an infinite pressure, NaN if none in the searched load range
+    (:data:`~fingerpad.micro.response.DEFAULT_LOAD_RANGE`): the package's one search of this
+    equation, :func:`~fingerpad.coupling.loads.centre_loads`, which a population's members take
+    all at once (the same bits)."""
+    from ..coupling.loads import FingerStack, centre_loads
 
-    from ..micro.response import DEFAULT_LOAD_RANGE
-
-    if math.isinf(pressure):
-        return math.inf
-    if not (math.isfinite(pressure) and pressure > 0):
-        return math.nan
-    lo, hi = DEFAULT_LOAD_RANGE
-
-    area = finger.ridge_area if ridge_area is None else ridge_area
-
-    def g(f: float) -> float:
-        return 1.5 * f / float(area(f)) - pressure
-
-    try:
-        if np.sign(g(lo)) == np.sign(g(hi)):
-            return math.nan
-        return float(brentq(g, lo, hi, rtol=1e-12))
-    except (FingerpadError, ValueError):
-        return math.nan
+    return float(centre_loads(FingerStack([finger]), [float(pressure)])[0])
 
 
 #: A layered finger's pad modulus E_fp* and its skin's effective modulus at the pad's contact

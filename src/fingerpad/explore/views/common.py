@@ -17,9 +17,34 @@ pn = lazy_loader.load("panel")
 
 from ...plotting.specs import PlotSpec, spec_csv, spec_json
 
-__all__ = ["PlotCard", "download", "fmt", "guard_choices", "html_table", "num_span", "one_walk", "set_cards"]
+__all__ = ["PlotCard", "download", "fmt", "guard_choices", "html_pane", "html_table", "num_span", "one_walk",
+           "set_cards"]
 
 FORMATS = ("csv", "json", "png", "svg")
+
+
+_HTML: Any = None
+
+
+def html_pane(obj: str = "", **params: Any) -> Any:
+    """An HTML pane whose changes send the browser what changed (its text), not its style sheets.
+
+    Panel's HTML pane sends all its properties on every change of its text, the style sheets
+    among them; in a served session the first such change brings new style-sheet models (the
+    ones the page was built with are not found again), and BokehJS then re-renders the pane and
+    restyles the page: 2.6-4.8 s in Chromium on 2 cores for the first change after the page
+    opened, which touches the summary, the notes and the table (issue 37). The explorer never
+    changes a pane's style sheets after it is made."""
+    global _HTML
+    if _HTML is None:
+        class _Html(pn.pane.HTML):
+            def _update(self, ref: str, model: Any) -> None:
+                props = self._get_properties(model.document)
+                props.pop("stylesheets", None)
+                model.update(**props)
+
+        _HTML = _Html
+    return _HTML(obj, **params)
 
 
 def guard_choices(widget: Any, on_refused: Callable[[str], None] | None = None) -> Any:
@@ -128,7 +153,7 @@ class PlotCard:
         self.drawn: Any = None
         self.pane = pn.pane.Bokeh(None, sizing_mode="stretch_width" if width is None else "fixed",
                                   css_classes=[f"fp-plot-{key}"], min_height=height)
-        self.note = pn.pane.HTML("", css_classes=[f"fp-plot-{key}-note"], visible=False,
+        self.note = html_pane("", css_classes=[f"fp-plot-{key}-note"], visible=False,
                                  styles={"color": "#666", "font-size": "12px"})
         buttons = [download(f.upper(), f"fingerpad-{key}.{f}", partial(self._data, f), f"fp-dl-{key}-{f}")
                    for f in FORMATS]

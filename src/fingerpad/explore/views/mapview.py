@@ -21,7 +21,7 @@ pn = lazy_loader.load("panel")
 
 from ...errors import FingerpadError, one_line
 from .. import sweepdata as sd
-from .common import download, fmt, guard_choices, html_table
+from .common import download, fmt, guard_choices, html_pane, html_table
 
 __all__ = ["MapView", "map_table"]
 
@@ -170,8 +170,8 @@ class MapView:
                                            css_classes=[f"fp-map-fixed-{a}"]) for a in self.axes}
         self.fixed_box = pn.Column(margin=0)
         self.plot = pn.pane.Bokeh(None, css_classes=["fp-plot-design-map"], min_height=480, sizing_mode="stretch_width")
-        self.info = pn.pane.HTML("", css_classes=["fp-map-info"], sizing_mode="stretch_width")
-        self.message = pn.pane.HTML("", css_classes=["fp-map-message"], sizing_mode="stretch_width")
+        self.info = html_pane("", css_classes=["fp-map-info"], sizing_mode="stretch_width")
+        self.message = html_pane("", css_classes=["fp-map-message"], sizing_mode="stretch_width")
         self.md: Any = None
         self.rows: list[dict[str, Any]] = []
         for w in (self.x, self.y, self.quantity, self.at, *self.fixed.values()):
@@ -184,7 +184,7 @@ class MapView:
         self.min_crit = pn.widgets.TextInput(label="minimum critical load (N)", value="", placeholder="none",
                                              css_classes=["fp-inv-mincrit"])
         self.find = pn.widgets.Button(label="Find designs", color="primary", css_classes=["fp-inv-find"])
-        self.candidates = pn.pane.HTML("", css_classes=["fp-inv-results"], sizing_mode="stretch_width")
+        self.candidates = html_pane("", css_classes=["fp-inv-results"], sizing_mode="stretch_width")
         self.pick = pn.widgets.Select(label="candidate", options={}, css_classes=["fp-inv-pick"])
         guard_choices(self.inv_at)
         guard_choices(self.pick)

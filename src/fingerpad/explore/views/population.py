@@ -3,9 +3,10 @@ preset name, its bands of A_re/A_fr and mu/mu_ref against load and its critical 
 
 The population is :func:`fingerpad.population.run.run_population` on the study of the design
 shown (the library computes everything; the unit cell is solved once for every finger). It runs
-in one worker thread per server, the latest request of a session first (a request whose design
-is no longer shown is skipped), and the results are remembered per design and population, so a
-design seen before shows its bands at once.
+in one worker thread per server, once the design has stayed shown a moment, the latest request of
+a session first (a request whose design is no longer shown is skipped, one under way is
+cancelled: :mod:`fingerpad.cancel`), and the results are remembered per design and population,
+so a design seen before shows its bands at once.
 
 Only names are accepted from the page: the built-in presets and the populations the server was
 started with (``fingerpad explore --population FILE|DIR``, read once at start, by the person who
@@ -17,6 +18,7 @@ from __future__ import annotations
 
 import asyncio
 import html
+import time
 import warnings
 from concurrent.futures import ThreadPoolExecutor
 from functools import partial
@@ -27,10 +29,11 @@ import lazy_loader
 
 pn = lazy_loader.load("panel")
 
+from ...cancel import CancelToken, Cancelled, cancellable
 from ...errors import FingerpadError, one_line
 from .. import builders
 from ..inputs import data_key, labels_for
-from .common import PlotCard, guard_choices, num_span, set_cards
+from .common import PlotCard, guard_choices, html_pane, num_span, set_cards
 
 __all__ = ["NONE", "PopulationPanel", "population_choices", "run_preset"]
 
@@ -91,14 +94,15 @@ class PopulationPanel:
         self.help = pn.pane.HTML(
             "<div style='font-size:11px;color:#555'>the fingers of a built-in population (docs/population.md): "
             "bands of the results over the population, the critical loads' distribution</div>")
-        self.message = pn.pane.HTML("", css_classes=["fp-population-msg"], sizing_mode="stretch_width")
-        self.status = pn.pane.HTML("", css_classes=["fp-population-status"], sizing_mode="stretch_width")
-        self.summary = pn.pane.HTML("", css_classes=["fp-population-summary"], sizing_mode="stretch_width")
+        self.message = html_pane("", css_classes=["fp-population-msg"], sizing_mode="stretch_width")
+        self.status = html_pane("", css_classes=["fp-population-status"], sizing_mode="stretch_width")
+        self.summary = html_pane("", css_classes=["fp-population-summary"], sizing_mode="stretch_width")
         self.cards = {k: PlotCard(k, height=330) for k in _KEYS}
         self.result: Any = None
+        self._token = CancelToken()
+        self._key: tuple[str, str] | None = None  # what the token's work computes
         #: (the design's data key, the population's name) of :attr:`result`
         self.result_key: tuple[str, str] | None = None
-        self._token: object | None = None
         self.inputs = pn.Column(self.choice, self.message, self.help, sizing_mode="stretch_width")
         self.panel = pn.Column(
             pn.pane.HTML("<h4 style='margin:6px 0'>Population of fingers</h4>"), self.status, self.summary,
@@ -121,7 +125,12 @@ class PopulationPanel:
         """Show the chosen population for the design shown (from memory, else computed in the
         background); called on a new choice and on every new design shown."""
         name = self.choice.value
-        self._token = token = object()
+        data = self.view.shown_data
+        key = None if data is None else (data_key(data), name)
+        if key is not None and key == self._key and not self._token.cancelled:
+            return  # under way for this design and population
+        self.cancel()
+        self._token = token = CancelToken()
         if name == NONE:
             self.panel.visible = False
             self.result = self.result_key = None
@@ -132,38 +141,51 @@ class PopulationPanel:
             self._forged(name)
             return
         self.message.object = ""
-        data, pred = self.view.shown_data, self.view.pred
+        pred = self.view.pred
         if data is None or pred is None:
             self._clear()
             self._say("population: shown once the design has a prediction", "fp-population-pending")
             return
-        key = (data_key(data), name)
         hit = self.cache.get_key(key)
         if hit is not None:
             self._show(hit, key)
             return
+        self._key = key
         self._say(f"population {name}: computing its fingers...", "fp-population-running")
-        pn.state.execute(partial(self._compute, token, key, data, name))  # a coroutine function: awaited
+        # a coroutine function, awaited; once the design has stayed shown
+        self.view.after_quiet(lambda: self.view.run_async(partial(self._compute, token, key, data, name)))
 
-    async def _compute(self, token: object, key: tuple[str, str], data: dict[str, Any], name: str) -> None:
+    def cancel(self) -> None:
+        """Stop the population under way (the design it is for is no longer shown)."""
+        self._token.cancel()
+        self._key = None
+
+    async def _compute(self, token: CancelToken, key: tuple[str, str], data: dict[str, Any], name: str) -> None:
         def work() -> tuple[Any, str | None]:
-            if self._token is not token:  # a newer request of this session: skip
+            if token.cancelled:  # a newer request of this session: skip
                 return None, None
             hit = self.cache.get_key(key)
             if hit is not None:
                 return hit, None
+            cpu = time.thread_time()
             try:
-                result = run_preset(data, name, self.extra)
+                with cancellable(token):
+                    result = run_preset(data, name, self.extra)
+            except Cancelled:
+                return None, None
             except FingerpadError as exc:
                 return None, one_line(str(exc))
+            finally:
+                self.view.app.worklog.add("population", time.thread_time() - cpu, token.cancelled, token)
             self.cache.put_key(key, result)
             return result, None
 
         result, error = await asyncio.get_running_loop().run_in_executor(_pool(), work)
 
         def apply() -> None:
-            if self._token is not token:
+            if self._token is not token or token.cancelled:
                 return
+            self._key = None  # done: a request of this design reads the cache from now on
             if error is not None:
                 self._clear()
                 self._say(f"population {name}: {self.view._words(error)}", "fp-population-error", "#b00020")

@@ -4,14 +4,22 @@ Every change of a field rebuilds the study from the form and validates it with t
 (:func:`..inputs.validate`); messages appear beside the fields. The per-asperity Hertz model
 updates at once; the BEM unit cell runs as a background :class:`..jobs.Job` (progress bar,
 cancel) through the on-disk cache, and a design seen before shows at once. The contact map at a
-chosen pressure is one :class:`~fingerpad.contact.HalfSpaceSolver` solve, in a worker thread.
+chosen pressure is one :class:`~fingerpad.contact.HalfSpaceSolver` solve, in a worker thread
+(:mod:`.contactmaps`).
+
+The numbers of a change come first: the background work of a design (its contact maps, a BEM run
+on every change, its population) starts once the design has stayed shown for :data:`QUIET_S`, and
+a change to another design cancels all of it within one solver iteration (:mod:`fingerpad.cancel`).
+Changes in quick succession (arrow keys held, a slider dragged, two designs compared as soon as
+their numbers show) show their numbers at once and the figures once they pause (:mod:`.sequence`):
+the browser's drawing of designs passed over would otherwise hold the next numbers back.
 """
 
 from __future__ import annotations
 
-import asyncio
 import copy
 import html
+from collections.abc import Callable
 from functools import partial
 from typing import Any
 
@@ -22,16 +30,35 @@ pn = lazy_loader.load("panel")
 from ...errors import FingerpadError, one_line
 from .. import builders
 from ..inputs import data_key, study_data, validate
-from ..jobs import Job, contact_at, run_data
+from ..jobs import run_data
 from . import exports
-from .common import PlotCard, download, html_table, num_span, set_cards
+from .bemrun import BemRun, bem_data
+from .common import PlotCard, download, html_pane, html_table, num_span, set_cards
+from .contactmaps import ContactMaps
+from .sequence import Sequence
 from .fields import MEASURED, Field, Form
 from .perception import PerceptionPanel
 from .population import PopulationPanel
 from ..uploads import StoredUpload, page_message
 from .upload import Upload
 
-__all__ = ["SingleView"]
+__all__ = ["QUIET_S", "SingleView"]
+
+#: Seconds a design stays shown before its background work starts (contact maps, a BEM run on
+#: every change, a population): longer than the pause between the values of a designer who
+#: steps or drags through them, short beside the work itself.
+QUIET_S = 0.4
+
+#: The results table of the design before, while a sequence passes over designs; and once it is
+#: the design's (an empty style would not reach the page: Panel sends the keys it is given).
+_DIMMED, _BRIGHT = {"opacity": "0.35"}, {"opacity": "1"}
+
+
+def _prediction_json(pred: Any) -> dict[str, Any]:
+    from ...study.outputs import prediction_json
+
+    return prediction_json(pred)
+
 
 _RESULT_COLUMNS = (
     ("load", "load F (N)"), ("gross_area", "A_g (m²)"), ("ridge_area", "A_fr (m²)"), ("real_area", "A_re (m²)"),
@@ -46,6 +73,7 @@ def _with_kind(data: dict[str, Any], kind: str) -> dict[str, Any]:
     return out
 
 
+
 class SingleView:
     """The single-texture view of one browser session."""
 
@@ -56,34 +84,25 @@ class SingleView:
         self.data: dict[str, Any] | None = None  # the last valid inputs
         self.shown_data: dict[str, Any] | None = None  # the study of the results shown
         self.pred: Any = None
+        self.pending = False  # the BEM of the design shown is not computed
         self.texture: Any = None
-        self.job: Job | None = None
-        self._contact_token: object | None = None
+        self._design: str | None = None  # the design the background work is for (its data key)
+        self._generation = 0  # designs shown so far: background work waits for a quiet one
         self._loading = False
         self.doc = pn.state.curdoc  # the session's document: async work changes it on its next tick
 
-        self.form_error = pn.pane.HTML("", css_classes=["fp-form-error"], visible=False, sizing_mode="stretch_width")
-        self.status = pn.pane.HTML("", css_classes=["fp-status"], sizing_mode="stretch_width")
-        self.summary = pn.pane.HTML("", css_classes=["fp-summary"], sizing_mode="stretch_width")
-        self.notes = pn.pane.HTML("", css_classes=["fp-notes"], sizing_mode="stretch_width")
-        self.table = pn.pane.HTML("", css_classes=["fp-results-pane"], sizing_mode="stretch_width",
+        self.form_error = html_pane("", css_classes=["fp-form-error"], visible=False, sizing_mode="stretch_width")
+        self.status = html_pane("", css_classes=["fp-status"], sizing_mode="stretch_width")
+        self.summary = html_pane("", css_classes=["fp-summary"], sizing_mode="stretch_width")
+        self.notes = html_pane("", css_classes=["fp-notes"], sizing_mode="stretch_width")
+        self.table = html_pane("", css_classes=["fp-results-pane"], sizing_mode="stretch_width",
                                   styles={"overflow-x": "auto", "max-height": "420px", "overflow-y": "auto"})
-        self.run_button = pn.widgets.Button(label="Run BEM", color="primary", css_classes=["fp-run-bem"],
-                                            width=110)
-        self.cancel_button = pn.widgets.Button(label="Cancel", color="warning", css_classes=["fp-cancel-bem"],
-                                               width=90, disabled=True)
-        self.auto_bem = pn.widgets.Checkbox(label="run the BEM on every change", value=False,
-                                            css_classes=["fp-auto-bem"])
-        self.progress = pn.indicators.Progress(value=0, max=100, width=220, visible=False,
-                                               css_classes=["fp-progress"], bar_color="primary")
-        self.job_status = pn.pane.HTML("", css_classes=["fp-job-status"], sizing_mode="stretch_width")
+        self.bem = BemRun(self)
         self.pin_button = pn.widgets.Button(label="Pin for comparison", color="default",
                                             css_classes=["fp-pin"], width=160)
         self.pressure = Field("view.pressure", "contact-map pressure (Pa)",
                               placeholder="centre pressure at the zone load",
                               doc="mean nominal pressure on the unit cell for the contact and pressure maps")
-        self.run_button.on_click(lambda e: self.start_bem())
-        self.cancel_button.on_click(lambda e: self.cancel_bem())
         self.pin_button.on_click(lambda e: self.pin())
 
         self.cards = {k: PlotCard(k, height=h) for k, h in (
@@ -99,6 +118,8 @@ class SingleView:
         for w in self.exports.objects[1:]:
             w.width = 120
         self.population = PopulationPanel(self)
+        self.maps = ContactMaps(self)
+        self.sequence = Sequence(self)
         self.perception = PerceptionPanel(self)
         self._watch_form()
         self.panel = self._layout()
@@ -123,8 +144,7 @@ class SingleView:
             self._card("Perception", self.perception.inputs),
             width=340, css_classes=["fp-inputs"], styles={"overflow-y": "auto"}, margin=(0, 8, 0, 0),
         )
-        bem = pn.Row(self.run_button, self.cancel_button, self.progress, self.job_status, self.auto_bem,
-                     sizing_mode="stretch_width", css_classes=["fp-bem-bar"])
+        bem = self.bem.bar
         c = self.cards
         results = pn.Column(
             self.status, bem, self.summary, pn.Row(self.pin_button, self.exports), self.notes,
@@ -143,7 +163,7 @@ class SingleView:
             self.table,
             sizing_mode="stretch_width",
         )
-        return pn.Row(inputs, results, sizing_mode="stretch_width", css_classes=["fp-single"])
+        return pn.Row(inputs, results, self.sequence.panel, sizing_mode="stretch_width", css_classes=["fp-single"])
 
     def _changed(self, event: Any) -> None:
         if not self._loading:
@@ -165,15 +185,14 @@ class SingleView:
             if self._loading:
                 return
             self.form.set_family(event.new)
-            self.upload.panel.visible = event.new == MEASURED
+            self.upload.show(event.new == MEASURED)
             self._watch_fields(self.form.texture_fields.values())
             self.refresh()
 
         self.form.family.widget.param.watch(family_changed, "value")
-        self.upload.panel.visible = False
         self._watch_fields(fl for fl in self.form.all_fields() if fl is not self.form.family)
         self._watch_fields(self.form.measured.values())
-        self.pressure.widget.param.watch(lambda e: pn.state.execute(partial(self._update_contact, True)), "value")
+        self.pressure.widget.param.watch(lambda e: self.maps.update(mark_psi=True, defer=False), "value")
 
     # ------------------------------------------------------------------ inputs
 
@@ -183,7 +202,7 @@ class SingleView:
         try:
             self.form.load(data)
             self._watch_fields(self.form.texture_fields.values())
-            self.upload.panel.visible = self.form.family.value == MEASURED
+            self.upload.show(self.form.family.value == MEASURED)
         finally:
             self._loading = False
         self.refresh()
@@ -241,12 +260,13 @@ class SingleView:
         self.form_error.visible = bool(errors or warns)
         if not check.ok:
             self.data = None
-            self.run_button.disabled = True
+            self.bem.allow(False)
             self.status.object = ('<div class="fp-stale" style="background:#fff3cd;padding:4px 8px">Fix the inputs '
                                   'marked in red; the plots show the last valid design.</div>')
             return
         self.data = data
-        self.run_button.disabled = self.job is not None and not self.job.finished
+        self._supersede(data)
+        self.bem.allow(True)
         self.texture = check.study.build_texture()
         kind = data.get("model", {}).get("kind", "both")
         pred, shown, pending = None, None, False
@@ -270,8 +290,45 @@ class SingleView:
             self.form.surface.show(f"{self.upload.current.name}: {self.texture.shape[0]} x {self.texture.shape[1]} "
                                    "points", level="info")
         self.show(pred, shown, pending)
-        if pending and self.auto_bem.value:
-            self.start_bem()
+        if pending and self.bem.auto.value:
+            self.after_quiet(self.bem.start)
+
+    def _supersede(self, data: dict[str, Any]) -> None:
+        """``data`` is another design than the one the background work is for: stop that work (a
+        BEM run of another design, the contact maps, the population's fingers) and wait for a
+        quiet time before starting the new design's."""
+        key = data_key(data)
+        if key == self._design:
+            return
+        self._design = key
+        self._generation += 1
+        self.sequence.change()
+        self.bem.supersede(bem_data(data))
+        self.maps.cancel()
+        self.population.cancel()
+
+    @property
+    def generation(self) -> int:
+        """How many designs the view has shown (a new one for every change of design)."""
+        return self._generation
+
+    def after_quiet(self, fn: Callable[[], None], seconds: float = QUIET_S) -> None:
+        """Call ``fn`` (holding the document) once the design shown now has stayed shown for
+        ``seconds``; never if another design is shown first. At once without a session."""
+        generation = self._generation
+
+        def run() -> None:
+            if generation == self._generation:
+                fn()
+
+        if self.doc is not None and self.doc.session_context is not None:
+            self.doc.add_timeout_callback(run, int(1000 * seconds))
+        else:
+            run()
+
+    def run_async(self, fn: Callable[[], Any]) -> None:
+        """Run the coroutine function ``fn`` on the server's loop (Panel's ``state.execute``)."""
+        pn.state.execute(fn)
 
     def _words(self, text: str) -> str:
         """A library message in the page's words (the user's file name, the page's fields)."""
@@ -289,39 +346,6 @@ class SingleView:
             self.app.memo.put(data, pred)
         return pred
 
-    def start_bem(self) -> None:
-        """Run the BEM study of the current inputs in the background (a running job is cancelled)."""
-        if self.data is None:
-            return
-        data = self.data if self.data.get("model", {}).get("kind") != "hertz" else _with_kind(self.data, "both")
-        if self.job is not None and not self.job.finished:
-            self.job.cancel()
-        self.job = Job(data, self.app.memo)
-        self.progress.value, self.progress.visible = 0, True
-        self.cancel_button.disabled, self.run_button.disabled = False, True
-        self.job_status.object = '<span class="fp-job-running">BEM unit cell: starting...</span>'
-        pn.state.execute(self._watch_job)
-
-    def cancel_bem(self) -> None:
-        if self.job is not None and not self.job.finished:
-            self.job.cancel()
-            self.job_status.object = '<span class="fp-job-cancelling">cancelling after the current solve...</span>'
-
-    async def _watch_job(self) -> None:
-        job = self.job
-        while job is not None and not job.finished:
-            if job is not self.job:
-                return
-            if not job.cancelling:
-                self.progress.value = int(100 * job.fraction)
-                self.job_status.object = (f'<span class="fp-job-running">BEM unit cell: {job.done} / {job.total} '
-                                          f"solves, {job.elapsed:.0f} s</span>" if job.total else
-                                          '<span class="fp-job-running">BEM unit cell: preparing...</span>')
-            await asyncio.sleep(0.25)
-        if job is None or job is not self.job:
-            return
-        self._locked(lambda: self._job_finished(job))
-
     def _locked(self, fn: Any) -> None:
         """Run ``fn`` holding the document's lock (from async work: on the document's next tick)."""
         if self.doc is not None and self.doc.session_context is not None:
@@ -329,27 +353,10 @@ class SingleView:
         else:
             fn()
 
-    def _job_finished(self, job: Job) -> None:
-        self.progress.visible = False
-        self.cancel_button.disabled = True
-        self.run_button.disabled = self.data is None
-        if job.state == "done":
-            solves = job.result.resolution["solves"] if job.result.resolution else 0
-            self.job_status.object = (f'<span class="fp-job-done">BEM done in {job.seconds:.1f} s '
-                                      f"({solves} solves{', from the cache' if solves == 0 else ''})</span>")
-            if self.data is not None and data_key(job.data) == data_key(
-                    self.data if self.data.get("model", {}).get("kind") != "hertz" else _with_kind(self.data, "both")):
-                self.show(job.result, job.data, False)
-        elif job.state == "cancelled":
-            self.job_status.object = '<span class="fp-job-cancelled">BEM cancelled</span>'
-        else:
-            self.job_status.object = f'<span class="fp-job-failed" style="color:#b00020">BEM failed: ' \
-                                     f"{html.escape(self._words(job.error or ''))}</span>"
-
     # ------------------------------------------------------------------ showing
 
     def show(self, pred: Any, shown: dict[str, Any] | None, pending: bool) -> None:
-        self.pred, self.shown_data = pred, shown
+        self.pred, self.shown_data, self.pending = pred, shown, pending
         kind = (self.data or {}).get("model", {}).get("kind", "both")
         if pending:
             what = "BEM not computed for these inputs: press Run BEM (the curves shown are Hertz's)" \
@@ -360,27 +367,38 @@ class SingleView:
                                   f"model {html.escape(pred.primary_model if pred else kind)} for the inputs on the "
                                   "left</div>")
         self.pin_button.disabled = pred is None
-        c = self.cards
+        if pred is None:
+            self.summary.object = ""
+            self.table.object = ""
+            if self.table.styles == _DIMMED:
+                self.table.styles = _BRIGHT
+            self.notes.object = ""
+        else:
+            self._show_numbers(pred)
+        self.sequence.numbers_sent()
+        self.sequence.figures(self._show_figures)  # in a sequence: once it pauses
+
+    def _show_figures(self) -> None:
+        """The figures of the prediction shown (and its population, its contact maps)."""
+        pred, c = self.pred, self.cards
+        if pred is not None and self.table.styles == _DIMMED:  # dimmed in a sequence: its numbers now
+            self._show_table(self._derived(pred, "json", lambda: _prediction_json(pred)))
         updates = [(c["height-map"], builders.height_map_spec(pred.texture if pred is not None and pred.cell
                                                               is not None else self.texture), None)]
         if pred is None:
             updates += [(c[key], None, "run the BEM to see this plot")
                         for key in ("areas", "friction", "friction-normalised", "psi", "zones", "zone-profile")]
             updates.append((c["friction-directional"], None, None))
-            self.summary.object = ""
-            self.table.object = ""
-            self.notes.object = ""
         else:
             panels = self._derived(pred, "panels", lambda: builders.prediction_panels(pred))  # predict's figures
             updates += [(c[key], panels.get(key), None) for key in ("areas", "friction", "friction-normalised",
                                                                     "friction-directional", "zones", "zone-profile")]
             mark = self._contact_pressure()
             updates.append((c["psi"], self._derived(pred, ("psi", mark), lambda: builders.psi_spec(pred, mark)), None))
-            self._show_numbers(pred)
         set_cards(updates)
         self.population.update()
         self.perception.update()
-        pn.state.execute(self._update_contact)  # psi was drawn above with the contact map's pressure
+        self.maps.update()  # psi was drawn above with the contact map's pressure
 
     def _derived(self, pred: Any, what: Any, make: Any) -> Any:
         """``make()``, remembered per prediction (the server's, shared by its sessions): what the
@@ -394,9 +412,7 @@ class SingleView:
         return value
 
     def _show_numbers(self, pred: Any) -> None:
-        from ...study.outputs import prediction_json
-
-        payload = self._derived(pred, "json", lambda: prediction_json(pred))
+        payload = self._derived(pred, "json", lambda: _prediction_json(pred))
         crit, full = payload["critical_load"], payload["full_contact_load"]
         parts = [f"<b>shown model:</b> {html.escape(payload['model'])}",
                  f"E1* = {num_span('reduced_modulus', payload['inputs']['reduced_modulus'], 'Pa')}"]
@@ -412,10 +428,26 @@ class SingleView:
         z = payload["zones"]
         parts.append(f"at {num_span('zones_load', z['load'], 'N')}: A_re/A_fr = "
                      f"{num_span('zones_area_ratio', z['area_ratio'])}, centre {html.escape(z['contact_state'])}")
-        self.summary.object = '<div style="font-size:13px;line-height:1.6">' + " &middot; ".join(parts) + "</div>"
+        # each pane's change goes to the page as a message of its own: the table first, the
+        # summary last, so that a page whose summary shows a design has its table too (in a
+        # sequence the table is dimmed, and filled with the figures once the sequence pauses)
+        self._show_table(payload if not self.sequence.rapid else None)
         self.notes.object = "".join(f'<div style="font-size:12px;color:#555">note: {html.escape(self._words(n))}</div>'
                                     for n in payload["notes"])
+        self.summary.object = '<div style="font-size:13px;line-height:1.6">' + " &middot; ".join(parts) + "</div>"
+
+    def _show_table(self, payload: dict[str, Any] | None) -> None:
+        """The table of the prediction shown (``payload``: its JSON), or, with ``None``, the table
+        of the design before dimmed: in a sequence the browser would parse and lay out the table's
+        ~1000 nodes for every design passed over (a third of Chromium's work for a change's
+        numbers, issue 37); its summary is the number a designer reads while the hand moves."""
+        if payload is None:
+            if self.table.object:
+                self.table.styles = _DIMMED
+            return
         self.table.object = html_table(_RESULT_COLUMNS, payload["results"], "fp-results")
+        if self.table.styles == _DIMMED:
+            self.table.styles = _BRIGHT
 
     def _contact_pressure(self) -> float | None:
         """The pressure of the contact map: the field's value, else the centre pressure at the zone load."""
@@ -436,48 +468,6 @@ class SingleView:
         if self.pred is not None:
             return float(self.pred.zones["peak_pressure"])
         return None
-
-    async def _update_contact(self, mark_psi: bool = False) -> None:
-        """The contact and pressure maps at the contact-map pressure (one solve in a worker thread,
-        none for a contact seen before); ``mark_psi``: the pressure changed, mark it on psi(p)."""
-        token = object()
-        self._contact_token = token
-        pred = self.pred
-        pressure = self._contact_pressure()
-        if pressure is None or self.data is None:
-            def clear() -> None:
-                for key in ("pressure-map", "contact-map"):
-                    self.cards[key].set(None, "give a valid contact-map pressure" if self.data else None)
-
-            self._locked(clear)
-            return
-        texture = pred.texture if pred is not None and pred.cell is not None else self.texture
-        study = validate(self.data, check=False).study
-        if texture is None or study is None or not texture.periodic:
-            return
-        e1 = study.reduced_modulus
-        cache = self.app.contacts
-        solve = partial(contact_at, texture, e1, pressure, tol=study.tol, max_iter=study.max_iter, cache=cache)
-        loop = asyncio.get_running_loop()
-        try:
-            res = await loop.run_in_executor(None, solve)
-        except FingerpadError as exc:
-            if self._contact_token is token:
-                self.pressure.show(one_line(str(exc)))
-            return
-        if self._contact_token is not token:
-            return
-
-        def apply() -> None:
-            if self._contact_token is not token:
-                return
-            pmap, cmap = builders.contact_specs(res)
-            updates = [(self.cards["pressure-map"], pmap, None), (self.cards["contact-map"], cmap, None)]
-            if mark_psi and self.pred is not None:
-                updates.append((self.cards["psi"], builders.psi_spec(self.pred, pressure), None))
-            set_cards(updates)
-
-        self._locked(apply)
 
     # ------------------------------------------------------------------ pins and exports
 
