@@ -207,7 +207,8 @@ def test_an_option_given_twice_is_refused(here, args, message):
 
 
 @pytest.mark.parametrize("data, message", [
-    (["texture"], "a study is a mapping of sections (texture, material, finger, loads, model) to their values, got list"),
+    (["texture"], "a study is a mapping of sections (texture, material, finger, loads, model, perception) to their "
+                  "values, got list"),
     ({"texture": 3}, "[texture]: must be a table of values (a mapping), got int"),
     ({"texture": {"name": "flat", "size": "1mm"}, "loads": [1]}, "[loads]: must be a table of values (a mapping), "
                                                                  "got list"),

@@ -34,7 +34,8 @@ FENCE = re.compile(r"^```([A-Za-z]*)[^\n]*\n(.*?)^```", re.S | re.M)
 #: Documents whose commands take more than ~10 s on a 2-core machine (a sweep, a design search,
 #: BEM curves on measured maps, the deflection model).
 SLOW = {"README.md", "sweeps.md", "read-a-measured-map.md", "predict-a-texture.md", "analyse-measurements.md",
-        "formats.md", "measurements.md", "outputs.md", "design-for-a-population.md", "population.md", "perception.md",
+        "formats.md", "measurements.md", "outputs.md", "design-for-a-population.md", "population.md",
+        "getting-started.md", "perception.md",
         "feel-the-same-cheaper.md"}
 #: What the text right after a block says when its command is meant to fail.
 FAILS = re.compile(r"stops with `error:")

@@ -19,6 +19,7 @@ from fingerpad.population.sources import load_population
 from fingerpad.study.spec import study_from_dict
 
 from .test_population_sweep import BASE, SPREAD, SWEEP, point, spec_for
+from fingerpad.design.spec import sweep_from_dict
 
 
 @pytest.fixture(autouse=True)
@@ -44,10 +45,11 @@ def test_stored_fraction_is_a_direct_comparison_with_flat(people):
     assert 0 < res["tell_flat"].max() and res["tell_flat"].min() < 1  # not a trivial case
 
 
-def _store(tmp_path, population):
+def _store(tmp_path, population, kind=None):
     import xarray as xr
 
-    spec = spec_for(SPREAD if population else None)
+    spec = spec_for(SPREAD if population else None) if kind is None else sweep_from_dict(
+        {**BASE, "model": {**BASE["model"], "kind": kind}, "sweep": SWEEP}, population=SPREAD if population else None)
     store = SweepStore(tmp_path / "r.zarr", spec, np.array([1e3, 1e4]))
     store.create()
     for i in range(2):
@@ -63,7 +65,7 @@ def test_map_overlay_population_and_finger(tmp_path):
     # at a sweep load the map shows the stored fraction itself
     np.testing.assert_array_equal(out["tell_apart"].values, ds["tell_flat"].isel(load=2).transpose(
         "height", "spacing").values)
-    with pytest.raises(FingerpadError, match="flat reference only"):
+    with pytest.raises(FingerpadError, match="reference values for the sweep's 24 fingers"):
         map_data(ds, "spacing", "height", at=load, population=True, tell_apart={"reference": "ref", "mu": 0.3,
                                                                                 "weber": None})
     plain = _store(tmp_path / "plain", population=False)
@@ -75,3 +77,102 @@ def test_map_overlay_population_and_finger(tmp_path):
 
     fig = figure_design_map(out)
     assert "tells it from ref" in fig._suptitle.get_text()
+
+
+REF_TOML = """
+[texture]
+name = "caps"
+radius = "100um"
+height = "20um"
+spacing = "250um"
+
+[material]
+modulus = "0.5GPa"
+poisson = 0.4
+
+[model]
+kind = "hertz"
+"""
+
+
+def test_population_map_tells_each_texture_from_any_reference(tmp_path):
+    """With a population, the map's fraction telling a texture from REF (a study file) is the
+    fraction of a direct comparison of that texture with REF on the same fingers, bit for bit."""
+    from fingerpad.design.designmap import reference_member_friction
+    from fingerpad.study.spec import load_study_file
+
+    ref_file = tmp_path / "ref.toml"
+    ref_file.write_text(REF_TOML, encoding="utf-8")
+    ds = _store(tmp_path, population=True, kind="hertz")
+    assert ds["mu_members"].sizes["member"] == SPREAD["size"]
+    k = 2
+    load = float(ds["load"].values[k])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref_mu = reference_member_friction(ds, str(ref_file), load)
+    out = map_data(ds, "spacing", "height", at=load, population=True,
+                   tell_apart={"reference": "ref", "mu": ref_mu, "weber": None})
+    spec = sweep_from_dict({**BASE, "model": {**BASE["model"], "kind": "hertz"}, "sweep": SWEEP}, population=SPREAD)
+    seen = []
+    for i, j in [(0, 0), (1, 1)]:
+        data = spec.study_data(spec.assignment((i, j)))
+        data["loads"] = {"values": [float(f) for f in spec.loads]}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            direct = compare(study_from_dict(data), load_study_file(str(ref_file)), population=load_population(SPREAD))
+        told = direct.summary()["fraction"][k]
+        assert out["tell_apart"].sel(spacing=ds["spacing"].values[i], height=ds["height"].values[j]).item() == told
+        seen.append(told)
+    assert any(0 < f < 1 for f in seen)  # not a trivial case
+    # a fixed W for a population that draws none is the user's to set; P grows as W falls
+    low_w = map_data(ds, "spacing", "height", at=load, population=True,
+                     tell_apart={"reference": "ref", "mu": ref_mu, "weber": 0.01})
+    assert (low_w["tell_apart"].values >= out["tell_apart"].values).all()
+
+
+def test_design_map_command_tells_the_population_from_a_reference(tmp_path):
+    """``fingerpad design-map --population P --tell-apart REF.toml`` draws the fraction of the
+    fingers telling each texture from REF (was refused: flat only); each finger's own W where the
+    population draws W, and a W fixed beside it refused."""
+    import xarray as xr
+    from typer.testing import CliRunner
+
+    from fingerpad.cli import app
+    from fingerpad.design.designmap import reference_member_friction
+
+    ref_file = tmp_path / "ref.toml"
+    ref_file.write_text(REF_TOML, encoding="utf-8")
+    pop_file = tmp_path / "people.toml"
+    pop_file.write_text("""[population]
+size = 24
+skin_modulus = { distribution = "uniform", low = "0.2MPa", high = "0.5MPa" }
+ridge_fraction = { distribution = "uniform", low = 0.1, high = 0.7 }
+tau0 = { distribution = "uniform", low = "4kPa", high = "12kPa" }
+""", encoding="utf-8")
+    ds = _store(tmp_path, population=True, kind="hertz")
+    store = str(tmp_path / "r.zarr")
+    load = float(ds["load"].values[2])
+    result = CliRunner().invoke(app, ["design-map", store, "--x", "spacing", "--y", "height", "--at", f"{load!r}N",
+                                      "--population", str(pop_file), "--tell-apart", str(ref_file),
+                                      "--out", str(tmp_path / "map")])
+    assert result.exit_code == 0, result.output
+    got = xr.open_dataset(tmp_path / "map" / "design_map.nc")["tell_apart"].load()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        want = map_data(ds, "spacing", "height", at=load, population=True,
+                        tell_apart={"reference": "ref", "mu": reference_member_friction(ds, str(ref_file), load),
+                                    "weber": None})["tell_apart"]
+    np.testing.assert_array_equal(got.values, want.values)
+    assert got.attrs["long_name"] == f"fraction of fingers telling it from ref at {load:g} N"
+    # a population that draws W: each finger's own, a fixed W refused (flat or REF, one rule)
+    ref_mu = reference_member_friction(ds, str(ref_file), load)
+    drawn = ds.assign(member_weber_fraction=("member", np.full(ds.sizes["member"], 0.15)))
+    own = map_data(drawn, "spacing", "height", at=load, population=True,
+                   tell_apart={"reference": "ref", "mu": ref_mu, "weber": None})["tell_apart"]
+    fixed = map_data(ds, "spacing", "height", at=load, population=True,
+                     tell_apart={"reference": "ref", "mu": ref_mu, "weber": 0.15})["tell_apart"]
+    np.testing.assert_array_equal(own.values, fixed.values)
+    for ref, mu in (("ref", ref_mu), ("flat", None)):
+        with pytest.raises(FingerpadError, match="draws each finger's W"):
+            map_data(drawn, "spacing", "height", at=load, population=True,
+                     tell_apart={"reference": ref, "mu": mu, "weber": 0.2})

@@ -77,3 +77,37 @@ def test_the_sweep_studys_w_is_the_maps(store):
     cmd = map_data(ds, "spacing", "height", at=at, tell_apart={"reference": "flat", "mu": None, "weber": None})
     got = cmd["tell_apart"].transpose("height", "spacing").values
     assert np.allclose(got[valid], p_correct(mu, ref, 0.3)[valid], rtol=0, atol=1e-12)
+
+
+def test_the_map_download_draws_the_lines_the_page_draws(store, monkeypatch):
+    """The PNG/SVG download of the map draws the markers of the map on the page (one list,
+    :func:`marker_items`): the same lines at the same places, with their labels."""
+    pytest.importorskip("panel")
+    import re
+    from html import unescape
+
+    from bokeh.models import Span
+
+    from fingerpad.explore import sweepdata as sd
+    from fingerpad.explore.views.mapview import MapView
+
+    ds = sd.open_sweep(store)
+    view = MapView(None, ds, str(store))
+    view.x.value, view.y.value = "spacing", "height"
+    page = sorted((s.dimension == "height", round(s.location, 9)) for s in view.plot.object.center
+                  if isinstance(s, Span))
+    svg = view.image("svg").decode()
+    # matplotlib writes a line's gid as the id of its group
+    ids = sorted(unescape(i) for i in re.findall(r'<g id="(marker-[^"]+)"', svg))
+    assert ids == sorted(["marker-felt smooth below 160 µm", "marker-250 Hz at 50 mm/s",
+                          "marker-interlocking from 33.5 µm"]), ids
+    assert view.image("png").startswith(b"\x89PNG")
+    # at the places the page draws them
+    from fingerpad.plotting import render
+
+    drawn = []
+    real = render.map_image
+    monkeypatch.setattr(render, "map_image", lambda *a, **k: drawn.append(k["markers"]) or real(*a, **k))
+    view.image("png")
+    assert sorted((m["vertical"], round(m["value"], 9)) for m in drawn[0] if m["kind"] == "line") == page
+    assert len(page) == 3

@@ -61,3 +61,32 @@ def test_the_section_shows_the_library_numbers(tmp_path):
         assert "Weber fraction" in view.perception.message.object and "fp-error" in view.perception.message.object
 
     _run_page(main)
+
+
+def test_the_exported_study_holds_the_weber_fraction_typed_in(tmp_path):
+    """The study TOML export carries the W of the perception section ([perception] weber_fraction),
+    so that the file reproduces the verdicts shown; an empty or refused field exports none."""
+    import tomllib
+
+    from fingerpad.explore.app import ExplorerApp, ServerState
+    from fingerpad.explore.views.exports import study_toml
+    from fingerpad.study.spec import study_from_dict
+
+    async def main() -> None:
+        app = ExplorerApp(ServerState(upload_dir=str(tmp_path)))
+        view = app.single
+        {f.fid: f for f in view.form.all_fields()}["model.kind"].widget.value = "hertz"
+        await _drain()
+        assert "perception" not in tomllib.loads(study_toml(view))
+        view.perception.weber.value = "0.2"
+        await _drain()
+        data = tomllib.loads(study_toml(view))
+        assert data["perception"] == {"weber_fraction": 0.2}
+        assert study_from_dict(data).weber == 0.2
+        assert float(re.search(r'data-key="perception_weber" data-value="([^"]+)"',
+                               view.perception.body.object).group(1)) == 0.2  # what the section shows
+        view.perception.weber.value = "-1"
+        await _drain()
+        assert "perception" not in tomllib.loads(study_toml(view))
+
+    _run_page(main)

@@ -120,6 +120,7 @@ def test_qc_figures_drawn_by_a_process_pool_are_the_same_files(study_small, tmp_
             assert a.read_bytes() == b.read_bytes(), a.name
 
 
+@pytest.mark.slow  # ~24 s; the pool's same-bytes check runs in the fast suite (drawn by a process pool)
 def test_qc_figures_started_during_the_analysis_are_the_same_files(small_study_dir, tmp_path):
     """EarlyQC starts the QC figures from analyse_study's on_strokes hook, before any fit: every
     file of the report is the same as the one drawn here from the finished result (the hook
@@ -142,6 +143,7 @@ def test_qc_figures_started_during_the_analysis_are_the_same_files(small_study_d
             assert a.read_bytes() == b.read_bytes(), a.name
 
 
+@pytest.mark.slow  # ~23 s
 def test_strokes_found_by_the_qc_pool_give_the_same_report(small_study_dir, tmp_path):
     """EarlyQC.find_strokes finds every recording's strokes in the pool's forked workers (which
     inherit the recordings), then draws the QC figures there from the inherited samples: the

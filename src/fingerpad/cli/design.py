@@ -37,10 +37,10 @@ def design_map_command(
     tell_apart: Annotated[str | None, typer.Option(
         "--tell-apart", metavar="REF", help="Contours of who tells each texture from REF at --at by friction: "
                                             "'flat' or a study file; with --population the 10/50/90 % fractions "
-                                            "of fingers (flat only), else the study's finger's P = 0.75 "
-                                            "(docs/perception.md).")] = None,
+                                            "of fingers (REF predicted for the same fingers), else the study's "
+                                            "finger's P = 0.75 (docs/perception.md).")] = None,
     weber_fraction: Annotated[str | None, typer.Option(
-        "--weber-fraction", metavar="W", help="With --tell-apart (no population): the finger's Weber fraction "
+        "--weber-fraction", metavar="W", help="With --tell-apart: the fingers' Weber fraction "
                                               "(default: the sweep study's [perception] weber_fraction, "
                                               "0.11).")] = None,
 ) -> None:
@@ -106,11 +106,14 @@ def _tell_apart(ds: Any, reference: str | None, weber: str | None, at: float | N
 
     if not Path(reference).is_file():
         raise FingerpadError(f"--tell-apart {reference!r}: neither 'flat' nor a study file")
-    if population:
-        return {"reference": Path(reference).stem, "mu": None, "weber": w}  # map_data refuses it, in one place
-    from ..design.designmap import default_at, reference_friction
+    from ..design.designmap import default_at, member_weber_of_store, reference_friction, reference_member_friction
 
     at_v = at if at is not None else default_at(ds["load"].values)
+    if population:  # REF for each of the sweep's fingers, once, at the map's load
+        if "mu_members" in ds.variables:
+            member_weber_of_store(ds, w)  # a refused W before the prediction
+        mu = reference_member_friction(ds, reference, at_v) if "mu_members" in ds.variables else None
+        return {"reference": Path(reference).stem, "mu": mu, "weber": w}  # map_data refuses an older store
     return {"reference": Path(reference).stem, "mu": reference_friction(ds, reference, at_v), "weber": w}
 
 

@@ -28,7 +28,8 @@ import numpy as np
 from ..errors import FingerpadError
 from ..perception.vibration import PACINIAN_BEST
 
-__all__ = ["MARKERS", "POPULATION_COVERAGE", "REGIONS", "default_at", "map_data", "reference_friction", "swept_axes"]
+__all__ = ["MARKERS", "POPULATION_COVERAGE", "REGIONS", "default_at", "map_data", "member_weber_of_store",
+           "reference_friction", "reference_member_friction", "store_members", "swept_axes"]
 
 #: The share of a population for which the design map marks "asperity contact over the whole
 #: range" (and whose complement's quantiles give the contours: 10 % and 90 % fingers).
@@ -110,8 +111,11 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
         ``{"reference": "flat" or a label, "mu": REF's friction at ``at`` for the study's finger
         (``None`` for flat), "weber": W}``. Adds ``tell_apart``: with ``population``, the stored
         fraction of the members telling the texture from the flat reference (``tell_flat``,
-        interpolated in log load to ``at``; flat only, with the W the sweep stored); otherwise
-        the study's finger's probability P of telling them apart in a forced choice.
+        interpolated in log load to ``at``, with the W the sweep stored), or for a reference
+        surface ``"mu"``: REF's friction for each of the sweep's members at ``at``
+        (:func:`reference_member_friction`) and the fraction of members with P >= 0.75 against
+        their own mu (``mu_members`` interpolated in log load to ``at``, each member's W);
+        otherwise the study's finger's probability P of telling them apart in a forced choice.
 
     Returns
     -------
@@ -168,21 +172,25 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
     else:
         colour = ds[quantity]
     if tell_apart is not None:
-        if population:
-            if tell_apart.get("reference") != "flat":
-                raise FingerpadError("--tell-apart with --population: a sweep stores the fraction telling each "
-                                     "texture from the flat reference only (no friction per finger); use "
-                                     "--tell-apart flat, or fingerpad compare for the textures of interest")
+        if population and tell_apart.get("reference") == "flat":
             if "tell_flat" not in ds.variables:
                 raise FingerpadError("--tell-apart: this sweep store holds no perception fractions (made before "
                                      "they were stored): run the sweep again")
             stored_w = float(ds.attrs.get("weber_fraction", math.nan))
-            if tell_apart.get("weber") is not None and float(tell_apart["weber"]) != stored_w:
-                raise FingerpadError(
-                    f"--weber-fraction: this sweep stored its fractions with W = {stored_w:g}" if math.isfinite(stored_w)
-                    else "--weber-fraction: this sweep's population draws each finger's W; its fractions are those "
-                         "of the members' own")
+            if tell_apart.get("weber") is not None:
+                member_weber_of_store(ds, tell_apart["weber"])  # refused where the population draws W
+                if float(tell_apart["weber"]) != stored_w:
+                    raise FingerpadError(f"--weber-fraction: this sweep stored its fractions with W = {stored_w:g}")
             names.append("tell_flat")
+        elif population:
+            if "mu_members" not in ds.variables:
+                raise FingerpadError("--tell-apart REF with --population: this sweep store holds no friction per "
+                                     "finger (made before it was stored): run the sweep again, or use --tell-apart flat")
+            ref_mu = np.asarray(tell_apart["mu"], float)
+            if ref_mu.shape != (ds.sizes["member"],):
+                raise FingerpadError(f"--tell-apart: {ref_mu.size} reference values for the sweep's "
+                                     f"{ds.sizes['member']} fingers")
+            names.append("mu_members")
         else:
             names += ["mu", "mu_ref"]
     data = ds[names].assign(mu_rel=colour)
@@ -223,10 +231,20 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
     ok = data["valid"] & data["done"]
     if tell_apart is not None:
         ref = str(tell_apart["reference"])
-        if population:
+        if population and ref == "flat":
             out["tell_apart"] = at_load(data["tell_flat"]).where(ok).assign_attrs(
                 units="1", long_name=f"fraction of fingers telling it from the flat reference at {at:g} N "
                                      "(interpolated in log load)")
+        elif population:
+            from ..perception.discrimination import discriminates, p_correct
+
+            # each finger's mu at the map's load (the same log-load interpolation as the colour)
+            # against REF's for the same finger, each with its own W (Eqs. P.1-P.3)
+            mu = at_load(data["mu_members"]).transpose(..., "member")
+            weber = member_weber_of_store(ds, tell_apart.get("weber"))
+            told = discriminates(p_correct(mu.values, np.asarray(tell_apart["mu"], float), weber))
+            out["tell_apart"] = mu.isel(member=0, drop=True).copy(data=np.mean(told, axis=-1)).where(ok).assign_attrs(
+                units="1", long_name=f"fraction of fingers telling it from {ref} at {at:g} N")
         else:
             from ..perception.discrimination import p_correct
 
@@ -284,12 +302,56 @@ def reference_friction(ds: Any, reference: str, at: float) -> float:
     """The friction (mu) of a reference surface for the sweep study's finger at ``at`` (N): a
     direct prediction of the study file ``reference`` (its texture, material and numerics) with
     the finger of the sweep's study."""
+    from ..study.run import run_study
+
+    return float(np.asarray(run_study(_reference_study(ds, reference, at)).primary.mu, float)[0])
+
+
+def _reference_study(ds: Any, reference: str, at: float) -> Any:
+    """The study file ``reference`` (its texture, material and numerics) with the finger of the
+    sweep's study, at the one load ``at`` (N)."""
     import dataclasses
 
-    from ..study.run import run_study
     from ..study.spec import load_study_file, study_from_dict
 
     base = json.loads(ds.attrs["study"])
     finger = study_from_dict({k: v for k, v in base.items() if k in ("finger", "material", "texture")}).finger
-    ref = dataclasses.replace(load_study_file(reference), finger=finger, loads=np.array([float(at)]), zones_at=None)
-    return float(np.asarray(run_study(ref).primary.mu, float)[0])
+    return dataclasses.replace(load_study_file(reference), finger=finger, loads=np.array([float(at)]), zones_at=None)
+
+
+def store_members(ds: Any) -> list[dict[str, float]]:
+    """The members of a population sweep store (their drawn parameters, SI, from the
+    ``member_NAME`` variables)."""
+    names = [str(v)[len("member_"):] for v in ds.variables if str(v).startswith("member_")]
+    return [{n: float(ds[f"member_{n}"].values[i]) for n in names} for i in range(ds.sizes["member"])]
+
+
+def member_weber_of_store(ds: Any, weber: float | None = None) -> np.ndarray:
+    """Each member's Weber fraction in a population sweep store: its own where the population
+    draws W, else ``weber`` (``--weber-fraction``), else the sweep study's (:func:`study_weber`).
+
+    Raises
+    ------
+    FingerpadError
+        ``weber`` given for a population that draws W.
+    """
+    members = store_members(ds)
+    drawn = "member_weber_fraction" in ds.variables
+    if weber is not None and drawn:
+        raise FingerpadError("--weber-fraction: this sweep's population draws each finger's W; its fractions are "
+                             "those of the members' own")
+    own = study_weber(ds) if weber is None else float(weber)
+    return np.array([float(m.get("weber_fraction", own)) for m in members])
+
+
+def reference_member_friction(ds: Any, reference: str, at: float) -> np.ndarray:
+    """The friction (mu) of a reference surface for each member of a population sweep store at
+    ``at`` (N): one direct prediction of the study file ``reference`` (its texture, material and
+    numerics) with the sweep study's finger, then every member on it
+    (:func:`fingerpad.population.members.evaluate_members`, the members' path of every point)."""
+    from ..population.members import evaluate_members, member_finger
+    from ..study.run import run_study
+
+    ref = _reference_study(ds, reference, at)
+    values = evaluate_members(run_study(ref), [member_finger(ref.finger, m) for m in store_members(ds)])
+    return np.asarray(values.mu, float)[:, 0]

@@ -7,8 +7,9 @@ pressure grid, and at each exploration load the contact state at the pad centre,
 mu, mu_ref and mu/mu_ref. With a population of fingers (``population``: the members and the
 quantile levels), also per point the quantiles of the members' A_re/A_fr, mu, mu_ref and
 mu/mu_ref at each load and of their critical and full-contact loads, the probability of each
-contact state at the pad centre, and the fraction of members in asperity contact over the whole
-range (:func:`fingerpad.population.members.evaluate_members`: one cell, every member at its
+contact state at the pad centre, the fraction of members in asperity contact over the whole
+range, the fraction telling the texture from the flat reference and each member's own mu at each
+load (:func:`fingerpad.population.members.evaluate_members`: one cell, every member at its
 own E*). A point that cannot exist (overlapping asperities, a grid too small)
 is returned invalid with its reason; an unconverged cell is flagged; neither raises.
 """
@@ -196,7 +197,8 @@ def evaluate_point(data: Mapping[str, Any], loads: Sequence[float], pressures: S
         out.update({k: np.full((nq, loads.size), np.nan) for k in POPULATION_BANDS})
         out.update({k: np.full(nq, np.nan) for k in POPULATION_LOAD_BANDS})
         out.update(state_probability=np.full((len(STATE_CODES), loads.size), np.nan),
-                   asperity_over_range=math.nan, tell_flat=np.full(loads.size, np.nan))
+                   asperity_over_range=math.nan, tell_flat=np.full(loads.size, np.nan),
+                   mu_members=np.full((len(population["members"]), loads.size), np.nan))
     t0 = time.perf_counter()
     try:
         with warnings.catch_warnings():
@@ -267,6 +269,8 @@ def _population_bands(pred: Any, population: Mapping[str, Any]) -> dict[str, Any
 
     weber = member_weber(pred.study, population["members"])  # a member's own W where the population draws it
     out["tell_flat"] = summarise(p_correct(values.mu, values.mu_ref, weber[:, None]))["fraction"]
+    # each member's own mu: who tells the texture from any reference, later (design-map --tell-apart REF)
+    out["mu_members"] = np.asarray(values.mu, float)
     out["solves_population"] = after - before
     return out
 

@@ -139,6 +139,7 @@ def check_goal(targets: Sequence[Any], goal: Any, from_sweep: Any) -> None:
         raise FingerpadError(f"--target {names}: a perception target counts the fingers who tell the textures "
                              "apart; use --coverage C, not --quantile")
     if from_sweep is not None:
-        raise FingerpadError(f"--target {names} with --from-sweep: a sweep stores no friction per finger to "
-                             "compare with the reference; drop --from-sweep (the optimisation predicts directly)")
+        raise FingerpadError(f"--target {names} with --from-sweep: a sweep's candidates are chosen by the "
+                             "friction of its study's finger, not by who tells them from the reference; drop "
+                             "--from-sweep (the optimisation predicts directly)")
 

@@ -35,6 +35,7 @@ from .spec import SweepSpec
 from ..perception.discrimination import WEBER_FRACTION
 from .store_population import (
     POP_FRACTION_VARS,
+    POP_MEMBER_VARS,
     POP_LOAD_VARS,
     POP_QUANTILE_VARS,
     POPULATION_LAYOUT,
@@ -176,6 +177,7 @@ class SweepStore:
                 enc[name] = {"chunks": (*lead, nq)}
             enc["state_probability"] = {"chunks": (*lead, len(STATE_CODES), spec.loads.size)}
             enc.update({name: {"chunks": (*lead, spec.loads.size)} for name in POP_FRACTION_VARS})
+            enc.update({name: {"chunks": (*lead, len(spec.members), spec.loads.size)} for name in POP_MEMBER_VARS})
             enc["asperity_over_range"] = {"chunks": lead}
         return enc
 
@@ -284,6 +286,7 @@ class SweepStore:
             block.update({n: np.full((*shape, nq), np.nan) for n in POP_QUANTILE_VARS})
             block["state_probability"] = np.full((*shape, len(STATE_CODES), nl), np.nan)
             block.update({n: np.full((*shape, nl), np.nan) for n in POP_FRACTION_VARS})
+            block.update({n: np.full((*shape, len(self.spec.members), nl), np.nan) for n in POP_MEMBER_VARS})
             block["asperity_over_range"] = np.full(shape, np.nan)
         done = np.zeros(shape, bool)
         for index, res in results:
@@ -296,8 +299,8 @@ class SweepStore:
             block["converged"][local] = res["converged"]
             block["reason"][local] = str(res["reason"])[:200]
             if pop:
-                for name in (*POP_LOAD_VARS, *POP_QUANTILE_VARS, *POP_FRACTION_VARS, "state_probability",
-                             "asperity_over_range"):
+                for name in (*POP_LOAD_VARS, *POP_QUANTILE_VARS, *POP_FRACTION_VARS, *POP_MEMBER_VARS,
+                             "state_probability", "asperity_over_range"):
                     block[name][local] = res[name]
             done[local] = True
         for name, values in block.items():
@@ -311,7 +314,8 @@ class SweepStore:
 
 #: The variables a sweep computes (the others are its inputs: axis values, loads, pressures).
 _RESULT_VARS = {*_FLOAT_VARS, *_LOAD_VARS, "contact_state", "psi", "valid", "converged", "reason", "done",
-                *POP_LOAD_VARS, *POP_QUANTILE_VARS, *POP_FRACTION_VARS, "state_probability", "asperity_over_range"}
+                *POP_LOAD_VARS, *POP_QUANTILE_VARS, *POP_FRACTION_VARS, *POP_MEMBER_VARS, "state_probability",
+                "asperity_over_range"}
 
 
 @dataclass

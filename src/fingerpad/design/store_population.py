@@ -14,7 +14,7 @@ from ..errors import FingerpadError
 from .evaluate import POPULATION_BANDS, POPULATION_LOAD_BANDS, STATE_CODES
 from .spec import SweepSpec
 
-__all__ = ["POPULATION_LAYOUT", "POP_FRACTION_VARS", "POP_LOAD_VARS", "POP_QUANTILE_VARS", "check_store_population",
+__all__ = ["POPULATION_LAYOUT", "POP_FRACTION_VARS", "POP_LOAD_VARS", "POP_MEMBER_VARS", "POP_QUANTILE_VARS", "check_store_population",
            "population_flags", "population_template", "shell_path", "stored_population_text"]
 
 #: Population variables (a sweep with ``--population``): name -> (units, long name).
@@ -37,6 +37,13 @@ POP_QUANTILE_VARS = {
 POP_FRACTION_VARS = {
     "tell_flat": ("1", "fraction of the population's members telling the texture from the flat reference by "
                        "friction (P >= 0.75)"),
+}
+#: Per-member variables (a sweep with ``--population``): name -> (units, long name), on
+#: ``(*axes, member, load)``. ``mu_members``: each member's own mu on the texture, from which the
+#: design map tells who tells the texture from any reference surface (``design-map --population
+#: --tell-apart REF``, docs/perception.md), REF predicted for the same members.
+POP_MEMBER_VARS = {
+    "mu_members": ("1", "each member's friction coefficient mu on the texture"),
 }
 assert set(POP_LOAD_VARS) == set(POPULATION_BANDS) and set(POP_QUANTILE_VARS) == set(POPULATION_LOAD_BANDS)
 #: Version of the population variables' layout (attribute ``fingerpad_sweep_population``). The
@@ -68,6 +75,9 @@ def population_template(spec: SweepSpec, coords: dict[str, Any], data: dict[str,
         {"units": "1", "long_name": "fraction of the population's members whose pad centre is in each state"})
     for name, (unit, long) in POP_FRACTION_VARS.items():
         data[name] = xr.Variable((*dims, "load"), np.full((*shape, nl), np.nan), {"units": unit, "long_name": long})
+    for name, (unit, long) in POP_MEMBER_VARS.items():
+        data[name] = xr.Variable((*dims, "member", "load"), np.full((*shape, len(spec.members), nl), np.nan),
+                                 {"units": unit, "long_name": long})
     data["asperity_over_range"] = xr.Variable(
         dims, np.full(shape, np.nan),
         {"units": "1", "long_name": "fraction of the population's members in asperity contact at the pad "

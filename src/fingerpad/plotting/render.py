@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import io
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -199,9 +199,11 @@ def spec_image(spec: PlotSpec | FigureSpec, fmt: str = "png", dpi: int = 130) ->
 
 def map_image(x: Sequence[Any], y: Sequence[Any], values: Sequence[Any], *, grid: bool, x_label: str,
               y_label: str, colour_label: str, title: str, x_log: bool = False, y_log: bool = False,
-              fmt: str = "png") -> bytes:
+              fmt: str = "png", markers: Sequence[Mapping[str, Any]] = ()) -> bytes:
     """A design map as image bytes: ``values[j, i]`` over the axis values ``x[i]``, ``y[j]``
-    (``grid``), or one value per point at ``(x[n], y[n])``."""
+    (``grid``), or one value per point at ``(x[n], y[n])``. ``markers``: dashed lines
+    ``{"kind": "line", "value", "vertical", "label"}`` and grey bands ``{"kind": "band", "low",
+    "high", "vertical", "label"}`` in the axes' units, as the page's map draws them."""
     from matplotlib.figure import Figure
 
     if fmt not in IMAGE_FORMATS:
@@ -220,6 +222,20 @@ def map_image(x: Sequence[Any], y: Sequence[Any], values: Sequence[Any], *, grid
     ax.set_xlabel(x_label)
     ax.set_ylabel(y_label)
     ax.set_title(title, fontsize="small")
+    for item in markers:
+        vertical, label = bool(item["vertical"]), str(item["label"])
+        if item["kind"] == "line":
+            v = float(item["value"])
+            (ax.axvline if vertical else ax.axhline)(v, color="#333333", linestyle="--", linewidth=1,
+                                                     gid=f"marker-{label}")
+            # the label along the line, at the axes' edge (as the page writes it)
+            ax.annotate(label, (v, 0.02) if vertical else (0.01, v), xycoords=ax.get_xaxis_transform() if vertical
+                        else ax.get_yaxis_transform(), rotation=90 if vertical else 0, fontsize=7, color="#333333",
+                        va="bottom", ha="right" if vertical else "left",
+                        bbox={"boxstyle": "square,pad=0.1", "facecolor": "white", "alpha": 0.6, "linewidth": 0})
+        else:
+            (ax.axvspan if vertical else ax.axhspan)(float(item["low"]), float(item["high"]), color="#888888",
+                                                     alpha=0.15, linewidth=0, gid=f"marker-{label}")
     buf = io.BytesIO()
     fig.savefig(buf, format=fmt, dpi=130)
     return buf.getvalue()

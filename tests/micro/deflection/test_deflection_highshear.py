@@ -46,6 +46,7 @@ def test_fillet_rounds_the_feet_tangentially(rho):
     assert 0 < _area(mesh) - _area(sharp) < 2 * rho**2
 
 
+@pytest.mark.slow  # ~26 s of ramps (make test-slow)
 def test_a_buckled_start_folds_toward_the_sliding_direction():
     """A slender column pressed until it is unstable at zero shear (buckled without friction):
     the shear ramp follows the branch folded toward the sliding direction -- the tip moves that

@@ -21,9 +21,14 @@ def study_toml(view: Any) -> str:
     if data is None:
         return "# nothing to export: the inputs are not valid\n"
     header = None
+    data = copy.deepcopy(data)
+    # the perception section's Weber fraction: a parameter of the person, [perception] in a study file
+    data.pop("perception", None)
+    perception = view.perception.study_section()
+    if perception:
+        data["perception"] = perception
     tex = data.get("texture", {})
     if "surface" in tex:
-        data = copy.deepcopy(data)
         data["texture"]["surface"] = view.upload.original_name or "map"
         header = (f"the measured map was uploaded as {view.upload.original_name!r}: "
                   "put that file beside this study file")

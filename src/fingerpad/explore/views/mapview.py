@@ -51,15 +51,16 @@ def _edges(values: np.ndarray, log: bool) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate([[first], mid]), np.concatenate([mid, [last]])
 
 
-def _markers(p: Any, axes: Any) -> None:
-    """The literature's and perception's markers on length axes whose name matches, as the
-    command's map draws them (:data:`fingerpad.design.designmap.MARKERS`): dashed lines (160 µm
-    felt smooth, the interlocking heights, lambda = v / 250 Hz at 50 mm/s) and the fingerprint
-    ridge band, where they fall inside the map."""
-    from bokeh.models import BoxAnnotation, Label, Span
-
+def marker_items(axes: Any) -> list[dict[str, Any]]:
+    """The literature's and perception's markers that fall inside the map, in the units shown
+    (:data:`fingerpad.design.designmap.MARKERS`, as the command's map draws them): lines
+    ``{"kind": "line", "value", "vertical", "label"}`` (160 µm felt smooth, the interlocking
+    heights, lambda = v / 250 Hz at 50 mm/s) and bands ``{"kind": "band", "low", "high",
+    "vertical", "label"}`` (the fingerprint ridge band), on length axes whose name matches. The
+    one list that the page's map and its PNG/SVG download both draw."""
     from ...design.designmap import MARKERS
 
+    items: list[dict[str, Any]] = []
     for name, info, factor, values, vertical in axes:
         if not info["numeric"] or info["units"] != "m" or not len(values):
             continue
@@ -67,17 +68,33 @@ def _markers(p: Any, axes: Any) -> None:
         for fragment, value, label in MARKERS["lines"]:
             v = value * factor
             if fragment in name and lo <= v <= hi:
-                p.add_layout(Span(location=v, dimension="height" if vertical else "width", line_dash="dashed",
-                                  line_color="#333333", line_width=1, name=f"marker-{label}"))
-                p.add_layout(Label(x=v, y=5, x_units="data", y_units="screen", text=label, angle=math.pi / 2,
-                                   text_font_size="9px", text_color="#333333") if vertical else
-                             Label(x=5, y=v, x_units="screen", y_units="data", text=label, text_font_size="9px",
-                                   text_color="#333333"))
+                items.append({"kind": "line", "value": v, "vertical": vertical, "label": label})
         for fragment, low, high, label in MARKERS["bands"]:
             a, b = low * factor, high * factor
             if fragment in name and a < hi and b > lo:
-                box = dict(left=max(a, lo), right=min(b, hi)) if vertical else dict(bottom=max(a, lo), top=min(b, hi))
-                p.add_layout(BoxAnnotation(**box, fill_color="#888888", fill_alpha=0.15, name=f"marker-{label}"))
+                items.append({"kind": "band", "low": max(a, lo), "high": min(b, hi), "vertical": vertical,
+                              "label": label})
+    return items
+
+
+def _markers(p: Any, axes: Any) -> None:
+    """Draw :func:`marker_items` on the Bokeh map: dashed lines with their labels, grey bands."""
+    from bokeh.models import BoxAnnotation, Label, Span
+
+    for item in marker_items(axes):
+        vertical, label = item["vertical"], item["label"]
+        if item["kind"] == "line":
+            v = item["value"]
+            p.add_layout(Span(location=v, dimension="height" if vertical else "width", line_dash="dashed",
+                              line_color="#333333", line_width=1, name=f"marker-{label}"))
+            p.add_layout(Label(x=v, y=5, x_units="data", y_units="screen", text=label, angle=math.pi / 2,
+                               text_font_size="9px", text_color="#333333") if vertical else
+                         Label(x=5, y=v, x_units="screen", y_units="data", text=label, text_font_size="9px",
+                               text_color="#333333"))
+        else:
+            a, b = item["low"], item["high"]
+            box = dict(left=a, right=b) if vertical else dict(bottom=a, top=b)
+            p.add_layout(BoxAnnotation(**box, fill_color="#888888", fill_alpha=0.15, name=f"marker-{label}"))
 
 
 def map_table(md: Any, x: str, y: str) -> list[dict[str, Any]]:
@@ -418,4 +435,5 @@ class MapView:
             values = [math.nan if r[q] is None else r[q] for r in self.rows]
         return map_image(xs, ys, values, grid=grid, x_label=f"{x} ({ux})", y_label=f"{y} ({uy})",
                          colour_label=colour_label(q, md.attrs["at"]), x_log=xi["log"], y_log=yi["log"],
-                         title=f"design map: {_NAMES[q]} (mu/mu_ref at {md.attrs['at']:.4g} N)", fmt=fmt_)
+                         title=f"design map: {_NAMES[q]} (mu/mu_ref at {md.attrs['at']:.4g} N)", fmt=fmt_,
+                         markers=marker_items(((x, xi, fx, md[x].values, True), (y, yi, fy, md[y].values, False))))

@@ -80,6 +80,18 @@ class PerceptionPanel:
             return
         self.body.object = _html(result.as_dict(), result)
 
+    def study_section(self) -> dict[str, Any]:
+        """The ``[perception]`` table of the exported study file: the Weber fraction typed in (as
+        :func:`~fingerpad.perception.compare.parse_weber` reads it), empty when the field is empty
+        or holds what the section refuses (its message says why)."""
+        from ...perception.compare import parse_weber
+
+        try:
+            weber = parse_weber(self.weber.value.strip() or None)
+        except FingerpadError:
+            return {}
+        return {} if weber is None else {"weber_fraction": weber}
+
     def _verdicts(self, speeds: tuple[float, ...], weber: float | None) -> Any:
         """:func:`~fingerpad.perception.compare.against_flat` on what is shown, or ``None`` before a
         prediction; a W typed beside a population that draws W is refused by the population's rule."""
