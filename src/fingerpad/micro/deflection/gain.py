@@ -27,11 +27,13 @@ from .ramps import SectionJob, solve_sections
 from .section import EllipsoidGeometry, Geometry, RidgeGeometry, Section, section_for, texture_geometry
 
 #: Bump when a change of the section model alters cached numbers.
-MODEL_VERSION = 8  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact;
+MODEL_VERSION = 9  # 4: threshold pivoting and re-ordered sums in the Newton solve (round-off level); 5: Gauss-point fold contact;
 # 6: no wall-clock limit in the key or the results (entries of 5 could hold ramps a slow machine cut short);
 # 7: Newton solves caught in a limit cycle or stagnating fail early (issue 23: some ramps take other steps);
 # 8: fold contact on the nearest closed base segment, its gap continuous (issue 31: ramps pass where the gap jumped);
 #    levels rounded to three significant digits
+# 9: a shear ramp about to stop first re-converges its last state under its own friction tiles
+#    (path.relag; issue 31: ramps that stopped go on, ramps that came through are bit-identical)
 #: The publications of the directional friction model (:mod:`fingerpad.references` keys): the
 #: measured direction dependence it explains (the thesis' Paper C), the elliptical hysteresis term.
 REFERENCES = ("sergachev2022", "greenwood1958")

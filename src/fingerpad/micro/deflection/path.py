@@ -79,7 +79,9 @@ def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float 
     over -- is passed and reported rather than stalling the solve. Tip steps aim at shear
     increments ``dmu`` using the current slope, capped at ``largest_tip`` (units of r) and halved
     on failure; below ``smallest_tip``, after ``max_cuts`` failed steps in all or ``max_steps``
-    steps (deterministic limits: the same on every machine) the ramp stops and says where.
+    steps (deterministic limits: the same on every machine) the ramp stops and says where --
+    after one rescue per state (:func:`relag`: the last state re-converged under its own
+    friction tiles, the steps retried from there with ``max_cuts`` more).
     ``time_limit`` (s, default off) is a user's safety stop only: a ramp it cuts is marked
     ``timed_out`` (its end depends on the machine's speed, so it is no result).
 
@@ -139,6 +141,7 @@ def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float 
             first.info["min_eigenvalue"] = solver.min_eigenvalue(first)
         states.append(first)
     step = None
+    allowed_cuts = max_cuts  # raised by each rescue (see relag), at most once per state
     for _ in range(max_steps):
         last = states[-1]
         mu_now = sign * last.shear  # along the sliding direction (negative past a buckled start)
@@ -161,26 +164,71 @@ def follow_shear(solver: SectionSolver, start: State, mu_max: float, dmu: float 
         wanted = dmu / slope if slope > 1e-9 else largest_tip
         remaining = (target - mu_now) / slope if slope > 1e-9 else np.inf
         step = float(np.clip(min(wanted, 1.0001 * remaining, 2.0 * step), smallest_tip, largest_tip))
+        # the steps start from `base`: the last state, or (after a rescue) the last state
+        # re-converged under its own friction tiles (see relag)
+        base, first_step = last, step
         while True:
             trial = tip_now + step
             a = step / dtip if dtip > 0 else 0.0
-            guess = last.copy()
-            guess.v = last.v + a * (last.v - prev.v)
-            guess.z0 = last.z0 + a * (last.z0 - prev.z0)
-            mu_guess = last.shear + a * (last.shear - prev.shear)
+            guess = base.copy()
+            guess.v = base.v + a * (last.v - prev.v)
+            guess.z0 = base.z0 + a * (last.z0 - prev.z0)
+            mu_guess = base.shear + a * (last.shear - prev.shear)
             try:
                 state = solver.solve(load, mu_guess, guess, lag=last, tip=sign * trial)
                 break
             except NoConvergence as exc:
                 try:
-                    state = solver.solve(load, last.shear, last.copy(), lag=last, tip=sign * trial)
+                    state = solver.solve(load, base.shear, base.copy(), lag=last, tip=sign * trial)
                     break
                 except NoConvergence:
                     cuts += 1
                     step *= 0.5
-                    if step < smallest_tip or cuts > max_cuts:
-                        return Ramp(states, f"lost convergence at mu = {mu_now:.3g} ({exc})", cuts)
+                    if step < smallest_tip or cuts > allowed_cuts:
+                        # Before giving up: the trouble may not be the step at all but the jump
+                        # of the lagged friction tiles (a node entering contact brings its whole
+                        # tile into the tau0 part of the friction at once), which no step length
+                        # makes smaller. Re-converge the last state at its own tip under the new
+                        # tiles by continuation in them, and take the steps from there. Only here,
+                        # where the ramp would stop, so ramps that got through are unchanged.
+                        rescued = None if base is not last else relag(solver, prev, last)
+                        if rescued is None:
+                            return Ramp(states, f"lost convergence at mu = {mu_now:.3g} ({exc})", cuts)
+                        base, step, allowed_cuts = rescued, first_step, cuts + max_cuts
         if check_stability:
             state.info["min_eigenvalue"] = solver.min_eigenvalue(state)
         states.append(state)
     return Ramp(states, "too many shear steps", cuts)
+
+
+def relag(solver: SectionSolver, lag: State, last: State, smallest: float = 1.0 / 64.0) -> State | None:
+    """``last`` (converged with the friction tiles of ``lag``) re-converged at its own tip under
+    its own tiles, by continuation from the old tiles to the new ones; None if that fails.
+
+    Why: the package law's friction traction uses the contact tiles of the previous converged
+    state (:meth:`.solve.SectionSolver._friction_coefficients`). When a node with a long tile
+    enters contact the tau0 share of the traction jumps onto it, so the next step's residual
+    starts far off however short the step: on the slender ellipsoid section at 14.5 kPa (tip
+    5.04 r, mu 1.46) a node of tile 0.70 r came in with a force of 0.0036 and the natural
+    residual of ``last`` under the new tiles was 0.108 (1.8 % of the load; 1.3e-10 under the old
+    ones), and every tip step, down to 1e-4 r, stagnated. The state returned here is only a start
+    for the step (the path's states keep their one-step lag), so no answer depends on it.
+    """
+    load, tip = last.load, last.info["tip_dx"]
+    old = np.where(lag.contact_mask, lag.tiles, 0.0)
+    new = np.where(last.contact_mask, last.tiles, 0.0)
+    s, ds, cur = 0.0, 0.5, last
+    while s < 1.0:
+        s_try = min(1.0, s + ds)
+        mixed = last.copy()
+        mixed.contact_mask = np.ones(new.size, dtype=bool)
+        mixed.tiles = (1.0 - s_try) * old + s_try * new
+        try:
+            cur = solver.solve(load, cur.shear, cur.copy(), lag=mixed, tip=tip)
+        except NoConvergence:
+            ds *= 0.5
+            if ds < smallest:
+                return None
+            continue
+        s, ds = s_try, min(2.0 * ds, 1.0)
+    return cur
