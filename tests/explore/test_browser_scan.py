@@ -195,6 +195,11 @@ def test_a_change_cancels_the_bem_run_of_the_design_before(page):
     expect(page.locator(".fp-pending")).to_be_visible()  # the new design's Hertz numbers, the BEM pending
     expect(page.locator(".fp-job-cancelled, .fp-job-running").first).to_be_visible(timeout=60_000)
     page.wait_for_function("() => window.fpJobStatus.some(t => t.includes('fp-job-cancelled'))", timeout=60_000)
+    # the new design's run starts once it has been shown a moment (background work waits 0.4 s)
+    page.wait_for_function(
+        "() => { const s = window.fpJobStatus; const i = s.findIndex(t => t.includes('fp-job-cancelled'));"
+        " return s.slice(i).some(t => t.includes('starting') || t.includes('fp-job-running')); }",
+        timeout=60_000)
     shown = job_status_texts(page)
     cancelled = next(i for i, t in enumerate(shown) if "fp-job-cancelled" in t)
     assert any("starting" in t for t in shown[cancelled:]) or re.search("fp-job-running", shown[-1]), shown
