@@ -45,11 +45,11 @@ def test_stored_fraction_is_a_direct_comparison_with_flat(people):
     assert 0 < res["tell_flat"].max() and res["tell_flat"].min() < 1  # not a trivial case
 
 
-def _store(tmp_path, population, kind=None):
+def _store(tmp_path, population, kind=None, people=SPREAD):
     import xarray as xr
 
-    spec = spec_for(SPREAD if population else None) if kind is None else sweep_from_dict(
-        {**BASE, "model": {**BASE["model"], "kind": kind}, "sweep": SWEEP}, population=SPREAD if population else None)
+    spec = spec_for(people if population else None) if kind is None else sweep_from_dict(
+        {**BASE, "model": {**BASE["model"], "kind": kind}, "sweep": SWEEP}, population=people if population else None)
     store = SweepStore(tmp_path / "r.zarr", spec, np.array([1e3, 1e4]))
     store.create()
     for i in range(2):
@@ -176,3 +176,56 @@ tau0 = { distribution = "uniform", low = "4kPa", high = "12kPa" }
         with pytest.raises(FingerpadError, match="draws each finger's W"):
             map_data(drawn, "spacing", "height", at=load, population=True,
                      tell_apart={"reference": ref, "mu": mu, "weber": 0.2})
+
+
+def test_explorer_tells_each_texture_from_a_point_of_the_map(tmp_path):
+    """The explorer's map tells each design from a design of the map itself: per point, the
+    fraction of the fingers with P >= 0.75, each with its own mu on both textures and its own W
+    (recomputed here from the stored member arrays), the number ``design-map --tell-apart`` gives
+    for that reference; without a population, P of the study's finger. A forged reference
+    index from the page is refused with one line."""
+    from fingerpad.design.designmap import member_weber_of_store, point_friction, study_weber
+    from fingerpad.explore import sweepdata as sd
+
+    people = {**SPREAD, "weber_fraction": {"distribution": "lognormal", "median": 0.11, "sigma": 0.36}}
+    ds = _store(tmp_path, population=True, kind="hertz", people=people)
+    k, ref = 2, 3  # the reference: the grid's design #3 = (spacing 200 um, height 20 um)
+    load = float(ds["load"].values[k])
+    md = sd.map_data(ds, "spacing", "height", at=load, reference=ref)
+    got = md["tell_flat"].transpose("height", "spacing").values
+    # by hand from the stored arrays: each finger's P (Eqs. P.1-P.3) against its own mu on #3
+    mu = ds["mu_members"].isel(load=k).transpose("height", "spacing", "member").values
+    ref_mu = ds["mu_members"].isel(spacing=1, height=1, load=k).values
+    weber = ds["member_weber_fraction"].values
+    assert np.ptp(weber) > 0  # each finger's own W
+    expected = np.mean(p_correct(mu, ref_mu, weber) >= 0.75, axis=-1)
+    np.testing.assert_array_equal(got, expected)
+    assert got[1, 1] == 0 and got.max() > 0  # nobody tells #3 from itself; not a trivial case
+    # the library's number for the same reference (design-map --tell-apart), bit for bit
+    lib = map_data(ds, "spacing", "height", at=load, population=True,
+                   tell_apart={"reference": "#3", "mu": point_friction(ds, ref, load), "weber": None})
+    np.testing.assert_array_equal(got, lib["tell_apart"].values)
+    np.testing.assert_array_equal(member_weber_of_store(ds), weber)
+    # the page's reference is untrusted: only a whole number addressing a point of the store
+    for forged in (4, -1, "3", 3.0, True, "x" * 10**6):
+        with pytest.raises(FingerpadError, match="not a point of this sweep") as err:
+            sd.map_data(ds, "spacing", "height", at=load, reference=forged)
+        assert len(str(err.value)) < 200
+    # without a population: P of the study's finger against its mu on #3, the study's W
+    plain = _store(tmp_path / "plain", population=False, kind="hertz")
+    one = sd.map_data(plain, "spacing", "height", at=load, reference=ref)
+    mu = plain["mu"].isel(load=k).transpose("height", "spacing").values
+    np.testing.assert_array_equal(one["tell_flat"].transpose("height", "spacing").values,
+                                  p_correct(mu, mu[1, 1], study_weber(plain)))
+    # the view: its reference choice lists flat and the map's designs, and colours by that
+    pytest.importorskip("panel")
+    from fingerpad.explore.views.mapview import MapView
+
+    view = MapView(None, ds, "r.zarr")
+    assert list(view.reference.options.values()) == ["flat", 0, 1, 2, 3]
+    view.x.value, view.y.value, view.at.value = "spacing", "height", load
+    view.quantity.value, view.reference.value = "tell_flat", ref
+    values = np.asarray(view.plot.object.renderers[0].data_source.data["value"], float)
+    np.testing.assert_array_equal(np.sort(values), np.sort(got.ravel()))
+    bar = [a for a in view.plot.object.right if hasattr(a, "color_mapper")][0]
+    assert bar.title.startswith("telling it from design #3")

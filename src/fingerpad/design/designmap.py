@@ -25,11 +25,12 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import FingerpadError
+from ..errors import FingerpadError, excerpt
 from ..perception.vibration import PACINIAN_BEST
 
-__all__ = ["MARKERS", "POPULATION_COVERAGE", "REGIONS", "default_at", "map_data", "member_weber_of_store",
-           "reference_friction", "reference_member_friction", "store_members", "swept_axes"]
+__all__ = ["MARKERS", "POPULATION_COVERAGE", "REGIONS", "default_at", "fraction_telling", "map_data",
+           "member_weber_of_store", "point_friction", "reference_friction", "reference_member_friction",
+           "store_point", "store_members", "swept_axes"]
 
 #: The share of a population for which the design map marks "asperity contact over the whole
 #: range" (and whose complement's quantiles give the contours: 10 % and 90 % fingers).
@@ -209,13 +210,8 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
                 data = data.sel({name: parse_quantity(value, dim, name=f"--select {name}")}, method="nearest")
     elif sel:
         raise FingerpadError("--select applies to grid sweeps; a scattered design is drawn as it is")
-    log_load = np.log(loads)
-    # log-load interpolation between the two bracketing exploration loads
-    k = int(np.clip(np.searchsorted(loads, at), 1, loads.size - 1))
-    w = (math.log(at) - log_load[k - 1]) / (log_load[k] - log_load[k - 1])
-
     def at_load(var: Any) -> Any:
-        return (1 - w) * var.isel(load=k - 1) + w * var.isel(load=k)
+        return _at_load(var, loads, at)
 
     mu_at = at_load(data["mu_rel"])
     crit = data["critical_load_bem"].where(np.isfinite(data["critical_load_bem"]) | np.isinf(data["critical_load_bem"]),
@@ -236,14 +232,11 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
                 units="1", long_name=f"fraction of fingers telling it from the flat reference at {at:g} N "
                                      "(interpolated in log load)")
         elif population:
-            from ..perception.discrimination import discriminates, p_correct
-
             # each finger's mu at the map's load (the same log-load interpolation as the colour)
             # against REF's for the same finger, each with its own W (Eqs. P.1-P.3)
             mu = at_load(data["mu_members"]).transpose(..., "member")
-            weber = member_weber_of_store(ds, tell_apart.get("weber"))
-            told = discriminates(p_correct(mu.values, np.asarray(tell_apart["mu"], float), weber))
-            out["tell_apart"] = mu.isel(member=0, drop=True).copy(data=np.mean(told, axis=-1)).where(ok).assign_attrs(
+            told = fraction_telling(mu.values, tell_apart["mu"], member_weber_of_store(ds, tell_apart.get("weber")))
+            out["tell_apart"] = mu.isel(member=0, drop=True).copy(data=told).where(ok).assign_attrs(
                 units="1", long_name=f"fraction of fingers telling it from {ref} at {at:g} N")
         else:
             from ..perception.discrimination import p_correct
@@ -285,6 +278,65 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
                  # the literature markers travel with the data (plotting draws them, knows none)
                  "markers": json.dumps(MARKERS)}
     return out
+
+
+def _at_load(var: Any, loads: Any, at: float) -> Any:
+    """``var`` at the load ``at`` (N), interpolated in log load between the two bracketing
+    exploration ``loads`` (at an exploration load, that load's value)."""
+    log_load = np.log(np.asarray(loads, float))
+    k = int(np.clip(np.searchsorted(loads, at), 1, log_load.size - 1))
+    w = (math.log(at) - log_load[k - 1]) / (log_load[k] - log_load[k - 1])
+    return (1 - w) * var.isel(load=k - 1) + w * var.isel(load=k)
+
+
+def fraction_telling(mu: Any, ref_mu: Any, weber: Any) -> np.ndarray:
+    """The fraction of a population's members telling a texture from a reference by friction:
+    those with P >= 0.75 (Eqs. P.1-P.3), each member with its own friction on both surfaces and
+    its own W. ``mu``: members on the last axis; ``ref_mu`` and ``weber``: one per member."""
+    from ..perception.discrimination import discriminates, p_correct
+
+    told = discriminates(p_correct(np.asarray(mu, float), np.asarray(ref_mu, float), np.asarray(weber, float)))
+    return np.mean(told, axis=-1)
+
+
+#: The most points a reference index may address (a sweep's designs are capped far below it).
+_MAX_POINTS = 10**7
+
+
+def store_point(ds: Any, index: Any) -> dict[str, int]:
+    """The point ``index`` of a sweep store as ``isel`` indices: a grid's designs numbered over
+    its swept axes in order (C order), a scattered design's its point number. The index may come
+    from a page: it must be a whole number addressing a possible texture of the store.
+
+    Raises
+    ------
+    FingerpadError
+        Not a whole number, outside the store, or a texture that is not possible (no friction).
+    """
+    axes = swept_axes(ds)
+    dims = ["point"] if "point" in ds.dims else axes
+    shape = tuple(int(ds.sizes[d]) for d in dims)
+    size = int(np.prod(shape))
+    whole = not isinstance(index, bool) and isinstance(index, (int, np.integer))
+    if not whole or not 0 <= int(index) < min(size, _MAX_POINTS):
+        raise FingerpadError(f"reference point {excerpt(index)}: not a point of this sweep (0-{size - 1})")
+    where = dict(zip(dims, (int(i) for i in np.unravel_index(int(index), shape)), strict=True))
+    if not bool(ds["valid"].isel(where).values):
+        raise FingerpadError(f"reference point {int(index)}: that texture is not possible "
+                             f"({str(ds['reason'].isel(where).values) if 'reason' in ds else 'not valid'})")
+    return where
+
+
+def point_friction(ds: Any, index: Any, at: float) -> Any:
+    """The friction (mu) on the store's point ``index`` (:func:`store_point`) at ``at`` (N), as
+    :func:`map_data` reads the textures (log-load interpolation): each member's (``mu_members``,
+    an array over the members) for a population store that holds them, else the study's finger's
+    (a number). The reference of ``map_data(tell_apart=...)`` when REF is a texture of the map."""
+    point = ds.isel(store_point(ds, index))
+    loads = ds["load"].values
+    if "mu_members" in ds.variables:
+        return np.asarray(_at_load(point["mu_members"], loads, at).values, float)
+    return float(_at_load(point["mu"], loads, at).values)
 
 
 def default_at(loads: Any) -> float:

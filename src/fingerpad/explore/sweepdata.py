@@ -27,7 +27,8 @@ import numpy as np
 
 from ..errors import FingerpadError
 
-__all__ = ["axis_info", "design_data", "design_values", "map_data", "open_sweep", "rank_sweep", "sweep_axes"]
+__all__ = ["axis_info", "design_data", "design_values", "map_data", "open_sweep", "rank_sweep", "sweep_axes",
+           "tell_point"]
 
 #: Regions of the design map: where the critical load lies against the exploration loads.
 REGIONS = {0: "transition below the load range", 1: "transition inside the load range",
@@ -106,10 +107,13 @@ def default_load(ds: Any) -> float:
     return float(loads[np.argmin(np.abs(np.log(loads)))])
 
 
-def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[str, Any] | None = None) -> Any:
+def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[str, Any] | None = None,
+             reference: Any = "flat") -> Any:
     """The design map: ``critical_load`` (N), ``mu_rel`` at load ``at`` (N) and ``region`` over
     axes ``x`` and ``y`` (dims ``(y, x)`` for grids, ``point`` otherwise), the other axes fixed
-    by ``select`` (their first value by default); ``valid`` and ``reason`` ride along."""
+    by ``select`` (their first value by default); ``valid`` and ``reason`` ride along.
+    ``tell_flat``: who tells each design from ``reference`` at the load, ``"flat"`` (:func:`tell_flat`)
+    or a point of the store (:func:`tell_point`)."""
     axes = sweep_axes(ds)
     for name in (x, y):
         if name not in axes:
@@ -134,7 +138,7 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
     out["critical_load"] = crit
     out["mu_rel"] = sub["mu_rel"].sel(load=at_sel)
     out["region"] = _region(crit, np.asarray(ds["load"].values, float))
-    tell = tell_flat(sub, at_sel)
+    tell = tell_flat(sub, at_sel) if reference == "flat" else tell_point(ds, sub, reference, at_sel)
     if tell is not None:  # none for a texture that is not possible
         out["tell_flat"] = tell.where(sub["valid"])
     if "reason" in sub:
@@ -147,7 +151,8 @@ def map_data(ds: Any, x: str, y: str, at: float | None = None, select: Mapping[s
         out[x] = sub[x]
         out[y] = sub[y]
     out.attrs.update({"x_log": axis_info(ds, x)["log"], "y_log": axis_info(ds, y)["log"], "at": at_sel,
-                      "x": x, "y": y, "fixed": {k: _plain(v) for k, v in (select or {}).items()}})
+                      "x": x, "y": y, "reference": reference,
+                      "fixed": {k: _plain(v) for k, v in (select or {}).items()}})
     return out.load()
 
 
@@ -166,6 +171,31 @@ def tell_flat(sub: Any, at: float) -> Any:
 
     mu, ref = sub["mu"].sel(load=at), sub["mu_ref"].sel(load=at)
     return mu.copy(data=p_correct(mu.values, ref.values, study_weber(sub)))
+
+
+def tell_point(ds: Any, sub: Any, reference: Any, at: float) -> Any:
+    """Who tells each design of ``sub`` (a slice of the store ``ds``) from the store's point
+    ``reference`` (a number from the page, checked by
+    :func:`fingerpad.design.designmap.store_point`) at the exploration load ``at`` (N), as
+    ``fingerpad design-map --tell-apart`` counts it: for a population store, the fraction of its
+    members with P >= 0.75, each finger with its own mu on both textures (``mu_members``) and its
+    own W; else the probability that the study's finger does (the study's W)."""
+    from ..design.designmap import (fraction_telling, member_weber_of_store, point_friction,
+                                    study_weber)
+    from ..perception.discrimination import p_correct
+
+    if "tell_flat" in ds and "mu_members" not in ds:
+        raise FingerpadError("telling it from a point of the map: this sweep store holds no friction per finger "
+                             "(made before it was stored): run the sweep again, or tell it from flat")
+    ref_mu = point_friction(ds, reference, at)
+    if "mu_members" in ds:
+        mu = sub["mu_members"].sel(load=at).transpose(..., "member")
+        told = fraction_telling(mu.values, ref_mu, member_weber_of_store(ds))
+        return mu.isel(member=0, drop=True).copy(data=told)
+    if "mu" not in sub:
+        return None
+    mu = sub["mu"].sel(load=at)
+    return mu.copy(data=p_correct(mu.values, ref_mu, study_weber(sub)))
 
 
 def _plain(v: Any) -> Any:

@@ -26,7 +26,7 @@ from .common import download, fmt, guard_choices, html_pane, html_table
 __all__ = ["MapView", "map_table"]
 
 _QUANTITIES = {"critical load (N)": "critical_load", "mu / mu_ref at the load": "mu_rel", "region": "region",
-               "telling it from flat at the load": "tell_flat"}
+               "telling it from the reference at the load": "tell_flat"}
 _NAMES = {v: k for k, v in _QUANTITIES.items()}
 _REGION_COLOURS = ("#f7c9c9", "#fde3c8", "#dbe9f6")
 
@@ -133,12 +133,33 @@ def base_study_html(ds: Any) -> str:
             f"not set)</summary><pre style='margin:2px 0;font-size:11px'>{html.escape(text)}</pre></details>")
 
 
-def colour_label(quantity: str, at: float) -> str:
+def reference_options(ds: Any) -> dict[str, Any]:
+    """The references a map can tell its designs from: ``flat``, then every possible texture of
+    the store by its axis values (the value: its point number,
+    :func:`fingerpad.design.designmap.store_point`)."""
+    grid = "point" not in ds.dims
+    axes = sd.sweep_axes(ds)
+    dims = axes if grid else ["point"]
+    shape = tuple(int(ds.sizes[d]) for d in dims)
+    valid = np.asarray(ds["valid"].transpose(*dims).values, bool).ravel()
+    options: dict[str, Any] = {"flat": "flat"}
+    for n in np.flatnonzero(valid):
+        index = dict(zip(axes, (int(i) for i in np.unravel_index(int(n), shape)), strict=True)) if grid else int(n)
+        values = sd.design_values(ds, index)
+        shown = []
+        for k, v in values.items():
+            factor, unit = _shown(sd.axis_info(ds, k))
+            shown.append(f"{k} {fmt(float(v) * factor)} {unit}".strip() if isinstance(v, (int, float)) else f"{k} {v}")
+        options[f"#{int(n)}: " + ", ".join(shown)] = int(n)
+    return options
+
+
+def colour_label(quantity: str, at: float, reference: str = "flat") -> str:
     """The colour bar's title: the quantity with its unit (and the load of mu / mu_ref)."""
     if quantity == "mu_rel":
         return f"mu / mu_ref at {at:.4g} N (-)"
     if quantity == "tell_flat":
-        return f"telling it from flat at {at:.4g} N: fraction of the fingers (a population) or P (the study's finger)"
+        return f"telling it from {reference} at {at:.4g} N (fraction of fingers, or P)"
     if quantity == "region":
         return "region at the load: " + ", ".join(f"{k} {v}" for k, v in sorted(sd.REGIONS.items()))
     return _NAMES[quantity]
@@ -166,6 +187,8 @@ class MapView:
                                           css_classes=["fp-map-quantity"])
         self.at = pn.widgets.Select(label="load for mu / mu_ref", options=self.load_options, value=at,
                                     css_classes=["fp-map-at"])
+        self.reference = pn.widgets.Select(label="tell apart from", options=reference_options(ds), value="flat",
+                                           css_classes=["fp-map-reference"])
         self.fixed = {a: pn.widgets.Select(label=f"{a} (fixed)", options=self._axis_options(a),
                                            css_classes=[f"fp-map-fixed-{a}"]) for a in self.axes}
         self.fixed_box = pn.Column(margin=0)
@@ -174,7 +197,7 @@ class MapView:
         self.message = html_pane("", css_classes=["fp-map-message"], sizing_mode="stretch_width")
         self.md: Any = None
         self.rows: list[dict[str, Any]] = []
-        for w in (self.x, self.y, self.quantity, self.at, *self.fixed.values()):
+        for w in (self.x, self.y, self.quantity, self.at, self.reference, *self.fixed.values()):
             guard_choices(w)
             w.param.watch(lambda e: self.redraw(), "value")
         # inverse design
@@ -205,7 +228,7 @@ class MapView:
                 pn.pane.HTML(f"<div style='font-size:12px'>sweep <code>{html.escape(path)}</code>, design "
                              f"{html.escape(str(ds.attrs.get('design', '?')))}, axes {html.escape(', '.join(self.axes))}"
                              f"</div>{base_study_html(ds)}", css_classes=["fp-map-about"]),
-                self.x, self.y, self.quantity, self.at, self.fixed_box,
+                self.x, self.y, self.quantity, self.at, self.reference, self.fixed_box,
                 pn.pane.HTML("<h4 style='margin:8px 0 2px'>Inverse design</h4><div style='font-size:12px'>designs "
                              "whose mu / mu_ref at the load is within the tolerance of the target</div>"),
                 self.target, self.tolerance, self.inv_at, self.min_crit, self.find, self.pick, self.open_pick,
@@ -230,7 +253,7 @@ class MapView:
         try:
             self.md = sd.map_data(self.ds, x, y, at=self.at.value,
                                   select={a: self.fixed[a].value for a in others} if "point" not in self.ds.dims
-                                  else None)
+                                  else None, reference=self.reference.value)
         except FingerpadError as exc:
             self.message.object = f"<div class='fp-error' style='color:#b00020'>{html.escape(one_line(str(exc)))}</div>"
             self.plot.object = None
@@ -315,12 +338,18 @@ class MapView:
             p.yaxis.major_label_overrides = {k: str(v) for k, v in enumerate(ys)}
         p.add_tools(HoverTool(renderers=[r], tooltips=[(x, "@xlabel"), (y, "@ylabel"), ("critical load (N)", "@crit"),
                                                         ("mu / mu_ref", "@mu"), ("region", "@region"),
-                                                        ("telling it from flat", "@tell"), ("valid", "@valid")]))
+                                                        (f"telling it from {self._reference_name()}", "@tell"),
+                                                        ("valid", "@valid")]))
         _markers(p, ((x, xi, fx, xs, True), (y, yi, fy, ys, False)))
         p.select_one(TapTool).renderers = [r]
-        p.add_layout(ColorBar(color_mapper=mapper, title=colour_label(q, md.attrs["at"]), width=12), "right")
+        p.add_layout(ColorBar(color_mapper=mapper, title=colour_label(q, md.attrs["at"], self._reference_name()),
+                               width=12), "right")
         src.selected.on_change("indices", self._tapped)
         return p
+
+    def _reference_name(self) -> str:
+        ref = self.reference.value
+        return "flat" if ref == "flat" else f"design #{ref}"
 
     def _tapped(self, attr: str, old: Any, new: Any) -> None:
         # the indices come from the client: only a row of the map shown opens
@@ -415,7 +444,7 @@ class MapView:
 
     def json(self) -> str:
         payload = {"sweep": self.path, "x": self.x.value, "y": self.y.value, "at_N": self.md.attrs["at"],
-                   "regions": sd.REGIONS, "designs": self.rows}
+                   "tell_apart_from": self._reference_name(), "regions": sd.REGIONS, "designs": self.rows}
         return json.dumps(payload, indent=1, default=lambda v: None if isinstance(v, float) and math.isnan(v) else
                           _val(v)) + "\n"
 
@@ -434,6 +463,7 @@ class MapView:
             ys = [float(r[y]) * fy if not isinstance(r[y], str) else r["j"] for r in self.rows]
             values = [math.nan if r[q] is None else r[q] for r in self.rows]
         return map_image(xs, ys, values, grid=grid, x_label=f"{x} ({ux})", y_label=f"{y} ({uy})",
-                         colour_label=colour_label(q, md.attrs["at"]), x_log=xi["log"], y_log=yi["log"],
+                         colour_label=colour_label(q, md.attrs["at"], self._reference_name()),
+                         x_log=xi["log"], y_log=yi["log"],
                          title=f"design map: {_NAMES[q]} (mu/mu_ref at {md.attrs['at']:.4g} N)", fmt=fmt_,
                          markers=marker_items(((x, xi, fx, md[x].values, True), (y, yi, fy, md[y].values, False))))
