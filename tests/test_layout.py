@@ -130,7 +130,7 @@ def test_public_names_resolve():
 def test_cli_start_imports_no_numerics():
     """`fingerpad --help` must start fast: the command modules import no numerics at import time."""
     code = ("import sys, fingerpad.cli\n"
-            "heavy = [m for m in ('scipy', 'matplotlib', 'xarray', 'pandas', 'numba', 'SurfaceTopography')"
+            "heavy = [m for m in ('numpy', 'scipy', 'matplotlib', 'xarray', 'pandas', 'numba', 'SurfaceTopography')"
             " if m in sys.modules]\n"
             "print(heavy)\n")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)

@@ -7,8 +7,6 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-import numpy as np
-
 from .common import say_wrapped, stdout_console
 
 __all__ = ["perception_options", "print_comparison", "roughness_text"]
@@ -37,6 +35,8 @@ def print_comparison(doc: Mapping[str, Any]) -> None:
     pop = doc.get("population")
     w = doc["weber_fraction"]
     if w["drawn"]:  # each finger's own W: its median [5-95 %], as the friction's bands
+        import numpy as np  # only here: the command line starts without NumPy
+
         ws = np.asarray(doc["members"]["weber_fraction"], float)
         wtext = f"W {np.median(ws):.2f} [{np.quantile(ws, 0.05):.2f}-{np.quantile(ws, 0.95):.2f}]"
     else:
