@@ -125,7 +125,8 @@ def test_predict_reports_pull_off_share_and_threshold(tmp_path) -> None:
     assert doc["units"]["pull_off_force"] == "N"
 
 
-def test_predict_table_and_errors(tmp_path) -> None:
+def test_predict_table_and_errors(tmp_path, monkeypatch) -> None:
+    monkeypatch.chdir(tmp_path)  # its refusals use the default --out, which make run's out/ must not meet
     base = ["predict", *CAPS, *MATERIAL, "--loads", "0.5N", "--model", "bem", "--cache", str(tmp_path)]
     result = invoke(*base, "--work-of-adhesion", "0.05J/m2", "--out", str(tmp_path / "out"))
     assert result.exit_code == 0, result.output
