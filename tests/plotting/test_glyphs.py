@@ -85,3 +85,37 @@ def test_rotated_text_and_glyphs_at_every_fraction_of_a_pixel(monkeypatch):
         _without_caches(patch)
         plain = figure_png(figure(), 100)
     assert cached == plain and again == plain
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="no fork on this platform")
+def test_a_forked_process_draws_with_fonts_of_its_own(measured):
+    """A QC pool's worker is forked from a process that drew figures already: it must not draw
+    from the fonts the parent opened (their file offset is shared across the fork, and two
+    processes reading through it read each other's bytes: 'failed to load glyph' now and then).
+    The child finds the caches that hold fonts empty, draws the same bytes with its own fonts,
+    and the parent's caches are untouched."""
+    import os
+
+    first = qc_png(qc_inputs(measured, measured.recordings[0].source), 60)
+    assert glyphs._LAYOUTS and glyphs._GLYPHS
+    parent_fonts = {item[0] for items in glyphs._LAYOUTS.values() for item in items}
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # the child: report through the pipe, never return into pytest
+        code = 1
+        try:
+            empty = not glyphs._LAYOUTS and not glyphs._GLYPHS
+            again = qc_png(qc_inputs(measured, measured.recordings[0].source), 60)
+            own = {item[0] for items in glyphs._LAYOUTS.values() for item in items}
+            code = 0 if empty and again == first and own and not (own & parent_fonts) else 2
+        finally:
+            os.write(write, bytes([code]))
+            os._exit(0)
+    os.close(write)
+    try:
+        answer = os.read(read, 1)
+    finally:
+        os.close(read)
+        os.waitpid(pid, 0)
+    assert answer == b"\x00"
+    assert parent_fonts <= {item[0] for items in glyphs._LAYOUTS.values() for item in items}

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import os
 from collections.abc import Iterator
 from typing import Any
 
@@ -42,6 +43,21 @@ _GLYPHS: dict[tuple[Any, ...], tuple[Any, int, int]] = {}
 _TEXTS: dict[tuple[Any, ...], tuple[Any, list[Any], Any]] = {}
 #: Glyphs drawn from the cache and rasterised, texts laid out from it and anew (for the tests).
 counts = {"hits": 0, "misses": 0, "layouts": 0, "new_layouts": 0}
+
+
+def _forget_fonts() -> None:
+    """Empty the caches that hold FreeType fonts (a layout's glyphs name their font, a bitmap's
+    key too), in a process just forked. A font reads its file through a descriptor whose offset
+    the fork shares with the parent and the other children: two processes drawing from one
+    inherited font read each other's bytes (``RuntimeError: failed to load glyph`` in
+    ``fingerpad analyse``'s QC pool, now and then). matplotlib empties its own font cache at
+    a fork for the same reason; the text layouts hold no fonts and stay."""
+    _LAYOUTS.clear()
+    _GLYPHS.clear()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_fonts)
 
 
 def _keep(cache: dict[Any, Any], key: Any, value: Any, cap: int) -> None:
