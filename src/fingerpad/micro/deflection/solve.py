@@ -285,8 +285,8 @@ class SectionSolver:
                 fresh = self.fold.update_pairs(x, pairs)
                 if repairs < 4 and any(np.any((fn != fo) & ((fn >= 0) | (fo >= 0))) for fn, fo in zip(fresh, pairs)):
                     # converged on stale slave-segment pairs: re-pair and iterate on
-                    _, _, n_old, _ = self.fold.evaluate(x, pairs)
-                    _, _, n_new, _ = self.fold.evaluate(x, fresh)
+                    _, _, n_old, _ = self.fold.evaluate(x, pairs, tangent=False)
+                    _, _, n_new, _ = self.fold.evaluate(x, fresh, tangent=False)
                     if n_old or n_new:
                         pairs, repairs, prev_active = fresh, repairs + 1, None
                         continue
@@ -459,7 +459,7 @@ class SectionSolver:
 
     def _fold(self, x: np.ndarray, pairs: list[np.ndarray] | None = None,
               tangent: bool = True) -> tuple[np.ndarray, sp.csr_matrix | None, int]:
-        _, terms, n_act, _ = self.fold.evaluate(x, pairs)
+        _, terms, n_act, _ = self.fold.evaluate(x, pairs, tangent)
         nd = self.solid.ndof
         force = np.zeros(nd)
         if not terms:
@@ -491,7 +491,7 @@ class SectionSolver:
         gap[-1] = gap[0]
         arc, proj = contact_length(xs, indicator, pressure, np.where(mask, 0.0, gap))
         x = self.positions(state.v)
-        gaps, _, n_fold, min_fold = self.fold.evaluate(x)
+        gaps, _, n_fold, min_fold = self.fold.evaluate(x, tangent=False)
         apex = self.mesh.apex
         u = self.displacement(state.v).reshape(-1, 2)
         # skin surface slope (validity of the half-space): lift differences over the contact
