@@ -205,8 +205,8 @@ class Solid:
         return _I2 + np.matmul(np.swapaxes(ue, 1, 2)[:, None], rule.grad)  # sum_k u_ki dN_k/dX_j
 
     def _kinematics(self, u: np.ndarray) -> dict:
-        """Deformation gradients of both rules at ``u`` (and, once computed, the internal force
-        and the smallest J there), memoised for the last few displacement fields: the Newton
+        """Deformation gradients of both rules at ``u`` (and, once computed, the internal force,
+        the stiffness and the smallest J there), memoised for the last few displacement fields: the Newton
         iteration asks for the same state up to four times (element-inversion check, line-search
         merit, next iteration's tangent), and the values are the same arrays each time."""
         for entry in self._memo:
@@ -234,6 +234,9 @@ class Solid:
         known = entry.get("fint")
         if known is not None and not tangent:
             return known.copy(), None
+        if known is not None and "k" in entry:
+            # a converged state's tangent again (its stability check, a re-paired iteration)
+            return known.copy(), entry["k"].copy()
         ne = self.edofs.shape[0]
         fe = np.zeros((ne, 18)) if known is None else None
         ke = np.zeros((ne, 18, 18)) if tangent else None
@@ -258,4 +261,5 @@ class Solid:
         data = np.bincount(self._slot, weights=ke.reshape(-1), minlength=self._indices.size)
         k = sp.csr_matrix((data, self._indices, self._indptr), shape=(self.ndof, self.ndof))
         k.has_sorted_indices = True
+        entry["k"] = k.copy()
         return fint, k

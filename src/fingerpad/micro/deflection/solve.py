@@ -182,6 +182,8 @@ class SectionSolver:
         self.nred = 2 * free_nodes.size
         keep = red >= 0
         self.M = sp.csr_matrix((np.ones(int(keep.sum())), (np.nonzero(keep)[0], red[keep])), shape=(nd, self.nred))
+        # its transpose once (the same matrix ``M.T`` gives; building that view cost 0.5 ms a call)
+        self.MT = self.M.T
         self.surface = mesh.surface
         self.m = mesh.surface.size
         self.base_centre = int(np.argmin(np.hypot(mesh.nodes[:, 0], mesh.nodes[:, 1])))
@@ -264,7 +266,7 @@ class SectionSolver:
             cf, t0 = mu * a0, mu * b0
             fext[2 * surf] = cf * f + t0
             fext[2 * surf + 1] = -f
-            r_u = self.M.T @ (fint + fold_f - fext)
+            r_u = self.MT @ (fint + fold_f - fext)
             r_c = np.where(active, gap, f)
             r_z = f.sum() - load
             r_t = (v[tip_dof] - tip) if tip is not None else 0.0
@@ -358,7 +360,7 @@ class SectionSolver:
             if tip is not None:  # unknown mu: its column d(-f_ext)/d mu and the tip equation
                 dmu = np.zeros(self.solid.ndof)
                 dmu[2 * surf] = a0 * f + b0
-                col = -(self.M.T @ dmu)
+                col = -(self.MT @ dmu)
                 nzc = np.nonzero(col)[0]
                 parts_r += [nzc, [size]]
                 parts_c += [np.full(nzc.size, size), [tip_dof]]
@@ -411,13 +413,13 @@ class SectionSolver:
         valid, slot, indices, indptr = self._kr_map
         nnz = indices.size
         if kmat.nnz != valid.size:  # not the solid's fixed pattern (should not happen): the general product
-            kr = self.M.T @ (kmat @ self.M)
+            kr = self.MT @ (kmat @ self.M)
         else:
             kr = sp.csr_matrix((np.bincount(slot, weights=kmat.data[valid], minlength=nnz), indices, indptr),
                                shape=(self.nred, self.nred))
             kr.has_sorted_indices = True
         if fold_k is not None and fold_k.nnz:
-            kr = kr + self.M.T @ (fold_k @ self.M)
+            kr = kr + self.MT @ (fold_k @ self.M)
         return kr
 
     def _merit(self, r_u: np.ndarray, f: np.ndarray, gap: np.ndarray, r_z: float, r_t: float) -> float:
@@ -439,7 +441,7 @@ class SectionSolver:
         fext = np.zeros(self.solid.ndof)
         fext[2 * self.surface] = mu * (a0 * f + b0)
         fext[2 * self.surface + 1] = -f
-        r_u = self.M.T @ (fint + fold_f - fext)
+        r_u = self.MT @ (fint + fold_f - fext)
         r_t = (v[tip_dof] - tip) if tip is not None else 0.0
         out = self._merit(r_u, f, gap, f.sum() - load, r_t)
         return out if math.isfinite(out) else math.inf
