@@ -186,7 +186,7 @@ def _command_once(python: str) -> dict:
 
 
 #: keys of predict.json that are no result: how long the run took, what the cache held and where
-VOLATILE_KEYS = frozenset({"seconds", "cache", "cached"})
+VOLATILE_KEYS = frozenset({"seconds", "timings", "cache", "cached"})
 
 
 def _numbers(doc: object) -> object:
