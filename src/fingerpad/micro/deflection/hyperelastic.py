@@ -99,7 +99,7 @@ _TRACE4 = np.einsum("ij,kl->ijkl", _I2, _I2)  # d_iJ d_kL
 
 def _outer(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """``a_ij b_kl`` (..., 2, 2, 2, 2): one product per entry, the numbers einsum gave, by
-    broadcasting (einsum's general loop was 12 of a ramp set's 180 s)."""
+    broadcasting (no einsum parsing and general loop per call)."""
     return a[..., :, :, None, None] * b[..., None, None, :, :]
 
 
