@@ -436,6 +436,8 @@ def _adhesive_resolved_cell(study: Study, grid: int, e1: float, progress: Callab
 
 
 def _resolution_report(choice: Any, study: Study, states: dict[str, Any] | None = None) -> dict[str, Any]:
+    from ..micro.resolution import estimate_method
+
     pressures = {k: v.error for k, v in states.items()} if states else choice.state_pressure_errors()
     return {
         "grid": list(choice.cell.texture.shape),
@@ -448,7 +450,7 @@ def _resolution_report(choice: Any, study: Study, states: dict[str, Any] | None 
         "full_contact_pressure_error": pressures["full"],
         "history": [{"grid": g, "area_ratio_error": e} for g, e in choice.history],
         "solves": choice.solves,
-        "method": "relative change from the half grid, |r_N / r_{N/2} - 1| (first-order convergence)",
+        "method": estimate_method(type(choice.cell)),
     }
 
 
