@@ -265,8 +265,10 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
     if res and res.get("area_ratio_error") is not None:
         grid = "x".join(str(g) for g in res["grid"])
         chosen = str(res["chosen"]).split(" (")[0]  # "automatic", "given", "the map's own"
+        err = res["area_ratio_error"]
+        # beyond 100 % the number says only that the grid does not resolve it (as _plus_minus)
         say(console, f"unit cell {grid} px ({chosen}): estimated error of A_re/A_fr "
-                     f"{100 * res['area_ratio_error']:.2g} %")
+                     f"{'>100' if err > 1.0 else f'{100 * err:.2g}'} %")
 
 
 def _plus_minus(error: Any) -> str:

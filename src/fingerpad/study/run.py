@@ -654,7 +654,8 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
         resolution["solves"] += solves_before
         what = "A_re/A_fr (with adhesion)" if finger.adhesive else "A_re/A_fr"
         if study.grid is None and choice.met is False:
-            notes.append(f"the estimated discretisation error of {what}, {100 * choice.error:.2g} %, exceeds "
+            estimate = ">100" if choice.error > 1.0 else f"{100 * choice.error:.2g}"  # beyond: not resolved
+            notes.append(f"the estimated discretisation error of {what}, {estimate} %, exceeds "
                          f"the target {100 * choice.target:g} % at the largest automatic grid")
         elif study.grid is not None and not math.isnan(choice.error) and choice.error > study.accuracy:
             notes.append(f"grid {study.grid}: estimated discretisation error of {what} {100 * choice.error:.2g} % "
