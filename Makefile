@@ -40,7 +40,7 @@ run: $(CORE)
 	env -u PYTHONDONTWRITEBYTECODE $(VENV)/bin/fingerpad run-default --out out/run
 
 test: $(STAMP)
-	$(PY) -m pytest -q -m "not slow"
+	$(PY) -m pytest -q -m "not slow" --durations=25
 
 test-slow: $(STAMP)
 	$(PY) -m pytest -q -m slow
