@@ -1,0 +1,172 @@
+"""A population of adhesive fingers on one texture: one family of adhesive cells, each member
+read from it (docs/population.md, "Adhesion").
+
+Each member's adhesive cell depends on its ``u = w / (E1* Lx)`` (its work of adhesion over its
+reduced modulus on the texture's material and the cell length), so the members cannot share one
+cell read at their moduli as non-adhesive members do. The family
+(:class:`~fingerpad.micro.adhesive_family.AdhesiveFamily`) solves cells at a few global nodes of
+``u`` over the members' range (at most :data:`~fingerpad.micro.adhesive_family.MAX_FAMILY_CELLS`),
+on the grid of the nominal prediction's cell, and every member's curve is
+:func:`~fingerpad.coupling.predict_curve` on its interpolated cell, with its estimated
+interpolation error of ``A_re/A_fr`` beside it. SI units.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..coupling import CurvePrediction, predict_curve
+from ..errors import FingerpadError
+from ..finger import Finger
+from ..micro.adhesive_family import AdhesiveFamily, family_nodes, unit_work
+
+__all__ = ["ADHESION_MIXED", "AdhesiveMembers", "member_family", "predict_adhesive_members"]
+
+#: Why a population of which some members adhere and some do not is refused.
+ADHESION_MIXED = (
+    "a population in which some members have a work of adhesion and others none: the adhesive and the "
+    "non-adhesive model are two models (JKR pad, adhesive cells), not two values of one; draw work_of_adhesion "
+    "above 0 for every member (e.g. low = 0.01J/m2), or leave it out of the population")
+
+#: How many families :func:`member_family` keeps in this process (a sweep's points and the
+#: Sobol indices reuse the one of their members; with the curve cache off it would be solved again).
+FAMILIES_KEPT = 2
+_families: dict[Any, AdhesiveFamily] = {}
+
+
+@dataclass
+class AdhesiveMembers:
+    """The members of an adhesive population on one texture (SI units).
+
+    Attributes
+    ----------
+    curves
+        Each member's :class:`~fingerpad.coupling.CurvePrediction` on its interpolated cell.
+    cells
+        Each member's :class:`~fingerpad.micro.adhesive_family.InterpolatedAdhesiveCell`.
+    interpolation_error
+        ``(members,)``: the estimated relative interpolation error of the member's ``A_re/A_fr``
+        (the largest over its loads).
+    pull_off_force
+        ``(members,)``, N: each member's pull-off force.
+    family
+        The :class:`~fingerpad.micro.adhesive_family.AdhesiveFamily`.
+    """
+
+    curves: list[CurvePrediction]
+    cells: list[Any]
+    interpolation_error: np.ndarray
+    pull_off_force: np.ndarray
+    family: AdhesiveFamily
+
+    def describe(self) -> dict[str, Any]:
+        """The ``adhesion`` entry of a population's JSON."""
+        err = self.interpolation_error
+        return {**self.family.describe(), "family_solves": self.family.solves,
+                "interpolation_error_max": float(np.max(err)) if err.size else math.nan,
+                "interpolation_error_median": float(np.median(err)) if err.size else math.nan}
+
+
+def member_family(study: Any, cell: Any, fingers: Sequence[Finger], moduli: Sequence[float],
+                  progress: Callable[[int, int], None] | None = None) -> AdhesiveFamily:
+    """The prepared family of adhesive cells for ``fingers`` (reduced moduli ``moduli``, Pa) on the
+    texture of the study's prepared ``cell`` (its grid), with the study's solver settings and the
+    study finger's adhesion range and law.
+
+    Raises
+    ------
+    FingerpadError
+        A finger without adhesion among them (:data:`ADHESION_MIXED`).
+    """
+    from ..micro.bem import periodic_cell
+
+    if any(not f.adhesive for f in fingers):
+        raise FingerpadError(ADHESION_MIXED)
+    _, _, length = periodic_cell(cell.texture, 1.0)
+    us = [unit_work(f.work_of_adhesion, e, length) for f, e in zip(fingers, moduli, strict=True)]
+    nodes = family_nodes(min(us), max(us))
+    finger = study.finger
+    options = {"law": finger.adhesion_law, "adhesion_range": finger.adhesion_range, "tol": study.tol,
+               "max_iter": study.max_iter, "cache": study.curve_cache()}
+    family = AdhesiveFamily(cell.texture, nodes, **options)
+    key = (tuple(c.key for c in family.cells), finger.adhesion_law, finger.adhesion_range)
+    kept = _families.get(key)
+    if kept is not None:
+        kept.solves = 0  # nothing solved for this call
+        if progress is not None:
+            progress(len(nodes), len(nodes))
+        return kept
+    family.prepare(progress)
+    while len(_families) >= FAMILIES_KEPT:
+        del _families[next(iter(_families))]
+    _families[key] = family
+    return family
+
+
+def predict_adhesive_members(study: Any, cell: Any, fingers: Sequence[Finger], moduli: Sequence[float],
+                             progress: Callable[[int, int], None] | None = None,
+                             estimate: bool = True) -> AdhesiveMembers:
+    """Every adhesive finger on the texture of the study's prepared ``cell``: the family
+    (:func:`member_family`), each member's interpolated cell and its
+    :func:`~fingerpad.coupling.predict_curve` (the adhesive pad, Eqs. 3.15-3.18), and the
+    estimated interpolation error of its ``A_re/A_fr`` (``estimate=False``: NaN, skipped)."""
+    family = member_family(study, cell, fingers, moduli, progress)
+    loads = np.asarray(study.loads, dtype=float)
+    cells, curves, errors, pull_off = [], [], [], []
+    for f, e in zip(fingers, moduli, strict=True):
+        member = family.cell_at(f.work_of_adhesion, e)
+        curve = predict_curve(loads, f, member)
+        cells.append(member)
+        curves.append(curve)
+        pull_off.append(float(curve.adhesion["pull_off_force"]) if curve.adhesion else 0.0)
+        if not estimate:
+            errors.append(math.nan)
+            continue
+        errors.append(_interpolation_error(family, f, e, np.asarray(curve.area_ratio, float), loads))
+    return AdhesiveMembers(curves, cells, np.asarray(errors, float), np.asarray(pull_off, float), family)
+
+
+def _relative(a: np.ndarray, b: np.ndarray) -> float:
+    """The largest ``|a / b - 1|`` (0 where both are 0, inf where only ``b`` is)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(b > 0, np.abs(a / np.where(b > 0, b, 1.0) - 1.0), np.where(a > 0, math.inf, 0.0))
+    return float(np.max(rel)) if rel.size else 0.0
+
+
+def _interpolation_error(family: AdhesiveFamily, finger: Finger, modulus: float, ratio: np.ndarray,
+                         loads: np.ndarray) -> float:
+    """The estimated relative error of a member's interpolated ``A_re/A_fr`` (``ratio`` at
+    ``loads``): the largest of (a) its change to the quadratic interpolants through a third node
+    below or above (the leading term of the linear interpolation's error) and (b) at each of the
+    member's two nodes that has neighbours on both sides, the change of that node's own
+    ``A_re/A_fr`` (the member's finger with the node's ``w / (E* Lx)``) when the node is left out
+    and read from its neighbours instead (twice the spacing: an upper estimate of the smooth
+    part, and the nodes' own scatter, which (a) does not see)."""
+    from ..micro.adhesive_family import InterpolatedAdhesiveCell
+    from ..micro.adhesive_pad import adhesive_pad
+
+    def area_ratio(f: Finger, cell: Any) -> np.ndarray:
+        pad = adhesive_pad(f, cell)
+        return pad.area_ratio(loads, pad.areas(loads)[1])
+
+    worst = 0.0
+    u = unit_work(finger.work_of_adhesion, modulus, family.length)
+    for order in ("below", "above"):
+        weights = family.weights(u, order)
+        if weights:
+            alt = InterpolatedAdhesiveCell(family, u, modulus, finger.work_of_adhesion, weights)
+            worst = max(worst, _relative(area_ratio(finger, alt), ratio))
+    for i in family.weights(u):
+        if 0 < i < len(family.nodes) - 1:
+            w_node = family.nodes[i] * modulus * family.length
+            at_node = finger.with_overrides(work_of_adhesion=w_node)
+            exact = InterpolatedAdhesiveCell(family, family.nodes[i], modulus, w_node, {i: 1.0})
+            # the node from its neighbours, linearly in ln u (equally spaced: half each)
+            left_out = InterpolatedAdhesiveCell(family, family.nodes[i], modulus, w_node, {i - 1: 0.5, i + 1: 0.5})
+            worst = max(worst, _relative(area_ratio(at_node, left_out), area_ratio(at_node, exact)))
+    return worst
