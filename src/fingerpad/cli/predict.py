@@ -358,7 +358,8 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
             for note in population.notes:  # what the numbers will not show, and what the work costs: first
                 say(err, f"note: {note}")
             with ProgressBar(err, "unit cell ψ(p)") as bar:
-                show = bar.stage("members' own unit cells")
+                adhesive = population.study.finger.adhesive or "work_of_adhesion" in population.population.distributions
+                show = bar.stage("the members' family of adhesive cells" if adhesive else "members' own unit cells")
                 result = run_population(population, progress=bar,
                                         member_progress=lambda i, n: show(f"{i}/{n} solved or read"))
             pred = result.nominal

@@ -58,17 +58,20 @@ def unit_work(work_of_adhesion: float, modulus: float, length: float) -> float:
     return float(work_of_adhesion) / (float(modulus) * float(length))
 
 
-def family_nodes(u_min: float, u_max: float, per_decade: int = NODES_PER_DECADE,
-                 cap: int = MAX_FAMILY_CELLS) -> tuple[float, ...]:
+def family_nodes(u_min: float, u_max: float, per_decade: int | None = None,
+                 cap: int | None = None) -> tuple[float, ...]:
     """The nodes ``10^(k/m)`` of ``u`` from the last at or below ``u_min`` to the first at or
-    above ``u_max``: ``m = per_decade``, lowered (to 1) until they are at most ``cap``, and
-    extended upward to :data:`MIN_FAMILY_CELLS`.
+    above ``u_max``: ``m = per_decade`` (default :data:`NODES_PER_DECADE`), lowered (to 1) until
+    they are at most ``cap`` (default :data:`MAX_FAMILY_CELLS`), and extended upward to
+    :data:`MIN_FAMILY_CELLS`.
 
     Raises
     ------
     FingerpadError
         Non-positive ``u``, or a range needing more than ``cap`` nodes even at one per decade.
     """
+    per_decade = NODES_PER_DECADE if per_decade is None else per_decade
+    cap = MAX_FAMILY_CELLS if cap is None else cap
     if not (0 < u_min <= u_max < math.inf):
         raise FingerpadError(f"adhesive family: w / (E* Lx) must be positive and finite, got {u_min!r}..{u_max!r}")
     if not 1 <= per_decade or cap < MIN_FAMILY_CELLS:
