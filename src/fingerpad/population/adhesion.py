@@ -56,6 +56,9 @@ class AdhesiveMembers:
         ``(members,)``, N: each member's pull-off force.
     family
         The :class:`~fingerpad.micro.adhesive_family.AdhesiveFamily`.
+    pull_off_error
+        ``(members,)``: the estimated relative interpolation error of the member's pull-off force
+        (that of its cell's work of separation, Eq. 3.18).
     """
 
     curves: list[CurvePrediction]
@@ -63,13 +66,15 @@ class AdhesiveMembers:
     interpolation_error: np.ndarray
     pull_off_force: np.ndarray
     family: AdhesiveFamily
+    pull_off_error: np.ndarray
 
     def describe(self) -> dict[str, Any]:
         """The ``adhesion`` entry of a population's JSON."""
         err = self.interpolation_error
         return {**self.family.describe(), "family_solves": self.family.solves,
                 "interpolation_error_max": float(np.max(err)) if err.size else math.nan,
-                "interpolation_error_median": float(np.median(err)) if err.size else math.nan}
+                "interpolation_error_median": float(np.median(err)) if err.size else math.nan,
+                "pull_off_force_error_max": float(np.max(self.pull_off_error)) if err.size else math.nan}
 
 
 def member_family(study: Any, cell: Any, fingers: Sequence[Finger], moduli: Sequence[float],
@@ -125,10 +130,11 @@ def predict_adhesive_members(study: Any, cell: Any, fingers: Sequence[Finger], m
         curves.append(curve)
         pull_off.append(float(curve.adhesion["pull_off_force"]) if curve.adhesion else 0.0)
         if not estimate:
-            errors.append(math.nan)
+            errors.append((math.nan, math.nan))
             continue
         errors.append(_interpolation_error(family, f, e, np.asarray(curve.area_ratio, float), loads))
-    return AdhesiveMembers(curves, cells, np.asarray(errors, float), np.asarray(pull_off, float), family)
+    err = np.asarray(errors, float).reshape(-1, 2)
+    return AdhesiveMembers(curves, cells, err[:, 0], np.asarray(pull_off, float), family, err[:, 1])
 
 
 def _relative(a: np.ndarray, b: np.ndarray) -> float:
@@ -144,14 +150,15 @@ def _regime(family: AdhesiveFamily, i: int) -> bool:
 
 
 def _interpolation_error(family: AdhesiveFamily, finger: Finger, modulus: float, ratio: np.ndarray,
-                         loads: np.ndarray) -> float:
+                         loads: np.ndarray) -> tuple[float, float]:
     """The estimated relative error of a member's interpolated ``A_re/A_fr`` (``ratio`` at
     ``loads``): the largest of (a) its change to the quadratic interpolants through a third node
     below or above (the leading term of the linear interpolation's error) and (b) at each of the
     member's two nodes that has neighbours on both sides, the change of that node's own
     ``A_re/A_fr`` (the member's finger with the node's ``w / (E* Lx)``) when the node is left out
     and read from its neighbours instead (twice the spacing: an upper estimate of the smooth
-    part, and the nodes' own scatter, which (a) does not see)."""
+    part, and the nodes' own scatter, which (a) does not see). Returns it and the same estimate of
+    the work of separation (the pull-off force's relative error: Eq. 3.18 is linear in it)."""
     from ..micro.adhesive_family import InterpolatedAdhesiveCell
     from ..micro.adhesive_pad import adhesive_pad
 
@@ -162,13 +169,15 @@ def _interpolation_error(family: AdhesiveFamily, finger: Finger, modulus: float,
     u = unit_work(finger.work_of_adhesion, modulus, family.length)
     pair = list(family.weights(u))
     regime = {_regime(family, i) for i in pair}
-    found: list[tuple[bool, float]] = []  # (the stencil's nodes share the member's regime, the change)
+    # (the stencil's nodes share the member's regime, the change of A_re/A_fr, of the work of separation)
+    found: list[tuple[bool, float, float]] = []
+    work = family.cell_at(finger.work_of_adhesion, modulus).work_of_separation
     for order in ("below", "above"):
         weights = family.weights(u, order)
         if weights:
             alt = InterpolatedAdhesiveCell(family, u, modulus, finger.work_of_adhesion, weights)
             found.append(({_regime(family, i) for i in weights} == regime,
-                          _relative(area_ratio(finger, alt), ratio)))
+                          _relative(area_ratio(finger, alt), ratio), abs(alt.work_of_separation / work - 1)))
     for i in pair:
         if 0 < i < len(family.nodes) - 1:
             w_node = family.nodes[i] * modulus * family.length
@@ -179,10 +188,11 @@ def _interpolation_error(family: AdhesiveFamily, finger: Finger, modulus: float,
             # a coarse grid, 0.5-1 % of A_re/A_fr at grid 32, does not shrink with the spacing)
             left_out = InterpolatedAdhesiveCell(family, family.nodes[i], modulus, w_node, {i - 1: 0.5, i + 1: 0.5})
             found.append(({_regime(family, i - 1), _regime(family, i + 1)} == regime,
-                          _relative(area_ratio(at_node, left_out), area_ratio(at_node, exact))))
+                          _relative(area_ratio(at_node, left_out), area_ratio(at_node, exact)),
+                          abs(left_out.work_of_separation / exact.work_of_separation - 1)))
     # a stencil across a change of regime (adhesion alone holding full contact at zero load: psi = 1
     # at every p >= 0) tells nothing of a member's interval inside one regime; where the member's
     # two nodes straddle it, or no stencil stays inside, every stencil counts
-    inside = [e for ok, e in found if ok] if len(regime) == 1 else []
-    worst = max(inside or [e for _, e in found])
-    return worst
+    inside = [(a, b) for ok, a, b in found if ok] if len(regime) == 1 else []
+    counted = inside or [(a, b) for _, a, b in found]
+    return max(a for a, _ in counted), max(b for _, b in counted)

@@ -175,6 +175,9 @@ class PopulationResult:
         data["member_full_contact_load"] = xr.Variable(("member",), self.full_contact_load, {"units": "N"})
         if self.adhesion is not None:
             data["member_pull_off_force"] = xr.Variable(("member",), self.adhesion.pull_off_force, {"units": "N"})
+            data["member_pull_off_force_error"] = xr.Variable(
+                ("member",), self.adhesion.pull_off_error,
+                {"units": "1", "long_name": "estimated relative interpolation error of the pull-off force"})
             data["member_interpolation_error"] = xr.Variable(
                 ("member",), self.adhesion.interpolation_error,
                 {"units": "1", "long_name": "estimated relative interpolation error of A_re/A_fr (adhesive family)"})
@@ -189,6 +192,7 @@ class PopulationResult:
         if self.adhesion is None:
             return {}
         return {"pull_off_force": float(self.adhesion.pull_off_force[i]),
+                "pull_off_force_error": float(self.adhesion.pull_off_error[i]),
                 "interpolation_error": float(self.adhesion.interpolation_error[i])}
 
     def _adhesion_dict(self) -> dict[str, Any]:
