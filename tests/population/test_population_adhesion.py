@@ -84,12 +84,13 @@ def _own_cell_curve(study, finger, nominal_cell):
 def test_family_nodes_are_a_global_grid_capped():
     nodes = family_nodes(2.2e-4, 3.1e-4)
     assert len(nodes) == 3 and nodes[0] <= 2.2e-4 and nodes[-1] >= 3.1e-4  # at least three (the estimate's)
-    assert all(math.isclose(math.log10(u) * 4, round(math.log10(u) * 4), abs_tol=1e-9) for u in nodes)
+    m = adhesive_family.NODES_PER_DECADE
+    assert all(math.isclose(math.log10(u) * m, round(math.log10(u) * m), abs_tol=1e-9) for u in nodes)
     assert family_nodes(2.5e-4, 2.6e-4) == family_nodes(2.2e-4, 3.1e-4)  # the same nodes: the cache's cells
     wide = family_nodes(1e-6, 1e-3)  # three decades: fewer nodes per decade, within the cap
     assert len(wide) <= adhesive_family.MAX_FAMILY_CELLS and wide[0] <= 1e-6 and wide[-1] >= 1e-3
-    with pytest.raises(FingerpadError, match="at most 8 cells"):
-        family_nodes(1e-12, 1e-1)
+    with pytest.raises(FingerpadError, match=f"at most {adhesive_family.MAX_FAMILY_CELLS} cells"):
+        family_nodes(1e-30, 1e-1)
     with pytest.raises(FingerpadError, match="positive"):
         family_nodes(0.0, 1e-3)
 
@@ -111,8 +112,8 @@ def test_interpolated_members_lie_within_their_estimated_error_of_their_own_cell
     assert len(result.adhesion.family.nodes) == 3  # E_s 0.25-0.45 MPa at one w: a quarter decade of u
     for i in (0, 2):
         direct = _own_cell_curve(study, plan.fingers[i], result.nominal.cell)
-        got = np.asarray(result.curves[i].area_ratio)
-        off = np.max(np.abs(got / np.asarray(direct.area_ratio) - 1))
+        got = np.asarray(result.curves[i].real_area)
+        off = np.max(np.abs(got / np.asarray(direct.real_area) - 1))
         assert off <= err[i], (i, off, err[i])
         pull_off = result.curves[i].adhesion["pull_off_force"] / direct.adhesion["pull_off_force"] - 1
         assert abs(pull_off) <= result.adhesion.pull_off_error[i], (i, pull_off, result.adhesion.pull_off_error[i])
@@ -129,12 +130,12 @@ def test_a_too_coarse_family_says_so_and_its_estimate_still_covers(result, cache
     coarse = run_population(study, TABLE)
     assert len(coarse.adhesion.family.nodes) == 3
     assert np.all(coarse.adhesion.interpolation_error > result.adhesion.interpolation_error)
-    assert any("estimated interpolation error of A_re/A_fr reaches" in n for n in coarse.notes)
+    assert any("estimated interpolation error of A_re reaches" in n for n in coarse.notes)
     plan = attach(study, TABLE)
     i = int(np.argmax(np.abs(np.log(coarse.adhesion.family.nodes[1]) -
                              np.log([c.unit_work for c in coarse.adhesion.cells]))))  # the farthest from a node
     direct = _own_cell_curve(study, plan.fingers[i], coarse.nominal.cell)
-    off = np.max(np.abs(np.asarray(coarse.curves[i].area_ratio) / np.asarray(direct.area_ratio) - 1))
+    off = np.max(np.abs(np.asarray(coarse.curves[i].real_area) / np.asarray(direct.real_area) - 1))
     assert off <= coarse.adhesion.interpolation_error[i], (off, coarse.adhesion.interpolation_error[i])
     pull_off = coarse.curves[i].adhesion["pull_off_force"] / direct.adhesion["pull_off_force"] - 1
     assert abs(pull_off) <= coarse.adhesion.pull_off_error[i], (pull_off, coarse.adhesion.pull_off_error[i])

@@ -323,7 +323,7 @@ def _print_population(payload: Mapping[str, Any]) -> None:
         force = " ".join(format(1e3 * adhesion["pull_off_force"][k], ".3g") for k in levels)
         say(console, f"pull-off force (mN), {'/'.join(format(100 * float(k), 'g') for k in levels)} %: {force}")
         say(console, f"adhesion: {adhesion['cells']} adhesive cells ({adhesion['family_solves']} solves), each member "
-                     f"interpolated; estimated error of A_re/A_fr median {100 * adhesion['interpolation_error_median']:.2g} "
+                     f"interpolated; estimated error of A_re (and μ) median {100 * adhesion['interpolation_error_median']:.2g} "
                      f"%, max {100 * adhesion['interpolation_error_max']:.2g} %; of the pull-off force max "
                      f"{100 * adhesion['pull_off_force_error_max']:.2g} %")
     say(console, "(each member and its curves: population.members, member_results in the JSON)")

@@ -8,7 +8,7 @@ cell read at their moduli as non-adhesive members do. The family
 ``u`` over the members' range (at most :data:`~fingerpad.micro.adhesive_family.MAX_FAMILY_CELLS`),
 on the grid of the nominal prediction's cell, and every member's curve is
 :func:`~fingerpad.coupling.predict_curve` on its interpolated cell, with its estimated
-interpolation error of ``A_re/A_fr`` beside it. SI units.
+interpolation error of the real area ``A_re`` (and so of ``mu``) beside it. SI units.
 """
 
 from __future__ import annotations
@@ -50,7 +50,7 @@ class AdhesiveMembers:
     cells
         Each member's :class:`~fingerpad.micro.adhesive_family.InterpolatedAdhesiveCell`.
     interpolation_error
-        ``(members,)``: the estimated relative interpolation error of the member's ``A_re/A_fr``
+        ``(members,)``: the estimated relative interpolation error of the member's ``A_re``
         (the largest over its loads).
     pull_off_force
         ``(members,)``, N: each member's pull-off force.
@@ -119,7 +119,7 @@ def predict_adhesive_members(study: Any, cell: Any, fingers: Sequence[Finger], m
     """Every adhesive finger on the texture of the study's prepared ``cell``: the family
     (:func:`member_family`), each member's interpolated cell and its
     :func:`~fingerpad.coupling.predict_curve` (the adhesive pad, Eqs. 3.15-3.18), and the
-    estimated interpolation error of its ``A_re/A_fr`` (``estimate=False``: NaN, skipped)."""
+    estimated interpolation error of its ``A_re`` (``estimate=False``: NaN, skipped)."""
     family = member_family(study, cell, fingers, moduli, progress)
     loads = np.asarray(study.loads, dtype=float)
     cells, curves, errors, pull_off = [], [], [], []
@@ -132,7 +132,7 @@ def predict_adhesive_members(study: Any, cell: Any, fingers: Sequence[Finger], m
         if not estimate:
             errors.append((math.nan, math.nan))
             continue
-        errors.append(_interpolation_error(family, f, e, np.asarray(curve.area_ratio, float), loads))
+        errors.append(_interpolation_error(family, f, e, np.asarray(curve.real_area, float), loads))
     err = np.asarray(errors, float).reshape(-1, 2)
     return AdhesiveMembers(curves, cells, err[:, 0], np.asarray(pull_off, float), family, err[:, 1])
 
@@ -151,25 +151,25 @@ def _regime(family: AdhesiveFamily, i: int) -> bool:
 
 def _interpolation_error(family: AdhesiveFamily, finger: Finger, modulus: float, ratio: np.ndarray,
                          loads: np.ndarray) -> tuple[float, float]:
-    """The estimated relative error of a member's interpolated ``A_re/A_fr`` (``ratio`` at
+    """The estimated relative error of a member's interpolated real area ``A_re`` (``ratio`` at
     ``loads``): the largest of (a) its change to the quadratic interpolants through a third node
     below or above (the leading term of the linear interpolation's error) and (b) at each of the
     member's two nodes that has neighbours on both sides, the change of that node's own
-    ``A_re/A_fr`` (the member's finger with the node's ``w / (E* Lx)``) when the node is left out
+    ``A_re`` (the member's finger with the node's ``w / (E* Lx)``) when the node is left out
     and read from its neighbours instead (twice the spacing: an upper estimate of the smooth
     part, and the nodes' own scatter, which (a) does not see). Returns it and the same estimate of
     the work of separation (the pull-off force's relative error: Eq. 3.18 is linear in it)."""
     from ..micro.adhesive_family import InterpolatedAdhesiveCell
     from ..micro.adhesive_pad import adhesive_pad
 
-    def area_ratio(f: Finger, cell: Any) -> np.ndarray:
-        pad = adhesive_pad(f, cell)
-        return pad.area_ratio(loads, pad.areas(loads)[1])
+    def real_area(f: Finger, cell: Any) -> np.ndarray:
+        # A_re, not A_re/A_fr: the pad's ridge area moves with the work of separation (Eq. 3.18)
+        return adhesive_pad(f, cell).real_area(loads)
 
     u = unit_work(finger.work_of_adhesion, modulus, family.length)
     pair = list(family.weights(u))
     regime = {_regime(family, i) for i in pair}
-    # (the stencil's nodes share the member's regime, the change of A_re/A_fr, of the work of separation)
+    # (the stencil's nodes share the member's regime, the change of A_re, of the work of separation)
     found: list[tuple[bool, float, float]] = []
     work = family.cell_at(finger.work_of_adhesion, modulus).work_of_separation
     for order in ("below", "above"):
@@ -177,7 +177,7 @@ def _interpolation_error(family: AdhesiveFamily, finger: Finger, modulus: float,
         if weights:
             alt = InterpolatedAdhesiveCell(family, u, modulus, finger.work_of_adhesion, weights)
             found.append(({_regime(family, i) for i in weights} == regime,
-                          _relative(area_ratio(finger, alt), ratio), abs(alt.work_of_separation / work - 1)))
+                          _relative(real_area(finger, alt), ratio), abs(alt.work_of_separation / work - 1)))
     for i in pair:
         if 0 < i < len(family.nodes) - 1:
             w_node = family.nodes[i] * modulus * family.length
@@ -185,11 +185,18 @@ def _interpolation_error(family: AdhesiveFamily, finger: Finger, modulus: float,
             exact = InterpolatedAdhesiveCell(family, family.nodes[i], modulus, w_node, {i: 1.0})
             # the node from its neighbours, linearly in ln u (equally spaced: half each), across twice
             # the spacing: not scaled down to the member's spacing (measured: the nodes' own scatter at
-            # a coarse grid, 0.5-1 % of A_re/A_fr at grid 32, does not shrink with the spacing)
+            # a coarse grid, 0.5-1 % of A_re at grid 32, does not shrink with the spacing)
             left_out = InterpolatedAdhesiveCell(family, family.nodes[i], modulus, w_node, {i - 1: 0.5, i + 1: 0.5})
             found.append(({_regime(family, i - 1), _regime(family, i + 1)} == regime,
-                          _relative(area_ratio(at_node, left_out), area_ratio(at_node, exact)),
+                          _relative(real_area(at_node, left_out), real_area(at_node, exact)),
                           abs(left_out.work_of_separation / exact.work_of_separation - 1)))
+    if len(regime) > 1:
+        # the member's nodes straddle a change of regime, a jump in u: its value is either side's,
+        # so the change to each node alone (read at the member's u) counts too
+        for i in pair:
+            alone = InterpolatedAdhesiveCell(family, u, modulus, finger.work_of_adhesion, {i: 1.0})
+            found.append((True, _relative(real_area(finger, alone), ratio),
+                          abs(alone.work_of_separation / work - 1)))
     # a stencil across a change of regime (adhesion alone holding full contact at zero load: psi = 1
     # at every p >= 0) tells nothing of a member's interval inside one regime; where the member's
     # two nodes straddle it, or no stencil stays inside, every stencil counts

@@ -86,7 +86,7 @@ ADHESION_RANGE_DRAWN = (
 #: The note of a population with adhesion (rule 7), said before its family is solved.
 ADHESION_NOTE = ("population: adhesion: each member's adhesive cell is interpolated from one family of at most {cells} "
                  "adhesive cells in w / (E* Lx) on the nominal cell's grid (each cell ~15 s at grid 128, ~1.5 min at "
-                 "256 on one core, or read from the cache); each member's A_re/A_fr carries its estimated "
+                 "256 on one core, or read from the cache); each member's A_re carries its estimated "
                  "interpolation error (population.adhesion in the JSON)")
 #: The layer values that declare a layered skin on a half-space preset (rule 2's exception).
 DECLARING_LAYER = ("skin_layer_thickness", "skin_layer_modulus", "skin_substrate_modulus")

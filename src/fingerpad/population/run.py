@@ -180,7 +180,7 @@ class PopulationResult:
                 {"units": "1", "long_name": "estimated relative interpolation error of the pull-off force"})
             data["member_interpolation_error"] = xr.Variable(
                 ("member",), self.adhesion.interpolation_error,
-                {"units": "1", "long_name": "estimated relative interpolation error of A_re/A_fr (adhesive family)"})
+                {"units": "1", "long_name": "estimated relative interpolation error of A_re and mu (adhesive family)"})
         out = ds.assign(data).assign_coords(member=np.arange(len(self.members)),
                                             quantile=np.asarray(self.quantile_levels))
         out.attrs.update({"population_name": self.population.name, "population_size": self.population.size,
@@ -274,7 +274,7 @@ def run_population(study: Study | PopulationStudy, population: Population | Mapp
     if adhesion is not None:
         worst = float(np.max(adhesion.interpolation_error))
         if worst > plan.study.accuracy:
-            notes.append(f"population: adhesion: the estimated interpolation error of A_re/A_fr reaches "
+            notes.append(f"population: adhesion: the estimated interpolation error of A_re reaches "
                          f"{100 * worst:.2g} % (median {100 * float(np.median(adhesion.interpolation_error)):.2g} %) "
                          f"over the family's {len(adhesion.family.nodes)} cells, above the accuracy "
                          f"{100 * plan.study.accuracy:g} %")
