@@ -224,10 +224,17 @@ class InterpolatedAdhesiveCell:
         self._unit_work_sep = _interp_log([c.work_of_separation for c, _ in self._cells], list(weights.values()))
         self._unit_states = {name: _interp_log([c.own_state_pressure(name) for c, _ in self._cells],
                                                list(weights.values())) for name in ("transition", "full")}
+        self._marks: tuple[list[float], list[list[float]]] | None = None
 
     def _landmarks(self) -> tuple[list[float], list[list[float]]]:
         """The pressures (units of E*) that the member and each node share: the pull-off, 0, the
-        transition and full-contact pressures where every one of them has it positive and finite."""
+        transition and full-contact pressures where every one of them has it positive and finite
+        (computed once: the cell is immutable)."""
+        if self._marks is None:
+            self._marks = self._find_landmarks()
+        return self._marks
+
+    def _find_landmarks(self) -> tuple[list[float], list[list[float]]]:
         mine = [self._unit_pull_off, 0.0]
         theirs = [[c.pull_off_pressure, 0.0] for c, _ in self._cells]
         for name in ("transition", "full"):
