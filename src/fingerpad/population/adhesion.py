@@ -138,7 +138,8 @@ def predict_adhesive_members(study: Any, cell: Any, fingers: Sequence[Finger], m
 
 
 def _relative(a: np.ndarray, b: np.ndarray) -> float:
-    """The largest ``|a / b - 1|`` (0 where both are 0, inf where only ``b`` is)."""
+    """The largest ``|a / b - 1|``: how far ``a`` lies from ``b`` taken as the truth (0 where both
+    are 0, inf where only ``b`` is)."""
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.where(b > 0, np.abs(a / np.where(b > 0, b, 1.0) - 1.0), np.where(a > 0, math.inf, 0.0))
     return float(np.max(rel)) if rel.size else 0.0
@@ -177,7 +178,7 @@ def _interpolation_error(family: AdhesiveFamily, finger: Finger, modulus: float,
         if weights:
             alt = InterpolatedAdhesiveCell(family, u, modulus, finger.work_of_adhesion, weights)
             found.append(({_regime(family, i) for i in weights} == regime,
-                          _relative(real_area(finger, alt), ratio), abs(alt.work_of_separation / work - 1)))
+                          _relative(ratio, real_area(finger, alt)), abs(work / alt.work_of_separation - 1)))
     for i in pair:
         if 0 < i < len(family.nodes) - 1:
             w_node = family.nodes[i] * modulus * family.length
@@ -195,8 +196,8 @@ def _interpolation_error(family: AdhesiveFamily, finger: Finger, modulus: float,
         # so the change to each node alone (read at the member's u) counts too
         for i in pair:
             alone = InterpolatedAdhesiveCell(family, u, modulus, finger.work_of_adhesion, {i: 1.0})
-            found.append((True, _relative(real_area(finger, alone), ratio),
-                          abs(alone.work_of_separation / work - 1)))
+            found.append((True, _relative(ratio, real_area(finger, alone)),
+                          abs(work / alone.work_of_separation - 1)))
     # a stencil across a change of regime (adhesion alone holding full contact at zero load: psi = 1
     # at every p >= 0) tells nothing of a member's interval inside one regime; where the member's
     # two nodes straddle it, or no stencil stays inside, every stencil counts
