@@ -61,6 +61,7 @@ bench: $(STAMP) bytecode
 	$(PY) benchmarks/bench_population_sweep.py
 	$(PY) benchmarks/bench_analyse.py
 	$(PY) benchmarks/bench_adhesion.py
+	$(PY) benchmarks/bench_population_adhesion.py
 	$(PY) benchmarks/bench_deflection.py
 	test ! -f benchmarks/bench_explorer.py || $(PY) benchmarks/bench_explorer.py
 	$(PY) benchmarks/report.py
