@@ -40,7 +40,7 @@ run: $(CORE)
 	env -u PYTHONDONTWRITEBYTECODE $(VENV)/bin/fingerpad run-default --out out/run
 
 test: $(STAMP)
-	$(PY) -m pytest -q -m "not slow"
+	$(PY) -m pytest -q -m "not slow" --durations=25
 
 test-slow: $(STAMP)
 	$(PY) -m pytest -q -m slow
@@ -61,6 +61,7 @@ bench: $(STAMP) bytecode
 	$(PY) benchmarks/bench_population_sweep.py
 	$(PY) benchmarks/bench_analyse.py
 	$(PY) benchmarks/bench_adhesion.py
+	$(PY) benchmarks/bench_population_adhesion.py
 	$(PY) benchmarks/bench_deflection.py
 	test ! -f benchmarks/bench_explorer.py || $(PY) benchmarks/bench_explorer.py
 	$(PY) benchmarks/report.py

@@ -134,8 +134,9 @@ def test_predict_table_and_errors(tmp_path, monkeypatch) -> None:
     assert "--adhesion-law: must be one of" in one_error(invoke(*base, "--adhesion-law", "glue"))
     assert "directional friction (--direction) with a work of adhesion" in one_error(
         invoke(*base, "--work-of-adhesion", "0.05J/m2", "--direction", "0"))
-    assert "a population of fingers with a work of adhesion" in one_error(
-        invoke(*base, "--work-of-adhesion", "0.05J/m2", "--population", "adults"))
+    # a population with adhesion is read from one family in w / (E* Lx): a layered skin is refused
+    assert "a population of adhesive fingers with a layered skin" in one_error(
+        invoke(*base, "--finger", "layered", "--work-of-adhesion", "0.05J/m2", "--population", "adults"))
 
 
 def test_sweep_checks_the_adhesion_flags(tmp_path) -> None:

@@ -298,6 +298,7 @@ def test_a_map_of_a_population_the_store_lacks_is_refused(tmp_path):
     assert not (tmp_path / "map").exists()
 
 
+@pytest.mark.slow  # ~10 s of the 2-core CI's suite: run by make test-slow
 def test_the_repair_of_a_damaged_population_store_names_its_population(tmp_path):
     """Issue 30, defect 9: the repair command suggested for a damaged population store left out
     --population (and named absolute paths); typed as given, the sweep suggested --overwrite,

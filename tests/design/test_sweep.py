@@ -190,20 +190,27 @@ def test_resume_after_kill(tmp_path):
 def test_ctrl_c_is_one_line_without_worker_tracebacks(tmp_path):
     """Issue 30, item 7: Ctrl-C (SIGINT to the whole process group, as a terminal sends it)
     printed ~40 lines of worker KeyboardInterrupt tracebacks before `interrupted`."""
-    study = write_study(tmp_path, spacing="120um:360um:6", grid=48)
+    # 60 points: more than a loaded machine's first progress line leaves time for, so the
+    # signal always finds the sweep running (18 points were done before it under load 10)
+    study = write_study(tmp_path, spacing="120um:360um:20", grid=48)
     store = tmp_path / "r.zarr"
     env = {**os.environ, "FINGERPAD_CACHE": str(tmp_path / "cache")}
     proc = subprocess.Popen([*fingerpad_cmd(), "sweep", str(study), "--out", str(store), "--workers", "2"],
                             env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
-    deadline = time.monotonic() + 180
+    found: list[str] = []
+    reader = _lines_of(proc.stderr, found)
+    deadline = time.monotonic() + 240
+    # the cluster is up and the tasks run once the store exists and the progress is reported
     while time.monotonic() < deadline and proc.poll() is None:
-        time.sleep(0.1)
-        if store.exists():  # the cluster is up and the tasks run
-            time.sleep(1.0)
+        if store.exists() and any(line.startswith("points:") for line in found):
             break
+        time.sleep(0.1)
+    assert proc.poll() is None, "".join(found)
     os.killpg(proc.pid, signal.SIGINT)
-    _, err = proc.communicate(timeout=120)
+    proc.wait(timeout=120)
+    reader.join(timeout=30)
+    err = "".join(found)
     assert proc.returncode == 130, err
     assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
     lines = [ln for ln in err.splitlines() if ln.strip()]

@@ -75,6 +75,7 @@ def hertz(page):
     set_field(page, "material.poisson", "0.4")
 
 
+@pytest.mark.slow  # ~10 s of the 2-core CI's suite: run by make test-slow
 def test_arrow_keys_step_with_the_unit_and_stop_at_the_limits(hertz, tmp_path):
     from playwright.sync_api import expect
 
@@ -124,6 +125,7 @@ def test_arrow_keys_step_with_the_unit_and_stop_at_the_limits(hertz, tmp_path):
     expect(radius).to_have_value("9.1mm")
 
 
+@pytest.mark.slow  # ~10 s of the 2-core CI's suite: run by make test-slow
 def test_slider_sets_the_field_and_stays_in_its_range(hertz, tmp_path):
     from playwright.sync_api import expect
 
@@ -213,6 +215,7 @@ def test_a_change_cancels_the_bem_run_of_the_design_before(page):
     set_field(page, "texture.spacing", "175um")
 
 
+@pytest.mark.slow  # ~10 s of the 2-core CI's suite: run by make test-slow
 def test_the_upload_script_comes_with_the_first_upload(browser_context, explorer):
     """FilePond (the drop zone's library) runs an animation loop from the moment its script is in
     the page: a fresh page has none of it until *measured map (upload)* is chosen, then the drop

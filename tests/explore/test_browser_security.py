@@ -102,6 +102,7 @@ def test_forged_map_paths_are_never_read(measured, explorer, tmp_path):
     assert rows and not any(f"{SECRET:.6f}"[:8] in cell for row in rows for cell in row)
 
 
+@pytest.mark.slow  # ~10 s of the 2-core CI's suite: run by make test-slow
 def test_an_upload_is_read_named_as_the_user_named_it(measured, explorer, tmp_path):
     from playwright.sync_api import expect
 

@@ -197,12 +197,12 @@ def test_the_servers_own_populations_are_chosen_by_label_only(tmp_path, populati
     adults.write_text(table.read_text().replace("[population]\n", '[population]\nname = "adults"\n'))
     extra = server_populations([str(table), str(adults), "adults"])
     assert list(extra) == ["panel.toml", "adults (2)"]
-    assert population_choices(extra) == ["none", "adults", "panel.toml", "adults (2)"]
+    assert population_choices(extra) == ["none", "adults", "adults-adhesive", "panel.toml", "adults (2)"]
     got = run_preset(data, "panel.toml", extra)
     want = run_population(study_from_dict(data, labels_for(data)), load_population(str(table)))
     np.testing.assert_array_equal(got.values("mu_normalised"), want.values("mu_normalised"))
     for forged in (str(table), "/etc/passwd", "panel.toml ", "panel"):
-        with pytest.raises(FingerpadError, match="population: choose one of none, adults, panel"):
+        with pytest.raises(FingerpadError, match="population: choose one of none, adults, adults-adhesive, panel"):
             run_preset(data, forged, extra)
     with pytest.raises(FingerpadError, match="neither a preset"):
         server_populations([str(tmp_path / "missing.toml")])

@@ -265,8 +265,10 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
     if res and res.get("area_ratio_error") is not None:
         grid = "x".join(str(g) for g in res["grid"])
         chosen = str(res["chosen"]).split(" (")[0]  # "automatic", "given", "the map's own"
+        err = res["area_ratio_error"]
+        # beyond 100 % the number says only that the grid does not resolve it (as _plus_minus)
         say(console, f"unit cell {grid} px ({chosen}): estimated error of A_re/A_fr "
-                     f"{100 * res['area_ratio_error']:.2g} %")
+                     f"{'>100' if err > 1.0 else f'{100 * err:.2g}'} %")
 
 
 def _plus_minus(error: Any) -> str:
@@ -318,6 +320,14 @@ def _print_population(payload: Mapping[str, Any]) -> None:
         ("full-contact load", (payload.get("full_contact_load") or {}).get(pop["model"]))) if value is not None]
     if own:
         say(console, "the study's own finger: " + ", ".join(own))
+    adhesion = pop.get("adhesion")
+    if adhesion is not None:
+        force = " ".join(format(1e3 * adhesion["pull_off_force"][k], ".3g") for k in levels)
+        say(console, f"pull-off force (mN), {'/'.join(format(100 * float(k), 'g') for k in levels)} %: {force}")
+        say(console, f"adhesion: {adhesion['cells']} adhesive cells ({adhesion['family_solves']} solves), each member "
+                     f"interpolated; estimated error of A_re (and μ) median {100 * adhesion['interpolation_error_median']:.2g} "
+                     f"%, max {100 * adhesion['interpolation_error_max']:.2g} %; of the pull-off force max "
+                     f"{100 * adhesion['pull_off_force_error_max']:.2g} %")
     say(console, "(each member and its curves: population.members, member_results in the JSON)")
 
 
@@ -358,7 +368,8 @@ def run_prediction(study: Any, out: str | None, json_path: str | None, csv_path:
             for note in population.notes:  # what the numbers will not show, and what the work costs: first
                 say(err, f"note: {note}")
             with ProgressBar(err, "unit cell ψ(p)") as bar:
-                show = bar.stage("members' own unit cells")
+                adhesive = population.study.finger.adhesive or "work_of_adhesion" in population.population.distributions
+                show = bar.stage("the members' family of adhesive cells" if adhesive else "members' own unit cells")
                 result = run_population(population, progress=bar,
                                         member_progress=lambda i, n: show(f"{i}/{n} solved or read"))
             pred = result.nominal

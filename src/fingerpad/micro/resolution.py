@@ -32,7 +32,7 @@ if TYPE_CHECKING:
     from ..textures import Texture
 
 __all__ = ["DEFAULT_ACCURACY", "MAX_AUTO_GRID", "MAX_STATE_GRID", "STATES", "GridChoice", "StateChoice",
-           "choose_grid", "choose_state_grids", "halve"]
+           "choose_grid", "choose_state_grids", "estimate_method", "halve", "order_factor"]
 
 #: Target of the estimated relative error of A_re/A_fr when the grid is chosen automatically. The
 #: estimate is conservative: on the default cell it is 2.8 % at grid 64 and 1.2 % at 128 where the
@@ -64,7 +64,8 @@ class GridChoice:
         The companion cell at half the grid (``None`` if none could be made).
     error
         Estimated relative error of A_re/A_fr over the loads, ``|r_N / r_{N/2} - 1|`` (NaN
-        without a companion).
+        without a companion), divided by ``2^q - 1`` for a cell of convergence order ``q``
+        below 1 (:func:`order_factor`).
     target
         The accuracy asked for (``None`` when the grid was given).
     history
@@ -92,7 +93,25 @@ class GridChoice:
         least the brackets' relative width: below it the change is not resolved)."""
         if self.coarse is None:
             return dict.fromkeys(STATES, math.nan)
-        return {name: _state_error(self.cell, self.coarse, name) for name in STATES}
+        factor = order_factor(type(self.cell))
+        return {name: _state_error(self.cell, self.coarse, name) * factor for name in STATES}
+
+
+def order_factor(cell_type: Any) -> float:
+    """``1 / (2^q - 1)``: the error left after a grid whose change from the half grid is 1, for a
+    cell converging with order ``q`` in the pixel (its ``convergence_order``; 1 when it declares
+    none, the factor then exactly 1). An adhesive cell converges with order 1/4 (factor 5.3)."""
+    order = float(getattr(cell_type, "convergence_order", 1.0))
+    return 1.0 / (2.0**order - 1.0)
+
+
+def estimate_method(cell_type: Any) -> str:
+    """How the error estimate of ``cell_type``'s grid is made, in words (the reports' ``method``)."""
+    order = float(getattr(cell_type, "convergence_order", 1.0))
+    if order == 1.0:
+        return "relative change from the half grid, |r_N / r_{N/2} - 1| (first-order convergence)"
+    return (f"relative change from the half grid divided by 2^q - 1, |r_N / r_{{N/2}} - 1| / (2^q - 1) "
+            f"(convergence of order q = {order:g} in the pixel: the adhesion range follows it)")
 
 
 def _state_error(fine: BEMUnitCell, coarse: BEMUnitCell, name: str) -> float:
@@ -210,7 +229,8 @@ def choose_grid(
     cell_type
         The cell's class: :class:`BEMUnitCell`, or
         :class:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell` for an adhesive skin (whose
-        range follows the pixel, so the estimate measures both together).
+        range follows the pixel, so the estimate measures both together; its
+        ``convergence_order``, 1/4, scales the change to the error left: :func:`order_factor`).
     """
     opts = dict(cell_options or {})
 
@@ -220,6 +240,10 @@ def choose_grid(
         cells.append(cell_type(tex, modulus, **opts).prepare(*p_range, progress=progress if report else None))
         return cells[-1]
 
+    # the change from the half grid is the error of first-order convergence; a cell that
+    # converges slower (order q) declares it, and the change is scaled to the error left,
+    # 1 / (2^q - 1) times the change (an adhesive cell: docs/model.md 6.6)
+    factor = order_factor(cell_type)
     fine_tex = texture
     coarse_tex = _companion(make_texture, fine_tex)
     coarse = prepared(coarse_tex, False) if coarse_tex is not None else None
@@ -231,7 +255,7 @@ def choose_grid(
             with np.errstate(divide="ignore", invalid="ignore"):
                 rel = np.asarray(ratio(fine), float) / np.asarray(ratio(coarse), float) - 1.0
             rel = rel[np.isfinite(rel)]
-            error = float(np.max(np.abs(rel))) if rel.size else math.nan
+            error = float(np.max(np.abs(rel))) * factor if rel.size else math.nan
         history.append((fine_tex.shape[0], error))
         grow = (target is not None and make_texture is not None and not math.isnan(error)
                 and error > target and 2 * fine_tex.shape[0] <= max_grid)

@@ -9,7 +9,8 @@ one unit cell, the bands over them and which parameter drives the spread.
   fixed, a sliding direction, quantile levels, sizes, the Sobol design), asked by the library,
   the command line and the explorer alike;
 * :mod:`.members` - the members on one texture at once (the coupling's vectorised twin,
-  :mod:`fingerpad.coupling.members`);
+  :mod:`fingerpad.coupling.members`); :mod:`.adhesion` - adhesive members, each read from one
+  family of adhesive cells;
 * :mod:`.run` - :func:`run_population`: the nominal prediction, every member, the bands;
   :mod:`.sobol` - which parameter drives the spread (Sobol indices); :mod:`.outputs` - the
   population's files.
@@ -21,7 +22,7 @@ import lazy_loader
 
 __getattr__, __dir__, __all__ = lazy_loader.attach(
     __name__,
-    submodules=["correlations", "distributions", "measured", "members", "outputs", "presets", "rules", "run", "sobol",
+    submodules=["adhesion", "correlations", "distributions", "measured", "members", "outputs", "presets", "rules", "run", "sobol",
                 "sources"],
     submod_attrs={
         "distributions": ["POPULATION_PARAMS", "Distribution", "Population", "population_from_table"],

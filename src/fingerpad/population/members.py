@@ -112,6 +112,11 @@ def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger],
     if one is at hand. Returns one response per finger."""
     loads = study.loads
     moduli = _member_moduli(study, fingers)
+    if getattr(cell, "adhesive", False) or any(f.adhesive for f in fingers):
+        from .adhesion import member_family  # adhesive members: one family of cells, each interpolated
+
+        family = member_family(study, cell, fingers, moduli, progress)
+        return [family.cell_at(f.work_of_adhesion, e) for f, e in zip(fingers, moduli, strict=True)]
     if not cell.flat:
         # the pressures every finger asks for, in units of E*: one prepare covers them all
         # every finger's A_fr at the loads in one evaluation (FingerStack: each row the bits of
@@ -139,18 +144,18 @@ def member_cells(study: Any, cell: BEMUnitCell, fingers: Sequence[Finger],
 
 def _predict_codes(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,
                     progress: Callable[[int, int], None] | None = None,
-                    stats: dict[str, int] | None = None, stack: FingerStack | None = None) -> tuple[
+                    stats: dict[str, Any] | None = None, stack: FingerStack | None = None) -> tuple[
         _Rows, np.ndarray, np.ndarray, np.ndarray]:
     """:func:`predict_fingers` with the curves as rows of arrays and the centre states as their
     codes, ``(members, loads)`` int8."""
-    if nominal.adhesion is not None or any(f.adhesive for f in fingers):
-        raise FingerpadError(ADHESION_REFUSED)
     from ..micro.hertz import hertz_cell_for
 
     study = nominal.study
     moduli = _member_moduli(study, fingers)
     loads = study.loads
     cell = nominal.cell
+    if nominal.bem is not None and (nominal.adhesion is not None or any(f.adhesive for f in fingers)):
+        return _adhesive_codes(nominal, fingers, moduli, full_contact, progress, stats)
     if nominal.bem is not None:
         before = int(getattr(cell, "solves", 0) or 0)
         stack = FingerStack(fingers) if stack is None else stack
@@ -215,23 +220,45 @@ class _Rows:
         return np.array([np.asarray(getattr(c, name), float) for c in self._curves])  # type: ignore[union-attr]
 
 
-#: Why a population (or a robust design) with a work of adhesion is refused.
-ADHESION_REFUSED = (
-    "a population of fingers with a work of adhesion: not supported yet. Each member's w / E* makes "
-    "its own adhesive unit cell (a continuation of ~120 solves, ~15 s at grid 128), not one cell read at "
-    "every member's modulus; predict single fingers with --work-of-adhesion (docs/model.md 6.6)")
+def _adhesive_codes(nominal: Prediction, fingers: Sequence[Finger], moduli: Sequence[float], full_contact: bool,
+                    progress: Callable[[int, int], None] | None, stats: dict[str, Any] | None) -> tuple[
+        _Rows, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_predict_codes` of adhesive members: each on its cell interpolated from one family
+    (:func:`~.adhesion.predict_adhesive_members`); the critical and full-contact loads and the
+    centre states from the adhesive pad's centre pressure (Eq. 3.17), as a prediction takes them."""
+    from ..micro.adhesive_pad import adhesive_pad
+    from ..study.run import _centre_load
+    from .adhesion import predict_adhesive_members
+
+    study = nominal.study
+    done = predict_adhesive_members(study, nominal.cell, fingers, moduli, progress)
+    if stats is not None:
+        stats["own_cells"] = 0
+        stats["solves"] = done.family.solves
+        stats["adhesion"] = done
+    loads = np.asarray(study.loads, dtype=float)
+    crit = np.array([c.critical_load for c in done.curves], float)
+    full = np.array([_centre_load(f, c)(c.full_contact_pressure) if full_contact else math.nan
+                     for f, c in zip(fingers, done.cells, strict=True)], float)
+    codes = np.zeros((len(fingers), loads.size), np.int8)
+    for i, (f, c, curve) in enumerate(zip(fingers, done.cells, done.curves, strict=True)):
+        centre = adhesive_pad(f, c).centre_pressure(loads, curve.ridge_area)
+        codes[i] = np.where(centre >= c.full_contact_pressure, 2, np.where(centre >= c.transition_pressure, 1, 0))
+    return _Rows(None, done.curves), crit, full, codes
 
 
 def predict_fingers(nominal: Prediction, fingers: Sequence[Finger], *, full_contact: bool = True,
                     progress: Callable[[int, int], None] | None = None,
-                    stats: dict[str, int] | None = None, stack: FingerStack | None = None) -> tuple[
+                    stats: dict[str, Any] | None = None, stack: FingerStack | None = None) -> tuple[
         list[CurvePrediction], np.ndarray, np.ndarray, list[list[str]]]:
     """Every finger on the texture of a study already predicted (``nominal``, its cell reused).
 
     The BEM cell is prepared over the union of the fingers' pressures in units of E* (no solve
     when that lies inside what is cached: psi depends on p/E* only) and read at each finger's E1*
     (Eq. 3.4); with the Hertz model each finger gets its own per-asperity cell (no solve).
-    ``full_contact=False`` skips the search of the full-contact loads (NaN then; the robust
+    Adhesive fingers (with the BEM) are each read from one family of adhesive cells
+    (:func:`~.adhesion.predict_adhesive_members`; ``progress`` after each of its cells, ``stats``
+    gets ``adhesion``, their :class:`~.adhesion.AdhesiveMembers`). ``full_contact=False`` skips the search of the full-contact loads (NaN then; the robust
     design's screen does not use them). ``progress``: as for :func:`member_cells`; ``stats``, if
     given, gets ``own_cells`` (members on a BEM cell of their own) and ``solves`` (unit-cell
     solves the members added, 0 when the cache held them); ``stack``: the fingers' stack if one

@@ -45,10 +45,8 @@ POPULATION_PRESETS: dict[str, dict[str, Any]] = {
         # ASSUMED: no value in docs/model.md; 0.05-0.15 about the assumed default 0.1 (friction
         # "mostly adhesive", so the hysteresis term stays small; 0.05-0.2 had its median at 0.125).
         "beta": {"distribution": "uniform", "low": 0.05, "high": 0.15},
-        # not sampled: work_of_adhesion. A dry finger's effective w is at most ~0.24-0.40 J/m^2, an
-        # UPPER BOUND from a whole finger's 15 mN pull-off on smooth epoxy (Spinner et al. 2016,
-        # with R_fp 8-10 mm), none measurable on clean glass (Tiwari, Wang, Persson 2020); every member keeps
-        # the finger's w (0 by default): a population with adhesion is not supported yet.
+        # not sampled: work_of_adhesion (every member keeps the finger's w, 0 by default); the
+        # "adults-adhesive" preset below draws it.
         # ASSUMED shape around published values: the Weber fraction of friction, lognormal with
         # its median at 0.11 (Gueorguiev et al. 2017) and 0.2 (Fehlberg et al. 2022) at the 95th
         # percentile; no study reports W person by person (fingerpad.person.WEBER_SPREAD). Drawn
@@ -57,4 +55,15 @@ POPULATION_PRESETS: dict[str, dict[str, Any]] = {
         # no "correlations": docs/model.md (the thesis and its literature) gives no correlation
         # between any two of these parameters, so they are drawn independently.
     },
+}
+POPULATION_PRESETS["adults-adhesive"] = {
+    **POPULATION_PRESETS["adults"],
+    # The adults above with a work of adhesion (docs/model.md 7.6, docs/population.md "Adhesion").
+    # A dry finger's effective w is at most ~0.24-0.40 J/m^2, an UPPER BOUND from a whole finger's
+    # 15 mN pull-off on smooth epoxy (Spinner, Wiechert, Gorb 2016, with R_fp 8-10 mm: DMT 0.24-0.30,
+    # JKR 0.32-0.40); none measurable on clean glass (Tiwari, Wang, Persson 2020); no w of finger skin
+    # on glass or polymers found person by person. ASSUMED: uniform from 0.01 J/m^2 (little adhesion,
+    # every member adheres: the adhesive and the plain model are two models) up to 0.3 J/m^2 (inside
+    # both bounds), so its bands are an upper estimate of what adhesion does to a population.
+    "work_of_adhesion": {"distribution": "uniform", "low": "0.01J/m2", "high": "0.3J/m2"},
 }

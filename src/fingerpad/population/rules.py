@@ -16,8 +16,11 @@ with the same message:
    layered finger given in the study: they are how a layered skin is declared at all (with a
    half-space preset); the population then draws its own values for every member, and a note
    says so.
-3. **No sliding direction** (:data:`DIRECTION_REFUSED` says why), **no work of adhesion** on the
-   study's finger or drawn by the population (:data:`~.members.ADHESION_REFUSED` says why).
+3. **No sliding direction** (:data:`DIRECTION_REFUSED` says why). **Adhesion** (a work of
+   adhesion on the study's finger or drawn by the population, :func:`adhesion_rules`): every
+   member adheres or none does (:data:`~.adhesion.ADHESION_MIXED`), on a half-space skin
+   (:data:`ADHESION_LAYERED`), with the study's adhesion range (:data:`ADHESION_RANGE_DRAWN`);
+   the members' cells are then interpolated from one family of adhesive cells (a note says so).
 4. **Quantile levels** (:func:`quantile_levels`): numbers in [0, 1], each once, ascending, at most
    :data:`MAX_QUANTILES`; they need a population.
 5. **Sobol indices** (:func:`sensitivity_samples`): they need a population whose parameters are
@@ -46,11 +49,12 @@ from ..errors import FingerpadError
 from ..finger import LAYER_FIELDS, Finger
 from ..study.spec import Study
 from .distributions import Population, members_plausible, population_from_table
-from .members import ADHESION_REFUSED, member_finger
+from .adhesion import ADHESION_MIXED
+from .members import member_finger
 from .sources import load_population
 
-__all__ = ["DEFAULT_QUANTILES", "DIRECTION_REFUSED", "MAX_QUANTILES", "PopulationStudy", "RIDGE_FRACTION_NOTE",
-           "attach", "quantile_levels", "refuse_fixed", "resolve_population", "sensitivity_samples"]
+__all__ = ["ADHESION_LAYERED", "ADHESION_RANGE_DRAWN", "DEFAULT_QUANTILES", "DIRECTION_REFUSED", "MAX_QUANTILES",
+           "PopulationStudy", "RIDGE_FRACTION_NOTE", "adhesion_rules", "attach", "quantile_levels", "refuse_fixed", "resolve_population", "sensitivity_samples"]
 
 #: Quantiles reported by default.
 DEFAULT_QUANTILES: tuple[float, ...] = (0.05, 0.25, 0.5, 0.75, 0.95)
@@ -68,6 +72,22 @@ DIRECTION_REFUSED = (
 RIDGE_FRACTION_NOTE = ("population: each member's ridge fraction (A_fr/A_g) is one number over every load -- an "
                        "assumption: the literature gives 10-70 % over loads, changing with load in opposite directions "
                        "in different studies, and no law per person; it drives much of the spread (--sensitivity)")
+#: Why a population of adhesive fingers with a layered skin is refused.
+ADHESION_LAYERED = (
+    "a population of adhesive fingers with a layered skin: not supported. The members' adhesive cells are read "
+    "from one family in w / (E* Lx), and a layered cell also depends on each member's layer over E* (a family "
+    "of more dimensions); predict single layered fingers with --work-of-adhesion, or the population on a "
+    "half-space skin")
+#: Why a population that draws the adhesion range is refused.
+ADHESION_RANGE_DRAWN = (
+    "population adhesion_range: not drawn per member. The members' adhesive cells are read from one family in "
+    "w / (E* Lx) with the study's range (a physical range below a pixel is replaced by the resolved one, "
+    "docs/model.md 6.6); set adhesion_range on the study's finger")
+#: The note of a population with adhesion (rule 7), said before its family is solved.
+ADHESION_NOTE = ("population: adhesion: each member's adhesive cell is interpolated from one family of at most {cells} "
+                 "adhesive cells in w / (E* Lx) on the nominal cell's grid (each cell ~15 s at grid 128, ~1.5 min at "
+                 "256 on one core, or read from the cache); each member's A_re carries its estimated "
+                 "interpolation error (population.adhesion in the JSON)")
 #: The layer values that declare a layered skin on a half-space preset (rule 2's exception).
 DECLARING_LAYER = ("skin_layer_thickness", "skin_layer_modulus", "skin_substrate_modulus")
 #: Fewest members for which the default outer bands (5 % and 95 %) are more than the panel's
@@ -218,6 +238,10 @@ def _notes(population: Population, study: Study, quantiles: Sequence[float]) -> 
     if study.finger.skin == "layered" and study.model != "hertz" and varied:
         notes.append(f"population: a layered skin whose {', '.join(varied)} varies gives each such member a BEM "
                      "unit cell of its own (solved or read from the cache), not one cell for all")
+    if study.model != "hertz" and (study.finger.adhesive or "work_of_adhesion" in population.distributions):
+        from ..micro.adhesive_family import MAX_FAMILY_CELLS
+
+        notes.append(ADHESION_NOTE.format(cells=MAX_FAMILY_CELLS))
     n = len(population.measured) or population.size
     outer = [q for q in quantiles if min(q, 1 - q) * n < 1]
     if population.measured and n < FEW_MEMBERS and outer:
@@ -227,6 +251,27 @@ def _notes(population: Population, study: Study, quantiles: Sequence[float]) -> 
                      f"{'shows' if n == 1 else 'show'} (fewer than one person outside them): they are the range of "
                      "the panel, not of the population it was drawn from")
     return notes
+
+
+def adhesion_rules(population: Population, study: Study, fingers: Sequence[Finger]) -> None:
+    """Rule 3's adhesion: every member adheres or none, on a half-space skin, with the study's
+    range (the family of :mod:`fingerpad.micro.adhesive_family` is one-dimensional in
+    ``w / (E* Lx)``). Nothing to check when no finger adheres.
+
+    Raises
+    ------
+    FingerpadError
+        :data:`~.adhesion.ADHESION_MIXED`, :data:`ADHESION_LAYERED` or :data:`ADHESION_RANGE_DRAWN`.
+    """
+    adhesive = [f.adhesive for f in fingers]
+    if not study.finger.adhesive and not any(adhesive):
+        return
+    if not all(adhesive):
+        raise FingerpadError(ADHESION_MIXED)
+    if "adhesion_range" in population.distributions:
+        raise FingerpadError(ADHESION_RANGE_DRAWN)
+    if study.model != "hertz" and (study.finger.skin == "layered" or any(f.layer is not None for f in fingers)):
+        raise FingerpadError(ADHESION_LAYERED)
 
 
 def attach(study: Study, population: Population | Mapping[str, Any] | str | Path | None = None, *,
@@ -273,11 +318,10 @@ def attach(study: Study, population: Population | Mapping[str, Any] | str | Path
         raise FingerpadError(f"[sweep.axes] direction: {DIRECTION_REFUSED}")
     if study.direction is not None:
         raise FingerpadError(f"--direction ([model] direction) with --population: {DIRECTION_REFUSED}")
-    if study.finger.adhesive or "work_of_adhesion" in pop.distributions:
-        raise FingerpadError(ADHESION_REFUSED)
     notes = refuse_fixed(pop, study, fixed)
     members = pop.sample()
     fingers = tuple(member_finger(study.finger, m) for m in members)  # bounds checked before any solve
+    adhesion_rules(pop, study, fingers)
     members_plausible(pop, members)
     notes += _notes(pop, study, levels)
     return PopulationStudy(study, pop, tuple(members), fingers, levels, samples, tuple(dict.fromkeys(notes)))

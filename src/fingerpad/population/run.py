@@ -57,6 +57,9 @@ class PopulationResult:
     own_cells, member_solves
         Members on a BEM unit cell of their own (a layered skin whose proportions vary) and the
         unit-cell solves the members added to the nominal's (0: the cache held them).
+    adhesion
+        With adhesive members: their :class:`~.adhesion.AdhesiveMembers` (the family of adhesive
+        cells, each member's pull-off force and estimated interpolation error); ``None`` without.
     """
 
     nominal: Prediction
@@ -71,6 +74,7 @@ class PopulationResult:
     sensitivity: Any = None
     own_cells: int = 0
     member_solves: int = 0
+    adhesion: Any = None
 
     def references(self) -> tuple[str, ...]:
         """The publications of the population's own methods (:mod:`fingerpad.references` keys):
@@ -169,11 +173,34 @@ class PopulationResult:
                                                  {"units": par.unit or "1", "long_name": par.doc})
         data["member_critical_load"] = xr.Variable(("member",), self.critical_load, {"units": "N"})
         data["member_full_contact_load"] = xr.Variable(("member",), self.full_contact_load, {"units": "N"})
+        if self.adhesion is not None:
+            data["member_pull_off_force"] = xr.Variable(("member",), self.adhesion.pull_off_force, {"units": "N"})
+            data["member_pull_off_force_error"] = xr.Variable(
+                ("member",), self.adhesion.pull_off_error,
+                {"units": "1", "long_name": "estimated relative interpolation error of the pull-off force"})
+            data["member_interpolation_error"] = xr.Variable(
+                ("member",), self.adhesion.interpolation_error,
+                {"units": "1", "long_name": "estimated relative interpolation error of A_re and mu (adhesive family)"})
         out = ds.assign(data).assign_coords(member=np.arange(len(self.members)),
                                             quantile=np.asarray(self.quantile_levels))
         out.attrs.update({"population_name": self.population.name, "population_size": self.population.size,
                           "population_seed": self.population.seed, "population_method": self.population.method})
         return out
+
+    def _member_adhesion(self, i: int) -> dict[str, float]:
+        """Member ``i``'s pull-off force (N) and estimated interpolation error; ``{}`` without adhesion."""
+        if self.adhesion is None:
+            return {}
+        return {"pull_off_force": float(self.adhesion.pull_off_force[i]),
+                "pull_off_force_error": float(self.adhesion.pull_off_error[i]),
+                "interpolation_error": float(self.adhesion.interpolation_error[i])}
+
+    def _adhesion_dict(self) -> dict[str, Any]:
+        """The ``adhesion`` entry: the family, its error over the members, the pull-off force's quantiles."""
+        q = np.asarray(self.quantile_levels)
+        table = member_quantiles(self.adhesion.pull_off_force, q)
+        return {**self.adhesion.describe(),
+                "pull_off_force": {f"{level:g}": float(table[i]) for i, level in enumerate(q)}}
 
     def as_dict(self) -> dict[str, Any]:
         """The ``population`` entry of ``predict.json`` (SI units)."""
@@ -194,11 +221,12 @@ class PopulationResult:
             "members": self.members,
             "member_results": [
                 {**{q: getattr(c, q) for q in QUANTITIES}, "critical_load": float(fc), "full_contact_load": float(ff),
-                 "contact_state": st}
-                for c, fc, ff, st in zip(self.curves, self.critical_load, self.full_contact_load, self.states,
-                                         strict=True)
+                 "contact_state": st, **self._member_adhesion(i)}
+                for i, (c, fc, ff, st) in enumerate(zip(self.curves, self.critical_load, self.full_contact_load,
+                                                        self.states, strict=True))
             ],
             "notes": self.notes,
+            **({"adhesion": self._adhesion_dict()} if self.adhesion is not None else {}),
             **({"sensitivity": self.sensitivity.as_dict()} if self.sensitivity is not None else {}),
         }
 
@@ -239,13 +267,22 @@ def run_population(study: Study | PopulationStudy, population: Population | Mapp
         if plan is None:
             raise FingerpadError("run_population: no population given")
     nominal = run_study(plan.study, progress=progress)
-    stats: dict[str, int] = {}
+    stats: dict[str, Any] = {}
     curves, crit, full, states = predict_fingers(nominal, plan.fingers, progress=member_progress, stats=stats)
+    notes = list(plan.notes)
+    adhesion = stats.get("adhesion")
+    if adhesion is not None:
+        worst = float(np.max(adhesion.interpolation_error))
+        if worst > plan.study.accuracy:
+            notes.append(f"population: adhesion: the estimated interpolation error of A_re reaches "
+                         f"{100 * worst:.2g} % (median {100 * float(np.median(adhesion.interpolation_error)):.2g} %) "
+                         f"over the family's {len(adhesion.family.nodes)} cells, above the accuracy "
+                         f"{100 * plan.study.accuracy:g} %")
     sens = None
     if plan.sensitivity is not None:
         from .sobol import population_sensitivity
 
         sens = population_sensitivity(nominal, plan.population, plan.sensitivity)
     return PopulationResult(nominal, plan.population, [dict(m) for m in plan.members], curves, crit, full, states,
-                            plan.quantiles, list(plan.notes), sens, own_cells=stats.get("own_cells", 0),
-                            member_solves=stats.get("solves", 0))
+                            plan.quantiles, notes, sens, own_cells=stats.get("own_cells", 0),
+                            member_solves=stats.get("solves", 0), adhesion=adhesion)

@@ -244,9 +244,10 @@ def _adhesion_report(curve: CurvePrediction, finger: Finger, notes: list[str]) -
             notes.append(f"adhesion changes the real area by more than {100 * THRESHOLD_CHANGE:g} % up to {hi:g} N "
                          "(the skin pulled onto the texture's base past the transition, not only the light touch)")
     if info.get("range_regularised"):
-        notes.append(f"adhesion: the range {finger.adhesion_range:.3g} m is below a pixel; the JKR limit is solved "
-                     f"with the range {info['adhesion_range_used']:.3g} m, whose cohesive zone spans a pixel "
-                     "(docs/model.md 6.6)")
+        notes.append(f"adhesion: the range {finger.adhesion_range:.3g} m is below a pixel; it is solved with the "
+                     f"range {info['adhesion_range_used']:.3g} m, whose cohesive zone spans a pixel: the asperities' "
+                     "contacts are JKR's, but past the transition the numbers move with that range (the skin jumps "
+                     "onto the texture's base within its reach; docs/model.md 6.6)")
     return info
 
 
@@ -436,6 +437,8 @@ def _adhesive_resolved_cell(study: Study, grid: int, e1: float, progress: Callab
 
 
 def _resolution_report(choice: Any, study: Study, states: dict[str, Any] | None = None) -> dict[str, Any]:
+    from ..micro.resolution import estimate_method
+
     pressures = {k: v.error for k, v in states.items()} if states else choice.state_pressure_errors()
     return {
         "grid": list(choice.cell.texture.shape),
@@ -448,7 +451,7 @@ def _resolution_report(choice: Any, study: Study, states: dict[str, Any] | None 
         "full_contact_pressure_error": pressures["full"],
         "history": [{"grid": g, "area_ratio_error": e} for g, e in choice.history],
         "solves": choice.solves,
-        "method": "relative change from the half grid, |r_N / r_{N/2} - 1| (first-order convergence)",
+        "method": estimate_method(type(choice.cell)),
     }
 
 
@@ -651,7 +654,8 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
         resolution["solves"] += solves_before
         what = "A_re/A_fr (with adhesion)" if finger.adhesive else "A_re/A_fr"
         if study.grid is None and choice.met is False:
-            notes.append(f"the estimated discretisation error of {what}, {100 * choice.error:.2g} %, exceeds "
+            estimate = ">100" if choice.error > 1.0 else f"{100 * choice.error:.2g}"  # beyond: not resolved
+            notes.append(f"the estimated discretisation error of {what}, {estimate} %, exceeds "
                          f"the target {100 * choice.target:g} % at the largest automatic grid")
         elif study.grid is not None and not math.isnan(choice.error) and choice.error > study.accuracy:
             notes.append(f"grid {study.grid}: estimated discretisation error of {what} {100 * choice.error:.2g} % "

@@ -1,0 +1,210 @@
+"""Populations with adhesion (issue 33): one family of adhesive cells in w / (E* Lx), each member
+interpolated from it with an estimated error; the same numbers and refusals at every door."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from fingerpad.cli import app
+from fingerpad.coupling import predict_curve
+from fingerpad.errors import FingerpadError
+from fingerpad.micro import adhesive_family
+from fingerpad.micro.adhesive_cell import AdhesiveUnitCell
+from fingerpad.micro.adhesive_family import family_nodes, morph
+from fingerpad.population.adhesion import ADHESION_MIXED
+from fingerpad.population.distributions import population_from_table
+from fingerpad.population.rules import ADHESION_LAYERED, attach
+from fingerpad.population.run import run_population
+from fingerpad.study.spec import study_from_dict
+
+runner = CliRunner()
+# the population tests' small caps (cell 100 um) on polyethylene, a coarse grid: the comparisons
+# are between cells of one grid, not against the grid's limit
+TEXTURE = {"name": "caps", "radius": 50e-6, "height": 10e-6, "spacing": 100e-6, "lattice": "hexagonal"}
+MATERIAL = {"modulus": 0.5e9, "poisson": 0.4}
+LOADS = {"range": "0.1N:1N:3", "log": True}  # as a sweep's loads = "0.1N:1N:3" gives them
+GRID = 24
+TABLE = {"size": 4, "seed": 1, "skin_modulus": {"distribution": "uniform", "low": 0.25e6, "high": 0.45e6}}
+TOML = """
+[texture]
+name = "caps"
+radius = "50um"
+height = "10um"
+spacing = "100um"
+lattice = "hexagonal"
+[material]
+modulus = "0.5GPa"
+poisson = 0.4
+[finger]
+work_of_adhesion = "0.05J/m2"
+[loads]
+range = "0.1N:1N:3"
+log = true
+[model]
+kind = "bem"
+grid = 24
+cache = "{cache}"
+[population]
+size = 4
+seed = 1
+skin_modulus = { distribution = "uniform", low = "0.25MPa", high = "0.45MPa" }
+"""
+
+
+def _study(cache: Path, w: float = 0.05, grid: int = GRID):
+    return study_from_dict({"texture": dict(TEXTURE), "material": dict(MATERIAL), "loads": dict(LOADS),
+                            "model": {"kind": "bem", "grid": grid, "cache": str(cache)},
+                            **({"finger": {"work_of_adhesion": w}} if w else {})})
+
+
+@pytest.fixture(scope="module")
+def cache(tmp_path_factory) -> Path:
+    return tmp_path_factory.mktemp("adhesive-cells")
+
+
+@pytest.fixture(scope="module")
+def result(cache):
+    return run_population(_study(cache), TABLE)
+
+
+def _own_cell_curve(study, finger, nominal_cell):
+    """The member predicted on an adhesive cell of its own (what the family replaces)."""
+    e = finger.micro_modulus(study.material_modulus, study.material_poisson)
+    own = AdhesiveUnitCell(nominal_cell.texture, e, work_of_adhesion=finger.work_of_adhesion, tol=study.tol,
+                           max_iter=study.max_iter, cache=study.curve_cache()).prepare()
+    return predict_curve(study.loads, finger, own)
+
+
+def test_family_nodes_are_a_global_grid_capped():
+    nodes = family_nodes(2.2e-4, 3.1e-4)
+    assert len(nodes) == 3 and nodes[0] <= 2.2e-4 and nodes[-1] >= 3.1e-4  # at least three (the estimate's)
+    m = adhesive_family.NODES_PER_DECADE
+    assert all(math.isclose(math.log10(u) * m, round(math.log10(u) * m), abs_tol=1e-9) for u in nodes)
+    assert family_nodes(2.5e-4, 2.6e-4) == family_nodes(2.2e-4, 3.1e-4)  # the same nodes: the cache's cells
+    wide = family_nodes(1e-6, 1e-3)  # three decades: fewer nodes per decade, within the cap
+    assert len(wide) <= adhesive_family.MAX_FAMILY_CELLS and wide[0] <= 1e-6 and wide[-1] >= 1e-3
+    with pytest.raises(FingerpadError, match=f"at most {adhesive_family.MAX_FAMILY_CELLS} cells"):
+        family_nodes(1e-30, 1e-1)
+    with pytest.raises(FingerpadError, match="positive"):
+        family_nodes(0.0, 1e-3)
+
+
+def test_morph_maps_the_landmarks_and_is_inverted_by_its_reverse():
+    src, dst = [-3e-4, 0.0, 1e-3, 5e-3], [-2e-4, 0.0, 2e-3, 4e-3]
+    assert morph(np.array(src), src, dst).tolist() == pytest.approx(dst)
+    q = np.concatenate([-np.geomspace(1e-3, 1e-6, 7), [0.0], np.geomspace(1e-6, 1e-1, 31)])
+    there = morph(q, src, dst)
+    assert np.all(np.diff(there) > 0)  # monotone
+    assert morph(there, dst, src) == pytest.approx(q, rel=1e-12)
+
+
+def test_interpolated_members_lie_within_their_estimated_error_of_their_own_cells(result, cache):
+    study = _study(cache)
+    plan = attach(study, TABLE)
+    err = result.adhesion.interpolation_error
+    assert err.shape == (4,) and np.all(np.isfinite(err)) and np.all(err > 0)
+    assert len(result.adhesion.family.nodes) == 3  # E_s 0.25-0.45 MPa at one w: a quarter decade of u
+    for i in (0, 2):
+        direct = _own_cell_curve(study, plan.fingers[i], result.nominal.cell)
+        got = np.asarray(result.curves[i].real_area)
+        off = np.max(np.abs(got / np.asarray(direct.real_area) - 1))
+        assert off <= err[i], (i, off, err[i])
+        pull_off = result.curves[i].adhesion["pull_off_force"] / direct.adhesion["pull_off_force"] - 1
+        assert abs(pull_off) <= result.adhesion.pull_off_error[i], (i, pull_off, result.adhesion.pull_off_error[i])
+    doc = result.as_dict()
+    assert doc["adhesion"]["cells"] == 3 and doc["adhesion"]["interpolation_error_max"] == pytest.approx(max(err))
+    assert doc["member_results"][0]["interpolation_error"] == err[0]
+    assert doc["member_results"][0]["pull_off_force"] > 0
+
+
+def test_a_too_coarse_family_says_so_and_its_estimate_still_covers(result, cache, monkeypatch):
+    # one node per decade: the members' u lie between nodes ten times apart
+    monkeypatch.setattr(adhesive_family, "NODES_PER_DECADE", 1)
+    study = _study(cache)
+    coarse = run_population(study, TABLE)
+    assert len(coarse.adhesion.family.nodes) == 3
+    assert np.all(coarse.adhesion.interpolation_error > result.adhesion.interpolation_error)
+    assert any("estimated interpolation error of A_re reaches" in n for n in coarse.notes)
+    plan = attach(study, TABLE)
+    i = int(np.argmax(np.abs(np.log(coarse.adhesion.family.nodes[1]) -
+                             np.log([c.unit_work for c in coarse.adhesion.cells]))))  # the farthest from a node
+    direct = _own_cell_curve(study, plan.fingers[i], coarse.nominal.cell)
+    off = np.max(np.abs(np.asarray(coarse.curves[i].real_area) / np.asarray(direct.real_area) - 1))
+    assert off <= coarse.adhesion.interpolation_error[i], (off, coarse.adhesion.interpolation_error[i])
+    pull_off = coarse.curves[i].adhesion["pull_off_force"] / direct.adhesion["pull_off_force"] - 1
+    assert abs(pull_off) <= coarse.adhesion.pull_off_error[i], (pull_off, coarse.adhesion.pull_off_error[i])
+
+
+def test_without_adhesion_a_drawn_zero_is_the_plain_population(cache):
+    # w = 0 drawn for every member: the plain path, each member bit for bit its plain predict_curve
+    # on the shared cell at its modulus (the drawn dimension changes which moduli are drawn)
+    study = _study(cache, w=0.0)
+    zero = run_population(study, {**TABLE, "work_of_adhesion": {"values": [0.0]}})
+    assert zero.adhesion is None and zero.member_solves == 0
+    plan = attach(study, {**TABLE, "work_of_adhesion": {"values": [0.0]}})
+    for finger, curve in zip(plan.fingers, zero.curves, strict=True):
+        assert not finger.adhesive
+        e = finger.micro_modulus(study.material_modulus, study.material_poisson)
+        plain = predict_curve(study.loads, finger, zero.nominal.cell.at_modulus(e))
+        assert np.array_equal(plain.mu, curve.mu) and np.array_equal(plain.area_ratio, curve.area_ratio)
+    doc = zero.as_dict()
+    assert "adhesion" not in doc and "pull_off_force" not in doc["member_results"][0]
+
+
+def test_every_door_gives_the_same_numbers(result, cache, tmp_path):
+    mu = np.array([c.mu for c in result.curves])
+    # the command line, the population from the study file's own [population] table
+    study_file = tmp_path / "study.toml"
+    study_file.write_text(TOML.replace("{cache}", str(cache)))
+    res = runner.invoke(app, ["predict", str(study_file), "--json", "-"])
+    assert res.exit_code == 0, res.stderr
+    doc = json.loads(res.stdout)["population"]
+    assert np.array_equal(np.array([r["mu"] for r in doc["member_results"]]), mu)
+    assert [r["interpolation_error"] for r in doc["member_results"]] == result.adhesion.interpolation_error.tolist()
+    assert doc["adhesion"]["cells"] == 3 and doc["adhesion"]["pull_off_force"]["0.5"] > 0
+    # the explorer: a population given to the server, by its label
+    from fingerpad.explore.views.population import run_preset
+
+    data = {"texture": dict(TEXTURE), "material": dict(MATERIAL), "loads": dict(LOADS),
+            "model": {"kind": "bem", "grid": GRID, "cache": str(cache)}, "finger": {"work_of_adhesion": 0.05}}
+    shown = run_preset(data, "panel", {"panel": population_from_table(TABLE, name="panel")})
+    assert np.array_equal(np.array([c.mu for c in shown.curves]), mu)
+    # a sweep (one point) with the population: the members' mu in the store
+    xr = pytest.importorskip("xarray")
+    pytest.importorskip("zarr")
+    sweep_file = tmp_path / "sweep.toml"
+    sweep_file.write_text(TOML.replace("{cache}", str(cache)) + '[sweep]\nloads = "0.1N:1N:3"\n[sweep.axes]\nspacing = ["100um"]\n')
+    store = tmp_path / "r.zarr"
+    res = runner.invoke(app, ["sweep", str(sweep_file), "--out", str(store), "--workers", "1"])
+    assert res.exit_code == 0, res.output
+    members = xr.open_zarr(store)["mu_members"].values.reshape(-1, 3)
+    assert members == pytest.approx(mu, rel=1e-12)
+
+
+def test_the_same_refusal_at_every_door(cache, tmp_path):
+    mixed = {**TABLE, "work_of_adhesion": {"values": [0.0, 0.05]}}
+    with pytest.raises(FingerpadError) as api:
+        attach(_study(cache, w=0.0), mixed)
+    assert str(api.value) == ADHESION_MIXED
+    pop = tmp_path / "mixed.toml"
+    pop.write_text('[population]\nsize = 4\nwork_of_adhesion = { values = ["0J/m2", "0.05J/m2"] }\n')
+    study_file = tmp_path / "study.toml"
+    study_file.write_text(TOML.replace("{cache}", str(cache)).replace('work_of_adhesion = "0.05J/m2"', ""))
+    res = runner.invoke(app, ["predict", str(study_file), "--population", str(pop), "--json", "-"])
+    assert res.exit_code == 2 and res.stderr.strip().splitlines()[-1] == f"error: {ADHESION_MIXED}", res.stderr
+    from fingerpad.design.spec import sweep_from_dict
+
+    with pytest.raises(FingerpadError) as sweep:
+        sweep_from_dict({"texture": dict(TEXTURE), "material": dict(MATERIAL), "model": {"kind": "bem", "grid": GRID},
+                         "sweep": {"axes": {"spacing": [100e-6]}}, "population": mixed})
+    assert str(sweep.value) == ADHESION_MIXED
+    with pytest.raises(FingerpadError) as layered:
+        attach(study_from_dict({"texture": dict(TEXTURE), "model": {"kind": "bem"},
+                                "finger": {"preset": "layered", "work_of_adhesion": 0.05}}), TABLE)
+    assert str(layered.value) == ADHESION_LAYERED
