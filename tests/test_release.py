@@ -180,6 +180,7 @@ def test_sdist_holds_the_sources_and_the_user_texts(dist):
     assert not any(n.startswith(("tests/", "benchmarks/", "docs/")) for n in names)
 
 
+@pytest.mark.slow  # 16 s of the 2-core suite; the core environment is still built and used by the two below
 def test_core_install_predicts_and_cites(core_env, tmp_path):
     env = _env(tmp_path)
     exe = str(core_env / "bin" / "fingerpad")

@@ -277,7 +277,10 @@ def test_a_full_disk_in_a_measurement_folder_names_the_users_path(tmp_path, monk
 
 def _fingerpad_with(patch: str, *args: str) -> subprocess.Popen:
     code = f"{patch}\nimport sys\nfrom fingerpad.cli import main\nsys.argv = ['fingerpad', *{list(args)!r}]\nmain()"
-    return subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    # Ctrl-C as a terminal delivers it: a suite started in the background of a shell without
+    # job control (nohup ... &) has SIGINT ignored, which every child would inherit
+    return subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
 
 def test_ctrl_c_says_nothing_was_written(tmp_path):

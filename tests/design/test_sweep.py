@@ -190,27 +190,26 @@ def test_resume_after_kill(tmp_path):
 def test_ctrl_c_is_one_line_without_worker_tracebacks(tmp_path):
     """Issue 30, item 7: Ctrl-C (SIGINT to the whole process group, as a terminal sends it)
     printed ~40 lines of worker KeyboardInterrupt tracebacks before `interrupted`."""
-    # 60 points: more than a loaded machine's first progress line leaves time for, so the
-    # signal always finds the sweep running (18 points were done before it under load 10)
+    # 60 points: a fast machine does not finish them in the second before the signal
     study = write_study(tmp_path, spacing="120um:360um:20", grid=48)
     store = tmp_path / "r.zarr"
     env = {**os.environ, "FINGERPAD_CACHE": str(tmp_path / "cache")}
     proc = subprocess.Popen([*fingerpad_cmd(), "sweep", str(study), "--out", str(store), "--workers", "2"],
                             env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True)
-    found: list[str] = []
-    reader = _lines_of(proc.stderr, found)
+                            start_new_session=True,
+                            # SIGINT as a terminal delivers it, even when the suite runs in the
+                            # background of a shell without job control (SIGINT ignored there,
+                            # and inherited: the sweep ran to its end, exit code 0)
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 240
-    # the cluster is up and the tasks run once the store exists and the progress is reported
     while time.monotonic() < deadline and proc.poll() is None:
-        if store.exists() and any(line.startswith("points:") for line in found):
-            break
         time.sleep(0.1)
-    assert proc.poll() is None, "".join(found)
+        if store.exists():  # the cluster is up and the tasks run
+            time.sleep(1.0)
+            break
+    assert proc.poll() is None, proc.stderr.read()
     os.killpg(proc.pid, signal.SIGINT)
-    proc.wait(timeout=120)
-    reader.join(timeout=30)
-    err = "".join(found)
+    _, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
     assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
     lines = [ln for ln in err.splitlines() if ln.strip()]
