@@ -168,3 +168,12 @@ def test_sweep_axis_of_the_work_of_adhesion(tmp_path) -> None:
     plain = json.loads(invoke("predict", *CAPS, *MATERIAL, "--loads", "0.1N:1N:3", "--model", "bem",
                               "--cache", str(tmp_path / "c"), "--json", "-").stdout)
     assert mu[0].tolist() == pytest.approx([r["mu"] for r in plain["results"]], rel=1e-12)
+
+
+def test_every_error_estimate_beyond_100_percent_reads_gt_100():
+    """The terminal's per-cent estimates share one rule: two digits, or '>100' (a population's
+    pull-off estimate printed '3.5e+03 %' while predict's own line said '>100 %')."""
+    from fingerpad.cli.predict import _percent, _plus_minus
+
+    assert [_percent(e) for e in (0.0123, 0.5, 0.996, 1.0, 1.73, 35.0)] == ["1.2", "50", "100", "100", ">100", ">100"]
+    assert _plus_minus(35.0) == " ± >100 %" and _plus_minus(0.059) == " ± 5.9 %" and _plus_minus(None) == ""

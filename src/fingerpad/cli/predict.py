@@ -267,16 +267,22 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
         chosen = str(res["chosen"]).split(" (")[0]  # "automatic", "given", "the map's own"
         err = res["area_ratio_error"]
         # beyond 100 % the number says only that the grid does not resolve it (as _plus_minus)
-        say(console, f"unit cell {grid} px ({chosen}): estimated error of A_re/A_fr "
-                     f"{'>100' if err > 1.0 else f'{100 * err:.2g}'} %")
+        say(console, f"unit cell {grid} px ({chosen}): estimated error of A_re/A_fr {_percent(err)} %")
+
+
+def _percent(error: float) -> str:
+    """A relative error estimate in per cent for the terminal: two digits, or ``>100`` (beyond
+    100 % the number says only that the estimate does not resolve it)."""
+    if error > 1.0:
+        return ">100"
+    return "100" if error >= 0.995 else f"{100 * error:.2g}"  # not '1e+02'
 
 
 def _plus_minus(error: Any) -> str:
     """`` ± X %`` for a relative error estimate (nothing when there is none)."""
     if error is None or not isinstance(error, (int, float)) or error != error:
         return ""
-    # beyond 100 % the number says only that the grid does not resolve it
-    return " ± >100 %" if error > 1.0 else f" ± {100 * error:.2g} %"
+    return f" ± {_percent(error)} %"
 
 
 def _band(q: Mapping[str, Any], name: str, i: int) -> str:
@@ -325,9 +331,10 @@ def _print_population(payload: Mapping[str, Any]) -> None:
         force = " ".join(format(1e3 * adhesion["pull_off_force"][k], ".3g") for k in levels)
         say(console, f"pull-off force (mN), {'/'.join(format(100 * float(k), 'g') for k in levels)} %: {force}")
         say(console, f"adhesion: {adhesion['cells']} adhesive cells ({adhesion['family_solves']} solves), each member "
-                     f"interpolated; estimated error of A_re (and μ) median {100 * adhesion['interpolation_error_median']:.2g} "
-                     f"%, max {100 * adhesion['interpolation_error_max']:.2g} %; of the pull-off force max "
-                     f"{100 * adhesion['pull_off_force_error_max']:.2g} %")
+                     "interpolated; estimated error of A_re (and μ) median "
+                     f"{_percent(adhesion['interpolation_error_median'])} %, "
+                     f"max {_percent(adhesion['interpolation_error_max'])} %; "
+                     f"of the pull-off force max {_percent(adhesion['pull_off_force_error_max'])} %")
     say(console, "(each member and its curves: population.members, member_results in the JSON)")
 
 
