@@ -100,3 +100,13 @@ def test_population_map_legend_lists_only_what_is_drawn(robust: bool):
     assert bool(hatched) == robust == bool(drawn)
     labels = " ".join(t.get_text() for t in legend.get_texts())
     assert ("no texture here keeps asperity contact" in labels) == (not robust)
+
+
+def test_the_histogram_title_counts_members_past_the_transition_at_zero_load_apart():
+    """With adhesion a member's critical load can be 0 (past the transition at zero load): it was
+    counted among those that 'never reach the transition'."""
+    from fingerpad.plotting.population import critical_title
+
+    assert critical_title([0.1, float("inf"), 0.0, 0.0, 2.0]) == (
+        "1 of 5 never reach the transition, 2 are past it at zero load")
+    assert critical_title([0.1, float("inf")]) == "1 of 2 never reach the transition"

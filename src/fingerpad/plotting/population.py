@@ -30,7 +30,8 @@ def figure_population(result: PopulationResult) -> Any:
     """Shaded bands (the pairs of the reported quantiles, e.g. 5-95 % and 25-75 %; any number of
     them, the outermost and innermost named) and the median of A_re/A_fr and mu/mu_ref against the
     load (log axis), the study's own finger dashed; a histogram of the members' critical loads (N,
-    log bins; members that never reach the transition are counted in the title) with the range of
+    log bins; members that never reach the transition, or are past it at zero load, are counted in
+    the title: :func:`critical_title`) with the range of
     the loads predicted shaded and the study's finger's critical load marked."""
     from matplotlib.figure import Figure
 
@@ -73,7 +74,18 @@ def figure_population(result: PopulationResult) -> Any:
         ax.axvline(own, color="k", lw=1, ls="--", label=f"the study's finger ({own:.3g} N)")
     ax.set_xlabel("critical load (N)")
     ax.set_ylabel("members")
-    ax.set_title(f"{crit.size - finite.size} of {crit.size} never reach the transition", fontsize=9)
+    ax.set_title(critical_title(crit), fontsize=9)
     ax.legend(fontsize=8, loc="upper left", framealpha=0.85)
     fig.suptitle(f"population {result.population.name!r}: {len(result.members)} fingers")
     return fig
+
+
+def critical_title(critical_load: Any) -> str:
+    """The critical-load histogram's title: how many members it cannot show, and why. A member
+    never reaches the transition (critical load infinite), or is past it at zero load (0: adhesion
+    alone pulls its skin onto the base); neither has a place on a log axis."""
+    crit = np.asarray(critical_load, float)
+    never = int(np.count_nonzero(np.isinf(crit) | np.isnan(crit)))
+    at_zero = int(np.count_nonzero(crit <= 0))
+    title = f"{never} of {crit.size} never reach the transition"
+    return title + (f", {at_zero} are past it at zero load" if at_zero else "")
