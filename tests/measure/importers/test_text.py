@@ -105,3 +105,21 @@ def test_too_few_rows_refused(tmp_path):
     path.write_text("time,Fn,Ft\n" + "".join(f"{i * 0.01},1,0.5\n" for i in range(9)))
     with pytest.raises(FingerpadError, match=r"short\.csv: only 9 data row\(s\); a recording needs at least 10"):
         m.read_recording(path)
+
+
+@pytest.mark.parametrize("section", [
+    b"1,2\n3,4\n", b"1,2\n3,4", b"1,2\n\n3,4\n", b"1,2\r\n\r\n3,4\r\n", b"\n1,2\n3,4", b"1,2\n3,4\n\n",
+    b"# note\n1,2\n  # indented note\n3,4\n", b"5\n6\n7\n", b"1\n\n\n2", b"1\r\n\r2\r\n", b"",
+])
+def test_data_line_numbers_are_those_of_the_non_empty_non_comment_lines(section: bytes) -> None:
+    """The line numbers the reader reports (file line numbers of the data lines) against the
+    lines counted one by one in Python: blank lines (LF or CRLF) and lines starting with ``#``
+    are not data lines, with the shortcut for files of data lines only or without."""
+    from fingerpad.measure.importers.text import _data_line_numbers
+
+    lines = section.split(b"\n")
+    if lines and lines[-1] == b"":  # a final line break ends the last line, starts none
+        lines = lines[:-1]
+    expected = [7 + i for i, line in enumerate(lines)
+                if line.rstrip(b"\r") and not line.startswith(b"#")]
+    assert _data_line_numbers(section, 7).tolist() == expected

@@ -86,9 +86,12 @@ def _data_line_numbers(section: bytes, first_line: int) -> np.ndarray:
     ends = np.r_[nl, arr.size]
     if starts[-1] >= arr.size:  # the file ends with a line break: no last line
         starts, ends = starts[:-1], ends[:-1]
-    if b"#" not in section and b"\n\n" not in section and b"\n\r\n" not in section:
-        return first_line + np.arange(starts.size, dtype=np.int64)
     length = ends - starts
+    # no comment and every line longer than one byte (so none empty, none a lone CR): every
+    # line is a data line. Told from the line lengths: searching the bytes for b"\n\n" and
+    # b"\n\r\n" took some 30 ms of a 60 000-line file, a fifth of reading it
+    if b"#" not in section and (length > 1).all():
+        return first_line + np.arange(starts.size, dtype=np.int64)
     cr = (length > 0) & (arr[np.maximum(ends - 1, 0)] == 13)
     length = length - cr
     first = np.where(length > 0, arr[np.minimum(starts, arr.size - 1)], 0)
