@@ -319,7 +319,8 @@ def main(argv: list[str] | None = None) -> int:
 
     python = {"this": sys.executable, **({"baseline": args.baseline} if args.baseline else {})}
     print("fingerpad analyse (the command, defaults, every figure), a subprocess, after one untimed run:")
-    print(f"  {'study':>6s} {'files':>5s} {'side':8s} {'wall s':>7s} {'CPU s':>7s}  runs (wall/CPU), load before")
+    print(f"  {'study':>6s} {'files':>5s} {'side':8s} {'wall s':>7s} {'CPU s':>7s} {'CPU/wall':>8s}  "
+          "runs (wall/CPU), load before")
     for (people, textures), folder in folders.items():
         runs, compared = command_runs(folder, python, args.reps)
         files = people * (textures + 1) * REPETITIONS
@@ -327,10 +328,12 @@ def main(argv: list[str] | None = None) -> int:
         for side, rs in runs.items():
             detail = ", ".join(f"{r['wall_s']:.1f}/{r['cpu_s']:.1f}" for r in rs)
             loads = ", ".join(f"{r['load_before']:.1f}" for r in rs)
-            print(f"  {label:>6s} {files:5d} {side:8s} {_median(rs, 'wall_s'):7.2f} {_median(rs, 'cpu_s'):7.2f}  "
-                  f"{detail}; load {loads}")
+            w, c = _median(rs, "wall_s"), _median(rs, "cpu_s")
+            print(f"  {label:>6s} {files:5d} {side:8s} {w:7.2f} {c:7.2f} {c / w:8.2f}  {detail}; load {loads}")
         wall, cpu_s = _median(runs["this"], "wall_s"), _median(runs["this"], "cpu_s")
-        now = f"{wall:.1f} s wall, {cpu_s:.1f} s CPU"
+        # CPU / wall: how many of the cores the command kept busy (2 at most on the 2-core machine);
+        # CPU seconds hardly change with the machine's other work, the wall time does
+        now = f"{wall:.1f} s wall, {cpu_s:.1f} s CPU (CPU/wall {cpu_s / wall:.2f})"
         entry: dict[str, object] = {"people": people, "textures": textures, "files": files, "runs": runs}
         if compared is not None:
             n, bytes_differ, content_differs = compared

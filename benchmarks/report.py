@@ -53,7 +53,8 @@ ROWS34: list[tuple[str, str, str, str, str]] = [
     ("a 64-point nominal sweep at grid 48 on 2 workers, against the code before", "-", "-", "1x", ">= 5x"),
     ("`adults` sweep extrapolated to 10,000 points on 2 cores", "bench_population_sweep.py", "extrapolated",
      "~1.5 h", "<= 10 min"),
-    ("`analyse`, 10 people x 5 samples x 3 recordings, every figure", "bench_analyse.py", "10 people", "70 s wall",
+    # every panel shape bench_analyse.py measured (3-20 people, 1-8 textures): one row each
+    ("`analyse`, 10 people x 5 samples x 3 recordings, every figure", "bench_analyse.py", "`analyse`", "70 s wall",
      "<= 15 s"),
     ("the same sweep on an external scheduler with N local workers", "bench_sweep_scheduler.py", "external",
      "-", "a scaling table in docs/benchmarks.md"),
