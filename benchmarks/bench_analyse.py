@@ -43,7 +43,7 @@ rows of issue 23 (``"issue23"``) and issue 34 (``"issue34"``) for ``benchmarks/r
 Usage::
 
     python benchmarks/bench_analyse.py [--shapes 10x4,3x1,20x8] [--data DIR] [--json OUT.json]
-        [--baseline PYTHON] [--reps N] [--no-phases] [--no-serial]
+        [--baseline PYTHON] [--reps N] [--no-phases] [--no-serial] [--no-warm]
 """
 
 from __future__ import annotations
@@ -254,14 +254,15 @@ def _median(runs: list[dict[str, float]], key: str) -> float:
     return float(np.median([r[key] for r in runs]))
 
 
-def command_runs(folder: Path, python: dict[str, str], reps: int) -> tuple[dict[str, list[dict[str, float]]],
-                                                                          tuple[int, list[str], list[str]] | None]:
+def command_runs(folder: Path, python: dict[str, str], reps: int, warm: bool = True
+                 ) -> tuple[dict[str, list[dict[str, float]]], tuple[int, list[str], list[str]] | None]:
     """The command on ``folder`` under each interpreter of ``python`` (``"this"`` and maybe
     ``"baseline"``), alternating, ``reps`` times each, after one untimed run of each that fills
-    the unit-cell cache; and the two reports compared (:func:`same_report`) with a baseline."""
+    the unit-cell cache (``warm``); and the two reports compared (:func:`same_report`) with a
+    baseline."""
     runs: dict[str, list[dict[str, float]]] = {side: [] for side in python}
     with tempfile.TemporaryDirectory() as tmp:
-        for side in python:  # untimed: the cells of the textures solved or read into the cache
+        for side in python if warm else ():  # untimed: the cells of the textures solved or read into the cache
             run_command(python[side], folder, Path(tmp) / f"warm-{side}")
         for rep in range(max(reps, 1)):
             order = ["baseline", "this"] if rep % 2 == 0 else ["this", "baseline"]
@@ -283,6 +284,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--baseline", default=None, metavar="PYTHON",
                         help="interpreter of another checkout: its command runs alternately with this one")
     parser.add_argument("--reps", type=int, default=1, help="runs of each command (median)")
+    parser.add_argument("--no-warm", action="store_true",
+                        help="no untimed run first (the data's cell cache already filled, e.g. by generating it)")
     args = parser.parse_args(argv)
     shapes = [_shape(text) for text in args.shapes.split(",") if text.strip()]
 
@@ -322,7 +325,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"  {'study':>6s} {'files':>5s} {'side':8s} {'wall s':>7s} {'CPU s':>7s} {'CPU/wall':>8s}  "
           "runs (wall/CPU), load before")
     for (people, textures), folder in folders.items():
-        runs, compared = command_runs(folder, python, args.reps)
+        runs, compared = command_runs(folder, python, args.reps, warm=not args.no_warm)
         files = people * (textures + 1) * REPETITIONS
         label = f"{people}x{textures}"
         for side, rs in runs.items():
