@@ -130,10 +130,12 @@ def table34(rows: list[dict[str, Any]]) -> str:
             lines.append(f"| {label} | {script} | {today} | not measured | | {goal} | | |")
         for r in mine:
             ratio = r.get("ratio")
-            ratio_text = f"{ratio:.2f}x" if isinstance(ratio, (int, float)) else _cell(ratio)
+            # a row without a ratio (a panel shape the issue gave no time for) says nothing there
+            ratio_text = (f"{ratio:.2f}x ({_cell(r.get('ratio_of'))})" if isinstance(ratio, (int, float))
+                          else _cell(ratio))
             met = {True: "yes", False: "**no**"}.get(r.get("met"), _cell(r.get("met")))
             lines.append(f"| {_cell(r['row'])} | {script} | {_cell(r.get('today', today))} | {_cell(r.get('now'))} "
-                         f"| {ratio_text} ({_cell(r.get('ratio_of'))}) | {goal} | {met} | {_cell(r.get('load'))} |")
+                         f"| {ratio_text} | {goal} | {met} | {_cell(r.get('load'))} |")
     return "\n".join(lines)
 
 
