@@ -54,7 +54,7 @@ PARTS = [
 #: What a cell's solves are for: the solves inside these are told apart (the innermost counts);
 #: their own time outside the solves stays with the part around them.
 SOLVE_KINDS = [
-    ("grid nodes", ("fingerpad.micro.bem", "BEMUnitCell._grid_solve")),
+    ("grid nodes", ("fingerpad.micro.bem", "BEMUnitCell.prepare")),  # its solves outside the two below
     ("refinement nodes", ("fingerpad.micro.bem", "BEMUnitCell._refine")),
     ("state brackets", ("fingerpad.micro.bem", "BEMUnitCell._bracket_state")),
 ]
