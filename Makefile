@@ -59,6 +59,9 @@ bench: $(STAMP) bytecode
 	$(PY) benchmarks/bench_startup.py
 	$(PY) benchmarks/bench_sweep.py
 	$(PY) benchmarks/bench_population_sweep.py
+	$(PY) benchmarks/bench_map_speed.py
+	$(PY) benchmarks/bench_batch_fft.py
+	$(PY) benchmarks/bench_sweep_scheduler.py
 	$(PY) benchmarks/bench_analyse.py
 	$(PY) benchmarks/bench_adhesion.py
 	$(PY) benchmarks/bench_population_adhesion.py

@@ -16,7 +16,7 @@ The row order and the scripts: ``bench_analyse.py`` (the analysis with its figur
 parameter changed in the explorer), ``bench_solver.py`` (the whole ``solve`` command against
 tamaas), ``bench_sweep.py`` (points per minute of ``examples/sweep.toml``; 2 workers against 1).
 A second table gives issue 34's rows (``"issue34"`` in the reports: ``bench_population_sweep.py``,
-``bench_analyse.py``, ``bench_sweep_scheduler.py``).
+``bench_analyse.py``, ``bench_sweep_scheduler.py``, ``bench_map_speed.py``).
 """
 
 from __future__ import annotations
@@ -50,9 +50,13 @@ ROWS34: list[tuple[str, str, str, str, str]] = [
     ("a 16-point sweep with `adults` against the same sweep without a population", "bench_population_sweep.py",
      "without a population", "2.1x", "<= 1.3x"),
     ("members' coupling against its floor", "bench_population_sweep.py", "floor", "not measured", "<= 3x"),
-    ("a 64-point nominal sweep at grid 48 on 2 workers, against the code before", "-", "-", "1x", ">= 5x"),
+    ("a 64-point nominal sweep at grid 48 on 2 workers, against the code before", "bench_map_speed.py",
+     "code before", "1x", ">= 5x"),
     ("`adults` sweep extrapolated to 10,000 points on 2 cores", "bench_population_sweep.py", "extrapolated",
      "~1.5 h", "<= 10 min"),
+    ("100-point `adults` sweep on 2 workers extrapolated to 10,000 points", "bench_map_speed.py", "extrapolated",
+     "~1.5 h", "<= 10 min"),
+    ("2 workers against 1 on a 64-point sweep", "bench_map_speed.py", "workers against 1", "2.00x", ">= 1.8x, kept"),
     # every panel shape bench_analyse.py measured (3-20 people, 1-8 textures): one row each
     ("`analyse`, 10 people x 5 samples x 3 recordings, every figure", "bench_analyse.py", "`analyse`", "70 s wall",
      "<= 15 s"),
@@ -69,6 +73,7 @@ COMMANDS: dict[str, list[str]] = {
     "bench_sweep.py": [],
     "bench_population_sweep.py": [],
     "bench_sweep_scheduler.py": [],
+    "bench_map_speed.py": [],
 }
 
 
