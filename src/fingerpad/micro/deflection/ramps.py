@@ -194,21 +194,23 @@ def _pooled(jobs: list[SectionJob], workers: int, progress: Callable[[str], None
     if progress:
         progress(f"pressing {len(jobs)} section(s), then shearing in {workers} processes")
     with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-        # the normal-load ramps first (1-2 s each), then the shear ramps longest first, as far as
-        # the inputs tell: the more slender section, then the higher pressure (README ellipsoids:
-        # across 17, 30, 52 s; along 6-8 s of CPU). Submitted as they came, the longest ramp
-        # started last on 2 workers (78 of 122 s instead of 63). The order decides only when a
-        # ramp is done.
+        # the normal-load ramps first (1-2 s each), then the shear ramps longest first (LPT),
+        # as far as the inputs tell: a ramp's CPU time grows with the section's unknowns (its
+        # Newton steps' sparse LU) and with the pressure (more steps, more failed ones), so the
+        # estimate is unknowns x pressure. README ellipsoids (CPU s; across sections 2820
+        # unknowns, along 832): across 11, 16, 27, along 1, 4, 14 at 14.5, 26.8, 49.6 kPa. Sorted
+        # by slenderness first (before), the along 14 s ramp started last, at 27 s on one worker:
+        # 40.7 s of ramps on 2 workers; by the estimate, 38.3 s (the best split of these six).
+        # The order decides only when a ramp is done.
         pressed = [fut.result() for fut in [pool.submit(press, job) for job in jobs]]
         tasks = []
         for i, ramp0 in enumerate(pressed):
             results[i] = [None] * len(ramp0.states)
             tails[i] = unpressed(jobs[i], ramp0) if ramp0.stopped else []
-            sec = jobs[i].section
-            tasks += [(-sec.height / sec.half_width, -jobs[i].pressures[k], i, k, start)
+            tasks += [(-float(start.v.size) * jobs[i].pressures[k], i, k, start)
                       for k, start in enumerate(ramp0.states)]
-        tasks.sort(key=lambda t: t[:4])
-        pending = {pool.submit(shear, jobs[i], k, start): (i, k) for _, _, i, k, start in tasks}
+        tasks.sort(key=lambda t: t[:3])
+        pending = {pool.submit(shear, jobs[i], k, start): (i, k) for _, i, k, start in tasks}
         while pending:
             done, _ = wait(pending, return_when=FIRST_COMPLETED)
             for fut in done:
