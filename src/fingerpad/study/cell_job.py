@@ -377,7 +377,7 @@ def _run_adhesive(job: SolveJob, progress: Callable[[int, int], None] | None,
     payload = _results_json(job, results)
     payload["pull_off_pressure"] = pulled["pull_off"]
     payload["adhesion"] = {**law.describe(), "adhesion_range_given": float(adh["adhesion_range"]),
-                           "range_regularised": bool(used > float(adh["adhesion_range"])),
+                           "range_regularised": bool(law.range > float(adh["adhesion_range"])),
                            "pull_off_pressure": pulled["pull_off"], "work_of_separation": pulled["work"],
                            "pull_off_solves": pulled["solves"],
                            "branch": "loading: from zero load up through the positive pressures and down through the "
