@@ -31,7 +31,9 @@ micrometre asperities is 1e3-1e4, the JKR limit, whose results do not depend on 
 range used is therefore the larger of the given one and the one whose cohesive zone spans
 :data:`~fingerpad.contact.interaction.COHESIVE_PIXELS` pixels
 (:func:`~fingerpad.contact.interaction.resolved_range`): it shrinks with the pixel, and the
-grid's error estimate (:mod:`fingerpad.micro.resolution`) measures both together. SI units.
+grid's error estimate (:mod:`fingerpad.micro.resolution`) measures both together. A range so
+regularised acts within :data:`~fingerpad.contact.interaction.TIP_PIXELS` pixels of the contact
+only (the JKR limit's cohesive zone; no attraction reaching out of contact). SI units.
 """
 
 from __future__ import annotations
