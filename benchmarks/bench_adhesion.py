@@ -40,12 +40,12 @@ def cell(grid: int):
 
 def measure(grid: int, work: float) -> dict:
     from fingerpad.contact import HalfSpaceSolver
-    from fingerpad.contact.interaction import Exponential, resolved_range
+    from fingerpad.contact.interaction import regularised_interaction
     from fingerpad.materials import reduced_modulus
 
     e = reduced_modulus(0.3e6, 0.49, 0.5e9, 0.4)
     tex = cell(grid)
-    law = Exponential(work, resolved_range(work, e, tex.spacing[0]))
+    law = regularised_interaction("exponential", work, 0.0, e, tex.spacing[0])
     rows = []
     totals = {"plain": [0, 0.0], "adhesive": [0, 0.0]}
     with warnings.catch_warnings():

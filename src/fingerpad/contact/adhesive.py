@@ -60,7 +60,7 @@ import numpy as np
 
 from ..errors import FingerpadError
 from .greens import FFTOperator, preconditioner, stiffness_operator
-from .interaction import Interaction
+from .interaction import Interaction, tip_zone
 from .result import ContactResult, contact_state
 
 __all__ = ["AdhesiveRun", "AdhesiveSetup", "adhesive_cg", "adhesive_energy", "solve_adhesive"]
@@ -82,6 +82,9 @@ class AdhesiveRun:
     multiplier: float  # the mean traction (Pa) under a fixed mean gap; 0 otherwise
     detached: bool = False
     sx: Any = None  # S x at the returned iterate
+    #: Where a regularised attraction acts at the returned iterate with the gap within its reach
+    #: (the next solve's ``held``; ``None`` for an attraction acting everywhere).
+    bonded: Any = None
 
 
 def adhesive_cg(
@@ -98,6 +101,7 @@ def adhesive_cg(
     tol: float,
     max_iter: int,
     callback: Callable[[int, float], None] | None = None,
+    held: Any = None,
 ) -> AdhesiveRun:
     """Minimise ``1/2 x.S x + e.x + sum_patch phi(x)`` over ``x`` with ``x >= 0`` on the patch.
 
@@ -122,11 +126,29 @@ def adhesive_cg(
         Pressure that makes the residual relative (Pa).
     tol, max_iter, callback
         As for :func:`fingerpad.contact.ccg.constrained_cg`.
+    held
+        Where a regularised attraction acted in the state the solve starts from (boolean, the
+        working grid: the last solve's ``bonded``; ``None``: the points where ``x0`` is closed):
+        it keeps acting there (:func:`_acting`).
     """
+    xp = op.b.xp
+    on = patch if patch is not None else xp.ones(x0.shape, dtype=xp.bool)
+    if interaction.tip_pixels and held is None:
+        # (a start rebuilt from a pressure field, a finite patch's, closes its contact to rounding)
+        held = on & (x0 <= 1e-6 * interaction.range)
+    run = _adhesive_cg(op, precond, e, x0, interaction, patch, on, held, mean, load, scale, tol, max_iter, callback)
+    if interaction.tip_pixels:
+        run.bonded = _acting(xp, interaction, run.x, on, held) & (run.x < interaction.reach * _FAR_REACHES)
+    return run
+
+
+def _adhesive_cg(op: FFTOperator, precond: FFTOperator, e: Any, x0: Any, interaction: Interaction, patch: Any,
+                 on: Any, held: Any, mean: float | None, load: float | None, scale: float, tol: float,
+                 max_iter: int, callback: Callable[[int, float], None] | None) -> AdhesiveRun:
+    """The iteration of :func:`adhesive_cg` (``on``: the patch's mask, all points without one)."""
     xp = op.b.xp
     x = x0
     n_patch = int(xp.count_nonzero(patch)) if patch is not None else math.prod(x.shape)
-    on = patch if patch is not None else xp.ones(x.shape, dtype=xp.bool)
     if mean is not None:
         m = float(xp.mean(x))
         x = x * (mean / m) if m > 0 else xp.full(x.shape, mean, dtype=xp.float64)
@@ -139,7 +161,8 @@ def adhesive_cg(
     residual = math.inf
     it = 0
     while True:
-        near = on & (x < far) if patch is not None else x < far
+        acts = _acting(xp, interaction, x, on, held)  # where the attraction acts this iteration
+        near = acts & (x < far)
         r = sx + e
         r += _masked(xp, near, interaction.traction, x)  # the gradient: traction plus attraction
         free = x > 0 if patch is None else (~on) | (x > 0)
@@ -190,9 +213,9 @@ def adhesive_cg(
         dsd = op.quad_low(d)
         if not dsd > 0:
             return AdhesiveRun(x, it, residual, False, lam, sx=sx)
-        cap = _trust(xp, interaction, x, d, on)
+        cap = _trust(xp, interaction, x, d, acts)
         # the pixels the interaction can act on within the capped step: the line search's own
-        xa, da = _within_reach(xp, interaction, x, d, on, cap)
+        xa, da = _within_reach(xp, interaction, x, d, acts, cap)
         tau, capped = _line_search(interaction, xa, da, slope0, dsd, cap)
         if capped:
             z_old = None  # a step short of the line's minimum: conjugacy restarts
@@ -209,6 +232,21 @@ def adhesive_cg(
 #: Beyond this many reaches a gap feels no attraction worth counting (exponential: 40 ranges,
 #: exp(-40) ~ 4e-18 of the peak; Maugis-Dugdale: exactly none beyond one range).
 _FAR_REACHES = 4.0
+
+
+def _acting(xp: Any, law: Interaction, x: Any, on: Any, held: Any = None) -> Any:
+    """Where the attraction acts at the gap ``x``: the patch ``on``, or with a regularised range
+    (``law.tip_pixels``) its points within that many pixels of the current contact and the points
+    ``held``, where it acted in the state the solve started from (docs/model.md 6.6: the JKR
+    limit's attraction lives in the cohesive zone at the contact's edge, and a surface out of
+    contact feels none until it touches; once it has acted on a point it keeps acting there
+    while the gap is within its reach, as a cohesive bond does, so that the surfaces pulled
+    apart release the whole ``w`` and one long step of the iteration cannot tear a contact off
+    for good). Fixed along one iteration's line search."""
+    if not law.tip_pixels:
+        return on
+    zone = tip_zone(on & (x <= 0), law.tip_pixels)
+    return on & (zone if held is None else zone | held)
 
 
 def _masked(xp: Any, mask: Any, f: Callable[[Any], Any], x: Any) -> Any:
@@ -407,21 +445,33 @@ def run_adhesive(solver: Any, mode: str, value: float, seed: Any) -> tuple[Adhes
     cb = solver._callback()
     if setup.periodic:
         x0 = _periodic_start(solver, seed, value if mode == "approach" else None)
+        held = _held(solver, setup, seed)
         if mode == "pressure":
             e = setup.sh(solver) + value
             run = adhesive_cg(setup.op, setup.pre, e, x0, law, load=value,
                               scale=max(abs(value), law.peak_traction), tol=solver.tol, max_iter=solver.max_iter,
-                              callback=cb)
+                              callback=cb, held=held)
         else:
             target = solver.h_max - value - solver.h_mean
             run = adhesive_cg(setup.op, setup.pre, setup.sh(solver), x0, law, mean=target,
                               scale=_scale_approach(solver, law), tol=solver.tol, max_iter=solver.max_iter,
-                              callback=cb)
+                              callback=cb, held=held)
         mean_gap = float(xp.mean(run.x))
         return run, solver.h_max - solver.h_mean - mean_gap
     if mode == "approach":
         return _patch_run(solver, setup, value, seed), value
     return _patch_pressure(solver, setup, value, seed)
+
+
+def _held(solver: Any, setup: "AdhesiveSetup", seed: Any) -> Any:
+    """Where a regularised attraction acted in the result ``seed`` (its ``bonded`` points; a
+    non-adhesive result's contact), on the working grid; ``None`` for other seeds (the start's
+    closed points then) or an attraction acting everywhere."""
+    if not (isinstance(seed, ContactResult) and solver.interaction.tip_pixels):
+        return None
+    bonded = (seed.adhesion or {}).get("_bonded")
+    mask = solver.backend.asarray(np.asarray(seed.gap <= 0 if bonded is None else bonded, dtype=np.float64))
+    return (mask if setup.periodic else setup.embed(solver, mask)) > 0
 
 
 def _periodic_start(solver: Any, seed: Any, approach: float | None) -> Any:
@@ -449,13 +499,15 @@ def _patch_start(solver: Any, setup: AdhesiveSetup, seed: Any, approach: float) 
     return xp.where(setup.patch, xp.maximum(x, 0.0), x)
 
 
-def _patch_run(solver: Any, setup: AdhesiveSetup, approach: float, seed: Any) -> AdhesiveRun:
+def _patch_run(solver: Any, setup: AdhesiveSetup, approach: float, seed: Any, held: Any = None) -> AdhesiveRun:
     c = setup.rigid_gap(solver, approach)
     x0 = _patch_start(solver, setup, seed, approach)
     e = -setup.op(c)
+    if held is None:
+        held = _held(solver, setup, seed)  # a result's bonds (its start is moved to this approach)
     return adhesive_cg(setup.op, setup.pre, e, x0, solver.interaction, patch=setup.patch,
                        scale=_scale_approach(solver, solver.interaction), tol=solver.tol, max_iter=solver.max_iter,
-                       callback=solver._callback())
+                       callback=solver._callback(), held=held)
 
 
 def _patch_pressure(solver: Any, setup: AdhesiveSetup, pressure: float, seed: Any) -> tuple[AdhesiveRun, float]:
@@ -470,10 +522,10 @@ def _patch_pressure(solver: Any, setup: AdhesiveSetup, pressure: float, seed: An
     target_tol = solver.tol * scale
     total = 0
 
-    def trial(approach: float, start: Any) -> tuple[AdhesiveRun, float, float]:
+    def trial(approach: float, start: Any, held: Any = None) -> tuple[AdhesiveRun, float, float]:
         """A solve at ``approach``: the run, its mean pressure minus the target, its contact area."""
         nonlocal total
-        run = _patch_run(solver, setup, approach, start)
+        run = _patch_run(solver, setup, approach, start, held)
         total += run.iterations
         p = run.sx + (-setup.op(setup.rigid_gap(solver, approach)))
         contact = float(xp.count_nonzero(setup.patch & (run.x <= 0))) / (nx * ny) * solver.texture.area
@@ -502,15 +554,16 @@ def _patch_pressure(solver: Any, setup: AdhesiveSetup, pressure: float, seed: An
             nxt = d0 - e0 * (d1 - d0) / (e1 - e0)  # regula falsi, Illinois-weighted below
             if not (min(d0, d1) < nxt < max(d0, d1)):
                 nxt = 0.5 * (d0 + d1)
-            start = r0.x if abs(nxt - d0) <= abs(nxt - d1) else r1.x
+            near_run = r0 if abs(nxt - d0) <= abs(nxt - d1) else r1
+            start, bonds = near_run.x, near_run.bonded
         else:
             # the mean pressure's slope in the approach: 2 E* a / area for a contact of radius a
             radius = math.sqrt(max(contact, solver.texture.area / (nx * ny)) / math.pi)
             step = -err / (2.0 * solver.modulus * radius / solver.texture.area)
             nxt = d + max(min(step, solver.pv), -solver.pv)
-            start = run.x
+            start, bonds = run.x, run.bonded
         d = nxt
-        run, err, contact = trial(d, start)
+        run, err, contact = trial(d, start, bonds)
         if lo is not None and hi is not None:
             # Illinois: halve the weight of an end kept twice in a row
             if err < 0:
@@ -592,6 +645,9 @@ def _result(solver: Any, run: AdhesiveRun, mode: str, value: float, approach: fl
         "tensile_fraction": float(np.count_nonzero(p_np < 0)) / p_np.size,
         "contact_tensile_fraction": float(np.count_nonzero(contact & (p_np < 0))) / p_np.size,
     }
+    if run.bonded is not None:
+        # where a regularised attraction acts: the next solve from this one keeps it there
+        adhesion["_bonded"] = be.to_numpy(run.bonded if setup.periodic else run.bonded[:nx, :ny]).astype(bool)
     # a lifted-off skin has no equilibrium: no gap to report
     mean_gap = math.nan if run.detached else float(g_np.mean())
     # under load control of a periodic cell the mean pressure is the constraint itself (its
@@ -633,6 +689,9 @@ def adhesive_energy(solver: Any, gap: np.ndarray, mean_pressure: float) -> float
     g = be.asarray(gap)
     sg = setup.op(g)
     xp = be.xp
+    law = solver.interaction
+    # a regularised attraction acts near the contact of this gap only (:func:`_acting`)
+    phi = xp.where(_acting(xp, law, g, xp.ones(g.shape, dtype=xp.bool)), law.energy(g), 0.0)
     total = 0.5 * float(xp.sum(g * sg)) + float(xp.sum(setup.sh(solver) * g)) + mean_pressure * float(xp.sum(g)) \
-        + float(xp.sum(solver.interaction.energy(g)))
+        + float(xp.sum(phi))
     return total / math.prod(solver.texture.shape)

@@ -31,7 +31,9 @@ micrometre asperities is 1e3-1e4, the JKR limit, whose results do not depend on 
 range used is therefore the larger of the given one and the one whose cohesive zone spans
 :data:`~fingerpad.contact.interaction.COHESIVE_PIXELS` pixels
 (:func:`~fingerpad.contact.interaction.resolved_range`): it shrinks with the pixel, and the
-grid's error estimate (:mod:`fingerpad.micro.resolution`) measures both together. SI units.
+grid's error estimate (:mod:`fingerpad.micro.resolution`) measures both together. A range so
+regularised acts within :data:`~fingerpad.contact.interaction.TIP_PIXELS` pixels of the contact
+only (the JKR limit's cohesive zone; no attraction reaching out of contact). SI units.
 """
 
 from __future__ import annotations
@@ -44,7 +46,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..contact import ContactResult, HalfSpaceSolver
-from ..contact.interaction import make_interaction, resolved_range
+from ..contact.interaction import TIP_PIXELS, make_interaction, resolved_range
 from ..contact.layered import Layer
 from ..errors import FingerpadError
 from .bem import DEFAULT_RTOL, MAX_PSI_STEP, STATE_SEARCH_CAP
@@ -76,7 +78,7 @@ MAX_SEPARATION_SOLVES = 600
 #: Most extra solves bisecting steep steps of one branch.
 MAX_REFINE = 40
 #: Version of what an adhesive cell stores (part of its key).
-ADHESIVE_CELL_VERSION = 1
+ADHESIVE_CELL_VERSION = 2
 
 
 def pull_apart(solver: HalfSpaceSolver, start: ContactResult, step: float) -> dict[str, Any]:
@@ -181,14 +183,14 @@ class AdhesiveUnitCell:
 
     #: Tells the coupling to take the adhesive pad (:func:`fingerpad.coupling.predict_curve`).
     adhesive = True
-    #: Order of convergence in the pixel of what the cell gives past the asperity state
-    #: (docs/model.md 6.6, "Convergence past the transition"): the range follows the pixel
-    #: (``rho ~ dx^(1/2)``) and the skin's jump onto the texture's base happens at a gap of the
-    #: attraction's reach, so the transition pressure moves with ``rho``, not with the pixel; on
-    #: the default cell its change per grid doubling shrinks by only 0.83-0.90 (``2^(-1/4)`` =
-    #: 0.84). The grid's error estimate scales the change from the half grid by ``1 / (2^q - 1)``
+    #: Order of convergence in the pixel of what the cell gives (docs/model.md 6.6, "Convergence
+    #: past the transition"): the range follows the pixel (``rho ~ dx^(1/2)``), so Maugis's
+    #: parameter of the caps' contacts grows only as ``dx^(-1/2)`` and what depends on it (the
+    #: adhesion-driven jump into full contact at large ``w``) converges at order 1/2: on the
+    #: default cell at ``w`` 0.3 J/m^2 the transition's change per grid doubling shrinks by 0.67.
+    #: The grid's error estimate scales the change from the half grid by ``1 / (2^q - 1)``
     #: (:func:`fingerpad.micro.resolution.order_factor`).
-    convergence_order = 0.25
+    convergence_order = 0.5
 
     def __init__(
         self,
@@ -225,13 +227,15 @@ class AdhesiveUnitCell:
         # the range used: the physical one, or the resolved one where that is longer (the JKR limit)
         resolved = resolved_range(unit_work, 1.0, 1.0 / nx)
         unit_range = _round(max(rho / self.length, resolved))
-        self.law = make_interaction(law, unit_work, unit_range)
+        regularised = unit_range > rho / self.length
+        # a regularised range acts at the contact's edge only (docs/model.md 6.6)
+        self.law = make_interaction(law, unit_work, unit_range, TIP_PIXELS if regularised else 0)
         #: The publications of this model (:mod:`fingerpad.references` keys): the solver of its
         #: nodes, adhesive contact with the gap as the unknown, the JKR limit, the Maugis-Dugdale law.
         self.REFERENCES = ("polonsky1999", "rey2017", "johnson1971") + (("maugis1992",) if law == "maugis" else ())
         #: The range the solves use (m): ``max(adhesion_range, resolved range)``.
         self.adhesion_range = unit_range * self.length
-        self.regularised = unit_range > rho / self.length
+        self.regularised = regularised
         self.layer = layer
         self.unit_layer = unit_layer(layer, self.modulus, self.length)
         self.tol, self.max_iter, self.rtol = tol, max_iter, rtol

@@ -100,7 +100,7 @@ class GridChoice:
 def order_factor(cell_type: Any) -> float:
     """``1 / (2^q - 1)``: the error left after a grid whose change from the half grid is 1, for a
     cell converging with order ``q`` in the pixel (its ``convergence_order``; 1 when it declares
-    none, the factor then exactly 1). An adhesive cell converges with order 1/4 (factor 5.3)."""
+    none, the factor then exactly 1). An adhesive cell converges with order 1/2 (factor 2.4)."""
     order = float(getattr(cell_type, "convergence_order", 1.0))
     return 1.0 / (2.0**order - 1.0)
 
@@ -230,7 +230,7 @@ def choose_grid(
         The cell's class: :class:`BEMUnitCell`, or
         :class:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell` for an adhesive skin (whose
         range follows the pixel, so the estimate measures both together; its
-        ``convergence_order``, 1/4, scales the change to the error left: :func:`order_factor`).
+        ``convergence_order``, 1/2, scales the change to the error left: :func:`order_factor`).
     """
     opts = dict(cell_options or {})
 

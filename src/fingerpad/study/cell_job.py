@@ -339,7 +339,7 @@ def _run_adhesive(job: SolveJob, progress: Callable[[int, int], None] | None,
     pull-off pressure by pulling the skin apart from the zero-load state (its range regularised
     to the grid where it is below a pixel)."""
     from ..contact import HalfSpaceSolver
-    from ..contact.interaction import make_interaction, resolved_range
+    from ..contact.interaction import regularised_interaction
     from ..micro.adhesive_cell import SEPARATION_STEP, pull_apart
     from ..micro.loadcurve import LoadCurve
 
@@ -347,8 +347,8 @@ def _run_adhesive(job: SolveJob, progress: Callable[[int, int], None] | None,
     assert adh is not None
     tex = job.texture
     e = job.materials.modulus
-    used = max(float(adh["adhesion_range"]), resolved_range(adh["work_of_adhesion"], e, float(min(tex.spacing))))
-    law = make_interaction(adh["adhesion_law"], adh["work_of_adhesion"], used)
+    law = regularised_interaction(adh["adhesion_law"], adh["work_of_adhesion"], float(adh["adhesion_range"]), e,
+                                  float(min(tex.spacing)))
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
         solver = HalfSpaceSolver(tex, e, layer=job.materials.layer, tol=job.tol, max_iter=job.max_iter,
@@ -377,7 +377,7 @@ def _run_adhesive(job: SolveJob, progress: Callable[[int, int], None] | None,
     payload = _results_json(job, results)
     payload["pull_off_pressure"] = pulled["pull_off"]
     payload["adhesion"] = {**law.describe(), "adhesion_range_given": float(adh["adhesion_range"]),
-                           "range_regularised": bool(used > float(adh["adhesion_range"])),
+                           "range_regularised": bool(law.range > float(adh["adhesion_range"])),
                            "pull_off_pressure": pulled["pull_off"], "work_of_separation": pulled["work"],
                            "pull_off_solves": pulled["solves"],
                            "branch": "loading: from zero load up through the positive pressures and down through the "

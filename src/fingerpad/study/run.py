@@ -244,10 +244,13 @@ def _adhesion_report(curve: CurvePrediction, finger: Finger, notes: list[str]) -
             notes.append(f"adhesion changes the real area by more than {100 * THRESHOLD_CHANGE:g} % up to {hi:g} N "
                          "(the skin pulled onto the texture's base past the transition, not only the light touch)")
     if info.get("range_regularised"):
+        from ..contact.interaction import TIP_PIXELS
+
         notes.append(f"adhesion: the range {finger.adhesion_range:.3g} m is below a pixel; it is solved with the "
-                     f"range {info['adhesion_range_used']:.3g} m, whose cohesive zone spans a pixel: the asperities' "
-                     "contacts are JKR's, but past the transition the numbers move with that range (the skin jumps "
-                     "onto the texture's base within its reach; docs/model.md 6.6)")
+                     f"range {info['adhesion_range_used']:.3g} m, whose cohesive zone spans a pixel, acting within "
+                     f"{TIP_PIXELS} pixels of the contact (the JKR limit's cohesive zone): the contacts are JKR's; "
+                     "where adhesion pulls the skin into full contact (large w) the grid converges slowly "
+                     "(docs/model.md 6.6)")
     return info
 
 
