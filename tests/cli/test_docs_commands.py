@@ -62,7 +62,12 @@ if not help_only:
     if command == "sweep" and not has("--workers"):
         extra += ["--workers", "1"]
     if command == "design":
-        extra += ["--evaluations", "6"]
+        # 6 evaluations whatever the page says (an option given twice is refused, so replace it)
+        if "--evaluations" in args:
+            args[args.index("--evaluations") + 1] = "6"
+        args = [a if not a.startswith("--evaluations=") else "--evaluations=6" for a in args]
+        if not has("--evaluations"):
+            extra += ["--evaluations", "6"]
 run = [args[0], "--help"] if help_only and args else args + extra
 
 
