@@ -102,3 +102,12 @@ def test_sizes_and_integers():
 ])
 def test_format_picks_a_readable_unit(value, dimension, text):
     assert format_quantity(value, dimension) == text
+
+
+def test_per_cent_estimates_read_the_same_in_every_output():
+    """One rule for an error estimate in per cent (the terminal's lines, predict's and a
+    population's notes): two digits, '100' from 99.5 %, '>100' beyond, never '1.1e+02'."""
+    from fingerpad.units import format_percent
+
+    assert [format_percent(e) for e in (0.0123, 0.5, 0.996, 1.0, 1.1, 35.0)] == ["1.2", "50", "100", "100", ">100",
+                                                                                  ">100"]

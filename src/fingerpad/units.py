@@ -184,6 +184,21 @@ def format_quantity(value: float, dimension: str, digits: int = 4) -> str:
 MAX_INT_DIGITS = 30
 
 
+def format_percent(error: float) -> str:
+    """A relative error estimate in per cent, as every output that prints one writes it: two
+    significant digits, ``100`` from 99.5 %, and ``>100`` beyond (there the number says only that
+    the estimate does not resolve it; ``'1e+02'`` nowhere).
+
+    Parameters
+    ----------
+    error : float
+        The relative error (1 = 100 %).
+    """
+    if error > 1.0:
+        return ">100"
+    return "100" if error >= 0.995 else f"{100 * error:.2g}"
+
+
 def parse_int(text: str | int | float, name: str, minimum: int = 1, maximum: int | None = None) -> int:
     """An integer in ``[minimum, maximum]`` from user input: a Python or NumPy integer, an
     integral float (``64.0`` from TOML) or digits; errors name ``name`` (the option or key).

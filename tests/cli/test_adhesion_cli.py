@@ -174,6 +174,8 @@ def test_every_error_estimate_beyond_100_percent_reads_gt_100():
     """The terminal's per-cent estimates share one rule: two digits, or '>100' (a population's
     pull-off estimate printed '3.5e+03 %' while predict's own line said '>100 %')."""
     from fingerpad.cli.predict import _percent, _plus_minus
+    from fingerpad.units import format_percent
 
     assert [_percent(e) for e in (0.0123, 0.5, 0.996, 1.0, 1.73, 35.0)] == ["1.2", "50", "100", "100", ">100", ">100"]
+    assert [_percent(e) for e in (0.0123, 1.1)] == [format_percent(e) for e in (0.0123, 1.1)]
     assert _plus_minus(35.0) == " ± >100 %" and _plus_minus(0.059) == " ± 5.9 %" and _plus_minus(None) == ""

@@ -271,11 +271,10 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
 
 
 def _percent(error: float) -> str:
-    """A relative error estimate in per cent for the terminal: two digits, or ``>100`` (beyond
-    100 % the number says only that the estimate does not resolve it)."""
-    if error > 1.0:
-        return ">100"
-    return "100" if error >= 0.995 else f"{100 * error:.2g}"  # not '1e+02'
+    """A relative error estimate in per cent for the terminal (:func:`fingerpad.units.format_percent`)."""
+    from fingerpad.units import format_percent
+
+    return format_percent(error)
 
 
 def _plus_minus(error: Any) -> str:

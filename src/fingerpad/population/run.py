@@ -21,6 +21,7 @@ import numpy as np
 
 from ..coupling import CurvePrediction
 from ..errors import FingerpadError
+from ..units import format_percent
 from ..study.run import Prediction, run_study
 from ..study.spec import Study
 from .rules import DEFAULT_QUANTILES, PopulationStudy, attach
@@ -275,7 +276,7 @@ def run_population(study: Study | PopulationStudy, population: Population | Mapp
         worst = float(np.max(adhesion.interpolation_error))
         if worst > plan.study.accuracy:
             notes.append(f"population: adhesion: the estimated interpolation error of A_re reaches "
-                         f"{100 * worst:.2g} % (median {100 * float(np.median(adhesion.interpolation_error)):.2g} %) "
+                         f"{format_percent(worst)} % (median {format_percent(float(np.median(adhesion.interpolation_error)))} %) "
                          f"over the family's {len(adhesion.family.nodes)} cells, above the accuracy "
                          f"{100 * plan.study.accuracy:g} %")
     sens = None

@@ -20,6 +20,7 @@ import numpy as np
 
 from ..coupling import CurvePrediction, predict_curve
 from ..errors import FingerpadError
+from ..units import format_percent
 from ..finger import Finger
 from ..micro.bem import STATE_SEARCH_CAP
 from ..micro.hertz import HertzUnitCell, hertz_cell_for, supports_hertz
@@ -657,21 +658,20 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
         resolution["solves"] += solves_before
         what = "A_re/A_fr (with adhesion)" if finger.adhesive else "A_re/A_fr"
         if study.grid is None and choice.met is False:
-            estimate = ">100" if choice.error > 1.0 else f"{100 * choice.error:.2g}"  # beyond: not resolved
-            notes.append(f"the estimated discretisation error of {what}, {estimate} %, exceeds "
+            notes.append(f"the estimated discretisation error of {what}, {format_percent(choice.error)} %, exceeds "
                          f"the target {100 * choice.target:g} % at the largest automatic grid")
         elif study.grid is not None and not math.isnan(choice.error) and choice.error > study.accuracy:
-            notes.append(f"grid {study.grid}: estimated discretisation error of {what} {100 * choice.error:.2g} % "
+            notes.append(f"grid {study.grid}: estimated discretisation error of {what} {format_percent(choice.error)} % "
                          f"(above {100 * study.accuracy:g} %; leave the grid to the default to reach it)")
         elif choice.target is None and study.grid is None and not math.isnan(choice.error) \
                 and choice.error > study.accuracy:
-            notes.append(f"measured map at its own grid: A_re/A_fr changes by {100 * choice.error:.2g} % from the map "
+            notes.append(f"measured map at its own grid: A_re/A_fr changes by {format_percent(choice.error)} % from the map "
                          f"averaged 2 x 2 (pixel-scale roughness resolved by the pixels alone)")
         # (an adhesive cell's state brackets are its own: the plain cell's state grids not reported)
         for name, label in () if finger.adhesive else (("transition", "transition"), ("full", "full-contact")):
             st = states[name]
             if st.met is False and math.isfinite(st.error):
-                notes.append(f"the estimated error of the {label} pressure, {100 * st.error:.2g} %, exceeds the target "
+                notes.append(f"the estimated error of the {label} pressure, {format_percent(st.error)} %, exceeds the target "
                              f"{100 * st.target:g} % at the largest grid for the state pressures "
                              f"({st.cell.texture.shape[0]} points along x)")
         t_cell = time.perf_counter() - t0
