@@ -13,6 +13,7 @@ from typing import Annotated, Any
 import typer
 
 from ..errors import FingerpadError
+from ..units import format_percent as _percent  # one rule for per-cent estimates
 from .common import (
     ADHESION_HELP,
     DEVICE_HELP,
@@ -268,13 +269,6 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
         err = res["area_ratio_error"]
         # beyond 100 % the number says only that the grid does not resolve it (as _plus_minus)
         say(console, f"unit cell {grid} px ({chosen}): estimated error of A_re/A_fr {_percent(err)} %")
-
-
-def _percent(error: float) -> str:
-    """A relative error estimate in per cent for the terminal (:func:`fingerpad.units.format_percent`)."""
-    from fingerpad.units import format_percent
-
-    return format_percent(error)
 
 
 def _plus_minus(error: Any) -> str:
