@@ -19,10 +19,11 @@ skips them):
 * ``analyse + E_s``: the same with the texture table: the E_s fits and their sensitivity
   refits (other micro-model, friction parameters);
 * ``report``: tables, NetCDF and HTML without figures;
-* ``report + figures``: the same with every figure (participants, samples and the per-recording
-  QC figures, drawn by the default process pool), as ``fingerpad analyse`` writes it; ``figures``
-  is its difference from ``report``; ``participant + sample figures`` and ``QC figures`` draw
-  them in this process alone (``--no-serial`` leaves those out);
+* ``report + figures``: the same with every figure (participants, samples and the QC sheets,
+  drawn by the default process pool), as ``fingerpad analyse`` writes it; ``figures`` is its
+  difference from ``report``; ``participant + sample figures``, ``QC sheets`` and ``QC figures``
+  (the full figure per recording of ``--qc-recordings``) draw them in this process alone
+  (``--no-serial`` leaves those out);
 * the line-by-line reader (the exact fallback, as slow as the former cell-by-cell parser) on
   one file, against the vectorised reader on the same file: their ratio.
 
@@ -212,7 +213,7 @@ def phases(folder: Path, serial: bool) -> tuple[dict[str, float], dict[str, floa
             write_report(result_es, Path(tmp) / "out", figures=False)
         with timed("report + figures"):
             written = write_report(result_es, Path(tmp) / "fig")
-        n_qc = sum("/qc/" in p.as_posix() for p in written)
+        n_qc = len(result_es.stroke_reports)  # recordings with QC traces (on sheets, or one figure each)
         timings["figures"] = timings["report + figures"] - timings["report (no figures)"]
         if serial:
             from fingerpad.plotting import measure as pm
@@ -224,7 +225,15 @@ def phases(folder: Path, serial: bool) -> tuple[dict[str, float], dict[str, floa
                         pm.figure_participant(result_es, p), 100)
                 for s in sorted(result_es.strokes["sample"].unique()):
                     pm.sample_png(result_es, s, 100) if kept else pm.png_bytes(pm.figure_sample(result_es, s), 100)
-            with timed("QC figures"):  # one process
+            try:
+                from fingerpad.plotting.qcsheet import qc_sheet_png, qc_sheets
+            except ImportError:  # code before the QC sheets
+                qc_sheets = None
+            if qc_sheets is not None:
+                with timed("QC sheets"):  # one process: every recording on its participant's sheet
+                    for sheet in qc_sheets(result_es):
+                        qc_sheet_png(sheet, 100)
+            with timed("QC figures"):  # one process, a full figure per recording (--qc-recordings)
                 for r in result_es.recordings:
                     pm.qc_png(pm.qc_inputs(result_es, r.source), 100)
     return timings, cpu, n_qc, result
@@ -308,13 +317,15 @@ def main(argv: list[str] | None = None) -> int:
         os.environ["FINGERPAD_CACHE"] = _env(folder)["FINGERPAD_CACHE"]
         timings, cpu, n_qc, result = phases(folder, not args.no_serial)
         report.update(phases_s=timings, phases_cpu_s=cpu)
-        print(f"in-process phases, {folder.name} ({len(result.strokes)} strokes, {n_qc} QC figures; load average now "
+        print(f"in-process phases, {folder.name} ({len(result.strokes)} strokes, {n_qc} recordings; load average now "
               f"{os.getloadavg()[0]:.2f}):")
         for name, seconds in timings.items():
             extra = f"   (CPU {cpu[name]:.2f} s)" if name in cpu else ""
             print(f"  {name:30s} {seconds:7.2f} s{extra}")
         if "QC figures" in cpu:
-            print(f"  one QC figure: {cpu['QC figures'] / max(n_qc, 1):.3f} s of CPU in one process")
+            print(f"  one full QC figure: {cpu['QC figures'] / max(n_qc, 1):.3f} s of CPU in one process")
+        if "QC sheets" in cpu:
+            print(f"  one recording on a QC sheet: {cpu['QC sheets'] / max(n_qc, 1):.3f} s of CPU in one process")
         fast, slow, n_rows = parse_ratio(Path(result.recordings[0].source))
         report["parse_speedup"] = slow / fast
         print(f"  one file ({n_rows} rows): vectorised {fast * 1e3:.0f} ms, line by line {slow * 1e3:.0f} ms "

@@ -59,7 +59,7 @@ def _layout(html_file: Path, width: int, tmp: Path) -> dict:
                     reason="headless Chromium not installed (apt-get install -y chromium)")
 def test_report_layout_in_chromium(study_small, tmp_path):
     out = tmp_path / "res"
-    write_report(study_small, out, qc=True)
+    write_report(study_small, out, qc=True, qc_recordings=True)
     for width in (1280, 800):
         layout = _layout(out / "report.html", width, tmp_path)
         # the page never scrolls sideways: wide tables scroll inside their own box

@@ -19,7 +19,7 @@ TABLES = {"summary.csv": "conditions", "participants.csv": "participants", "stro
 @pytest.fixture(scope="module")
 def report(study_small, tmp_path_factory):
     out = tmp_path_factory.mktemp("report") / "results"
-    files = write_report(study_small, out, dpi=40, qc=True)
+    files = write_report(study_small, out, dpi=40, qc=True, qc_recordings=True)
     return out, files
 
 
@@ -65,7 +65,8 @@ def test_figures_are_drawn(report, study_small):
     pngs = sorted((out / "figures").rglob("*.png"))
     n_participants = study_small.strokes["participant"].nunique()
     n_samples = study_small.strokes["sample"].nunique()
-    assert len(pngs) == n_participants + n_samples + len(study_small.stroke_reports)
+    # a QC sheet per participant, and (qc_recordings) a full QC figure per recording
+    assert len(pngs) == 2 * n_participants + n_samples + len(study_small.stroke_reports)
     for path in pngs[:: max(1, len(pngs) // 4)]:
         img = imread(path)[..., :3]
         assert img.var() > 1e-3 and len(np.unique(img.reshape(-1, 3), axis=0)) > 2, path.name
@@ -73,6 +74,7 @@ def test_figures_are_drawn(report, study_small):
     for path in pngs:
         if "qc" in path.parts:
             assert path.relative_to(out).as_posix() in html, "QC figures are linked"
+    assert html.count("<h3>QC of participant ") == n_participants, "QC sheets are embedded"
     # every file the report wrote, besides the folder's hidden listing of them (fingerpad.io.MANIFEST)
     assert sorted(files) == sorted(p for p in out.rglob("*") if p.is_file() and not p.name.startswith("."))
 
@@ -110,10 +112,12 @@ def test_report_refuses_a_foreign_folder(study_small, tmp_path):
 def test_qc_figures_drawn_by_a_process_pool_are_the_same_files(study_small, tmp_path):
     """Two worker processes draw the QC figures; every file of the report is byte-identical to
     the one drawn here without a pool (the figures do not depend on where they are drawn)."""
-    one = write_report(study_small, tmp_path / "one", dpi=30, workers=1)
-    two = write_report(study_small, tmp_path / "two", dpi=30, workers=2)
+    one = write_report(study_small, tmp_path / "one", dpi=30, workers=1, qc_recordings=True)
+    two = write_report(study_small, tmp_path / "two", dpi=30, workers=2, qc_recordings=True)
     qc = [p for p in one if "/qc/" in p.as_posix()]
     assert len(qc) == len(study_small.recordings) >= 4
+    sheets = [p for p in one if p.name.startswith("qc_")]
+    assert len(sheets) == study_small.strokes["participant"].nunique()
     assert [p.relative_to(tmp_path / "one") for p in one] == [p.relative_to(tmp_path / "two") for p in two]
     for a, b in zip(one, two):
         if a.suffix in {".png", ".csv", ".json"}:
@@ -133,11 +137,11 @@ def test_qc_figures_started_during_the_analysis_are_the_same_files(small_study_d
     textures = m.read_textures(small_study_dir / "samples.csv")
     with EarlyQC(dpi=30, workers=2) as early:
         result = m.analyse_study(recordings, opts, textures=textures, on_strokes=early.start)
-        assert len(early._futures) == len(recordings) >= 4  # started before the report
+        assert len(early._futures) == 3  # the sheets, started before the report
         started = write_report(result, tmp_path / "early", dpi=30, early_qc=early)
     plain = write_report(result, tmp_path / "plain", dpi=30, workers=1)
     assert [p.relative_to(tmp_path / "plain") for p in plain] == [p.relative_to(tmp_path / "early") for p in started]
-    assert sum("/qc/" in p.as_posix() for p in plain) == len(recordings)
+    assert sum(p.name.startswith("qc_") for p in plain) == 3
     for a, b in zip(plain, started):
         if a.suffix in {".png", ".csv", ".json"}:
             assert a.read_bytes() == b.read_bytes(), a.name
@@ -155,12 +159,12 @@ def test_strokes_found_by_the_qc_pool_give_the_same_report(small_study_dir, tmp_
     recordings = m.load_study([small_study_dir])
     textures = m.read_textures(small_study_dir / "samples.csv")
     plain_result = m.analyse_study(recordings, opts, textures=textures)
-    plain = write_report(plain_result, tmp_path / "plain", dpi=30, workers=1)
-    with EarlyQC(dpi=30, workers=2) as early:
+    plain = write_report(plain_result, tmp_path / "plain", dpi=30, workers=1, qc_recordings=True)
+    with EarlyQC(dpi=30, workers=2, recordings=True) as early:
         result = m.analyse_study(recordings, opts, textures=textures, on_strokes=early.start,
                                  find_strokes=early.find_strokes)
         assert len(early._forked) == len(recordings) >= 4  # the workers found the strokes
-        pooled = write_report(result, tmp_path / "pooled", dpi=30, early_qc=early)
+        pooled = write_report(result, tmp_path / "pooled", dpi=30, early_qc=early, qc_recordings=True)
     assert [p.relative_to(tmp_path / "plain") for p in plain] == [p.relative_to(tmp_path / "pooled") for p in pooled]
     for a, b in zip(plain, pooled):
         if a.suffix in {".png", ".csv", ".json"}:

@@ -140,7 +140,11 @@ def analyse_command(
                                          help="Skip refitting E_s with the other micro-model and varied "
                                               "friction parameters.")] = False,
     no_figures: Annotated[bool, _opt("--no-figures", panel=_OUTPUT)] = False,
-    no_qc: Annotated[bool, _opt("--no-qc", panel=_OUTPUT, help="Skip the per-recording QC figures.")] = False,
+    no_qc: Annotated[bool, _opt("--no-qc", panel=_OUTPUT, help="Skip the QC figures (sheets and per recording).")
+                     ] = False,
+    qc_recordings: Annotated[bool, _opt("--qc-recordings", panel=_OUTPUT,
+                                        help="Also draw a full QC figure per recording (figures/qc/; ~0.1 s of CPU "
+                                             "each); the QC sheets show every recording either way.")] = False,
     title: Annotated[str, _opt("--title", panel=_OUTPUT, metavar="TEXT")] = "Finger friction study",
 ) -> None:
     """Analyse tribometer recordings: friction curves, normalisation, transition, skin modulus.
@@ -204,12 +208,13 @@ def analyse_command(
 
         # the QC figures start as soon as the strokes are known, and draw on the other
         # cores while the fits run
-        with EarlyQC() as early:
+        with EarlyQC(recordings=qc_recordings) as early:
             result = m.analyse_study(recordings, options, textures=textures,
                                      on_strokes=early.start if not (no_figures or no_qc) else None,
                                      find_strokes=early.find_strokes)
             with ProgressBar(stderr_console(), "figures") as bar:
                 written = write_report(result, out, figures=not no_figures, title=title, qc=not no_qc,
+                                       qc_recordings=qc_recordings,
                                        progress=(lambda i, n, _what: bar(i, n)) if sys.stderr.isatty() else None,
                                        early_qc=early)
     _print_summary(result, written, Path(out), shown)

@@ -246,9 +246,11 @@ def html_report(
     *,
     qc_links: Mapping[str, str] | None = None,
     study_info: Callable[[StudyResult], dict[str, Any]] | None = None,
+    qc_sheets: Mapping[str, bytes] | None = None,
 ) -> str:
-    """One self-contained HTML page: study facts, warnings, tables, figures (base64 PNG) and
-    links to the per-recording QC figures."""
+    """One self-contained HTML page: study facts, warnings, tables, figures (base64 PNG), the
+    QC sheets (``qc_sheets``: title -> PNG, embedded) and links to the per-recording QC
+    figures (``qc_links``: recording -> file)."""
     info = (study_info or default_study_info)(result)
     lv = 100 * info["confidence_level"]
     parts = [
@@ -307,6 +309,15 @@ def html_report(
     for name, png in figures.items():
         data = base64.b64encode(png).decode("ascii")
         parts.append(f"<h3>{_esc(name)}</h3><img alt='{_esc(name)}' src='data:image/png;base64,{data}'>")
+    if qc_sheets:
+        parts.append("<h2>Recordings: stroke detection (QC sheets)</h2><p class='facts'>Every recording's "
+                     "normal force (black) and friction force (green) against time, one panel per recording, a "
+                     "row per sample: strokes shaded by sense (steady window darker), outliers outlined in red, "
+                     "dropped strokes hatched grey, strokes with a saturated sensor cross-hatched magenta, the "
+                     "lift-off threshold dotted red.</p>")
+        for name, png in qc_sheets.items():
+            data = base64.b64encode(png).decode("ascii")
+            parts.append(f"<h3>{_esc(name)}</h3><img alt='{_esc(name)}' src='data:image/png;base64,{data}'>")
     if qc_links:
         parts.append("<h2>Recordings: stroke detection (QC figures)</h2><p class='facts'>Forces and position "
                      "against time with every stroke shaded (steady window darker, outliers outlined in red, "

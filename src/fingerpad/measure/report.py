@@ -18,8 +18,12 @@ Layout of ``OUT``::
     sensitivity.csv             E_s refitted with the other micro-model and varied friction parameters
     curves.nc                   binned and fitted curves (xarray, h5netcdf)
     figures/participant_<P>.png, figures/sample_<S>.png
-    figures/qc/<recording>.png  per recording: forces and position with the strokes, mu per stroke
-    report.html                 one page: summary tables and the figures (embedded; QC linked)
+    figures/qc_<P>.png          QC sheet per participant: every recording's forces with its strokes
+                                (small multiples; ``qc_<P>_2.png`` ... for a participant with more
+                                than 12 rows of recordings)
+    figures/qc/<recording>.png  with ``qc_recordings``: per recording, forces and position with the
+                                strokes, mu per stroke
+    report.html                 one page: summary tables and the figures (embedded; full QC linked)
 """
 
 from __future__ import annotations
@@ -42,6 +46,7 @@ from .._version import __version__
 from ..encode import to_jsonable
 from ..io import OutputFolder
 from ..plotting.measure import condition_label, participant_png, qc_inputs, qc_png, sample_png
+from ..plotting.qcsheet import qc_sheet_png, qc_sheets
 from ..plotting.render import load_drawing_modules
 from .analysis import StudyResult, study_info, study_references
 from .htmlreport import html_report
@@ -248,21 +253,60 @@ def _forked_qc_png(inputs: Any, index: int, dpi: int) -> bytes:
     return qc_png(replace(inputs, recording=_FORKED[index]), dpi)
 
 
+def _forked_sheet_png(sheet: Any, indices: list[int], dpi: int) -> bytes:
+    """:func:`qc_sheet_png` of ``sheet`` with its recordings, left out of the message, taken
+    from the worker's inherited copies (``indices``, one per cell)."""
+    from dataclasses import replace
+
+    cells = tuple(replace(cell, recording=_FORKED[i]) for cell, i in zip(sheet.cells, indices, strict=True))
+    return qc_sheet_png(replace(sheet, cells=cells), dpi)
+
+
+def _qc_task(task: tuple[str, Any], dpi: int) -> bytes:
+    """The PNG of one QC task (:func:`_qc_tasks`): a sheet, or one recording's full figure."""
+    kind, inputs = task
+    return qc_sheet_png(inputs, dpi) if kind == "sheet" else qc_png(inputs, dpi)
+
+
+def _qc_tasks(result: Any, recordings: bool) -> list[tuple[str, str, Any]]:
+    """The QC figures of ``result``: ``(file name, kind, inputs)`` of every participant's QC
+    sheets (:func:`~fingerpad.plotting.qcsheet.qc_sheets`; ``figures/qc_<participant>.png``,
+    ``..._2.png`` for a second page), and with ``recordings`` each recording's full figure
+    (``figures/qc/<recording>.png``)."""
+    tasks: list[tuple[str, str, Any]] = []
+    for sheet in qc_sheets(result):
+        page = "" if sheet.page == 1 else f"_{sheet.page}"
+        tasks.append((f"figures/qc_{_safe(sheet.participant)}{page}.png", "sheet", sheet))
+    if recordings:
+        used: set[str] = set()
+        for rec in result.recordings:
+            if rec.source not in result.stroke_reports:
+                continue
+            stem = _safe(Path(rec.source).stem)
+            while stem in used:  # two folders may hold files of one name
+                stem += "_"
+            used.add(stem)
+            tasks.append((f"figures/qc/{stem}.png", "recording", qc_inputs(result, rec.source)))
+    return tasks
+
+
 class EarlyQC:
     """The QC figures drawn while the analysis still runs.
 
     Without it the analysis (reading aside, its larger part) runs on one core before any
     figure is started. Use as a context manager around :func:`analyse_study` and
     :func:`write_report`: pass :meth:`start` as ``analyse_study(..., on_strokes=...)`` and
-    the object as ``write_report(..., early_qc=...)``. :meth:`start` hands every recording's
-    QC figure to a pool of ``workers`` processes (default as :func:`write_report`'s) as soon
-    as the strokes and their outliers are known; the figures are the same, byte for byte.
-    Leaving the block cancels what is not drawn yet.
+    the object as ``write_report(..., early_qc=...)``. :meth:`start` hands every QC figure
+    (each participant's QC sheets, and with ``recordings`` each recording's full figure, as
+    :func:`write_report` draws them) to a pool of ``workers`` processes (default as
+    :func:`write_report`'s) as soon as the strokes and their outliers are known; the figures
+    are the same, byte for byte. Leaving the block cancels what is not drawn yet.
     """
 
-    def __init__(self, dpi: int = 100, workers: int | None = None) -> None:
+    def __init__(self, dpi: int = 100, workers: int | None = None, recordings: bool = False) -> None:
         self.dpi = dpi
         self.workers = workers
+        self.recordings = recordings
         self._pool: Any = None
         self._futures: dict[str, Any] = {}
         # source -> index in the recordings the pool's workers inherited (find_strokes)
@@ -303,29 +347,40 @@ class EarlyQC:
         finally:
             _FORKED.clear()  # the workers keep their copy
 
+    def _inherited(self, inputs: Any) -> int | None:
+        """The index of ``inputs``' recording in the workers' inherited copies, if they hold it."""
+        index = self._forked.get(inputs.source)
+        if index is not None and self._forked_recordings[index] is inputs.recording:
+            return index
+        return None
+
     def start(self, partial: Any) -> None:
-        """Submit the QC figure of every recording of ``partial`` (what ``on_strokes`` gets)."""
-        sources = [r.source for r in partial.recordings if r.source in partial.stroke_reports]
-        n = _qc_workers(self.workers, len(sources))
-        if n <= 1:  # drawn in this process by write_report, as without it
+        """Submit every QC figure of ``partial`` (what ``on_strokes`` gets)."""
+        tasks = _qc_tasks(partial, self.recordings)
+        n = _qc_workers(self.workers, len(partial.stroke_reports))
+        if n <= 1 or not tasks:  # drawn in this process by write_report, as without it
             return
         if self._pool is None:
             self._pool = _start_pool(n)
         from dataclasses import replace
 
-        def submit(source: str) -> Any:
-            inputs = qc_inputs(partial, source)
-            index = self._forked.get(source)
-            if index is not None and self._forked_recordings[index] is inputs.recording:
-                # the worker holds the recording already (forked after reading it)
-                return self._pool.submit(_forked_qc_png, replace(inputs, recording=None), index, self.dpi)
-            return self._pool.submit(qc_png, inputs, self.dpi)
+        def submit(kind: str, inputs: Any) -> Any:
+            if kind == "sheet":
+                indices = [self._inherited(cell) for cell in inputs.cells]
+                if all(i is not None for i in indices):  # the workers hold the recordings already
+                    light = replace(inputs, cells=tuple(replace(c, recording=None) for c in inputs.cells))
+                    return self._pool.submit(_forked_sheet_png, light, indices, self.dpi)
+            else:
+                index = self._inherited(inputs)
+                if index is not None:
+                    return self._pool.submit(_forked_qc_png, replace(inputs, recording=None), index, self.dpi)
+            return self._pool.submit(_qc_task, (kind, inputs), self.dpi)
 
-        self._futures = {source: submit(source) for source in sources}
+        self._futures = {name: submit(kind, inputs) for name, kind, inputs in tasks}
 
-    def png(self, source: str, dpi: int) -> Any:
-        """The future of ``source``'s PNG at ``dpi``, or ``None`` if it was not started."""
-        return self._futures.get(source) if dpi == self.dpi else None
+    def png(self, name: str, dpi: int) -> Any:
+        """The future of QC figure ``name``'s PNG at ``dpi``, or ``None`` if it was not started."""
+        return self._futures.get(name) if dpi == self.dpi else None
 
     @property
     def pool(self) -> Any:
@@ -335,27 +390,27 @@ class EarlyQC:
 
 
 @contextmanager
-def _qc_drawer(result: StudyResult, sources: list[str], dpi: int, workers: int | None,
+def _qc_drawer(tasks: list[tuple[str, str, Any]], n_recordings: int, dpi: int, workers: int | None,
                early: EarlyQC | None = None) -> Iterator[tuple[Any, Any]]:
-    """Start drawing the QC figure of every recording in ``sources``; yields ``png(i)``, the PNG
-    bytes of ``sources[i]``, and the process pool drawing them (``None`` where they are drawn
+    """Start drawing every QC figure of ``tasks`` (:func:`_qc_tasks`); yields ``png(i)``, the
+    PNG bytes of ``tasks[i]``, and the process pool drawing them (``None`` where they are drawn
     here).
 
-    With more than one worker a process pool starts on all of them at once, so that it draws
-    while this process draws the participant and sample figures; each task carries only its own
-    recording (:func:`qc_inputs`; pickled when a worker takes it, so any start method, fork or
-    spawn, is cheap). Leaving the block cancels what is not drawn yet. Figures ``early``
-    started are taken from it."""
-    started = [early.png(source, dpi) for source in sources] if early is not None else []
+    With more than one worker (as many as for ``n_recordings`` per-recording figures) a process
+    pool starts on all of them at once, so that it draws while this process draws the
+    participant and sample figures; each task carries only its own recordings (pickled when a
+    worker takes it, so any start method, fork or spawn, works). Leaving the block cancels what
+    is not drawn yet. Figures ``early`` started are taken from it."""
+    started = [early.png(name, dpi) for name, _, _ in tasks] if early is not None else []
     if started and all(f is not None for f in started):
         yield (lambda i: started[i].result()), early.pool  # type: ignore[union-attr]
         return
-    n = _qc_workers(workers, len(sources))
+    n = _qc_workers(workers, n_recordings) if tasks else 1
     if n <= 1:
-        yield (lambda i: qc_png(qc_inputs(result, sources[i]), dpi)), None
+        yield (lambda i: _qc_task(tasks[i][1:], dpi)), None
         return
     with _start_pool(n) as pool:
-        futures = [pool.submit(qc_png, qc_inputs(result, source), dpi) for source in sources]
+        futures = [pool.submit(_qc_task, (kind, inputs), dpi) for _, kind, inputs in tasks]
         try:
             yield (lambda i: futures[i].result()), pool
         finally:
@@ -435,16 +490,19 @@ def write_report(
     progress: Any = None,
     workers: int | None = None,
     early_qc: EarlyQC | None = None,
+    qc_recordings: bool = False,
 ) -> list[Path]:
     """Write tables, figures, NetCDF curves and the HTML report into ``out`` (see module doc).
 
     Everything is written into a temporary folder next to ``out``, which replaces ``out`` as a
     whole at the end (an earlier report's files never mix with these); on any error ``out`` is
     left as it was. A folder holding anything but an earlier report is refused.
-    ``qc`` adds one quality-control figure per recording (``figures/qc/``, linked from the
-    report); ``progress(done, total, what)`` is called as figures are drawn. The QC figures
-    are drawn by a pool of ``workers`` processes (default: one per CPU this process may use,
-    at most 8; ``1`` draws them here), each sent one recording at a time; the files are the
+    ``qc`` adds the quality-control sheets, every recording's forces and strokes as small
+    multiples, one sheet per participant (``figures/qc_<participant>.png``, embedded in the
+    report); ``qc_recordings`` also the full figure of each recording (``figures/qc/``,
+    linked from the report; some 0.1 s of CPU each). ``progress(done, total, what)`` is called
+    as figures are drawn. The QC figures are drawn by a pool of ``workers`` processes (default:
+    one per CPU this process may use, at most 8; ``1`` draws them here); the files are the
     same, byte for byte, whatever the number of workers. ``early_qc``: QC figures started
     during the analysis (:class:`EarlyQC`), used where it holds all of them at ``dpi``.
 
@@ -493,10 +551,11 @@ def write_report(
         written.append("curves.nc")
         pngs: dict[str, bytes] = {}
         qc_links: dict[str, str] = {}
+        qc_sheets_png: dict[str, bytes] = {}
         participants = sorted(result.strokes["participant"].unique())
         samples = sorted(result.strokes["sample"].unique())
-        sources = [r.source for r in result.recordings if r.source in result.stroke_reports] if qc and figures else []
-        total, done = len(participants) + len(samples) + len(sources), 0
+        tasks = _qc_tasks(result, qc_recordings) if qc and figures else []
+        total, done = len(participants) + len(samples) + len(tasks), 0
 
         def tick(what: str) -> None:
             nonlocal done
@@ -508,7 +567,7 @@ def write_report(
             (tmp / "figures").mkdir()
             # the pool starts on the QC figures now and draws them while the participant
             # and sample figures are drawn here
-            with _qc_drawer(result, sources, dpi, workers, early_qc) as (qc_png_of, pool):
+            with _qc_drawer(tasks, len(result.stroke_reports), dpi, workers, early_qc) as (qc_png_of, pool):
                 # each kind drawn on one kept figure (the same image as a new one's)
                 drawn = [("participant", p, participant_png) for p in participants] + \
                         [("sample", s, sample_png) for s in samples]
@@ -518,22 +577,19 @@ def write_report(
                     (tmp / name).write_bytes(png)
                     written.append(name)
                     tick(name)
-                if sources:
+                if any(kind == "recording" for _, kind, _ in tasks):
                     (tmp / "figures" / "qc").mkdir()
-                used: set[str] = set()
-                names: list[str] = []
-                for source in sources:
-                    stem = _safe(Path(source).stem)
-                    while stem in used:  # two folders may hold files of one name
-                        stem += "_"
-                    used.add(stem)
-                    names.append(f"figures/qc/{stem}.png")
-                for i, (source, name) in enumerate(zip(sources, names)):
-                    (tmp / name).write_bytes(qc_png_of(i))
+                for i, (name, kind, inputs) in enumerate(tasks):
+                    png = qc_png_of(i)
+                    (tmp / name).write_bytes(png)
                     written.append(name)
-                    qc_links[source] = name
+                    if kind == "sheet":
+                        page = f" (sheet {inputs.page} of {inputs.pages})" if inputs.pages > 1 else ""
+                        qc_sheets_png[f"QC of participant {inputs.participant}{page}"] = png
+                    else:
+                        qc_links[inputs.source] = name
                     tick(name)
-        (tmp / "report.html").write_text(html_report(result, pngs, title, qc_links=qc_links), encoding="utf-8")
+        (tmp / "report.html").write_text(html_report(result, pngs, title, qc_links=qc_links, qc_sheets=qc_sheets_png), encoding="utf-8")
         written.append("report.html")
         folder.commit()
     return [out_path / name for name in written]
