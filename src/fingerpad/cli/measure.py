@@ -209,9 +209,10 @@ def analyse_command(
         # the QC figures start as soon as the strokes are known, and draw on the other
         # cores while the fits run
         with EarlyQC(recordings=qc_recordings) as early:
+            # the fits that do not depend on one another on every usable CPU (at most 8)
             result = m.analyse_study(recordings, options, textures=textures,
                                      on_strokes=early.start if not (no_figures or no_qc) else None,
-                                     find_strokes=early.find_strokes)
+                                     find_strokes=early.find_strokes, workers=None)
             with ProgressBar(stderr_console(), "figures") as bar:
                 written = write_report(result, out, figures=not no_figures, title=title, qc=not no_qc,
                                        qc_recordings=qc_recordings,

@@ -255,6 +255,12 @@ def population_fits(strokes: pd.DataFrame, reference: str, level: float = 0.95) 
         ``n`` (``sd_participant_slope``), and both estimates side by side (``mixed_*``,
         ``two_stage_*``) for comparison.
     """
+    return pd.DataFrame(population_fit_rows(strokes, reference, level), columns=POPULATION_FIT_COLUMNS)
+
+
+def population_fit_rows(strokes: pd.DataFrame, reference: str, level: float = 0.95) -> list[dict[str, Any]]:
+    """The rows of :func:`population_fits`, in its order: those of a study's samples one by one,
+    put together, are the study's."""
     df = strokes[~strokes["outlier"]]
     rows = []
     for (sample, direction), g in df.groupby(["sample", "direction"], sort=True):
@@ -264,4 +270,4 @@ def population_fits(strokes: pd.DataFrame, reference: str, level: float = 0.95) 
             row = {"sample": sample, "direction": direction, "quantity": quantity}
             row.update(_population_fit(g, quantity, level))
             rows.append(row)
-    return pd.DataFrame(rows, columns=POPULATION_FIT_COLUMNS)
+    return rows

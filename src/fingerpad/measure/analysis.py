@@ -20,9 +20,10 @@ from .clipping import Clip, clipping_warnings
 from .curves import fit_curves, fit_row, normalise, sense_ratio, spread_summary, spread_table
 from .micro_models import Model, TextureGeometry, resolve_finger, texture_model
 from .modulus import ModelTable, ModulusFit, estimate_skin_modulus, estimate_skin_modulus_joint
-from .across_participants import population_curves, population_fits
+from .across_participants import POPULATION_FIT_COLUMNS, population_curves, population_fit_rows
 from .recordings import Recording
 from .modulus_sensitivity import Variants, sensitivity_rows, variant_tables
+from .parallel import forked_map, resolve_workers
 from .strokes import StrokeOptions, StrokeReport
 from .tables import (
     GROUP,
@@ -233,6 +234,7 @@ def analyse_study(
     models: Mapping[str, Model] | None = None,
     on_strokes: Any = None,
     find_strokes: Any = None,
+    workers: int | None = 1,
 ) -> StudyResult:
     """Run the whole analysis on a set of recordings.
 
@@ -256,6 +258,12 @@ def analyse_study(
         ``find_strokes(recordings, options.strokes)``: each recording's
         :func:`~.tables.recording_strokes`, in order, worked out elsewhere (by other processes:
         :meth:`.report.EarlyQC.find_strokes`); by default here, one recording after another.
+    workers
+        Processes for the fits that do not depend on one another (each condition's breakpoint
+        test, E_s fit and sensitivity refits, each participant's joint E_s, each sample's
+        population fit): forked from this one (:func:`.parallel.forked_map`); ``None``: one
+        per usable CPU (at most 8); ``1`` (default): all here. The result is the same, bit for
+        bit, whatever the number.
 
     Raises
     ------
@@ -274,12 +282,13 @@ def analyse_study(
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
-        return _analyse(recordings, options, textures, models, on_strokes, find_strokes)
+        return _analyse(recordings, options, textures, models, on_strokes, find_strokes, workers)
 
 
 def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
              textures: Mapping[str, TextureGeometry | None] | None,
-             models: Mapping[str, Model] | None, on_strokes: Any, find_strokes: Any) -> StudyResult:
+             models: Mapping[str, Model] | None, on_strokes: Any, find_strokes: Any,
+             workers: int | None = 1) -> StudyResult:
     opts = options
     textures = dict(textures or {})
     reports: dict[str, StrokeReport] = {}
@@ -302,7 +311,8 @@ def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
         on_strokes(SimpleNamespace(recordings=list(recordings), stroke_reports=reports, strokes=strokes,
                                    clipped_strokes=clipped_strokes, options=opts))
     strokes, ref_fits = normalise(strokes, opts.reference, opts.min_fit_strokes, level=opts.level)
-    fits, power_laws = fit_curves(strokes, opts.min_fit_strokes, level=opts.level)
+    fits, power_laws = fit_curves(strokes, opts.min_fit_strokes, level=opts.level,
+                                  workers=resolve_workers(workers, strokes["participant"].nunique()))
     edges = load_bin_edges(strokes["load"].to_numpy(), opts.n_bins)
     bins = bin_strokes(strokes, edges)
     spread = spread_table(strokes, edges, opts.reference)
@@ -316,29 +326,50 @@ def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
     all_models.update(models or {})
 
     usable = strokes[~strokes["outlier"]]
-    tables: dict[str, ModelTable] = {}
-    variants: dict[str, Variants] = {}
+    plan: list[tuple[str, Model, tuple[float, float]]] = []
     for sample, model in all_models.items():
         loads = usable.loc[usable["sample"] == sample, "load"].to_numpy()
         if loads.size and sample != opts.reference:
-            load_range = (float(loads.min()), float(loads.max()))
-            try:  # one table per texture, shared by every participant's fit
-                tables[sample] = ModelTable(model, load_range, opts.modulus_bounds)
-            except FingerpadError as exc:
-                raise FingerpadError(f"model of sample {sample!r}: {exc}") from None
-            if opts.sensitivity:
-                variants[sample] = variant_tables(textures.get(sample), model, finger, load_range,
-                                                   opts.modulus_bounds)
+            plan.append((sample, model, (float(loads.min()), float(loads.max()))))
+
+    def sample_tables(i: int) -> tuple[ModelTable, Variants | None] | str:
+        """The table of one texture, shared by every participant's fit, and its variants' (or
+        why there is none); detached, to come back from a worker."""
+        sample, model, load_range = plan[i]
+        try:
+            table = ModelTable(model, load_range, opts.modulus_bounds)
+        except FingerpadError as exc:
+            return f"model of sample {sample!r}: {exc}"
+        if not opts.sensitivity:
+            return table.detached(), None
+        found = variant_tables(textures.get(sample), model, finger, load_range, opts.modulus_bounds)
+        return table.detached(), Variants({key: t.detached() for key, t in found.tables.items()})
+
+    tables: dict[str, ModelTable] = {}
+    variants: dict[str, Variants] = {}
+    for (sample, _, _), made in zip(plan, forked_map(sample_tables, range(len(plan)),
+                                                     resolve_workers(workers, len(plan))), strict=True):
+        if isinstance(made, str):
+            raise FingerpadError(made)
+        tables[sample] = made[0]
+        if made[1] is not None:
+            variants[sample] = made[1]
 
     fit_kw = dict(level=opts.level, fit_scale=opts.fit_scale)
-    breakpoints: dict[tuple[str, str, str], Breakpoint] = {}
-    modulus_fits: dict[tuple[str, ...], ModulusFit] = {}
-    sens_rows: list[dict[str, Any]] = []
-    rows = []
-    for key, g in strokes.groupby(GROUP, sort=True):
+    # each condition's usable strokes, looked up once (the rows and their order of a boolean
+    # selection per condition, without a pass over the whole table for each)
+    usable_of = {key: g for key, g in usable.groupby(GROUP, sort=True)}
+    no_strokes = usable.iloc[:0]
+
+    def condition(item: tuple[tuple[str, str, str], pd.DataFrame]
+                  ) -> tuple[dict[str, Any], Breakpoint | None, ModulusFit | None, list[dict[str, Any]]]:
+        """The summary row of one condition, its breakpoint test, E_s fit and sensitivity refits."""
+        key, g = item
         participant, sample, direction = key
-        good = usable[(usable["participant"] == participant) & (usable["sample"] == sample)
-                      & (usable["direction"] == direction)]
+        good = usable_of.get(key, no_strokes)
+        bp_out: Breakpoint | None = None
+        mf_out: ModulusFit | None = None
+        srows_out: list[dict[str, Any]] = []
         clusters = cluster_column(good)
         row: dict[str, Any] = dict(zip(GROUP, key))
         row.update(is_reference=sample == opts.reference, n_files=g["file"].nunique(), n_strokes=len(g),
@@ -358,7 +389,7 @@ def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
                                      trend=opts.breakpoint_trend, level=opts.level, n_boot=opts.n_boot,
                                      n_null=opts.n_null, seed=opts.seed, clusters=clusters,
                                      edge=opts.breakpoint_edge)
-                breakpoints[key] = bp
+                bp_out = bp
                 row.update({c: math.nan for c in ("breakpoint_load", "breakpoint_ci_low", "breakpoint_ci_high",
                                                   "slope_below", "slope_above")})
                 # a best location at the edge of the load range is named in `transition` (with
@@ -387,21 +418,25 @@ def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
                                                  clusters=clusters, **fit_kw)
                 try:
                     mf = refit(table)
-                    modulus_fits[key] = mf
+                    mf_out = mf
                     row.update(_modulus_columns(mf))
                     if sample in variants:
                         refits = [(p, v, (lambda t=t: refit(t))) for (p, v), t in variants[sample].tables.items()]
                         srows, summary = sensitivity_rows(mf, refits, dict(zip(GROUP, key)))
-                        sens_rows += srows
+                        srows_out = srows
                         row.update(summary)
                 except FingerpadError as exc:
                     notes_row.append(f"modulus: {exc}")
         row["note"] = "; ".join(n for n in notes_row if n)
-        rows.append(row)
-    conditions = pd.DataFrame(rows)
+        return row, bp_out, mf_out, srows_out
 
-    prow = []
-    for participant, g in usable.groupby("participant", sort=True):
+    def participant_row(item: tuple[str, pd.DataFrame]
+                        ) -> tuple[dict[str, Any], ModulusFit | None, list[dict[str, Any]]]:
+        """One participant's row: the reference fit and the joint E_s over its textures, with
+        its sensitivity refits."""
+        participant, g = item
+        mf_out: ModulusFit | None = None
+        srows_out: list[dict[str, Any]] = []
         ref = ref_fits[(participant, "both")]
         row = {"participant": participant, "n_strokes": int((strokes["participant"] == participant).sum())}
         row.update({f"ref_{k}": v for k, v in fit_row(ref).items()})
@@ -417,7 +452,7 @@ def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
                                                    **fit_kw)
             try:
                 mf = joint(tables.get)
-                modulus_fits[(participant,)] = mf
+                mf_out = mf
                 row.update({k: v for k, v in _modulus_columns(mf).items() if k != "model_scale"},
                            n_textures=len(subs))
                 samples = {sub["sample"].iloc[0] for sub in subs}
@@ -428,14 +463,57 @@ def _analyse(recordings: Sequence[Recording], options: AnalysisOptions,
                               for (p, v) in sorted(common, key=lambda k: (k[0] != "micro_model", k))]
                     srows, summary = sensitivity_rows(mf, refits, {"participant": participant,
                                                                     "sample": "all textures", "direction": ""})
-                    sens_rows += srows
+                    srows_out = srows
                     row.update(summary)
             except FingerpadError as exc:
                 row["note"] = f"modulus: {exc}"
+        return row, mf_out, srows_out
+
+    by_condition = list(strokes.groupby(GROUP, sort=True))
+    by_participant = list(usable.groupby("participant", sort=True))
+    # the population fits per sample (each reads only its own strokes)
+    by_sample = [g for _, g in strokes.groupby("sample", sort=True)] if opts.population else []
+
+    def piece(item: tuple[str, int]) -> Any:
+        """One independent piece of the fits: a population fit, a condition or a participant
+        (``(kind, index)``: the workers hold the groups, only the index travels)."""
+        kind, i = item
+        if kind == "condition":
+            return condition(by_condition[i])
+        if kind == "participant":
+            return participant_row(by_participant[i])
+        return population_fit_rows(by_sample[i], opts.reference, opts.level)
+
+    # the population fits (the longest pieces) first, so that no worker starts one last
+    items = ([("population", i) for i in range(len(by_sample))] + [("condition", i) for i in range(len(by_condition))]
+             + [("participant", i) for i in range(len(by_participant))])
+    done = forked_map(piece, items, workers=resolve_workers(workers, len(items)))
+    pop_parts = done[:len(by_sample)]
+    cond_out = done[len(by_sample):len(by_sample) + len(by_condition)]
+    part_out = done[len(by_sample) + len(by_condition):]
+
+    breakpoints: dict[tuple[str, str, str], Breakpoint] = {}
+    modulus_fits: dict[tuple[str, ...], ModulusFit] = {}
+    sens_rows: list[dict[str, Any]] = []
+    rows = []
+    for (key, _), (row, bp, mf, srows) in zip(by_condition, cond_out, strict=True):
+        if bp is not None:
+            breakpoints[key] = bp
+        if mf is not None:
+            modulus_fits[key] = mf
+        sens_rows += srows
+        rows.append(row)
+    conditions = pd.DataFrame(rows)
+    prow = []
+    for (participant, _), (row, mf, srows) in zip(by_participant, part_out, strict=True):
+        if mf is not None:
+            modulus_fits[(participant,)] = mf
+        sens_rows += srows
         prow.append(row)
 
     pop_curves = population_curves(strokes, edges, opts.reference, opts.level) if opts.population else pd.DataFrame()
-    pop_fits = population_fits(strokes, opts.reference, opts.level) if opts.population else pd.DataFrame()
+    pop_fits = (pd.DataFrame([row for part in pop_parts for row in part], columns=POPULATION_FIT_COLUMNS)
+                if opts.population else pd.DataFrame())
     for message in notes:
         warnings.warn(message, MeasurementWarning, stacklevel=3)
     return StudyResult(

@@ -367,6 +367,15 @@ def texture_model(geometry: TextureGeometry, finger: Any = None) -> Model:
     )
 
 
+@dataclass(frozen=True)
+class ModelLabel:
+    """What a detached :class:`ModelTable` keeps of its model: its texture geometry (``None``
+    for a model without one), which names the micro-model in a fit's result. Not a model: it
+    computes nothing."""
+
+    geometry: TextureGeometry | None = None
+
+
 class ModelTable:
     """A model tabulated on a grid of skin moduli and loads, interpolated in between.
 
@@ -430,11 +439,12 @@ class ModelTable:
 
     def detached(self) -> ModelTable:
         """The table without its model: what it holds, for another process (a model may be a
-        closure, which does not pickle); calling it interpolates as before."""
+        closure, which does not pickle); calling it interpolates as before. The model's
+        ``geometry`` stays (:class:`ModelLabel`): it names the micro-model of a fit."""
         import copy
 
         table = copy.copy(self)
-        table.model = None  # type: ignore[assignment]
+        table.model = ModelLabel(getattr(self.model, "geometry", None))  # type: ignore[assignment]
         table._rows = {}
         return table
 

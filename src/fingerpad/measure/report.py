@@ -50,6 +50,7 @@ from ..plotting.qcsheet import qc_sheet_png, qc_sheets
 from ..plotting.render import load_drawing_modules
 from .analysis import StudyResult, study_info, study_references
 from .htmlreport import html_report
+from .parallel import own_streams, usable_cpus
 
 __all__ = ["EarlyQC", "curves_dataset", "html_report", "write_report"]
 
@@ -196,8 +197,7 @@ def _qc_workers(workers: int | None, n_figures: int) -> int:
     never more than the figures, and one (no pool) for fewer than four figures, where
     starting the processes would cost more than it saves."""
     if workers is None:
-        cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-        workers = min(cpus, 8) if n_figures >= 4 else 1
+        workers = min(usable_cpus(), 8) if n_figures >= 4 else 1
     return max(1, min(int(workers), n_figures))
 
 
@@ -207,24 +207,7 @@ def _start_pool(workers: int) -> Any:
     # matplotlib's figure, Agg and font modules loaded before the workers start: forked
     # workers inherit them instead of each importing them again (~0.25 s of CPU per worker)
     load_drawing_modules()
-    return ProcessPoolExecutor(max_workers=workers, initializer=_own_streams)
-
-
-def _own_streams() -> None:
-    """A worker's own ``sys.stdout`` and ``sys.stderr`` (new objects on copies of the same
-    descriptors). The workers are forked from a process where a progress bar's thread writes to
-    stderr ten times a second: a fork in the middle of such a write leaves the inherited stream's
-    lock held by a thread that does not exist in the child, and the child's first warning would
-    wait on it forever."""
-    import io
-
-    for name, fd in (("stdout", 1), ("stderr", 2)):
-        stream = getattr(sys, name, None)
-        try:
-            setattr(sys, name, io.TextIOWrapper(io.FileIO(os.dup(fd), "w"), encoding=getattr(stream, "encoding", None),
-                                                errors=getattr(stream, "errors", None), line_buffering=True))
-        except OSError:  # no such descriptor (a daemon): keep what is there
-            pass
+    return ProcessPoolExecutor(max_workers=workers, initializer=own_streams)
 
 
 #: The recordings a pool's workers find strokes in: set before they fork, so that each worker

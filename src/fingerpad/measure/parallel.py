@@ -1,0 +1,90 @@
+"""Independent pieces of an analysis on several cores: forked worker processes that inherit
+what the pieces read.
+
+The fits of one participant (every condition's breakpoint test, E_s fit and its sensitivity
+refits, the joint E_s) read nothing of another participant's, and the population fit of one
+sample nothing of another sample's. :func:`forked_map` runs such a function over its items in
+worker processes forked from this one, so the function may be a closure over the study's tables
+and models (nothing of them is pickled; only the items and the results travel). Each worker runs
+BLAS on one thread, as :func:`~fingerpad.measure.analyse_study` does: the results are the same,
+bit for bit, as computed here one after another.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import sys
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from ..errors import FingerpadError
+
+__all__ = ["forked_map", "own_streams", "resolve_workers", "usable_cpus"]
+
+#: The function the workers run: set before they fork, so that each inherits it.
+_FUNCTION: list[Callable[[Any], Any]] = []
+
+
+def usable_cpus() -> int:
+    """CPUs this process may use."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+def resolve_workers(workers: int | None, n_items: int) -> int:
+    """Processes for ``n_items`` independent pieces: ``workers``, or with ``None`` one per usable
+    CPU (at most 8); never more than the pieces, at least one."""
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise FingerpadError(f"workers must be a whole number >= 1 or None, got {workers!r}")
+    chosen = min(usable_cpus(), 8) if workers is None else workers
+    return max(1, min(chosen, n_items))
+
+
+def own_streams() -> None:
+    """A worker's own ``sys.stdout`` and ``sys.stderr`` (new objects on copies of the same
+    descriptors). The workers are forked from a process where a progress bar's thread may
+    write to stderr ten times a second: a fork in the middle of such a write leaves the inherited
+    stream's lock held by a thread that does not exist in the child, and the child's first
+    warning would wait on it forever."""
+    for name, fd in (("stdout", 1), ("stderr", 2)):
+        stream = getattr(sys, name, None)
+        try:
+            setattr(sys, name, io.TextIOWrapper(io.FileIO(os.dup(fd), "w"), encoding=getattr(stream, "encoding", None),
+                                                errors=getattr(stream, "errors", None), line_buffering=True))
+        except OSError:  # no such descriptor (a daemon): keep what is there
+            pass
+
+
+def _run(items: list[Any]) -> list[Any]:
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):  # as analyse_study: the same last bits
+        return [_FUNCTION[0](item) for item in items]
+
+
+def forked_map(function: Callable[[Any], Any], items: Sequence[Any], workers: int = 1, chunksize: int = 1
+               ) -> list[Any]:
+    """``[function(item) for item in items]``, by ``workers`` processes forked from this one.
+
+    The items go out in order, ``chunksize`` consecutive ones at a time (many small pieces cost
+    more in messages than in work one by one), to whichever worker is free; the results come
+    back in the order of ``items``. One worker, fewer than two items, or a platform without
+    ``fork`` (Windows, or macOS's default): computed here, one after another. An exception in
+    ``function`` is raised here, as it would be without workers."""
+    import multiprocessing
+
+    items = list(items)
+    workers = max(1, min(int(workers), len(items)))
+    if workers <= 1 or "fork" not in multiprocessing.get_all_start_methods():
+        return [function(item) for item in items]
+    from concurrent.futures import ProcessPoolExecutor
+
+    _FUNCTION[:] = [function]
+    try:
+        with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
+                                 initializer=own_streams) as pool:
+            size = max(1, int(chunksize))
+            chunks = [items[i:i + size] for i in range(0, len(items), size)]
+            return [out for chunk in pool.map(_run, chunks) for out in chunk]
+    finally:
+        _FUNCTION.clear()
