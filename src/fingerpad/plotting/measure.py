@@ -15,7 +15,7 @@ from .drawonce import lay_out_ticks_once, place_legend_once
 StudyResult = Any
 
 __all__ = ["QCInputs", "condition_label", "figure_participant", "figure_qc", "figure_sample", "log_subs",
-           "participant_png", "png_bytes", "qc_inputs", "qc_png", "sample_png"]
+           "participant_png", "png_bytes", "qc_inputs", "qc_png", "sample_png", "stroke_bands"]
 
 
 def condition_label(sample: str, direction: str) -> str:
@@ -413,6 +413,33 @@ def _new_qc_figure(n_rows: int):
     return fig
 
 
+def stroke_bands(report: Any, t: np.ndarray, outlier: dict[int, bool], clipped: set[int] | frozenset[int]
+                 ) -> list[list[tuple[float, float]]]:
+    """The time spans ``(start, end)`` of a recording's strokes grouped by the styles of
+    :data:`_BAND_STYLES`, in its order: dropped (lift-off), strokes ``+`` and ``-``, their steady
+    windows ``+`` and ``-``, outliers (``outlier``: stroke number -> flag), clipped (``clipped``:
+    stroke numbers left out for a saturated channel)."""
+    used = {id(st): i + 1 for i, st in enumerate(report.used)}
+    dropped: list[tuple[float, float]] = []
+    shade: dict[int, list[tuple[float, float]]] = {1: [], -1: []}
+    steady: dict[int, list[tuple[float, float]]] = {1: [], -1: []}
+    outlined: list[tuple[float, float]] = []
+    cross: list[tuple[float, float]] = []
+    for st in report.strokes:
+        number = used.get(id(st))
+        span = (t[st.start], t[min(st.stop, len(t)) - 1])
+        if number is None:
+            dropped.append(span)
+            continue
+        shade[st.sense].append(span)
+        steady[st.sense].append((t[st.steady_start], t[st.steady_stop - 1]))
+        if outlier.get(number, False):
+            outlined.append(span)
+        if number in clipped:  # left out: a force channel saturated during the stroke
+            cross.append(span)
+    return [dropped, shade[1], shade[-1], steady[1], steady[-1], outlined, cross]
+
+
 def _draw_qc(inputs: QCInputs, reuse: Any = None):
     """Draw the QC figure of ``inputs`` on a new figure, or on ``reuse`` (a figure this function
     drew before with the same number of panels): the same artists get the new data, so a
@@ -432,27 +459,9 @@ def _draw_qc(inputs: QCInputs, reuse: Any = None):
     series = [(rec.normal, "normal force F_n (N)"), (rec.friction, "friction force F_t (N)")]
     if third is not None:
         series.append((third, third_label))
-    used = {id(st): i + 1 for i, st in enumerate(report.used)}
     # the spans of every stroke, grouped by style: one collection per style and axis instead of
     # one patch per span (some 320 patches per figure cost most of its time to add and draw)
-    dropped: list[tuple[float, float]] = []
-    shade: dict[int, list[tuple[float, float]]] = {1: [], -1: []}
-    steady: dict[int, list[tuple[float, float]]] = {1: [], -1: []}
-    outlined: list[tuple[float, float]] = []
-    cross: list[tuple[float, float]] = []
-    for st in report.strokes:
-        number = used.get(id(st))
-        span = (t[st.start], t[min(st.stop, len(t)) - 1])
-        if number is None:
-            dropped.append(span)
-            continue
-        shade[st.sense].append(span)
-        steady[st.sense].append((t[st.steady_start], t[st.steady_stop - 1]))
-        if outlier.get(number, False):
-            outlined.append(span)
-        if number in clipped:  # left out: a force channel saturated during the stroke
-            cross.append(span)
-    bands = [dropped, shade[1], shade[-1], steady[1], steady[-1], outlined, cross]
+    bands = stroke_bands(report, t, outlier, clipped)
     span_x = np.asarray([x for spans in bands for span in spans for x in span], dtype=float)
     for ax, (y, label) in zip(axes, series):
         for extra in ax.lines[1:]:  # the threshold and saturated levels of the last recording

@@ -23,7 +23,7 @@ import numpy as np
 
 from ..errors import FingerpadError
 from .drawonce import lay_out_ticks_once
-from .measure import _BAND_STYLES, _SENSE_COLOURS, QCInputs, _decimate, _span_verts, png_bytes, qc_inputs
+from .measure import _BAND_STYLES, _SENSE_COLOURS, QCInputs, _decimate, _span_verts, png_bytes, qc_inputs, stroke_bands
 
 StudyResult = Any
 
@@ -53,10 +53,6 @@ class QCSheet:
     pages: int = 1
 
 
-def _participant_of(result: StudyResult, rec: Any) -> str:
-    return str(rec.participant)
-
-
 def qc_sheets(result: StudyResult) -> list[QCSheet]:
     """Every participant's QC sheets (participants sorted, then pages), each recording with
     strokes found on exactly one of them: a row per sample (the reference first, then sorted), the sample's recordings in
@@ -65,7 +61,7 @@ def qc_sheets(result: StudyResult) -> list[QCSheet]:
     by_participant: dict[str, dict[str, list[Any]]] = {}
     for rec in result.recordings:
         if rec.source in result.stroke_reports:
-            by_participant.setdefault(_participant_of(result, rec), {}).setdefault(str(rec.sample), []).append(rec)
+            by_participant.setdefault(str(rec.participant), {}).setdefault(str(rec.sample), []).append(rec)
     sheets = []
     for participant in sorted(by_participant):
         samples = by_participant[participant]
@@ -212,25 +208,7 @@ def _fill_panel(ax: Any, inputs: QCInputs) -> None:
     rec, report, strokes = inputs.recording, inputs.report, inputs.strokes
     outlier = dict(zip(strokes["stroke"], strokes["outlier"]))
     t = rec.time if rec.time is not None else np.arange(len(rec), dtype=float)
-    used = {id(st): i + 1 for i, st in enumerate(report.used)}
-    dropped: list[tuple[float, float]] = []
-    shade: dict[int, list[tuple[float, float]]] = {1: [], -1: []}
-    steady: dict[int, list[tuple[float, float]]] = {1: [], -1: []}
-    outlined: list[tuple[float, float]] = []
-    cross: list[tuple[float, float]] = []
-    for st in report.strokes:
-        number = used.get(id(st))
-        span = (t[st.start], t[min(st.stop, len(t)) - 1])
-        if number is None:
-            dropped.append(span)
-            continue
-        shade[st.sense].append(span)
-        steady[st.sense].append((t[st.steady_start], t[st.steady_stop - 1]))
-        if outlier.get(number, False):
-            outlined.append(span)
-        if number in inputs.clipped:
-            cross.append(span)
-    bands = [dropped, shade[1], shade[-1], steady[1], steady[-1], outlined, cross]
+    bands = stroke_bands(report, t, outlier, inputs.clipped)
     for collection, spans in zip(ax.collections, bands, strict=True):
         collection.set_verts(_span_verts(spans))
     for line, y in zip(ax.lines[:2], (rec.normal, rec.friction)):
