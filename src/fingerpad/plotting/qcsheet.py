@@ -103,7 +103,10 @@ def _new_sheet_figure(rows: int, columns: int):
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
-    width, height = 2.9 * columns + 0.8, 1.45 * rows + 1.0
+    # panels of 2.9 in, the figure at least 9.5 in wide (the title and the legend's one row);
+    # with one or two recordings a sample the panels widen instead
+    width = max(2.9 * columns, 8.7) + 0.8
+    height = 1.45 * rows + 1.0
     fig = Figure(figsize=(width, height))
     axes = fig.subplots(rows, columns, squeeze=False)
     fig.subplots_adjust(left=0.7 / width, right=1 - 0.15 / width, bottom=0.45 / height, top=1 - 0.75 / height,
@@ -126,7 +129,7 @@ def _new_sheet_figure(rows: int, columns: int):
                Patch(color=_SENSE_COLOURS[1], alpha=0.25), Patch(color=_SENSE_COLOURS[-1], alpha=0.25),
                Patch(facecolor="none", edgecolor="red", lw=1.2), Patch(facecolor="none", edgecolor="0.6", hatch="///"),
                Patch(facecolor="none", edgecolor="magenta", hatch="xx"), Line2D([], [], color="red", lw=0.8, ls=":")]
-    fig.legend(handles=handles, labels=list(_LEGEND_LABELS), loc="upper center", ncol=4 if columns < 3 else 8,
+    fig.legend(handles=handles, labels=list(_LEGEND_LABELS), loc="upper center", ncol=8,
                fontsize=6.5, frameon=False, bbox_to_anchor=(0.5, 1 - 0.38 / height), handlelength=1.6,
                columnspacing=1.0)
     fig.suptitle(" ", fontsize=10, y=1 - 0.12 / height, va="top")
