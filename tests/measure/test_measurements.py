@@ -455,14 +455,15 @@ def test_cli_simulate_and_analyse(app, tmp_path):
     assert r.exit_code == 0, r.output
     truth = json.loads((sim / "truth.json").read_text())
     assert len(list(sim.glob("P0*_*.csv"))) == 8 and (sim / "manifest.csv").is_file()
-    r = runner.invoke(app, ["analyse", str(sim), "--reference", "flat", "--out", str(res)])
+    r = runner.invoke(app, ["analyse", str(sim), "--reference", "flat", "--out", str(res), "--qc-recordings"])
     assert r.exit_code == 0, r.output
     html = (res / "report.html").read_text()
     # issue 10: the report names quantities for people (E_s in MPa), not by column name
     assert "data:image/png;base64," in html and "E<sub>s</sub> model fit (MPa)" in html
     assert {p.name for p in (res / "figures").iterdir() if p.is_file()} == {
-        "participant_P01.png", "participant_P02.png", "sample_bumps.png", "sample_flat.png"}
-    assert len(list((res / "figures" / "qc").glob("*.png"))) == 8  # one QC figure per recording
+        "participant_P01.png", "participant_P02.png", "sample_bumps.png", "sample_flat.png",
+        "qc_P01.png", "qc_P02.png"}  # a QC sheet per participant
+    assert len(list((res / "figures" / "qc").glob("*.png"))) == 8  # --qc-recordings: one full figure each
     import pandas as pd
 
     summary = pd.read_csv(res / "summary.csv")
