@@ -123,6 +123,17 @@ def test_predict_reports_pull_off_share_and_threshold(tmp_path) -> None:
         assert 0 < row["adhesive_share"] < 1
     assert doc["inputs"]["finger"]["work_of_adhesion"] == 0.3
     assert doc["units"]["pull_off_force"] == "N"
+    # every number carries its grid estimate, as without adhesion: the adhesive cell's own state
+    # pressures against its half grid (order 1/2: the change times 1 / (2^(1/2) - 1)), the loads
+    # they give through the adhesive pad, the pull-off force from the cell's work of separation
+    order = 1.0 / (2.0**0.5 - 1.0)
+    full = doc["state_brackets"]["full"]
+    assert full["grid"] == [32, 56] and full["coarse_grid"] == [16, 28]
+    assert full["pressure_error"] == pytest.approx(abs(np.mean(full["pressure"]) / full["coarse_pressure"] - 1) * order,
+                                                   rel=1e-2)
+    assert doc["full_contact_load_error"]["bem"] == full["load_error"] and full["load_error"] > 0
+    assert doc["cell"]["resolution"]["full_contact_pressure_error"] == full["pressure_error"]
+    assert 0 < adh["pull_off_force_error"] < 1
 
 
 def test_predict_table_and_errors(tmp_path, monkeypatch) -> None:

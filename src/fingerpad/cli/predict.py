@@ -187,7 +187,7 @@ def _adhesion_text(adhesion: Mapping[str, Any]) -> str:
     where = "(not computed)" if threshold is None else f"{threshold:.3g} N" if bound == "exact" else \
         f"{threshold:.3g} N or more" if bound == "at least" else f"{threshold:.3g} N or less"
     return (f"adhesion ({adhesion['law']}, w {adhesion['work_of_adhesion']:.3g} J/m2): pull-off force "
-            f"{adhesion['pull_off_force'] * 1e3:.3g} mN (pad w {adhesion['pad_work_of_adhesion']:.3g} J/m2, cell pull-off "
+            f"{adhesion['pull_off_force'] * 1e3:.3g} mN{_plus_minus(adhesion.get('pull_off_force_error'))} (pad w {adhesion['pad_work_of_adhesion']:.3g} J/m2, cell pull-off "
             f"{adhesion['pull_off_pressure']:.4g} Pa); adhesion changes A_re by more than 10 % below {where}")
 
 
@@ -253,7 +253,7 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
                          f"(the last node below 10 E*)")
     adhesion = payload.get("adhesion")
     if adhesion:
-        say(console, _adhesion_text(adhesion))
+        say_wrapped(console, _adhesion_text(adhesion))
     directional = payload.get("directional")
     if directional and payload["results"] and "mu_perpendicular_over_parallel" in payload["results"][0]:
         ratios = [r["mu_perpendicular_over_parallel"] for r in payload["results"]]
