@@ -133,7 +133,7 @@ def test_predict_reports_pull_off_share_and_threshold(tmp_path) -> None:
                                                    rel=1e-2)
     assert doc["full_contact_load_error"]["bem"] == full["load_error"] and full["load_error"] > 0
     assert doc["cell"]["resolution"]["full_contact_pressure_error"] == full["pressure_error"]
-    assert 0 < adh["pull_off_force_error"] < 1
+    assert 0 < adh["pull_off_force_error"] < 1 and doc["units"]["pull_off_force_error"].startswith("1 ")
 
 
 def test_predict_table_and_errors(tmp_path, monkeypatch) -> None:
