@@ -150,6 +150,19 @@ def test_predict_table_and_errors(tmp_path, monkeypatch) -> None:
         invoke(*base, "--finger", "layered", "--work-of-adhesion", "0.05J/m2", "--population", "adults"))
 
 
+def test_predict_on_a_flat_surface_with_adhesion(tmp_path) -> None:
+    """A flat cell holds any tension (its pull-off pressure -inf, null in the JSON): the terminal
+    says so instead of a traceback, and the pad adheres with the ridge fraction times w."""
+    base = ["predict", "--texture", "flat", "--size", "100um", *MATERIAL, "--loads", "0.1N", "--model", "bem",
+            "--cache", str(tmp_path), "--work-of-adhesion", "0.05J/m2"]
+    result = invoke(*base, "--out", str(tmp_path / "out"))
+    assert result.exit_code == 0, result.output
+    assert "cell pull-off none (a flat cell)" in " ".join(result.stdout.split())
+    adh = json.loads(invoke(*base, "--json", "-").stdout)["adhesion"]
+    assert adh["pull_off_pressure"] is None and adh["work_of_separation"] == 0.05
+    assert adh["pad_work_of_adhesion"] == pytest.approx(0.5 * 0.05)  # the default finger's ridge fraction
+
+
 def test_sweep_checks_the_adhesion_flags(tmp_path) -> None:
     study = tmp_path / "s.toml"
     study.write_text('[texture]\nname = "caps"\nradius = "100um"\nheight = "20um"\nspacing = "175um"\n'
