@@ -158,7 +158,7 @@ def test_predict_on_a_flat_surface_with_adhesion(tmp_path) -> None:
     result = invoke(*base, "--out", str(tmp_path / "out"))
     assert result.exit_code == 0, result.output
     assert "cell pull-off none (a flat cell)" in " ".join(result.stdout.split())
-    adh = json.loads(invoke(*base, "--json", "-").stdout)["adhesion"]
+    adh = json.loads((tmp_path / "out" / "predict.json").read_text())["adhesion"]
     assert adh["pull_off_pressure"] is None and adh["work_of_separation"] == 0.05
     assert adh["pad_work_of_adhesion"] == pytest.approx(0.5 * 0.05)  # the default finger's ridge fraction
 
