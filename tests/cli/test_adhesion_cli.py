@@ -123,6 +123,17 @@ def test_predict_reports_pull_off_share_and_threshold(tmp_path) -> None:
         assert 0 < row["adhesive_share"] < 1
     assert doc["inputs"]["finger"]["work_of_adhesion"] == 0.3
     assert doc["units"]["pull_off_force"] == "N"
+    # every number carries its grid estimate, as without adhesion: the adhesive cell's own state
+    # pressures against its half grid (order 1/2: the change times 1 / (2^(1/2) - 1)), the loads
+    # they give through the adhesive pad, the pull-off force from the cell's work of separation
+    order = 1.0 / (2.0**0.5 - 1.0)
+    full = doc["state_brackets"]["full"]
+    assert full["grid"] == [32, 56] and full["coarse_grid"] == [16, 28]
+    assert full["pressure_error"] == pytest.approx(abs(np.mean(full["pressure"]) / full["coarse_pressure"] - 1) * order,
+                                                   rel=1e-2)
+    assert doc["full_contact_load_error"]["bem"] == full["load_error"] and full["load_error"] > 0
+    assert doc["cell"]["resolution"]["full_contact_pressure_error"] == full["pressure_error"]
+    assert 0 < adh["pull_off_force_error"] < 1 and doc["units"]["pull_off_force_error"].startswith("1 ")
 
 
 def test_predict_table_and_errors(tmp_path, monkeypatch) -> None:
@@ -137,6 +148,19 @@ def test_predict_table_and_errors(tmp_path, monkeypatch) -> None:
     # a population with adhesion is read from one family in w / (E* Lx): a layered skin is refused
     assert "a population of adhesive fingers with a layered skin" in one_error(
         invoke(*base, "--finger", "layered", "--work-of-adhesion", "0.05J/m2", "--population", "adults"))
+
+
+def test_predict_on_a_flat_surface_with_adhesion(tmp_path) -> None:
+    """A flat cell holds any tension (its pull-off pressure -inf, null in the JSON): the terminal
+    says so instead of a traceback, and the pad adheres with the ridge fraction times w."""
+    base = ["predict", "--texture", "flat", "--size", "100um", *MATERIAL, "--loads", "0.1N", "--model", "bem",
+            "--cache", str(tmp_path), "--work-of-adhesion", "0.05J/m2"]
+    result = invoke(*base, "--out", str(tmp_path / "out"))
+    assert result.exit_code == 0, result.output
+    assert "cell pull-off none (a flat cell)" in " ".join(result.stdout.split())
+    adh = json.loads((tmp_path / "out" / "predict.json").read_text())["adhesion"]
+    assert adh["pull_off_pressure"] is None and adh["work_of_separation"] == 0.05
+    assert adh["pad_work_of_adhesion"] == pytest.approx(0.5 * 0.05)  # the default finger's ridge fraction
 
 
 def test_sweep_checks_the_adhesion_flags(tmp_path) -> None:

@@ -6,6 +6,7 @@ lets :func:`fingerpad.study.spec.study_from_dict` check everything once, runs th
 
 from __future__ import annotations
 
+import math
 import sys
 from collections.abc import Mapping, Sequence
 from typing import Annotated, Any
@@ -186,9 +187,13 @@ def _adhesion_text(adhesion: Mapping[str, Any]) -> str:
     bound = adhesion.get("threshold_load_bound", "exact")
     where = "(not computed)" if threshold is None else f"{threshold:.3g} N" if bound == "exact" else \
         f"{threshold:.3g} N or more" if bound == "at least" else f"{threshold:.3g} N or less"
+    p_off = adhesion.get("pull_off_pressure")
+    # a flat cell's is unbounded (-inf, null in the JSON): it never lets go under load control
+    cell = f"{p_off:.4g} Pa" if isinstance(p_off, (int, float)) and math.isfinite(p_off) else "none (a flat cell)"
     return (f"adhesion ({adhesion['law']}, w {adhesion['work_of_adhesion']:.3g} J/m2): pull-off force "
-            f"{adhesion['pull_off_force'] * 1e3:.3g} mN (pad w {adhesion['pad_work_of_adhesion']:.3g} J/m2, cell pull-off "
-            f"{adhesion['pull_off_pressure']:.4g} Pa); adhesion changes A_re by more than 10 % below {where}")
+            f"{adhesion['pull_off_force'] * 1e3:.3g} mN{_plus_minus(adhesion.get('pull_off_force_error'))} "
+            f"(pad w {adhesion['pad_work_of_adhesion']:.3g} J/m2, cell pull-off {cell}); adhesion changes A_re "
+            f"by more than 10 % below {where}")
 
 
 def _print_prediction(payload: Mapping[str, Any]) -> None:
@@ -253,7 +258,7 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
                          f"(the last node below 10 E*)")
     adhesion = payload.get("adhesion")
     if adhesion:
-        say(console, _adhesion_text(adhesion))
+        say_wrapped(console, _adhesion_text(adhesion))
     directional = payload.get("directional")
     if directional and payload["results"] and "mu_perpendicular_over_parallel" in payload["results"][0]:
         ratios = [r["mu_perpendicular_over_parallel"] for r in payload["results"]]

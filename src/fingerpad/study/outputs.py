@@ -57,6 +57,7 @@ ADHESION_UNITS = {
     "adhesion_range": "m", "adhesion_range_used": "m", "pull_off_force": "N", "pull_off_pressure": "Pa",
     "threshold_load": "N", "reference_load": "N", "real_area_without_adhesion": "m^2",
     "adhesive_share": "1 (1 - A_re without adhesion / A_re)", "zero_load_contact_fraction": "1",
+    "pull_off_force_error": "1 (relative error estimate)",
 }
 
 

@@ -374,17 +374,22 @@ def _state_choices(study: Study, tex: Texture, e1: float, choice: Any) -> tuple[
     )
 
 
-def _state_report(states: dict[str, Any], finger: Finger) -> dict[str, Any]:
-    """Per state: its grid, the half grid's, the pressure's and the load's estimated errors."""
+def _state_report(states: dict[str, Any], finger: Finger,
+                  centre_load: Callable[[float], float] | None = None) -> dict[str, Any]:
+    """Per state: its grid, the half grid's, the pressure's and the load's estimated errors
+    (``centre_load``: pressure -> load at the pad centre, :func:`_centre_load`; by default the
+    Hertz pad's, :func:`load_at_centre_pressure`)."""
+    if centre_load is None:
+        centre_load = lambda p: load_at_centre_pressure(finger, p)  # noqa: E731
     out = {}
     for name, st in states.items():
         p, pc = st.pressure, st.coarse_pressure
-        f, fc = load_at_centre_pressure(finger, p), load_at_centre_pressure(finger, pc)
+        f, fc = centre_load(p), centre_load(pc)
         with np.errstate(all="ignore"):
             load_error = abs(f / fc - 1.0) if math.isfinite(f) and math.isfinite(fc) and fc > 0 else \
                 (math.nan if math.isnan(st.error) else math.inf)
         if not math.isnan(st.error) and math.isfinite(load_error):
-            load_error = max(load_error, _load_floor(finger, st))
+            load_error = max(load_error, _load_floor(centre_load, st))
         out[name] = {
             "grid": list(st.cell.texture.shape),
             "coarse_grid": list(st.coarse.texture.shape) if st.coarse is not None else None,
@@ -400,10 +405,10 @@ def _state_report(states: dict[str, Any], finger: Finger) -> dict[str, Any]:
     return out
 
 
-def _load_floor(finger: Finger, st: Any) -> float:
+def _load_floor(centre_load: Callable[[float], float], st: Any) -> float:
     """The load change of a pressure change of the bracket's relative width (the estimate's floor)."""
     p = st.pressure
-    f, f2 = load_at_centre_pressure(finger, p), load_at_centre_pressure(finger, p * (1.0 + st.cell.rtol))
+    f, f2 = centre_load(p), centre_load(p * (1.0 + st.cell.rtol))
     return abs(f2 / f - 1.0) if math.isfinite(f) and math.isfinite(f2) and f > 0 else 0.0
 
 
@@ -438,6 +443,31 @@ def _adhesive_resolved_cell(study: Study, grid: int, e1: float, progress: Callab
                       "adhesion_range": finger.adhesion_range, "law": finger.adhesion_law},
         progress=progress, cell_type=AdhesiveUnitCell,
     )
+
+
+def _adhesive_states(choice: Any, accuracy: float) -> dict[str, Any]:
+    """The state pressures of an adhesive cell as state choices: its own brackets on its grid,
+    the half grid's beside them, the estimate the change between them divided by ``2^q - 1``
+    (:meth:`~fingerpad.micro.resolution.GridChoice.state_pressure_errors`; the grid is chosen by
+    A_re/A_fr, not by the states, so ``accuracy`` is what the estimate is compared with)."""
+    from ..micro.resolution import STATES, StateChoice
+
+    errors = choice.state_pressure_errors()
+    return {name: StateChoice(name, choice.cell, choice.coarse, errors[name], accuracy) for name in STATES}
+
+
+def _pull_off_error(choice: Any) -> float:
+    """Estimated relative error of the finger's pull-off force (Eqs. 3.15-3.18: proportional to
+    the cell's work of separation ``W``): ``|W_N / W_{N/2} - 1| / (2^q - 1)`` from the adhesive
+    cell and its half-grid companion (NaN without one)."""
+    from ..micro.resolution import order_factor
+
+    if choice.coarse is None:
+        return math.nan
+    fine, coarse = choice.cell.work_of_separation, choice.coarse.work_of_separation
+    if not (coarse > 0 and math.isfinite(fine)):
+        return math.nan
+    return abs(fine / coarse - 1.0) * order_factor(type(choice.cell))
 
 
 def _resolution_report(choice: Any, study: Study, states: dict[str, Any] | None = None) -> dict[str, Any]:
@@ -631,6 +661,7 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
     timings_extra: dict[str, float] = {}
     resolution: dict[str, Any] | None = None
     states: dict[str, Any] = {}
+    pull_off_error = math.nan
     t_cell = t_coupling = 0.0
     if study.model in ("bem", "both"):
         t0 = time.perf_counter()
@@ -654,7 +685,9 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
             solves_before = choice.solves
             choice = _adhesive_resolved_cell(study, tex.shape[0], e1, progress)
             cell, tex = choice.cell, choice.cell.texture
-        resolution = _resolution_report(choice, study, None if finger.adhesive else states)
+            states = _adhesive_states(choice, study.accuracy)
+            pull_off_error = _pull_off_error(choice)
+        resolution = _resolution_report(choice, study, states)
         resolution["solves"] += solves_before
         what = "A_re/A_fr (with adhesion)" if finger.adhesive else "A_re/A_fr"
         if study.grid is None and choice.met is False:
@@ -667,13 +700,13 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
                 and choice.error > study.accuracy:
             notes.append(f"measured map at its own grid: A_re/A_fr changes by {format_percent(choice.error)} % from the map "
                          f"averaged 2 x 2 (pixel-scale roughness resolved by the pixels alone)")
-        # (an adhesive cell's state brackets are its own: the plain cell's state grids not reported)
-        for name, label in () if finger.adhesive else (("transition", "transition"), ("full", "full-contact")):
+        # (an adhesive cell's state pressures are its own, on its grid against the half grid)
+        where = "the adhesive cell's grid" if finger.adhesive else "the largest grid for the state pressures"
+        for name, label in (("transition", "transition"), ("full", "full-contact")):
             st = states[name]
             if st.met is False and math.isfinite(st.error):
                 notes.append(f"the estimated error of the {label} pressure, {format_percent(st.error)} %, exceeds the target "
-                             f"{100 * st.target:g} % at the largest grid for the state pressures "
-                             f"({st.cell.texture.shape[0]} points along x)")
+                             f"{100 * st.target:g} % at {where} ({st.cell.texture.shape[0]} points along x)")
         t_cell = time.perf_counter() - t0
         t0 = time.perf_counter()
         bem = predict_curve(loads, finger, cell, plain=plain if finger.adhesive else None)
@@ -696,8 +729,8 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
     }
     full: dict[str, float | None] = {"bem": None}
     brackets: dict[str, Any] = {}
-    state_report = _state_report(states, finger) if cell is not None and not cell.flat and not finger.adhesive else {}
     centre_load = _centre_load(finger, cell)
+    state_report = _state_report(states, finger, centre_load) if cell is not None and not cell.flat else {}
     if cell is not None and not cell.flat:
         full["bem"] = centre_load(cell.full_contact_pressure)
         for state, bracket in (("transition", cell.transition), ("full", cell.full)):
@@ -721,6 +754,7 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
     adhesion = None
     if bem is not None and bem.adhesion is not None:
         adhesion = _adhesion_report(bem, finger, notes)
+        adhesion["pull_off_force_error"] = pull_off_error
     pred = Prediction(
         study=study, texture=tex, reduced_modulus=e1, bem=bem, hertz=hertz, cell=cell, hertz_cell=hertz_cell,
         critical_load=crit, full_contact_load=full, state_brackets=brackets, resolution=resolution,

@@ -98,3 +98,103 @@ def test_stiffness_memo_is_the_assembled_one():
     assert np.array_equal(k1.data, k2.data) and np.array_equal(k2.data, k3.data)
     k2.data[:] = 0.0  # a caller's change does not reach the memo
     assert np.array_equal(solid.assemble(u)[1].data, k1.data)
+
+
+def _bits(a: np.ndarray) -> np.ndarray:
+    """The float64 words as integers: -0.0 and 0.0 differ, NaNs compare by payload."""
+    return np.ascontiguousarray(a, dtype=np.float64).view(np.int64)
+
+
+def _one_expression_tangents(f: np.ndarray, mu: float, kappa: float) -> tuple[np.ndarray, np.ndarray]:
+    """The material tangents as the single expressions they were before the in-place
+    arithmetic (the reference the solver's numbers were made with)."""
+    det = f[..., 0, 0] * f[..., 1, 1] - f[..., 0, 1] * f[..., 1, 0]
+    h = np.empty_like(f)
+    h[..., 0, 0], h[..., 1, 1] = f[..., 1, 1] / det, f[..., 0, 0] / det
+    h[..., 0, 1], h[..., 1, 0] = -f[..., 1, 0] / det, -f[..., 0, 1] / det
+    i1 = np.einsum("...ij,...ij->...", f, f) + 1.0
+    c = mu * det ** (-2.0 / 3.0)
+    fh, hh, hs = _outer(f, h), _outer(h, h), _outer_swapped(h)
+    i1_ = i1[..., None, None, None, None]
+    delta = np.einsum("ik,jl->ijkl", np.eye(2), np.eye(2))
+    iso = c[..., None, None, None, None] * (
+        delta - 2.0 / 3.0 * (fh + np.swapaxes(np.swapaxes(fh, -4, -2), -3, -1))
+        + 2.0 / 9.0 * i1_ * hh + i1_ / 3.0 * hs
+    )
+    d1 = 0.5 * kappa * (det - 1.0 / det)
+    d2 = 0.5 * kappa * (1.0 + 1.0 / det**2)
+    vol = (d2 * det**2 + d1 * det)[..., None, None, None, None] * hh - (d1 * det)[..., None, None, None, None] * hs
+    return iso, vol
+
+
+def test_in_place_tangents_are_the_expressions_bits():
+    rng = np.random.default_rng(11)
+    for shape in ((348, 9), (60, 4), (3,)):
+        f = np.eye(2) + 0.15 * rng.standard_normal(shape + (2, 2))
+        assert np.all(np.linalg.det(f) > 0.2)  # no inverted point
+        iso, vol = _one_expression_tangents(f, 0.7, 40.0)
+        for law, modulus, ref in ((isochoric, 0.7, iso), (volumetric, 40.0, vol)):
+            p, a = law(f, modulus)
+            none, a2 = law(f, modulus, stress=False)
+            assert none is None and np.array_equal(_bits(a), _bits(ref)) and np.array_equal(_bits(a2), _bits(ref))
+            assert a.flags.c_contiguous  # the stacked matmul then takes the path it took
+            assert np.array_equal(_bits(p), _bits(law(f, modulus, tangent=False)[0]))
+
+
+def test_stiffness_after_a_merit_is_the_fresh_one():
+    """A line search's merit leaves the internal force in the memo; the tangent assembled next
+    (stress skipped) is the one a fresh solid assembles."""
+    mesh, _, _ = _folded()
+    u = 0.002 * np.random.default_rng(6).standard_normal(2 * mesh.n_nodes)
+    solid = Solid(mesh, 0.35, 3.0)
+    f1, none = solid.assemble(u, tangent=False)
+    f2, k2 = solid.assemble(u)
+    f3, k3 = Solid(mesh, 0.35, 3.0).assemble(u)
+    assert none is None and np.array_equal(_bits(f1), _bits(f3)) and np.array_equal(_bits(f2), _bits(f3))
+    assert np.array_equal(_bits(k2.data), _bits(k3.data)) and np.array_equal(k2.indices, k3.indices)
+
+
+def test_summed_is_the_sparse_constructors_bits():
+    """Repeated entries of widely different sizes (their sum's last bit depends on the order), in
+    columns long enough that SciPy's sort is not an insertion sort: the same matrix to the bit."""
+    import scipy.sparse as sp
+
+    from fingerpad.micro.deflection.hyperelastic import summed
+
+    rng = np.random.default_rng(12)
+    n = 40
+    rows = np.concatenate([rng.integers(0, n, 3000), np.full(200, 7), np.repeat(np.arange(n), 5)])
+    cols = np.concatenate([rng.integers(0, 8, 3000), np.full(200, 3), np.repeat(np.arange(n), 5)])
+    vals = rng.choice([-1.0, 1.0], rows.size) * 10.0 ** rng.uniform(-8, 8, rows.size)
+    vals[::17] = -0.0
+    for fmt, cls in (("csc", sp.csc_matrix), ("csr", sp.csr_matrix)):
+        ref = cls((vals, (rows, cols)), shape=(n, n))
+        got = summed(vals, rows, cols, (n, n), fmt)
+        assert got.format == fmt and got.has_canonical_format
+        assert np.array_equal(got.indptr, ref.indptr) and np.array_equal(got.indices, ref.indices)
+        assert np.array_equal(_bits(got.data), _bits(ref.data))
+
+
+def test_reduction_maps_are_the_sparse_products_bits():
+    _, solver, _ = _folded()
+    rng = np.random.default_rng(13)
+    v = rng.standard_normal(solver.nred)
+    v[::7] = -0.0  # SciPy's product turns -0.0 into 0.0 (0.0 + 1.0 * v)
+    r = rng.standard_normal(solver.solid.ndof) * 10.0 ** rng.uniform(-8, 8, solver.solid.ndof)
+    r[::5] = -0.0
+    assert np.array_equal(_bits(solver.displacement(v)), _bits(solver.M @ v))
+    assert np.array_equal(_bits(solver.reduce(r)), _bits(solver.MT @ r))
+
+
+def test_fold_chain_rule_is_the_one_built_per_call():
+    """The per-point map T onto (s, p, q), built once, holds the entries the per-call loop built."""
+    _, solver, _ = _folded()
+    fold = solver.fold
+    na = fold.point_nodes.shape[1]
+    pts = np.arange(fold.point_nodes.shape[0])
+    t = np.zeros((pts.size, 6, 2 * (na + 2)))
+    for j in range(na):
+        t[:, 0:2, 2 * j:2 * j + 2] = fold.point_shape[pts, j][:, None, None] * np.eye(2)
+    t[:, 2:4, 2 * na:2 * na + 2] = np.eye(2)
+    t[:, 4:6, 2 * na + 2:2 * na + 4] = np.eye(2)
+    assert np.array_equal(_bits(fold._chain_rule), _bits(t))

@@ -363,6 +363,19 @@ class FoldContact:
             (np.concatenate([down_right, right[:-1], left[::-1]]),
              np.concatenate([np.full(down_right.size + right.size - 1, -lam), np.zeros(left.size)])),
         ]
+        # per contact point, the map T of its face's node positions and a segment's two end
+        # points onto (s, p, q) that :meth:`evaluate` applies (the same entries, built once)
+        na = self.point_nodes.shape[1]
+        t = np.zeros((self.point_nodes.shape[0], 6, 2 * (na + 2)))
+        eye = np.eye(2)
+        for j in range(na):
+            t[:, 0:2, 2 * j:2 * j + 2] = self.point_shape[:, j][:, None, None] * eye
+        t[:, 2:4, 2 * na:2 * na + 2] = eye
+        t[:, 4:6, 2 * na + 2:2 * na + 4] = eye
+        t.flags.writeable = False
+        self._chain_rule = t
+        # the chains' offsets as (x, 0) rows once, not stacked again per call (the same sums)
+        self._shifts = [np.column_stack([shift, np.zeros(shift.size)]) for _, shift in self.chains]
         self.k = float(stiffness)
 
     @property
@@ -377,11 +390,12 @@ class FoldContact:
     def _segments(self, x: np.ndarray, chain: int, seg: np.ndarray | None = None
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Node ids (a, b) and current end points (p, q) of a chain's segments (all, or ``seg``)."""
-        nodes, shift = self.chains[chain]
+        nodes, _ = self.chains[chain]
+        shift = self._shifts[chain]  # (x offset, 0) per chain node
         ia = np.arange(nodes.size - 1) if seg is None else seg
         a, b = nodes[ia], nodes[ia + 1]
-        p = x[a] + np.column_stack([shift[ia], np.zeros(ia.size)])
-        q = x[b] + np.column_stack([shift[ia + 1], np.zeros(ia.size)])
+        p = x[a] + shift[ia]
+        q = x[b] + shift[ia + 1]
         return a, b, p, q
 
     def pair(self, x: np.ndarray) -> list[np.ndarray]:
@@ -428,7 +442,6 @@ class FoldContact:
         if pairs is None:
             pairs = self.pair(x)
         xs = self.points(x)
-        na = self.point_nodes.shape[1]
         terms = []
         gaps_all = []
         min_gap = np.inf
@@ -447,12 +460,7 @@ class FoldContact:
             dofs = np.stack([2 * nodes, 2 * nodes + 1], axis=2).reshape(nodes.shape[0], -1)
             # chain rule through the point's interpolation s = sum_a N_a x_a: T maps the
             # (na + 2) node positions onto (s, p, q)
-            t = np.zeros((pts.size, 6, 2 * (na + 2)))
-            eye = np.eye(2)
-            for j in range(na):
-                t[:, 0:2, 2 * j:2 * j + 2] = self.point_shape[pts, j][:, None, None] * eye
-            t[:, 2:4, 2 * na:2 * na + 2] = eye
-            t[:, 4:6, 2 * na + 2:2 * na + 4] = eye
+            t = self._chain_rule[pts]
             gr = np.einsum("ni,nij->nj", grad[act], t)
             he = None if hess is None else np.einsum("nki,nkl,nlj->nij", t, hess[act], t)
             terms.append((dofs, gr, g[act], he, self.weights[pts]))

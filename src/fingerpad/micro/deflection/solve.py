@@ -39,7 +39,7 @@ import scipy.sparse.linalg as spla
 
 from ...errors import FingerpadError
 from .contact import FoldContact, contact_length, skin_compliance, tile_jacobian, tile_lengths
-from .hyperelastic import Solid, csr_slots
+from .hyperelastic import Solid, csr_slots, summed
 from .mesh import SectionMesh
 
 FRICTION_LAWS = ("package", "coulomb")
@@ -184,6 +184,9 @@ class SectionSolver:
         self.M = sp.csr_matrix((np.ones(int(keep.sum())), (np.nonzero(keep)[0], red[keep])), shape=(nd, self.nred))
         # its transpose once (the same matrix ``M.T`` gives; building that view cost 0.5 ms a call)
         self.MT = self.M.T
+        # M and M^T on vectors as a gather and a bincount (see :meth:`displacement`, :meth:`reduce`)
+        self._kept = np.nonzero(keep)[0]
+        self._kept_red = red[keep]
         self.surface = mesh.surface
         self.m = mesh.surface.size
         self.base_centre = int(np.argmin(np.hypot(mesh.nodes[:, 0], mesh.nodes[:, 1])))
@@ -193,7 +196,18 @@ class SectionSolver:
 
     # ------------------------------------------------------------------ helpers
     def displacement(self, v: np.ndarray) -> np.ndarray:
-        return self.M @ v
+        """``M @ v``, the same floats: SciPy's product adds ``1.0 * v_j`` to a zero per row, i.e.
+        ``0.0 + v_j`` (which turns -0.0 into +0.0), done here as a gather without the sparse
+        product's Python (~20 us a call, several calls per Newton iteration)."""
+        u = np.zeros(self.solid.ndof)
+        u[self._kept] = v[self._kept_red]
+        u += 0.0
+        return u
+
+    def reduce(self, r: np.ndarray) -> np.ndarray:
+        """``M^T @ r``, the same floats: SciPy's product adds each dof's ``1.0 * r_i`` to its
+        reduced dof in increasing dof order, starting from zero, as the bincount does."""
+        return np.bincount(self._kept_red, weights=r[self._kept], minlength=self.nred)
 
     def positions(self, v: np.ndarray) -> np.ndarray:
         return self.mesh.nodes + self.displacement(v).reshape(-1, 2)
@@ -266,7 +280,7 @@ class SectionSolver:
             cf, t0 = mu * a0, mu * b0
             fext[2 * surf] = cf * f + t0
             fext[2 * surf + 1] = -f
-            r_u = self.MT @ (fint + fold_f - fext)
+            r_u = self.reduce(fint + fold_f - fext)
             r_c = np.where(active, gap, f)
             r_z = f.sum() - load
             r_t = (v[tip_dof] - tip) if tip is not None else 0.0
@@ -316,7 +330,9 @@ class SectionSolver:
                 # at max_iter. Below 1e-5 of the load the round-off-floor acceptance above decides.
                 raise NoConvergence(f"no convergence: the Newton iteration cycles (period {period})")
             # Jacobian, block rows (u, contact, load[, tip]) x columns (v, f, Z0[, mu]), as one COO
-            kr = self._reduced_stiffness(kmat, fold_k).tocoo()
+            kr = self._reduced_stiffness(kmat, fold_k)
+            # its entries in storage order, as ``tocoo`` lists them (rows expanded from indptr)
+            kr_rows = np.repeat(np.arange(nred, dtype=kr.indices.dtype), np.diff(kr.indptr))
             ai = np.nonzero(active)[0]
             xr, okx = self.xred, self.xred >= 0
             # d r_u / d f: the friction (c_f on x) and the skin pressure (-1 on z)
@@ -340,12 +356,12 @@ class SectionSolver:
             free = np.nonzero(~active)[0]
             ca = comp[ai]
             nz = ca != 0.0
-            parts_r = [kr.row, e_rows[ok], tl_rows[tl_ok],
+            parts_r = [kr_rows, e_rows[ok], tl_rows[tl_ok],
                        nred + ai, np.repeat(nred + ai, int(okx.sum())),
                        nred + np.repeat(ai, m)[nz.ravel()], nred + free,
                        nred + ai,  # d gap_i / d Z0
                        np.full(m, nred + m)]  # the load equation: sum f
-            parts_c = [kr.col, nred + e_cols[ok], tl_cols[tl_ok],
+            parts_c = [kr.indices, nred + e_cols[ok], tl_cols[tl_ok],
                        self.zred[ai], np.tile(xr[okx], ai.size),
                        nred + np.tile(np.arange(m), ai.size)[nz.ravel()], nred + free,
                        np.full(ai.size, nred + m),
@@ -360,15 +376,14 @@ class SectionSolver:
             if tip is not None:  # unknown mu: its column d(-f_ext)/d mu and the tip equation
                 dmu = np.zeros(self.solid.ndof)
                 dmu[2 * surf] = a0 * f + b0
-                col = -(self.MT @ dmu)
+                col = -self.reduce(dmu)
                 nzc = np.nonzero(col)[0]
                 parts_r += [nzc, [size]]
                 parts_c += [np.full(nzc.size, size), [tip_dof]]
                 parts_v += [col[nzc], [1.0]]
                 rhs.append([r_t])
                 size += 1
-            jac = sp.csc_matrix((np.concatenate(parts_v), (np.concatenate(parts_r), np.concatenate(parts_c))),
-                                shape=(size, size))
+            jac = summed(np.concatenate(parts_v), np.concatenate(parts_r), np.concatenate(parts_c), (size, size))
             rhs = -np.concatenate(rhs)
             try:  # SuperLU, threshold partial pivoting (the diagonal unless 10x below the column maximum)
                 dy = spla.splu(jac, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.1).solve(rhs)
@@ -441,7 +456,7 @@ class SectionSolver:
         fext = np.zeros(self.solid.ndof)
         fext[2 * self.surface] = mu * (a0 * f + b0)
         fext[2 * self.surface + 1] = -f
-        r_u = self.MT @ (fint + fold_f - fext)
+        r_u = self.reduce(fint + fold_f - fext)
         r_t = (v[tip_dof] - tip) if tip is not None else 0.0
         out = self._merit(r_u, f, gap, f.sum() - load, r_t)
         return out if math.isfinite(out) else math.inf
@@ -479,7 +494,7 @@ class SectionSolver:
             vals.append((kw[:, None, None] * (grad[:, :, None] * grad[:, None, :] + g[:, None, None] * hess)).ravel())
         if not tangent:
             return force, None, n_act
-        kf = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(nd, nd))
+        kf = summed(np.concatenate(vals), np.concatenate(rows), np.concatenate(cols), (nd, nd), "csr")
         return force, kf, n_act
 
     def _finish(self, state: State, xs: np.ndarray, tiles: np.ndarray, comp: np.ndarray, gap: np.ndarray,
