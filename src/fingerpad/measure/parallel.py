@@ -79,7 +79,14 @@ def forked_map(function: Callable[[Any], Any], items: Sequence[Any], workers: in
         return [function(item) for item in items]
     from concurrent.futures import ProcessPoolExecutor
 
+    import gc
+
     _FUNCTION[:] = [function]
+    # the objects that exist now out of the collector's reach until the workers are done: a
+    # collection in a worker would otherwise write to every object it inherited, copying their
+    # memory pages (fork's copy on write); half the workers' extra CPU (3x8 on one core: 0.9 ->
+    # 0.45 s over 5.7 s in one process)
+    gc.freeze()
     try:
         with ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
                                  initializer=own_streams) as pool:
@@ -87,4 +94,5 @@ def forked_map(function: Callable[[Any], Any], items: Sequence[Any], workers: in
             chunks = [items[i:i + size] for i in range(0, len(items), size)]
             return [out for chunk in pool.map(_run, chunks) for out in chunk]
     finally:
+        gc.unfreeze()
         _FUNCTION.clear()
