@@ -50,7 +50,7 @@ from ..plotting.qcsheet import qc_sheet_png, qc_sheets
 from ..plotting.render import load_drawing_modules
 from .analysis import StudyResult, study_info, study_references
 from .htmlreport import html_report
-from .parallel import own_streams, usable_cpus
+from .parallel import frozen_heap, own_streams, usable_cpus
 
 __all__ = ["EarlyQC", "curves_dataset", "html_report", "write_report"]
 
@@ -324,9 +324,10 @@ class EarlyQC:
             self._forked = {rec.source: i for i, rec in enumerate(recordings)}
             self._forked_recordings = recordings
             # a few recordings per task: one result each would cost more in messages than
-            # the ~9 ms of finding one recording's strokes
-            return list(self._pool.map(_forked_strokes, range(len(recordings)),
-                                       [options] * len(recordings), chunksize=4))
+            # the ~9 ms of finding one recording's strokes; the workers fork at the first task
+            with frozen_heap():
+                return list(self._pool.map(_forked_strokes, range(len(recordings)),
+                                           [options] * len(recordings), chunksize=4))
         finally:
             _FORKED.clear()  # the workers keep their copy
 
