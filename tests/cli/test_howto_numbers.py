@@ -42,6 +42,9 @@ NOT_PRINTED: dict[str, dict[str, str]] = {
     "predict-a-texture.md": {
         "0 solves (cached)": "what the next run prints",
     },
+    "feel-the-same-cheaper.md": {
+        "1 - coverage": "an expression of the option's value, not printed text",
+    },
 }
 
 
