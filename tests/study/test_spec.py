@@ -46,6 +46,27 @@ def test_values_with_units_and_lists_of_ranges():
     np.testing.assert_allclose(both, [1.0, 2.0, 4.0, 8.0], rtol=1e-12)
 
 
+def test_comma_lists_are_lists_at_every_door():
+    """A comma list is a list wherever loads are read (study file, --loads, the explorer's
+    field, finger-models), as solve's --pressure reads its pressures: one rule."""
+    from fingerpad.study.cell_job import _parse_pressures
+    from fingerpad.study.values import parse_loads
+
+    np.testing.assert_allclose(make(loads={"range": "0.5N, 1N,1N:4N:3"}).loads, [0.5, 1.0, 1.0, 2.0, 4.0],
+                               rtol=1e-12)
+    np.testing.assert_allclose(make(loads={"values": ["0.5N,2N", 3]}).loads, [0.5, 2.0, 3.0])
+    np.testing.assert_allclose(parse_loads("100mN,0.3N", True, "--loads"), [0.1, 0.3])
+    with pytest.raises(FingerpadError, match=r"^--loads: cannot read '' as a number"):
+        parse_loads("1N,,2N", True, "--loads")
+    with pytest.raises(FingerpadError, match=r"^--loads: loads must be positive"):
+        parse_loads("1N,-2N", True, "--loads")
+    with pytest.raises(FingerpadError, match=r"more than 100000 loads"):
+        parse_loads(",".join(["1N:2N:60000"] * 2), True, "--loads")
+    assert _parse_pressures(["1kPa,2kPa", "3kPa"], log=True) == [1e3, 2e3, 3e3]
+    with pytest.raises(FingerpadError, match="zero and tensions need --work-of-adhesion"):
+        _parse_pressures(["1kPa,-2kPa"], log=True)
+
+
 def test_zones_at():
     s = make(loads={"range": "0.1N:4N:5", "zones_at": "2N"})
     assert s.zone_load == 2.0

@@ -26,7 +26,7 @@ _HELP = {
                     "finger, or A's own [population] table.",
     "--speed": "Stroke speed(s): one speed, LOW:HIGH (the two ends of a band) or START:STOP:COUNT; unit "
                "suffixes m/s, cm/s, mm/s (default 20mm/s:100mm/s).",
-    "--loads": "Normal loads: START:STOP:COUNT or one load; repeatable (default: A's study loads).",
+    "--loads": "Normal loads: START:STOP:COUNT, one load or a comma list of either; repeatable (default: A's study loads).",
     "--directions": "Stroke directions, degrees from the texture's x axis, comma-separated (default 0,90).",
     "--weber-fraction": "The person's Weber fraction W, for every finger: the relative friction difference told "
                         "apart in 75 % of forced choices (A's [perception] weber_fraction; default 0.11, or each "

@@ -95,7 +95,7 @@ def fingers_command() -> None:
 def finger_models(
     out: Annotated[str, typer.Option("--out", metavar="DIR", help="Output directory (created if missing).")] = "out",
     loads: Annotated[
-        str, typer.Option("--loads", metavar="START:STOP:COUNT", help="Log-spaced load range.")
+        str, typer.Option("--loads", metavar="START:STOP:COUNT", help="Log-spaced load range START:STOP:COUNT, one load or a comma list.")
     ] = "0.1N:4N:30",
     finger: Annotated[str | None, typer.Option(
         "--finger", metavar="PRESET",
@@ -103,12 +103,10 @@ def finger_models(
              "the thesis' Fig. 2.4, E_skin = 100 kPa, R_fp = 9 mm).")] = None,
 ) -> None:
     """Compare the ridge-area models (idea of the thesis Fig. 2.4) in DIR/ridge_models.png."""
-    from ..units import parse_range
+    from ..study.values import parse_loads
 
     with user_errors():
-        values = parse_range(loads, "force", name="--loads", log=True)
-        if min(values) <= 0:
-            raise FingerpadError("--loads: loads must be positive")
+        values = [float(v) for v in parse_loads(loads, True, "--loads")]  # the loads' one rule (cap, sign)
         from ..io import check_output_location, check_writable
 
         check_output_location(out, "--out", replaces=False)  # only adds ridge_models.png: '.' is fine

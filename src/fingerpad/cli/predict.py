@@ -70,7 +70,7 @@ _PREDICT_HELP = {
     "--finger-param": "Finger override NAME=VALUE (radius, modulus, beta, tau0, alpha, skin_modulus, "
                       "skin_poisson, skin_layer_thickness, ...: see `fingerpad fingers`; ridge_fraction: "
                       "the constant-fraction ridge model's A_fr/A_g); repeatable, e.g. --finger-param radius=8mm.",
-    "--loads": "Normal loads: START:STOP:COUNT or one load; repeatable (default 0.1N:4N:40, log).",
+    "--loads": "Normal loads: START:STOP:COUNT, one load or a comma list of either; repeatable (default 0.1N:4N:40, log).",
     "--log": "Log-spaced load ranges (the default, also when a study file says nothing).",
     "--linear": "Evenly spaced load ranges.",
     "--model": "Unit-cell model: bem (numerical), hertz (per-asperity Hertz, spherical caps only) or both.",

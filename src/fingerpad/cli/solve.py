@@ -56,8 +56,8 @@ _HELP = {
     "--material-modulus": "Counter-surface Young's modulus, or 'rigid' (default rigid).",
     "--material-poisson": "Counter-surface Poisson ratio (default 0.35).",
     **ADHESION_HELP,
-    "--pressure": "Mean nominal pressure over the cell; repeat it, or give a range START:STOP:COUNT (with "
-                  "--work-of-adhesion also zero, tensions and comma lists, e.g. -2kPa,0Pa,5kPa).",
+    "--pressure": "Mean nominal pressure over the cell; repeat it, or give a range START:STOP:COUNT or a comma "
+                  "list (with --work-of-adhesion also zero and tensions, e.g. -2kPa,0Pa,5kPa).",
     "--log": "Log-spaced pressure ranges (the default).",
     "--linear": "Evenly spaced pressure ranges.",
     "--tol": "Relative residual at which a solve stops.",

@@ -100,10 +100,8 @@ def study_data(values: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
         if value is None:
             continue
         data.setdefault(section, {})[key] = value
-    loads = data.get("loads", {})
-    if isinstance(loads.get("range"), str) and "," in loads["range"]:
-        # a list typed (or filled in from a pinned design) as "0.5N, 1N, 2N": the study's list form
-        loads["range"] = [item.strip() for item in loads["range"].split(",") if item.strip()]
+    # a list typed (or filled in from a pinned design) as "0.5N, 1N, 2N" is read by the study's
+    # own loads rule (study.values.parse_loads), as the CLI's --loads is
     mat = data.get("material", {})
     if isinstance(mat.get("modulus"), str) and mat["modulus"].lower() in ("rigid", "inf", "infinity"):
         mat.pop("poisson", None)  # a rigid counter-surface has no Poisson ratio (as --material-modulus rigid)

@@ -41,13 +41,13 @@ MAX_PRESSURES = 10_000
 
 
 def _parse_pressures(texts: Sequence[str], log: bool, adhesive: bool = False) -> list[float]:
-    """The mean pressures (Pa) of ``--pressure``: positive, or with adhesion of any sign (a comma
-    list ``-2kPa,0Pa,5kPa`` too)."""
+    """The mean pressures (Pa) of ``--pressure``: positive, or with adhesion of any sign; each
+    option a value, a range or a comma list of either (``-2kPa,0Pa,5kPa``)."""
     from ..plausibility import check_plausible
 
     pressures: list[float] = []
     for text in texts:
-        pieces = [t for t in str(text).split(",")] if adhesive else [text]
+        pieces = str(text).split(",")
         for piece in pieces:
             for value in parse_range(piece, "pressure", name="--pressure", log=log and not adhesive,
                                      max_count=MAX_PRESSURES):

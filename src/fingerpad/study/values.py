@@ -89,8 +89,11 @@ def _check_order(spec: str, name: str) -> None:
 
 def parse_loads(spec: Any, log: bool, name: str = "loads") -> np.ndarray:
     """Loads (N) from ``"START:STOP:COUNT"`` (log-spaced if ``log``), one quantity, or a list of
-    either (a list of ranges and values is concatenated)."""
-    items = list(spec) if isinstance(spec, (list, tuple, np.ndarray)) else [spec]
+    either (a list of ranges and values is concatenated), given as a sequence or as text separated
+    by commas (``"0.1N,0.3N,1N:4N:3"``, as ``solve --pressure`` takes its pressures)."""
+    given = list(spec) if isinstance(spec, (list, tuple, np.ndarray)) else [spec]
+    items = [piece for item in given
+             for piece in (item.split(",") if isinstance(item, str) else [item])]
     values: list[float] = []
     for item in items:
         if isinstance(item, str) and ":" in item:

@@ -211,7 +211,7 @@ class Form:
                        for p in FINGER_PARAMS}
         self.loads = {
             "range": Field("loads.range", "loads (N)", value="0.1N:4N:40", placeholder="0.1N:4N:40",
-                           doc="START:STOP:COUNT, or one load"),
+                           doc="START:STOP:COUNT, one load, or a comma list of either"),
             "log": Field("loads.log", "log-spaced loads", kind="bool", value=True),
             "zones_at": Field("loads.zones_at", "zone-map load (N)", placeholder="the largest load",
                               doc="load of the zone map", scan=scan_for(ZONE_LOAD, field_label("loads", "zones_at"),
