@@ -45,6 +45,10 @@ def test_study_data_writes_the_point_into_the_base():
     assert data["material"]["modulus"] == 1e6
     assert BASE["texture"]["spacing"] == "150um", "the base is not changed"
     np.testing.assert_allclose(s.loads, [1.0, 2.0])
+    # the study's loads rule: a comma list, or a TOML list, as [loads] and --loads take them
+    listed = sweep(axes={"spacing": ["100um", "200um"]}, loads="0.5N,1N:4N:3").loads
+    np.testing.assert_allclose(listed, [0.5, 1.0, 2.0, 4.0], rtol=1e-12)
+    np.testing.assert_allclose(sweep(axes={"spacing": ["100um"]}, loads=["1N", 3]).loads, [1.0, 3.0])
 
 
 def test_sweeping_the_family_clears_its_parameters():
@@ -110,6 +114,8 @@ def test_angle_range_in_degrees():
     ({"design": "points"}, r"needs \[\[sweep.point\]\] tables"),
     ({"design": "points", "point": [{"spacing": "1um"}, {"height": "1um"}]}, r"every point must give the same axes"),
     ({"axes": {"spacing": "1um:1mm:1000", "height": "1um:10um:1001"}}, r"1001000 points is more than the 1000000"),
+    ({"axes": {"spacing": "1um:2um:2"}, "loads": "1N:2N:10001"}, r"\[sweep\] loads: 10001 loads asked for; at most 10000"),
+    ({"axes": {"spacing": "1um:2um:2"}, "loads": "1N,-2N"}, r"\[sweep\] loads: loads must be positive"),
 ])
 def test_bad_sweeps_named(table, message):
     with pytest.raises(FingerpadError, match=message):

@@ -49,6 +49,8 @@ DESIGNS = ("grid", "lhs", "points")
 DEFAULT_SWEEP_LOADS = "0.1N:4N:40"
 #: Most points one sweep may hold (checked before anything is allocated).
 MAX_POINTS = 1_000_000
+#: Most loads of a sweep's curve (each point stores every quantity over them).
+MAX_SWEEP_LOADS = 10_000
 #: Largest seed of a Latin hypercube (NumPy's seeds are non-negative; 2**63 - 1 is plenty).
 MAX_SEED = 2**63 - 1
 
@@ -325,8 +327,7 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
     a point that cannot exist is stored as invalid with its reason, without stopping the sweep.
     """
     from ..study.spec import study_from_dict
-    from ..study.values import integer
-    from ..units import parse_range
+    from ..study.values import integer, parse_loads
 
     sweep = dict(data.get("sweep") or {})
     base = {k: dict(v) for k, v in data.items() if k not in ("sweep", "_source", "population")}
@@ -340,9 +341,9 @@ def sweep_from_dict(data: Mapping[str, Any], *, require_units: bool | None = Non
     if design not in DESIGNS:
         raise FingerpadError(f"[sweep] design: must be one of {', '.join(DESIGNS)}, got {sweep.get('design')!r}")
     loads_text = sweep.get("loads", DEFAULT_SWEEP_LOADS)
-    loads = np.asarray(parse_range(str(loads_text), "force", name="[sweep] loads", log=True, max_count=10_000))
-    if np.any(loads <= 0):
-        raise FingerpadError("[sweep] loads: must be positive")
+    # the study's loads rule (ranges, values, comma lists, sign), with a sweep's own cap: every
+    # point stores a curve over these loads
+    loads = parse_loads(loads_text, True, "[sweep] loads", max_count=MAX_SWEEP_LOADS)
     chunk = integer(sweep.get("chunk", 8), "[sweep] chunk", 1, MAX_POINTS)
 
     base_study = study_from_dict(base)  # the base must be a valid study on its own

@@ -66,15 +66,15 @@ def positive_loads(values: Sequence[float], name: str) -> np.ndarray:
     return arr
 
 
-def _range_count(spec: str, name: str) -> None:
+def _range_count(spec: str, name: str, cap: int) -> None:
     parts = spec.split(":")
     if len(parts) == 3:
         try:
             count = parse_int(parts[2], name)
         except FingerpadError:
             return  # parse_range reports it
-        if count > MAX_LOADS:
-            raise FingerpadError(f"{name}: {count} loads asked for; at most {MAX_LOADS} are allowed")
+        if count > cap:
+            raise FingerpadError(f"{name}: {count} loads asked for; at most {cap} are allowed")
 
 
 def _check_order(spec: str, name: str) -> None:
@@ -87,7 +87,7 @@ def _check_order(spec: str, name: str) -> None:
             raise FingerpadError(f"{name}: STOP {parts[1]!r} is below START {parts[0]!r} in {spec!r}")
 
 
-def parse_loads(spec: Any, log: bool, name: str = "loads") -> np.ndarray:
+def parse_loads(spec: Any, log: bool, name: str = "loads", max_count: int = MAX_LOADS) -> np.ndarray:
     """Loads (N) from ``"START:STOP:COUNT"`` (log-spaced if ``log``), one quantity, or a list of
     either (a list of ranges and values is concatenated), given as a sequence or as text separated
     by commas (``"0.1N,0.3N,1N:4N:3"``, as ``solve --pressure`` takes its pressures)."""
@@ -97,13 +97,13 @@ def parse_loads(spec: Any, log: bool, name: str = "loads") -> np.ndarray:
     values: list[float] = []
     for item in items:
         if isinstance(item, str) and ":" in item:
-            _range_count(item, name)
+            _range_count(item, name, max_count)
             _check_order(item, name)
             values += parse_range(item, "force", name=name, log=log)
         else:
             values.append(quantity(item, "force", name))
-        if len(values) > MAX_LOADS:
-            raise FingerpadError(f"{name}: more than {MAX_LOADS} loads asked for")
+        if len(values) > max_count:
+            raise FingerpadError(f"{name}: more than {max_count} loads asked for")
     return positive_loads(values, name)
 
 
