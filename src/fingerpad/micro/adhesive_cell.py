@@ -636,4 +636,4 @@ class AdhesiveUnitCell:
                 "adhesion_range": self.physical_range, "adhesion_range_used": self.adhesion_range,
                 "range_regularised": bool(self.regularised),
                 "pull_off_pressure": self.pull_off_pressure, "work_of_separation": self.work_of_separation,
-                "zero_load_contact_fraction": self.zero_load_fraction}
+                "zero_load_contact_fraction": self.zero_load_fraction, "transition_pulled_in": self.pulled_in}
