@@ -199,7 +199,9 @@ class AdhesiveUnitCell:
     #: adhesion-driven jump into full contact at large ``w``) converges at order 1/2: on the
     #: default cell at ``w`` 0.3 J/m^2 the transition's change per grid doubling shrinks by 0.67.
     #: The grid's error estimate scales the change from the half grid by ``1 / (2^q - 1)``
-    #: (:func:`fingerpad.micro.resolution.order_factor`).
+    #: (:func:`fingerpad.micro.resolution.order_factor`). A transition the attraction pulled in
+    #: (:attr:`pulled_in`) is instead extrapolated at first order and estimated from the
+    #: extrapolation's own change (:func:`fingerpad.micro.resolution.extrapolated_states`).
     convergence_order = 0.5
 
     def __init__(
