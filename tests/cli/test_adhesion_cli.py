@@ -10,6 +10,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -134,6 +135,15 @@ def test_predict_reports_pull_off_share_and_threshold(tmp_path) -> None:
     assert doc["full_contact_load_error"]["bem"] == full["load_error"] and full["load_error"] > 0
     assert doc["cell"]["resolution"]["full_contact_pressure_error"] == full["pressure_error"]
     assert 0 < adh["pull_off_force_error"] < 1 and doc["units"]["pull_off_force_error"].startswith("1 ")
+    # at w 0.3 the caps' contacts pull the skin onto the base from ~3 ranges (docs/model.md 6.6):
+    # the transition is reported extrapolated to a vanishing pixel, p_N + (p_N - p_{N/2}), the
+    # critical load with it; the grid's own pressure beside it, the middle of its own bracket
+    tr = doc["state_brackets"]["transition"]
+    own = tr["own_pressure"]
+    assert own == pytest.approx(math.sqrt(tr["pressure"][0] * tr["pressure"][1]), rel=1e-9)
+    assert doc["cell"]["transition_pressure"] > own and tr["method"].startswith("the skin was pulled onto the base")
+    assert tr["pressure_error"] == pytest.approx(abs(doc["cell"]["transition_pressure"] / tr["coarse_pressure"] - 1),
+                                                 rel=1e-9)
 
 
 def test_predict_table_and_errors(tmp_path, monkeypatch) -> None:

@@ -249,10 +249,15 @@ def _print_prediction(payload: Mapping[str, Any]) -> None:
             grids = ""
             if st.get("grid") and st.get("coarse_grid"):
                 grids = f", grid {'x'.join(map(str, st['grid']))} against {'x'.join(map(str, st['coarse_grid']))}"
+            pressure = f"cell pressure {p_lo / 1e3:.4g}-{p_hi / 1e3:.4g} kPa{_plus_minus(st.get('pressure_error'))}"
+            if st.get("own_pressure") is not None:
+                # pulled in by adhesion: extrapolated to a vanishing pixel (docs/model.md 6.6)
+                reported = payload["cell"]["full_contact_pressure"]
+                pressure = (f"cell pressure {reported / 1e3:.4g} kPa{_plus_minus(st.get('pressure_error'))} "
+                            f"extrapolated to a vanishing pixel, the grid's own {p_lo / 1e3:.4g}-{p_hi / 1e3:.4g} kPa")
             say_wrapped(console, f"full contact at the pad centre (at most 1 % open) from: {full:.4g} N"
                          f"{_plus_minus((payload.get('full_contact_load_error') or {}).get('bem'))} "
-                         f"(cell pressure {p_lo / 1e3:.4g}-{p_hi / 1e3:.4g} kPa"
-                         f"{_plus_minus(st.get('pressure_error'))}{grids})")
+                         f"({pressure}{grids})")
         else:
             say(console, f"full contact at the pad centre: not reached up to {p_lo / 1e3:.4g} kPa "
                          f"(the last node below 10 E*)")

@@ -33,7 +33,12 @@ range used is therefore the larger of the given one and the one whose cohesive z
 (:func:`~fingerpad.contact.interaction.resolved_range`): it shrinks with the pixel, and the
 grid's error estimate (:mod:`fingerpad.micro.resolution`) measures both together. A range so
 regularised acts within :data:`~fingerpad.contact.interaction.TIP_PIXELS` pixels of the contact
-only (the JKR limit's cohesive zone; no attraction reaching out of contact). SI units.
+only (the JKR limit's cohesive zone; no attraction reaching out of contact). Where the caps'
+contacts pull the skin onto the texture's base from a distance (:attr:`AdhesiveUnitCell.pulled_in`:
+the jump comes when their edges are a fixed number of pixels short of the base, about three
+ranges of gap), the transition's error is first order in the pixel, and the prediction reports
+it extrapolated from the grid and its half (:func:`fingerpad.micro.resolution.extrapolated_states`,
+:meth:`AdhesiveUnitCell.adopt_pressure`; docs/model.md 6.6). SI units.
 """
 
 from __future__ import annotations
@@ -77,8 +82,13 @@ SEPARATION_STEP = 0.25
 MAX_SEPARATION_SOLVES = 600
 #: Most extra solves bisecting steep steps of one branch.
 MAX_REFINE = 40
-#: Version of what an adhesive cell stores (part of its key).
-ADHESIVE_CELL_VERSION = 2
+#: Version of what an adhesive cell stores (part of its key). 3: the loading branch stores the
+#: base's gap just below the transition (``transition_gap``, :attr:`AdhesiveUnitCell.pulled_in`).
+ADHESIVE_CELL_VERSION = 3
+#: The base is *pulled in* (docs/model.md 6.6, "Convergence past the transition") when the skin's
+#: least gap over the texture's base, at the last solution below the transition, exceeds this
+#: many ranges: the regularised attraction closed it from a distance, not the loading.
+PULL_IN_RANGES = 1.0
 
 
 def pull_apart(solver: HalfSpaceSolver, start: ContactResult, step: float) -> dict[str, Any]:
@@ -189,7 +199,9 @@ class AdhesiveUnitCell:
     #: adhesion-driven jump into full contact at large ``w``) converges at order 1/2: on the
     #: default cell at ``w`` 0.3 J/m^2 the transition's change per grid doubling shrinks by 0.67.
     #: The grid's error estimate scales the change from the half grid by ``1 / (2^q - 1)``
-    #: (:func:`fingerpad.micro.resolution.order_factor`).
+    #: (:func:`fingerpad.micro.resolution.order_factor`). A transition the attraction pulled in
+    #: (:attr:`pulled_in`) is instead extrapolated at first order and estimated from the
+    #: extrapolation's own change (:func:`fingerpad.micro.resolution.extrapolated_states`).
     convergence_order = 0.5
 
     def __init__(
@@ -251,6 +263,7 @@ class AdhesiveUnitCell:
         self.flat = texture.peak_to_valley <= 0
         self.solves = 0
         self._entry: dict[str, Any] = {}
+        self._adopted: dict[str, float] = {}  # state pressures reported instead of the own (Pa)
         self._interp: Any = None
         self._progress: tuple[Progress | None, int, int] = (None, 0, 0)
         if self.cache is not None:
@@ -326,6 +339,7 @@ class AdhesiveUnitCell:
         brackets: dict[str, list[float] | None] = {name: ([0.0, 0.0] if test(zero.contact_state) else None)
                                                     for name, test in reached.items()}
         lo_p, lo = 0.0, zero
+        transition_gap = None  # the base's least gap below the transition (unit lengths)
         budget = [MAX_REFINE]
         top, top_p = zero, 0.0
         while k <= k_cap and brackets["full"] is None:
@@ -338,13 +352,16 @@ class AdhesiveUnitCell:
                 points[p] = self._row(res)
             for name, test in reached.items():
                 if brackets[name] is None and test(res.contact_state):
-                    brackets[name] = self._bracket(points, below_p, below, p, test)
+                    brackets[name], last = self._bracket(points, below_p, below, p, test)
+                    if name == "transition":
+                        transition_gap = self._base_gap(last)
             lo_p, lo = p, res
             top, top_p = res, p
             k += 1
         self._top = (top_p, top)
         return {"points": {repr(q): row for q, row in sorted(points.items())}, "transition": brackets["transition"],
-                "full": brackets["full"], "_zero": zero, "top": top_p}
+                "full": brackets["full"], "_zero": zero, "top": top_p,
+                "transition_gap": transition_gap}
 
     def _refine(self, points: dict[float, dict[str, Any]], lo_p: float, lo: ContactResult, hi_p: float,
                 hi: ContactResult, budget: list[int]) -> tuple[float, ContactResult]:
@@ -363,10 +380,16 @@ class AdhesiveUnitCell:
                 lo_p, lo = mid, res
         return lo_p, lo
 
+    def _base_gap(self, res: ContactResult) -> float | None:
+        """The skin's least gap over the texture's base in ``res`` (unit lengths; ``None``: no base)."""
+        base = np.asarray(self.solver.base, dtype=bool)
+        return float(np.min(res.gap[base])) if base.any() else None
+
     def _bracket(self, points: dict[float, dict[str, Any]], lo_p: float, lo: ContactResult, hi_p: float,
-                 reached: Callable[[str], bool]) -> list[float]:
+                 reached: Callable[[str], bool]) -> tuple[list[float], ContactResult]:
         """``[lo, hi]`` (units of E*) around the state change between the solution ``lo`` (not
-        reached) and the node ``hi_p`` (reached), narrowed to ``rtol`` by bisection from below."""
+        reached) and the node ``hi_p`` (reached), narrowed to ``rtol`` by bisection from below;
+        and the last solution below the change."""
         # the refined nodes between may already hold the change
         inside = sorted(q for q in points if lo_p < q < hi_p and reached(str(points[q]["contact_state"])))
         if inside:
@@ -378,7 +401,7 @@ class AdhesiveUnitCell:
                 hi_p = mid
             else:
                 lo_p, lo = mid, res
-        return [lo_p, hi_p]
+        return [lo_p, hi_p], lo
 
     def _top_start(self) -> ContactResult:
         """The state at the top of the loading branch: kept from :meth:`prepare` in this process,
@@ -473,17 +496,50 @@ class AdhesiveUnitCell:
         if self.flat:
             return 0.0
         self._need()
+        if name in self._adopted:
+            return self._adopted[name]
+        return self.own_state_pressure(name)
+
+    def own_state_pressure(self, name: str) -> float:
+        """Pressure (Pa) of state ``name`` (``"transition"`` or ``"full"``) on this cell's own
+        loading branch, whatever it adopted (:meth:`adopt_pressure`): the geometric middle of its
+        bracket, as :meth:`fingerpad.micro.bem.BEMUnitCell.own_state_pressure` gives it for the
+        grid-convergence estimate of the state pressures."""
+        if self.flat:
+            return 0.0
+        self._need()
         bracket = self._entry["loading"][name]
         if bracket is None:
             return math.inf
         lo, hi = bracket
         return 0.0 if hi <= 0 else self.modulus * math.sqrt(lo * hi) if lo > 0 else self.modulus * hi
 
-    def own_state_pressure(self, name: str) -> float:
-        """Pressure (Pa) of state ``name`` (``"transition"`` or ``"full"``) on this cell's loading
-        branch, as :meth:`fingerpad.micro.bem.BEMUnitCell.own_state_pressure` gives it for the
-        grid-convergence estimate of the state pressures (an adhesive cell adopts no other's)."""
-        return self._state_pressure(name)
+    @property
+    def pulled_in(self) -> bool:
+        """Whether the loading branch reached the texture's base by the attraction pulling it in
+        from more than :data:`PULL_IN_RANGES` ranges (the base's least gap at the last solution
+        below the transition): then the transition pressure carries an error of first order in
+        the pixel, the contact's edge stopping a fixed number of pixels short of the base
+        (docs/model.md 6.6, "Convergence past the transition"). False where the base was touched
+        by the loading itself, at zero load, or never."""
+        if self.flat:
+            return False
+        self._need()
+        gap = self._entry["loading"].get("transition_gap")
+        return gap is not None and gap > PULL_IN_RANGES * self.law.range
+
+    def adopt_pressure(self, name: str, pressure: float | None) -> None:
+        """Report ``pressure`` (Pa) as this cell's pressure of state ``name`` (its zones, critical
+        and full-contact loads): the transition extrapolated to a vanishing pixel from this grid
+        and the half grid's (:func:`fingerpad.micro.resolution.extrapolated_states`); ``None``
+        reports the cell's own again. The curve psi(p), its kinks and the brackets stay the
+        cell's own (as :meth:`fingerpad.micro.bem.BEMUnitCell.adopt_states` does)."""
+        if name not in ("transition", "full"):
+            raise FingerpadError(f"adopt_pressure: no state {name!r}")
+        if pressure is None:
+            self._adopted.pop(name, None)
+        else:
+            self._adopted[name] = float(pressure)
 
     @property
     def transition_pressure(self) -> float:
@@ -582,4 +638,4 @@ class AdhesiveUnitCell:
                 "adhesion_range": self.physical_range, "adhesion_range_used": self.adhesion_range,
                 "range_regularised": bool(self.regularised),
                 "pull_off_pressure": self.pull_off_pressure, "work_of_separation": self.work_of_separation,
-                "zero_load_contact_fraction": self.zero_load_fraction}
+                "zero_load_contact_fraction": self.zero_load_fraction, "transition_pulled_in": self.pulled_in}

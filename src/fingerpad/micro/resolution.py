@@ -32,7 +32,8 @@ if TYPE_CHECKING:
     from ..textures import Texture
 
 __all__ = ["DEFAULT_ACCURACY", "MAX_AUTO_GRID", "MAX_STATE_GRID", "STATES", "GridChoice", "StateChoice",
-           "choose_grid", "choose_state_grids", "estimate_method", "halve", "order_factor"]
+           "choose_grid", "choose_state_grids", "companion", "estimate_method", "extrapolated_states", "halve",
+           "order_factor"]
 
 #: Target of the estimated relative error of A_re/A_fr when the grid is chosen automatically. The
 #: estimate is conservative: on the default cell it is 2.8 % at grid 64 and 1.2 % at 128 where the
@@ -114,6 +115,48 @@ def estimate_method(cell_type: Any) -> str:
             f"(convergence of order q = {order:g} in the pixel: the adhesion range follows it)")
 
 
+#: Order in the pixel of the error of a pulled-in transition (an adhesive cell's
+#: :attr:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell.pulled_in`): the skin is pulled onto
+#: the base when the contact's edge comes within a fixed number of pixels of it (2.5-3 on the
+#: default cell at every grid), so the pressure misses the edge's arrival by a first-order amount
+#: (docs/model.md 6.6, "Convergence past the transition").
+PULL_IN_ORDER = 1.0
+
+
+def extrapolated_states(fine: Any, coarse: Any, quarter: Any = None) -> dict[str, tuple[float, float, float]]:
+    """The state pressures of an adhesive cell whose transition was pulled in, extrapolated to a
+    vanishing pixel (Richardson, order :data:`PULL_IN_ORDER`) from its grid and the half grid's.
+
+    ``fine``, ``coarse``, ``quarter``: prepared adhesive cells of the same texture at ``N``,
+    ``N/2`` and ``N/4`` points along x (``quarter`` may be ``None``). Only where ``fine`` and
+    ``coarse`` were both pulled in; the full contact only where it came with the transition (the
+    same bracket on both grids: the jump into full contact). Returns per state ``(pressure,
+    coarse pressure, error)``: ``p_N + (p_N - p_{N/2}) / (2^q - 1)`` (Pa); the same extrapolation
+    from ``N/2`` and ``N/4`` where ``quarter`` was pulled in too, else the grid's own ``p_N``
+    (what the extrapolation is compared with); the estimated relative error, the relative change
+    between them (at least the bracket's relative width). Empty where nothing is extrapolated."""
+    if coarse is None or not (getattr(fine, "pulled_in", False) and getattr(coarse, "pulled_in", False)):
+        return {}
+    factor = 1.0 / (2.0**PULL_IN_ORDER - 1.0)
+
+    def extrapolated(a: Any, b: Any) -> float:
+        pa, pb = a.own_state_pressure("transition"), b.own_state_pressure("transition")
+        return pa + (pa - pb) * factor
+
+    p = extrapolated(fine, coarse)
+    if quarter is not None and getattr(quarter, "pulled_in", False):
+        pc = extrapolated(coarse, quarter)
+    else:
+        pc = fine.own_state_pressure("transition")
+    if not (math.isfinite(p) and p > 0 and math.isfinite(pc) and pc > 0):
+        return {}
+    error = max(abs(p / pc - 1.0), fine.rtol)
+    out = {"transition": (p, pc, error)}
+    if all(c.full is not None and c.transition is not None and c.full == c.transition for c in (fine, coarse)):
+        out["full"] = (p, pc, error)
+    return out
+
+
 def _state_error(fine: BEMUnitCell, coarse: BEMUnitCell, name: str) -> float:
     """``|p_N / p_{N/2} - 1|`` of a state pressure (at least the bracket's relative width, below
     which the change is not resolved); NaN where neither grid reaches the state (beyond the
@@ -162,14 +205,22 @@ class StateChoice:
             return None
         return self.error <= self.target
 
+    #: The pressure reported instead of the grid's own (Pa; ``None``: the own), and what its
+    #: estimate compares it with (:func:`extrapolated_states`).
+    reported: float | None = None
+    reported_coarse: float | None = None
+
     @property
     def pressure(self) -> float:
-        """The state pressure (Pa) on the chosen grid."""
-        return self.cell.own_state_pressure(self.state)
+        """The state pressure (Pa) on the chosen grid (extrapolated where :attr:`reported`)."""
+        return self.cell.own_state_pressure(self.state) if self.reported is None else self.reported
 
     @property
     def coarse_pressure(self) -> float:
-        """The state pressure (Pa) on the half grid (NaN without one)."""
+        """The state pressure (Pa) on the half grid (NaN without one), or what an extrapolated
+        pressure is compared with."""
+        if self.reported_coarse is not None:
+            return self.reported_coarse
         return math.nan if self.coarse is None else self.coarse.own_state_pressure(self.state)
 
 
@@ -245,7 +296,7 @@ def choose_grid(
     # 1 / (2^q - 1) times the change (an adhesive cell: docs/model.md 6.6)
     factor = order_factor(cell_type)
     fine_tex = texture
-    coarse_tex = _companion(make_texture, fine_tex)
+    coarse_tex = companion(make_texture, fine_tex)
     coarse = prepared(coarse_tex, False) if coarse_tex is not None else None
     fine = prepared(fine_tex, True)
     history: list[tuple[int, float]] = []
@@ -269,7 +320,7 @@ def choose_grid(
         fine = prepared(fine_tex, True)
 
 
-def _companion(make_texture: Callable[[int], "Texture"] | None, tex: "Texture") -> "Texture | None":
+def companion(make_texture: Callable[[int], "Texture"] | None, tex: "Texture") -> "Texture | None":
     """The half-grid companion of ``tex``: the generator at half the grid, else the map
     block-averaged 2 x 2 (``None`` if neither exists)."""
     nx = tex.shape[0]
@@ -335,7 +386,7 @@ def choose_state_grids(
         return cell
 
     start_tex = texture
-    coarse_tex = _companion(make_texture, start_tex)
+    coarse_tex = companion(make_texture, start_tex)
     out: dict[str, StateChoice] = {}
     for name in STATES:
         fine_tex = start_tex

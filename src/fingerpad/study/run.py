@@ -250,6 +250,9 @@ def _adhesion_report(curve: CurvePrediction, finger: Finger, notes: list[str]) -
         notes.append(f"adhesion: the range {finger.adhesion_range:.3g} m is below a pixel; it is solved with the "
                      f"range {info['adhesion_range_used']:.3g} m, whose cohesive zone spans a pixel, acting within "
                      f"{TIP_PIXELS} pixels of the contact (the JKR limit's cohesive zone): the contacts are JKR's; "
+                     "where adhesion pulls the skin onto the texture's base from a distance (large w) the "
+                     "transition is extrapolated to a vanishing pixel from the grid and its half (docs/model.md 6.6)"
+                     if info.get("transition_pulled_in") else
                      "where adhesion pulls the skin into full contact (large w) the grid converges slowly "
                      "(docs/model.md 6.6)")
     return info
@@ -400,9 +403,19 @@ def _state_report(states: dict[str, Any], finger: Finger,
             "met": st.met,
             "history": [{"grid": g, "pressure_error": e} for g, e in st.history],
             "method": "relative change from the half grid, |p_N / p_{N/2} - 1| (at least the bracket's width); "
-                      "the load's: the same change carried through the pad, |F(p_N) / F(p_{N/2}) - 1|",
+                      "the load's: the same change carried through the pad, |F(p_N) / F(p_{N/2}) - 1|"
+            if st.reported is None else PULLED_IN_METHOD,
         }
+        if st.reported is not None:
+            out[name]["own_pressure"] = st.cell.own_state_pressure(name)
     return out
+
+
+#: How a pulled-in transition's pressure and estimate are made (the state report's ``method``).
+PULLED_IN_METHOD = ("the skin was pulled onto the base from more than a range (docs/model.md 6.6): the pressure "
+                    "extrapolated to a vanishing pixel at first order, p = p_N + (p_N - p_{N/2}); its estimate the "
+                    "change from the same extrapolation one grid coarser, |p / p' - 1| (at least the bracket's "
+                    "width); the load's: the same carried through the pad, |F(p) / F(p') - 1|")
 
 
 def _load_floor(centre_load: Callable[[float], float], st: Any) -> float:
@@ -425,7 +438,7 @@ def _adhesive_resolved_cell(study: Study, grid: int, e1: float, progress: Callab
     A_re/A_fr error (the adhesive pad's, the range following the pixel) exceeds the accuracy."""
     from ..coupling import predict_curve
     from ..micro.adhesive_cell import AdhesiveUnitCell
-    from ..micro.resolution import choose_grid
+    from ..micro.resolution import companion, choose_grid
     from .texture import TextureSpec
 
     finger = study.finger
@@ -436,13 +449,24 @@ def _adhesive_resolved_cell(study: Study, grid: int, e1: float, progress: Callab
     target = None if study.grid is not None or make is None else study.accuracy
     ratio = (lambda cell: predict_curve(loads, finger, cell, reference=False).area_ratio) \
         if estimate or target is not None else (lambda cell: np.full(loads.size, np.nan))
-    return choose_grid(
-        make, tex, e1, (0.0, 0.0), ratio, target=target, max_grid=MAX_ADHESIVE_GRID,
-        cell_options={"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache(),
-                      "layer": finger.layer, "work_of_adhesion": finger.work_of_adhesion,
-                      "adhesion_range": finger.adhesion_range, "law": finger.adhesion_law},
-        progress=progress, cell_type=AdhesiveUnitCell,
-    )
+    options = {"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache(),
+               "layer": finger.layer, "work_of_adhesion": finger.work_of_adhesion,
+               "adhesion_range": finger.adhesion_range, "law": finger.adhesion_law}
+    choice = choose_grid(make, tex, e1, (0.0, 0.0), ratio, target=target, max_grid=MAX_ADHESIVE_GRID,
+                         cell_options=options, progress=progress, cell_type=AdhesiveUnitCell)
+    # a pulled-in transition is extrapolated from the grid and its half; its estimate compares
+    # that with the same extrapolation one grid coarser, which needs the quarter grid (1/16 of
+    # the work of the grid, where the doubling did not make it already)
+    fine, coarse = choice.cell, choice.coarse
+    if coarse is not None and not fine.flat and fine.pulled_in and coarse.pulled_in:
+        nq = coarse.texture.shape[0] // 2
+        if nq not in choice.cells:
+            quarter_tex = companion(make, coarse.texture)
+            if quarter_tex is not None:
+                quarter = AdhesiveUnitCell(quarter_tex, e1, **options).prepare()
+                choice.cells[int(quarter_tex.shape[0])] = quarter
+                choice.solves += quarter.solves
+    return choice
 
 
 def _adhesive_states(choice: Any, accuracy: float) -> dict[str, Any]:
@@ -450,10 +474,18 @@ def _adhesive_states(choice: Any, accuracy: float) -> dict[str, Any]:
     the half grid's beside them, the estimate the change between them divided by ``2^q - 1``
     (:meth:`~fingerpad.micro.resolution.GridChoice.state_pressure_errors`; the grid is chosen by
     A_re/A_fr, not by the states, so ``accuracy`` is what the estimate is compared with)."""
-    from ..micro.resolution import STATES, StateChoice
+    from ..micro.resolution import STATES, StateChoice, extrapolated_states
 
     errors = choice.state_pressure_errors()
-    return {name: StateChoice(name, choice.cell, choice.coarse, errors[name], accuracy) for name in STATES}
+    out = {name: StateChoice(name, choice.cell, choice.coarse, errors[name], accuracy) for name in STATES}
+    # a transition the attraction pulled in: extrapolated to a vanishing pixel (docs/model.md 6.6)
+    quarter = None
+    if choice.coarse is not None:
+        quarter = choice.cells.get(int(choice.coarse.texture.shape[0]) // 2)
+    for name, (p, pc, error) in extrapolated_states(choice.cell, choice.coarse, quarter).items():
+        out[name] = StateChoice(name, choice.cell, choice.coarse, error, accuracy, reported=p, reported_coarse=pc)
+        choice.cell.adopt_pressure(name, p)
+    return out
 
 
 def _pull_off_error(choice: Any) -> float:
