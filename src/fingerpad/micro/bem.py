@@ -149,6 +149,11 @@ class BEMUnitCell(InterpolatedCurve):
         A :class:`~fingerpad.micro.cache.CurveCache`, ``None`` for the default folder, ``False`` for none.
     rtol
         Relative width of the transition and full-contact pressure brackets.
+    full_rtol
+        Relative width of the full-contact bracket where it differs from ``rtol`` (``None``: ``rtol``;
+        part of the key when it differs). The half-grid companion of an estimate takes 1e-2
+        (:data:`~fingerpad.micro.resolution.COMPANION_OPTIONS`): a full-contact pressure's grid
+        error is some 4-35 % where the transition's is 0.1-1.5 % (grid 48, measured).
     layer
         A layered skin (:class:`~fingerpad.contact.layered.Layer`, SI); ``modulus`` is then the
         pair's E* at short wavelengths (the layer's E1* with a rigid texture, Eq. 3.4).
@@ -156,6 +161,11 @@ class BEMUnitCell(InterpolatedCurve):
     curve_tol
         The curve's nodes are solved to ``max(tol, curve_tol)``, the state brackets' bisection to
         ``tol`` (part of the cache key). ``None``: :data:`CURVE_TOL`; ``0``: every solve to ``tol``.
+    psi_step
+        The refinement bisects intervals whose psi step exceeds this (``None``:
+        :data:`MAX_PSI_STEP`); the half-grid companion of an error estimate takes 0.06
+        (:data:`~fingerpad.micro.resolution.COMPANION_OPTIONS`). Not part of the key: a node's
+        value is a function of its pressure alone, whichever curve uses it.
     """
 
     #: The publications of this model (:mod:`fingerpad.references` keys; the contact solver of its nodes).
@@ -172,6 +182,8 @@ class BEMUnitCell(InterpolatedCurve):
         rtol: float = DEFAULT_RTOL,
         layer: Layer | None = None,
         curve_tol: float | None = None,
+        psi_step: float | None = None,
+        full_rtol: float | None = None,
     ) -> None:
         from .cache import CurveCache
 
@@ -186,16 +198,25 @@ class BEMUnitCell(InterpolatedCurve):
         #: The solver of the unit cell (unit modulus, lengths over Lx): its pressures are p / E*.
         self.solver = HalfSpaceSolver(self.unit, 1.0, layer=self.unit_layer, tol=tol, max_iter=max_iter)
         self.rtol = rtol
+        self.full_rtol = float(rtol if full_rtol is None else full_rtol)
+        if not (0 < self.full_rtol < 1):
+            raise FingerpadError(f"full_rtol must lie in (0, 1), got {full_rtol!r}")
         self.tol, self.max_iter = tol, max_iter
         curve_tol = CURVE_TOL if curve_tol is None else float(curve_tol)
         if not (0 <= curve_tol < 1):
             raise FingerpadError(f"curve_tol must lie in [0, 1), got {curve_tol!r}")
         self.curve_tol = curve_tol
+        psi_step = MAX_PSI_STEP if psi_step is None else float(psi_step)
+        if not (0 < psi_step < 1):
+            raise FingerpadError(f"psi_step must lie in (0, 1), got {psi_step!r}")
+        self.psi_step = psi_step
         #: Tolerance of the curve's node solves (the bisection of the state brackets uses ``tol``).
         self.node_tol = max(float(tol), curve_tol)
         self.cache = CurveCache() if cache is None else (cache or None)
         # a node tolerance other than tol joins the key (curves of either never mix in one entry)
-        extra = {} if self.node_tol == float(tol) else {"node_tol": self.node_tol}
+        extra: dict[str, float] = {} if self.node_tol == float(tol) else {"node_tol": self.node_tol}
+        if self.full_rtol != rtol:  # a full-contact bracket of its own width: another entry
+            extra["full_rtol"] = self.full_rtol
         self.key = unit_cell_key(self.unit, tol=tol, max_iter=max_iter, rtol=rtol, layer=self.unit_layer, **extra)
         # every node known (the cache's and those solved here: p / E* -> row in units of E* and Lx)
         # and the nodes this cell's curve uses (the canonical nodes of the ranges prepared: see
@@ -382,8 +403,9 @@ class BEMUnitCell(InterpolatedCurve):
         for k in range(k0, k1 + 1):
             self._use(_grid_pressure(k))
         self.prepare_states(k1)
-        for bracket, reached in ((self._transition, _past_asperity), (self._full, _in_full)):
-            for p in self._bracket_nodes(bracket, reached, k0, k1):
+        for name, bracket, reached in (("transition", self._transition, _past_asperity),
+                                       ("full", self._full, _in_full)):
+            for p in self._bracket_nodes(bracket, reached, k0, k1, self.state_rtol(name)):
                 self._use(p)
         self._refine(p_min, p_max)
         self._progress = (None, 0, 0)
@@ -404,16 +426,20 @@ class BEMUnitCell(InterpolatedCurve):
             self._pending = {}
         try:
             if self._transition is None:
-                self._store({}, transition=self._bracket_state(_past_asperity, k_start))
+                self._store({}, transition=self._bracket_state(_past_asperity, k_start, self.rtol))
             if self._full is None:
-                self._store({}, full=self._bracket_state(_in_full, k_start))
+                self._store({}, full=self._bracket_state(_in_full, k_start, self.full_rtol))
         finally:
             if outer:
                 self._flush()
         return self
 
+    def state_rtol(self, name: str) -> float:
+        """The relative width to which state ``name``'s bracket is bisected."""
+        return self.full_rtol if name == "full" else self.rtol
+
     def _bracket_nodes(self, bracket: tuple[float, float] | None, reached: Callable[[str], bool],
-                       k0: int, k1: int) -> list[float]:
+                       k0: int, k1: int, rtol: float) -> list[float]:
         """The nodes of a state bracket's bisection (units of E*) when its grid interval lies in
         the grid nodes ``k0..k1``: the bisection replayed from the known nodes' states (the same
         floats as when it ran), so that the curve takes the same nodes whether the bracket was
@@ -425,7 +451,7 @@ class BEMUnitCell(InterpolatedCurve):
         if not (k0 < k <= k1 and lo <= bracket[0] * (1 + 1e-12) and bracket[1] <= hi * (1 + 1e-12)):
             return []
         out = [lo, hi]
-        while (hi - lo) / hi > self.rtol:
+        while (hi - lo) / hi > rtol:
             mid = math.sqrt(lo * hi)
             row = self._node(mid)
             if row is None:  # not the bisection that made the bracket (should not happen)
@@ -439,7 +465,7 @@ class BEMUnitCell(InterpolatedCurve):
 
     def _refine(self, p_min: float, p_max: float) -> None:
         """Add nodes where psi rises steeply (just past the transition the skin floods the base):
-        bisect (in log p) every interval inside the range whose psi step exceeds MAX_PSI_STEP
+        bisect (in log p) every interval inside the range whose psi step exceeds ``psi_step``
         (the range in units of E*, like the nodes), at most MAX_REFINE_SOLVES nodes per call.
         The intervals are those of the curve's own nodes, so the nodes added are too; a node
         is solved cold (its value a function of its pressure alone) unless the cache has it."""
@@ -447,7 +473,7 @@ class BEMUnitCell(InterpolatedCurve):
             ps, psi = self._nodes()
             steps = np.diff(psi)
             ok = (ps[1:] >= p_min) & (ps[:-1] <= p_max) & (ps[1:] / ps[:-1] > 1 + 2 * self.rtol)
-            bad = np.flatnonzero(ok & (steps > MAX_PSI_STEP))
+            bad = np.flatnonzero(ok & (steps > self.psi_step))
             if bad.size == 0:
                 break
             i = int(bad[np.argmax(steps[bad])])
@@ -492,13 +518,13 @@ class BEMUnitCell(InterpolatedCurve):
             row = sink[p]
         return str(row["contact_state"])
 
-    def _bracket_state(self, reached: Callable[[str], bool], k_start: int) -> list[float]:
+    def _bracket_state(self, reached: Callable[[str], bool], k_start: int, rtol: float) -> list[float]:
         """Bracket [lo, hi] (units of E*) of the pressure where ``reached(state)`` starts.
 
         Step 1 finds the first global grid node ``k`` with the state reached, by an exponential
         then binary search on the integers: the nodes and their states are the same whatever
         range was asked for, so the bracket is too. Step 2 bisects [p_{k-1}, p_k] geometrically
-        to ``rtol``. Returns ``[p_cap, inf]`` when the state is not reached up to the cap.
+        to ``rtol`` (relative). Returns ``[p_cap, inf]`` when the state is not reached up to the cap.
         """
         new: dict[float, dict[str, Any]] = {}
         k_cap = math.floor(math.log10(STATE_SEARCH_CAP) * POINTS_PER_DECADE)
@@ -536,7 +562,7 @@ class BEMUnitCell(InterpolatedCurve):
         lo_res = self._solve_node(p_lo, None, {}, self.tol)  # warm start for the bisection (already a node)
         self.solves -= 1  # a re-solve of a known node for its fields, not a new point
         p_lo, p_hi = bisect_state(lambda p, init: self._solve_node(p, init, new, self.tol), p_lo, p_hi, lo_res, reached,
-                                  self.rtol, max_solves=200)
+                                  rtol, max_solves=200)
         self._store(new)
         return [p_lo, p_hi]
 
@@ -588,7 +614,8 @@ class BEMUnitCell(InterpolatedCurve):
         if layer is not None and unit_layer(layer, modulus, self.length) == self.unit_layer:
             return self.at_modulus(modulus)
         cell = BEMUnitCell(self.texture, modulus, tol=self.tol, max_iter=self.max_iter, cache=self.cache if self.cache is not None else False,
-                           rtol=self.rtol, layer=layer, curve_tol=self.curve_tol)
+                           rtol=self.rtol, layer=layer, curve_tol=self.curve_tol,
+                           psi_step=self.psi_step, full_rtol=self.full_rtol)
         if p_range is not None:
             cell.prepare(*p_range)
         return cell

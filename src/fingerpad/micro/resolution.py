@@ -33,7 +33,7 @@ if TYPE_CHECKING:
 
 __all__ = ["DEFAULT_ACCURACY", "MAX_AUTO_GRID", "MAX_STATE_GRID", "STATES", "GridChoice", "StateChoice",
            "choose_grid", "choose_state_grids", "companion", "estimate_method", "extrapolated_states", "halve",
-           "order_factor"]
+           "order_factor", "state_width"]
 
 #: Target of the estimated relative error of A_re/A_fr when the grid is chosen automatically. The
 #: estimate is conservative: on the default cell it is 2.8 % at grid 64 and 1.2 % at 128 where the
@@ -49,6 +49,15 @@ MIN_COMPANION_GRID = 16
 #: grid (the default cell's full contact: 6.0, 4.3 and 3.4 % from 64 to 128, 256 and 512) 512
 #: buys little for that cost, and the estimate reported beside the state says how far it is.
 MAX_STATE_GRID = 256
+#: How the half-grid companion of :func:`choose_grid`'s first grid is prepared (options of a
+#: :class:`BEMUnitCell`): it only feeds the error estimates, so its curve is refined where psi
+#: steps by more than 0.06 (the reported cell: 0.04) and its full-contact bracket is bisected to
+#: a relative width of 1e-2 (the reported cell: 1e-3; a full-contact pressure's grid error is
+#: some 4-35 %, the transition's 0.1-1.5 %, whose bracket keeps 1e-3). The full-contact width
+#: joins the cache key (the companion's entry is its own). Measured (benchmarks/cell_change.py,
+#: docs/solver.md "The companion of an estimate"): every reported number keeps its bits, the
+#: estimates move by -5 to +8 % of themselves, the sweep cells' solves fall by 8 %.
+COMPANION_OPTIONS: dict[str, Any] = {"psi_step": 0.06, "full_rtol": 1e-2}
 #: The state pressures a cell brackets, and the attribute of each.
 STATES = {"transition": "transition_pressure", "full": "full_contact_pressure"}
 
@@ -158,9 +167,10 @@ def extrapolated_states(fine: Any, coarse: Any, quarter: Any = None) -> dict[str
 
 
 def _state_error(fine: BEMUnitCell, coarse: BEMUnitCell, name: str) -> float:
-    """``|p_N / p_{N/2} - 1|`` of a state pressure (at least the bracket's relative width, below
-    which the change is not resolved); NaN where neither grid reaches the state (beyond the
-    search cap at both: nothing to refine), inf where one does and the other not."""
+    """``|p_N / p_{N/2} - 1|`` of a state pressure (at least the brackets' relative widths, below
+    which the change is not resolved: a first companion's full-contact width is 1e-2,
+    :data:`COMPANION_OPTIONS`); NaN where neither grid reaches the state (beyond the search cap
+    at both: nothing to refine), inf where one does and the other not."""
     f, c = fine.own_state_pressure(name), coarse.own_state_pressure(name)
     if math.isinf(f) and math.isinf(c):
         return math.nan
@@ -168,7 +178,14 @@ def _state_error(fine: BEMUnitCell, coarse: BEMUnitCell, name: str) -> float:
         return math.inf
     if f <= 0 or c <= 0:
         return 0.0 if f == c else math.inf
-    return max(abs(f / c - 1.0), fine.rtol)
+    return max(abs(f / c - 1.0), state_width(fine, name), state_width(coarse, name))
+
+
+def state_width(cell: Any, name: str) -> float:
+    """The relative width of ``cell``'s bracket of state ``name`` (its ``state_rtol``, else its
+    ``rtol``: an adhesive cell brackets both states to one width)."""
+    width = getattr(cell, "state_rtol", None)
+    return float(width(name)) if callable(width) else float(cell.rtol)
 
 
 @dataclass
@@ -287,8 +304,9 @@ def choose_grid(
 
     cells: list[BEMUnitCell] = []
 
-    def prepared(tex: "Texture", report: bool) -> BEMUnitCell:
-        cells.append(cell_type(tex, modulus, **opts).prepare(*p_range, progress=progress if report else None))
+    def prepared(tex: "Texture", report: bool, extra: dict[str, Any] | None = None) -> BEMUnitCell:
+        cells.append(cell_type(tex, modulus, **{**opts, **(extra or {})}).prepare(
+            *p_range, progress=progress if report else None))
         return cells[-1]
 
     # the change from the half grid is the error of first-order convergence; a cell that
@@ -297,7 +315,10 @@ def choose_grid(
     factor = order_factor(cell_type)
     fine_tex = texture
     coarse_tex = companion(make_texture, fine_tex)
-    coarse = prepared(coarse_tex, False) if coarse_tex is not None else None
+    # the first companion only feeds the estimate: a lighter curve (COMPANION_OPTIONS; an
+    # adhesive cell keeps its own plan); a companion after a doubling is the grid before, as is
+    lighter = dict(COMPANION_OPTIONS) if cell_type is BEMUnitCell else {}
+    coarse = prepared(coarse_tex, False, lighter) if coarse_tex is not None else None
     fine = prepared(fine_tex, True)
     history: list[tuple[int, float]] = []
     while True:

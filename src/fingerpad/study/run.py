@@ -419,9 +419,13 @@ PULLED_IN_METHOD = ("the skin was pulled onto the base from more than a range (d
 
 
 def _load_floor(centre_load: Callable[[float], float], st: Any) -> float:
-    """The load change of a pressure change of the bracket's relative width (the estimate's floor)."""
+    """The load change of a pressure change of the brackets' relative width, the wider of the
+    cell's and its companion's (the estimate's floor, as the pressure's)."""
+    from ..micro.resolution import state_width
+
     p = st.pressure
-    f, f2 = centre_load(p), centre_load(p * (1.0 + st.cell.rtol))
+    width = max(state_width(c, st.state) for c in (st.cell, st.coarse) if c is not None)
+    f, f2 = centre_load(p), centre_load(p * (1.0 + width))
     return abs(f2 / f - 1.0) if math.isfinite(f) and math.isfinite(f2) and f > 0 else 0.0
 
 
