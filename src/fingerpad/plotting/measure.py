@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -15,7 +16,7 @@ from .drawonce import lay_out_ticks_once, place_legend_once
 StudyResult = Any
 
 __all__ = ["QCInputs", "condition_label", "figure_participant", "figure_qc", "figure_sample", "log_subs",
-           "participant_png", "png_bytes", "qc_inputs", "qc_png", "sample_png", "stroke_bands"]
+           "participant_png", "png_bytes", "qc_inputs", "qc_inputs_of", "qc_png", "sample_png", "stroke_bands"]
 
 
 def condition_label(sample: str, direction: str) -> str:
@@ -334,14 +335,34 @@ class QCInputs:
 
 def qc_inputs(result: StudyResult, source: str) -> QCInputs:
     """The inputs of :func:`figure_qc` for recording ``source`` of ``result``."""
-    rec = next((r for r in result.recordings if r.source == source), None)
-    report = result.stroke_reports.get(source)
-    if rec is None or report is None:
-        raise FingerpadError(f"no recording {source!r} in the result")
+    return qc_inputs_of(result)(source)
+
+
+def qc_inputs_of(result: StudyResult) -> Callable[[str], QCInputs]:
+    """:func:`qc_inputs` of ``result`` for many recordings: the stroke tables split by file once
+    (a selection over the whole table per recording cost ~3 ms, 1.7 s for 540 recordings); the
+    same rows, in the same order, with the same index."""
+    recordings: dict[str, Any] = {}
+    for rec in result.recordings:
+        recordings.setdefault(rec.source, rec)  # the first of a source, as a search in order
+    strokes = result.strokes
+    rows = strokes.groupby("file", sort=False).indices if len(strokes) else {}
     cs = getattr(result, "clipped_strokes", None)
-    clipped = frozenset(cs.loc[cs["file"] == source, "stroke"]) if cs is not None and len(cs) else frozenset()
-    return QCInputs(source, rec, report, result.strokes[result.strokes["file"] == source], clipped,
-                    float(result.options.strokes.min_load))
+    clipped: dict[str, frozenset] = {}
+    if cs is not None and len(cs):
+        for file, numbers in cs.groupby("file", sort=False)["stroke"]:
+            clipped[file] = frozenset(numbers)
+    min_load = float(result.options.strokes.min_load)
+
+    def one(source: str) -> QCInputs:
+        rec = recordings.get(source)
+        report = result.stroke_reports.get(source)
+        if rec is None or report is None:
+            raise FingerpadError(f"no recording {source!r} in the result")
+        at = rows.get(source)
+        return QCInputs(source, rec, report, strokes.iloc[at] if at is not None else strokes.iloc[:0],
+                        clipped.get(source, frozenset()), min_load)
+    return one
 
 
 # one QC figure per number of panels, reused by qc_png: building the axes and their ticks
