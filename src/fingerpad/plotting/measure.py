@@ -161,14 +161,20 @@ def _draw_participant(result: StudyResult, participant: str, kept: dict[tuple[st
     fig, axes = _figure(kept, "participant", 2 if textured else 1)
     ax = axes[0]
     grid = result.load_grid()
+    # each condition's rows (and each sense's usable ones) looked up once: the rows, in order,
+    # of a boolean selection per condition, without a pass over the participant's table for each
+    of_condition = dict(iter(s.groupby(["sample", "direction"], sort=False)))
     for sample, direction in conds:
         label = condition_label(sample, direction)
-        g = s[(s["sample"] == sample) & (s["direction"] == direction)]
+        g = of_condition[(sample, direction)]
         colour = colours[label]
+        outlier = g["outlier"].to_numpy(dtype=bool)
+        senses = g["sense"].to_numpy()
+        loads, mus = g["load"].to_numpy(), g["mu"].to_numpy()
         for sense, (marker, _) in _SENSE_STYLE.items():
-            part = g[(g["sense"] == sense) & ~g["outlier"]]
-            ax.scatter(part["load"], part["mu"], marker=marker, s=14, color=colour, alpha=0.6, linewidths=0)
-        out = g[g["outlier"]]
+            keep = (senses == sense) & ~outlier
+            ax.scatter(loads[keep], mus[keep], marker=marker, s=14, color=colour, alpha=0.6, linewidths=0)
+        out = g[outlier]
         ax.scatter(out["load"], out["mu"], marker="x", s=24, color=colour)
         fit = result.power_laws.get((participant, sample, direction, "both"))
         if fit is not None:
@@ -184,7 +190,8 @@ def _draw_participant(result: StudyResult, participant: str, kept: dict[tuple[st
         for sample, direction in textured:
             label = condition_label(sample, direction)
             colour = colours[label]
-            g = s[(s["sample"] == sample) & (s["direction"] == direction) & ~s["outlier"]]
+            g = of_condition[(sample, direction)]
+            g = g[~g["outlier"].to_numpy(dtype=bool)]
             ax.scatter(g["load"], g["mu_norm"], s=14, color=colour, alpha=0.6, linewidths=0)
             bp = result.breakpoints.get((participant, sample, direction))
             fine = np.geomspace(g["load"].min(), g["load"].max(), 80) if len(g) else grid
