@@ -31,6 +31,9 @@ __all__ = ["StudyFits"]
 
 
 def _closed_form(bp: Breakpoint, geom: TextureGeometry, finger: Any) -> tuple[float, float, float]:
+    """E_s (Pa) from the transition load of ``bp`` and the texture's geometry in closed form
+    (:func:`~.transition.modulus_from_transition`), and its range over the load's interval;
+    NaN where the closed form has no answer."""
     def one(load: float) -> float:
         try:
             return modulus_from_transition(load, geom.radius, geom.height, geom.spacing, finger,
@@ -46,6 +49,7 @@ def _closed_form(bp: Breakpoint, geom: TextureGeometry, finger: Any) -> tuple[fl
 
 
 def _modulus_columns(mf: ModulusFit) -> dict[str, Any]:
+    """The summary table's columns of an E_s fit."""
     return {"skin_modulus": mf.skin_modulus, "skin_modulus_ci_low": mf.ci_low, "skin_modulus_ci_high": mf.ci_high,
             "skin_modulus_interval": mf.describe_interval(), "skin_modulus_model": mf.model,
             "skin_modulus_determined": mf.determined, "skin_modulus_at_bound": mf.at_bound,
