@@ -397,8 +397,7 @@ def test_report_atomic(study, tmp_path, monkeypatch):
 
     monkeypatch.setattr(report, "participant_png", boom)  # after the tables are written
     with pytest.raises(FingerpadError, match="figure failed"):
-        # every figure drawn here (a pool's workers may draw them all while the tables are written)
-        report.write_report(result, out, workers=1)
+        report.write_report(result, out)
     assert sorted(p.name for p in out.iterdir()) == [MANIFEST, "report.html"]  # left as it was
     other = tmp_path / "other"
     other.mkdir()
@@ -407,7 +406,7 @@ def test_report_atomic(study, tmp_path, monkeypatch):
         report.write_report(result, other)  # never mixed with another study's files
     assert sorted(p.name for p in other.iterdir()) == ["keep.txt"]
     with pytest.raises(FingerpadError):
-        report.write_report(result, tmp_path / "new", workers=1)
+        report.write_report(result, tmp_path / "new")
     assert not (tmp_path / "new").exists()
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
 

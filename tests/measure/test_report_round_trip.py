@@ -272,17 +272,3 @@ def test_outputs_list_the_references_of_the_methods_used(report, study_small):
     section = page[page.index("<h2>References</h2>"):]
     assert section.count("<li>") == len(keys)
     assert all(REFERENCES[k].title.split(":")[0][:30] in section for k in keys if k != "fingerpad")
-
-
-def test_the_pool_gets_the_figures_before_the_tables_are_written(study_small, tmp_path, monkeypatch):
-    """write_report queues the participant and sample figures on the pool before it writes the
-    tables, so that the workers draw while this process writes (and the report is the same)."""
-    from fingerpad.measure import report
-
-    order = []
-    submit, tables = report.submit_figures, report._write_tables
-    monkeypatch.setattr(report, "submit_figures", lambda *a: order.append("figures") or submit(*a))
-    monkeypatch.setattr(report, "_write_tables", lambda *a: order.append("tables") or tables(*a))
-    report.write_report(study_small, tmp_path / "res", dpi=30, workers=2)
-    assert order == ["figures", "tables"]
-    assert (tmp_path / "res" / "summary.csv").is_file() and (tmp_path / "res" / "figures" / "participant_P01.png").is_file()

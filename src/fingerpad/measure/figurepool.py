@@ -20,8 +20,7 @@ from ..plotting.render import load_drawing_modules
 from .parallel import frozen_heap, own_streams, usable_cpus
 from .study import StudyResult
 
-__all__ = ["EarlyQC", "cancel", "collect_figures", "draw_figures", "qc_drawer", "qc_tasks", "safe_name",
-           "submit_figures"]
+__all__ = ["EarlyQC", "draw_figures", "qc_drawer", "qc_tasks", "safe_name"]
 
 
 def safe_name(name: str) -> str:
@@ -281,52 +280,31 @@ def _figure_payload(result: StudyResult) -> bytes:
 
 def draw_figures(result: StudyResult, drawn: list[tuple[str, str, Any]], dpi: int, pool: Any) -> Iterator[bytes]:
     """The PNG bytes of each figure of ``drawn`` (kind, key, function), in order, drawn here or,
-    with a ``pool``, by whichever is free first (:func:`submit_figures`, then
-    :func:`collect_figures`)."""
-    futures = submit_figures(result, drawn, dpi, pool)
-    try:
-        yield from collect_figures(result, drawn, dpi, futures)
-    finally:
-        cancel(futures)
-
-
-def submit_figures(result: StudyResult, drawn: list[tuple[str, str, Any]], dpi: int, pool: Any) -> list[Any] | None:
-    """Every figure of ``drawn`` (kind, key, function) as a task of ``pool``, queued behind its QC
-    figures (``None`` without a pool): the workers start on them as soon as they are free, while
-    this process still writes the tables. :func:`collect_figures` takes them."""
+    with a ``pool``, by whichever is free first: every figure is also a task of the pool, queued
+    behind its QC figures, and this process draws the figures from the last one back, each whose
+    task no worker has started (it cancels the task). So the workers take over figures only when
+    their QC figures are done and this process is still drawing, and neither waits on the other
+    until the two meet. The same bytes either way (each process keeps its own figures)."""
     if pool is None or not drawn:
-        return None
-    import uuid
-
-    payload, token = _figure_payload(result), uuid.uuid4().hex
-    return [pool.submit(_pool_figure, kind, key, dpi, token, payload) for kind, key, _ in drawn]
-
-
-def cancel(futures: list[Any] | None) -> None:
-    """Cancel every task of ``futures`` that no worker has started."""
-    for future in futures or ():
-        future.cancel()
-
-
-def collect_figures(result: StudyResult, drawn: list[tuple[str, str, Any]], dpi: int, futures: list[Any] | None
-                    ) -> Iterator[bytes]:
-    """The PNG bytes of each figure of ``drawn``, in order: this process draws the figures from
-    the last one back, each whose task (``futures``, from :func:`submit_figures`; ``None``: every
-    figure here) no worker has started (it cancels the task). So the workers take over figures
-    only when their QC figures are done and this process is still drawing, and neither waits on
-    the other until the two meet. The same bytes either way (each process keeps its own figures)."""
-    if futures is None:
         for _kind, key, draw in drawn:
             yield draw(result, key, dpi)
         return
+    import uuid
+
+    payload, token = _figure_payload(result), uuid.uuid4().hex
+    futures = [pool.submit(_pool_figure, kind, key, dpi, token, payload) for kind, key, _ in drawn]
     pngs: dict[int, bytes] = {}
-    for i in reversed(range(len(drawn))):
-        if futures[i].cancel():
-            pngs[i] = drawn[i][2](result, drawn[i][1], dpi)
-    for i in range(len(drawn)):
-        if i not in pngs:
-            try:
-                pngs[i] = futures[i].result()
-            except Exception:  # noqa: BLE001 - a worker that failed: the figure drawn here says why
+    try:
+        for i in reversed(range(len(drawn))):
+            if futures[i].cancel():
                 pngs[i] = drawn[i][2](result, drawn[i][1], dpi)
-        yield pngs.pop(i)
+        for i in range(len(drawn)):
+            if i not in pngs:
+                try:
+                    pngs[i] = futures[i].result()
+                except Exception:  # noqa: BLE001 - a worker that failed: the figure drawn here says why
+                    pngs[i] = drawn[i][2](result, drawn[i][1], dpi)
+            yield pngs.pop(i)
+    finally:
+        for future in futures:
+            future.cancel()

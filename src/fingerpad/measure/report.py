@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import json
 import os
-from contextlib import ExitStack
 from pathlib import Path
 from typing import Any
 
@@ -43,7 +42,7 @@ from ..encode import to_jsonable
 from ..io import OutputFolder
 from ..plotting.measure import participant_png, sample_png
 from .curves_netcdf import curves_dataset
-from .figurepool import EarlyQC, cancel, collect_figures, qc_drawer, qc_tasks, safe_name, submit_figures
+from .figurepool import EarlyQC, draw_figures, qc_drawer, qc_tasks, safe_name
 from .htmlreport import html_report
 from .study import StudyResult, study_info, study_references
 
@@ -52,40 +51,6 @@ __all__ = ["EarlyQC", "curves_dataset", "html_report", "write_report"]
 
 def _records(df: pd.DataFrame) -> list[dict[str, Any]]:
     return [to_jsonable(r) for r in df.to_dict("records")]
-
-
-def _write_tables(result: StudyResult, tmp: Path, written: list[str]) -> None:
-    """The tables, ``summary.json`` and ``curves.nc`` of ``result`` into ``tmp``; their names
-    appended to ``written``."""
-
-    def csv_file(name: str, df: pd.DataFrame) -> None:
-        df.to_csv(tmp / name, index=False)
-        written.append(name)
-
-    csv_file("summary.csv", result.conditions)
-    csv_file("participants.csv", result.participants)
-    # every stroke, those left out for a saturated sensor included (column `clipped` says so)
-    csv_file("strokes.csv", pd.concat([result.strokes, result.clipped_strokes], ignore_index=True)
-             if len(result.clipped_strokes) else result.strokes)
-    csv_file("fits.csv", result.fits)
-    csv_file("bins.csv", result.bins)
-    csv_file("spread.csv", result.spread)
-    csv_file("population_curves.csv", result.population_curves)
-    csv_file("population_fits.csv", result.population_fits)
-    csv_file("sensitivity.csv", result.sensitivity)
-    summary = {
-        "study": to_jsonable(study_info(result)),
-        "spread": _records(result.spread_summary),
-        "participants": _records(result.participants),
-        "conditions": _records(result.conditions),
-        "population_fits": _records(result.population_fits),
-        "references": references.metadata(study_references(result)),
-    }
-    (tmp / "summary.json").write_text(json.dumps(summary, indent=2, allow_nan=False), encoding="utf-8")
-    written.append("summary.json")
-    ds = curves_dataset(result)
-    ds.to_netcdf(tmp / "curves.nc", engine="h5netcdf")
-    written.append("curves.nc")
 
 
 def write_report(
@@ -130,6 +95,34 @@ def write_report(
         tmp = folder.build
         written: list[str] = []
 
+        def csv_file(name: str, df: pd.DataFrame) -> None:
+            df.to_csv(tmp / name, index=False)
+            written.append(name)
+
+        csv_file("summary.csv", result.conditions)
+        csv_file("participants.csv", result.participants)
+        # every stroke, those left out for a saturated sensor included (column `clipped` says so)
+        csv_file("strokes.csv", pd.concat([result.strokes, result.clipped_strokes], ignore_index=True)
+                 if len(result.clipped_strokes) else result.strokes)
+        csv_file("fits.csv", result.fits)
+        csv_file("bins.csv", result.bins)
+        csv_file("spread.csv", result.spread)
+        csv_file("population_curves.csv", result.population_curves)
+        csv_file("population_fits.csv", result.population_fits)
+        csv_file("sensitivity.csv", result.sensitivity)
+        summary = {
+            "study": to_jsonable(study_info(result)),
+            "spread": _records(result.spread_summary),
+            "participants": _records(result.participants),
+            "conditions": _records(result.conditions),
+            "population_fits": _records(result.population_fits),
+            "references": references.metadata(study_references(result)),
+        }
+        (tmp / "summary.json").write_text(json.dumps(summary, indent=2, allow_nan=False), encoding="utf-8")
+        written.append("summary.json")
+        ds = curves_dataset(result)
+        ds.to_netcdf(tmp / "curves.nc", engine="h5netcdf")
+        written.append("curves.nc")
         pngs: dict[str, bytes] = {}
         qc_links: dict[str, str] = {}
         qc_sheets_png: dict[str, bytes] = {}
@@ -138,9 +131,6 @@ def write_report(
         tasks = ((early_qc.tasks(qc_recordings, dpi) if early_qc is not None else None) or qc_tasks(result, qc_recordings)
                  if qc and figures else [])
         total, done = len(participants) + len(samples) + len(tasks), 0
-        # each kind drawn on one kept figure (the same image as a new one's)
-        drawn = [("participant", p, participant_png) for p in participants] + \
-                [("sample", s, sample_png) for s in samples]
 
         def tick(what: str) -> None:
             nonlocal done
@@ -148,19 +138,15 @@ def write_report(
             if progress is not None:
                 progress(done, total, what)
 
-        with ExitStack() as stack:
-            futures = None
-            if figures:
-                (tmp / "figures").mkdir()
-                # the pool starts on the QC figures now, and takes the participant and sample
-                # figures behind them while this process writes the tables, then draws too
-                qc_png_of, pool = stack.enter_context(qc_drawer(tasks, len(result.stroke_reports), dpi, workers,
-                                                                early_qc))
-                futures = submit_figures(result, drawn, dpi, pool)
-                stack.callback(cancel, futures)
-            _write_tables(result, tmp, written)
-            if figures:
-                for (kind, key, _), png in zip(drawn, collect_figures(result, drawn, dpi, futures), strict=True):
+        if figures:
+            (tmp / "figures").mkdir()
+            # the pool starts on the QC figures now and draws them while the participant
+            # and sample figures are drawn here
+            with qc_drawer(tasks, len(result.stroke_reports), dpi, workers, early_qc) as (qc_png_of, pool):
+                # each kind drawn on one kept figure (the same image as a new one's)
+                drawn = [("participant", p, participant_png) for p in participants] + \
+                        [("sample", s, sample_png) for s in samples]
+                for (kind, key, _), png in zip(drawn, draw_figures(result, drawn, dpi, pool), strict=True):
                     pngs[f"{kind} {key}"] = png
                     name = f"figures/{kind}_{safe_name(key)}.png"
                     (tmp / name).write_bytes(png)
