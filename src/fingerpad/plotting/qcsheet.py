@@ -1,6 +1,6 @@
 """QC sheets: every recording of one participant in one figure, as small multiples.
 
-A per-recording QC figure (:func:`~fingerpad.plotting.measure.qc_png`) costs some 0.12 s of CPU
+A per-recording QC figure (:func:`~fingerpad.plotting.qcfigure.qc_png`) costs some 0.12 s of CPU
 to draw, most of it the fixed price of a figure (its axes, ticks, text and PNG), so 540
 recordings (20 people x 9 samples x 3) cost a minute. A sheet draws the same check for all of a
 participant's recordings at once: one small panel per recording (a row per sample, a column per
@@ -25,8 +25,8 @@ import numpy as np
 
 from ..errors import FingerpadError
 from .drawonce import lay_out_ticks_once
-from .measure import (_BAND_STYLES, _SENSE_COLOURS, QCInputs, _decimate, _span_verts, png_bytes, qc_inputs_of,
-                      stroke_bands)
+from .png import figure_png
+from .qcfigure import _BAND_STYLES, _SENSE_COLOURS, QCInputs, _decimate, _span_verts, qc_inputs_of, stroke_bands
 
 StudyResult = Any
 
@@ -240,4 +240,4 @@ def _fill_panel(ax: Any, inputs: QCInputs) -> None:
 def qc_sheet_png(sheet: QCSheet, dpi: int) -> bytes:
     """The PNG bytes of :func:`figure_qc_sheet` at ``dpi``; a module-level function, so that a
     process pool can call it."""
-    return png_bytes(_draw_sheet(sheet, _KEPT), dpi)
+    return figure_png(_draw_sheet(sheet, _KEPT), dpi)
