@@ -82,7 +82,7 @@ def test_qc_figure_of_a_long_recording_is_bounded_and_keeps_every_stroke_extreme
 
 
 def test_decimation_keeps_each_bucket_extremes_and_the_tail():
-    from fingerpad.plotting.measure import _decimate
+    from fingerpad.plotting.qcfigure import _decimate
 
     rng = np.random.default_rng(1)
     n = 60_001  # not a multiple of the bucket length: the last bucket is short
@@ -106,7 +106,8 @@ def test_qc_png_on_a_reused_figure_is_the_same_as_on_a_new_one(study_small):
     including a recording without strokes (no legend) before and after ones with strokes."""
     import dataclasses
 
-    from fingerpad.plotting.measure import _draw_qc, png_bytes, qc_inputs, qc_png
+    from fingerpad.plotting.measure import png_bytes, qc_inputs, qc_png
+    from fingerpad.plotting.qcfigure import _draw_qc
 
     sources = [r.source for r in study_small.recordings][:4]
     inputs = [qc_inputs(study_small, s) for s in sources]

@@ -397,7 +397,9 @@ def test_report_atomic(study, tmp_path, monkeypatch):
 
     monkeypatch.setattr(report, "participant_png", boom)  # after the tables are written
     with pytest.raises(FingerpadError, match="figure failed"):
-        report.write_report(result, out)
+        # every figure drawn here: a pool's workers, once their QC sheets are done, may draw
+        # every participant figure before this process reaches the failing one
+        report.write_report(result, out, workers=1)
     assert sorted(p.name for p in out.iterdir()) == [MANIFEST, "report.html"]  # left as it was
     other = tmp_path / "other"
     other.mkdir()
@@ -406,7 +408,7 @@ def test_report_atomic(study, tmp_path, monkeypatch):
         report.write_report(result, other)  # never mixed with another study's files
     assert sorted(p.name for p in other.iterdir()) == ["keep.txt"]
     with pytest.raises(FingerpadError):
-        report.write_report(result, tmp_path / "new")
+        report.write_report(result, tmp_path / "new", workers=1)
     assert not (tmp_path / "new").exists()
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
 
@@ -497,3 +499,30 @@ def test_simulation_deterministic(tmp_path):
     assert names == sorted(p.name for p in (tmp_path / "b").iterdir())
     assert all((tmp_path / "a" / n).read_bytes() == (tmp_path / "b" / n).read_bytes() for n in names)
     assert (tmp_path / "a" / "P01_flat_1.csv").read_bytes() != (tmp_path / "c" / "P01_flat_1.csv").read_bytes()
+
+
+def test_a_manifests_files_are_read_by_two_threads_in_its_order(tmp_path, monkeypatch):
+    """The files a manifest lists are read by two threads (the CSV parser lets go of the
+    interpreter), not one after another in one: the same recordings, in the manifest's order."""
+    import threading
+    import time
+
+    from fingerpad.measure import recordings as rec_module
+
+    names = [f"r{i}.csv" for i in range(8)]
+    for name in names:
+        simple_file(tmp_path / name)
+    (tmp_path / "manifest.csv").write_text("file,participant,sample\n" + "".join(f"{n},P{i},s\n" for i, n in enumerate(names)))
+    threads = set()
+    real = rec_module.read_recording
+
+    def slow(*args, **kwargs):
+        threads.add(threading.get_ident())
+        time.sleep(0.05)  # long enough that the second thread starts on the next file
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(rec_module, "read_recording", slow)
+    recs = m.load_study([tmp_path])
+    assert [r.participant for r in recs] == [f"P{i}" for i in range(8)]
+    assert [Path(r.source).name for r in recs] == names
+    assert len(threads) == 2

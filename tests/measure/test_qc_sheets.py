@@ -95,3 +95,26 @@ def test_an_empty_sheet_is_refused(study_small):
     sheet = dataclasses.replace(qc_sheets(study_small)[0], cells=(), places=())
     with pytest.raises(FingerpadError, match="no recordings on the QC sheet"):
         figure_qc_sheet(sheet)
+
+
+def test_rows_follow_the_reference_in_natural_order(study_small):
+    """A sheet's rows: the reference, then the samples with their numbers read as numbers
+    (bumps8 before bumps22, which string order puts first)."""
+    from types import SimpleNamespace
+
+    seen: dict[str, int] = {}
+    renamed = []
+    for r in study_small.recordings:  # each participant's textured recordings: bumps22, bumps8, ...
+        if r.sample != "flat":
+            seen[r.participant] = seen.get(r.participant, 0) + 1
+            r = dataclasses.replace(r, sample="bumps22" if seen[r.participant] % 2 else "bumps8")
+        renamed.append(r)
+    result = SimpleNamespace(recordings=renamed, stroke_reports=study_small.stroke_reports,
+                             strokes=study_small.strokes, clipped_strokes=study_small.clipped_strokes,
+                             options=study_small.options)
+    for sheet in qc_sheets(result):
+        rows = [next(cell.recording.sample for cell, (r, _) in zip(sheet.cells, sheet.places) if r == row)
+                for row in range(sheet.rows)]
+        assert rows == ["flat", "bumps8", "bumps22"]
+    assert sorted(["bumps22", "bumps8", "b2x", "b10x", "flat"], key=qcsheet.natural_key) == \
+        ["b2x", "b10x", "bumps8", "bumps22", "flat"]

@@ -184,7 +184,7 @@ def test_participant_and_sample_figures_drawn_by_a_worker_are_the_same_bytes(stu
     recordings, stroke reports and models (_figure_payload): the same PNG bytes as here."""
     from concurrent.futures import ProcessPoolExecutor
 
-    from fingerpad.measure.report import _figure_payload, _pool_figure
+    from fingerpad.measure.figurepool import _figure_payload, _pool_figure
 
     drawn = _figures_to_draw(study_small)
     here = [draw(study_small, key, 30) for _, key, draw in drawn]
@@ -215,16 +215,16 @@ class _Pool:
 
 @pytest.mark.parametrize("taken", [0, 2, 99])
 def test_figures_are_drawn_here_unless_a_worker_took_them(study_small, monkeypatch, taken):
-    """_draw_figures: every figure is a pool task; this process cancels and draws, from the last
+    """draw_figures: every figure is a pool task; this process cancels and draws, from the last
     one back, those no worker has started, and takes the others' results: in order, the same
     bytes, whichever side drew each."""
-    from fingerpad.measure import report
+    from fingerpad.measure import figurepool
 
     drawn = _figures_to_draw(study_small)
     here = [draw(study_small, key, 30) for _, key, draw in drawn]
     calls = []
     counted = [(kind, key, lambda r, k, d, draw=draw: calls.append(k) or draw(r, k, d)) for kind, key, draw in drawn]
-    got = list(report._draw_figures(study_small, counted, 30, _Pool(taken)))
+    got = list(figurepool.draw_figures(study_small, counted, 30, _Pool(taken)))
     assert got == here
     assert calls == [key for _, key, _ in counted][min(taken, len(drawn)):][::-1]  # the rest, from the back
 
@@ -243,7 +243,7 @@ def test_qc_workers_write_on_streams_of_their_own():
     fork cannot block the worker's writes."""
     import sys
 
-    from fingerpad.measure.report import _start_pool
+    from fingerpad.measure.figurepool import _start_pool
 
     pool = _start_pool(1)
     try:

@@ -47,9 +47,9 @@ def test_measurement_figures_are_the_same_bytes(measured, monkeypatch, dpi):
     assert used["layouts"] > 500 and used["new_layouts"] == 0
     with monkeypatch.context() as patch:
         _without_caches(patch)
-        from fingerpad.plotting import measure
+        from fingerpad.plotting import measure, qcfigure
 
-        for kept in (*measure._QC_FIGURES.values(), *measure._KEPT.values()):  # renderers without the cache
+        for kept in (*qcfigure._QC_FIGURES.values(), *measure._KEPT.values()):  # renderers without the cache
             renderer = kept.canvas.get_renderer()
             vars(renderer).pop("draw_text", None)
         plain = _figures(measured, dpi)

@@ -203,7 +203,7 @@ def analyse_command(
         table = Path(samples) if samples else _find_samples_table(data)
         textures = m.read_textures(table) if table else None
         recordings = m.load_study(data, column_spec, pattern=pattern)
-        from ..measure.report import EarlyQC
+        from ..measure.figurepool import EarlyQC
         from .common import ProgressBar, stderr_console
 
         # the QC figures start as soon as the strokes are known, and draw on the other
@@ -233,7 +233,7 @@ def _measurement_warnings() -> Iterator[list[str]]:
         try:
             yield shown
         finally:
-            from ..measure.analysis import MeasurementWarning
+            from ..measure.study import MeasurementWarning
 
             for w in caught:
                 if issubclass(w.category, MeasurementWarning):

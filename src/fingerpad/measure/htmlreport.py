@@ -19,9 +19,9 @@ import numpy as np
 
 from .._version import __version__
 from ..plotting.measure import condition_label
-from .analysis import StudyResult
-from .analysis import study_info as default_study_info
-from .analysis import study_references
+from .study import StudyResult
+from .study import study_info as default_study_info
+from .study import study_references
 from .breakpoint import format_p
 
 CSS = """

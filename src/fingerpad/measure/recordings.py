@@ -234,6 +234,18 @@ def read_manifest(path: str | os.PathLike[str], spec: ColumnSpec | None = None) 
     FingerpadError
         Naming the manifest and row for a missing column, value or data file.
     """
+    recordings: list[Recording] = []
+    for task in _manifest_tasks(path, spec)[0]:
+        recordings += task()
+    return recordings
+
+
+def _manifest_tasks(path: str | os.PathLike[str], spec: ColumnSpec | None
+                    ) -> tuple[list[Callable[[], list[Recording]]], bool]:
+    """The manifest's rows as tasks, in order, each reading one recording, and whether every row
+    is readable: a row that is not (a missing value or data file) is the last task and raises
+    its error, so that running the tasks one after another does what :func:`read_manifest`
+    promises, whichever threads read the files."""
     p = Path(path)
     header, rows = read_text_rows(p, ColumnSpec())
     keys = [column_key(h) for h in header]
@@ -241,23 +253,30 @@ def read_manifest(path: str | os.PathLike[str], spec: ColumnSpec | None = None) 
     missing = [c for c in (file_col or "file", "participant", "sample") if c not in keys]
     if missing:
         raise FingerpadError(f"{p}: manifest lacks column(s) {', '.join(missing)} (columns: {', '.join(header)})")
-    recordings = []
+    tasks: list[Callable[[], list[Recording]]] = []
     for line, cells in rows:
         rec = {k: (cells[i].strip() if i < len(cells) else "") for i, k in enumerate(keys)}
-        for col in (file_col, "participant", "sample"):
-            if not rec.get(col):
-                raise FingerpadError(f"{p}, row {line}: empty {col!r}")
+        empty = [col for col in (file_col, "participant", "sample") if not rec.get(col)]
+        if empty:
+            return [*tasks, _failing(f"{p}, row {line}: empty {empty[0]!r}")], False
         data = (p.parent / rec[file_col]) if not Path(rec[file_col]).is_absolute() else Path(rec[file_col])  # type: ignore[index]
         if not data.is_file():
-            raise FingerpadError(f"{p}, row {line}: data file {rec[file_col]!r} not found")  # type: ignore[index]
-        recordings.append(read_recording(
+            return [*tasks, _failing(f"{p}, row {line}: data file {rec[file_col]!r} not found")], False  # type: ignore[index]
+        tasks.append(lambda data=data, rec=rec: [read_recording(
             data, spec, participant=rec["participant"], sample=rec["sample"],
             direction=rec.get("direction", ""), repetition=rec.get("repetition", ""),
             session=rec.get("session", ""),
-        ))
-    if not recordings:
+        )])
+    if not tasks:
         raise FingerpadError(f"{p}: manifest lists no files")
-    return recordings
+    return tasks, True
+
+
+def _failing(message: str) -> Callable[[], list[Recording]]:
+    """A task that raises ``message`` (a :class:`FingerpadError`) when run."""
+    def raise_it() -> list[Recording]:
+        raise FingerpadError(message)
+    return raise_it
 
 
 def load_study(
@@ -308,20 +327,28 @@ def load_study(
     # both are those of reading one file after another.
     tasks: list[Callable[[], list[Recording]]] = []
 
-    def fail(message: str) -> Callable[[], list[Recording]]:
-        def raise_it() -> list[Recording]:
-            raise FingerpadError(message)
-        return raise_it
+    fail = _failing
 
     if not inputs:
         raise FingerpadError("no data given")
+
+    def manifest(m: Path) -> bool:
+        """The manifest's rows as tasks (each file read by either thread); ``False`` after an error."""
+        try:
+            rows, complete = _manifest_tasks(m, spec)
+        except FingerpadError as exc:
+            tasks.append(fail(str(exc)))
+            return False
+        tasks.extend(rows)
+        return complete
 
     def plan() -> None:  # the tasks up to the first error, which is the last task
         for item in inputs:
             p = Path(item)
             if p.is_dir():
                 if (p / "manifest.csv").is_file():
-                    tasks.append(lambda m=p / "manifest.csv": read_manifest(m, spec))
+                    if not manifest(p / "manifest.csv"):
+                        return
                     continue
                 found = 0
                 for f in sorted(p.iterdir()):
@@ -346,7 +373,8 @@ def load_study(
                     return
             elif p.is_file():
                 if _is_manifest(p):
-                    tasks.append(lambda p=p: read_manifest(p, spec))
+                    if not manifest(p):
+                        return
                     continue
                 meta = parse_filename(p, template)
                 if meta is None:

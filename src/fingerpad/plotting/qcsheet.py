@@ -1,6 +1,6 @@
 """QC sheets: every recording of one participant in one figure, as small multiples.
 
-A per-recording QC figure (:func:`~fingerpad.plotting.measure.qc_png`) costs some 0.12 s of CPU
+A per-recording QC figure (:func:`~fingerpad.plotting.qcfigure.qc_png`) costs some 0.12 s of CPU
 to draw, most of it the fixed price of a figure (its axes, ticks, text and PNG), so 540
 recordings (20 people x 9 samples x 3) cost a minute. A sheet draws the same check for all of a
 participant's recordings at once: one small panel per recording (a row per sample, a column per
@@ -16,6 +16,7 @@ position trace and mu-per-stroke panel are left out (``strokes.csv`` has every s
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -24,12 +25,12 @@ import numpy as np
 
 from ..errors import FingerpadError
 from .drawonce import lay_out_ticks_once
-from .measure import (_BAND_STYLES, _SENSE_COLOURS, QCInputs, _decimate, _span_verts, png_bytes, qc_inputs,
-                      stroke_bands)
+from .png import figure_png
+from .qcfigure import _BAND_STYLES, _SENSE_COLOURS, QCInputs, _decimate, _span_verts, qc_inputs_of, stroke_bands
 
 StudyResult = Any
 
-__all__ = ["QCSheet", "QC_SHEET_COLUMNS", "QC_SHEET_ROWS", "figure_qc_sheet", "qc_sheet_png", "qc_sheets"]
+__all__ = ["QCSheet", "QC_SHEET_COLUMNS", "QC_SHEET_ROWS", "figure_qc_sheet", "natural_key", "qc_sheet_png", "qc_sheets"]
 
 #: Panels per row of a sheet at most (a sample with more recordings takes several rows), and
 #: rows per sheet at most (a participant with more takes several sheets, ``..._2.png`` ...).
@@ -55,9 +56,16 @@ class QCSheet:
     pages: int = 1
 
 
+def natural_key(name: str) -> tuple[tuple[int, int | str], ...]:
+    """Sort key of ``name`` with its digit runs as numbers: ``bumps8`` before ``bumps22``
+    (plain string order puts ``bumps22`` first)."""
+    return tuple((0, int(part)) if part.isdecimal() else (1, part) for part in re.split(r"(\d+)", name) if part)
+
+
 def qc_sheets(result: StudyResult) -> list[QCSheet]:
     """Every participant's QC sheets (participants sorted, then pages), each recording with
-    strokes found on exactly one of them: a row per sample (the reference first, then sorted),
+    strokes found on exactly one of them: a row per sample (the reference first, then in
+    natural order: :func:`natural_key`),
     the sample's recordings in the order of the study, at most :data:`QC_SHEET_COLUMNS` a row,
     at most :data:`QC_SHEET_ROWS` rows a sheet."""
     by_participant: dict[str, dict[str, list[Any]]] = {}
@@ -65,18 +73,20 @@ def qc_sheets(result: StudyResult) -> list[QCSheet]:
         if rec.source in result.stroke_reports:
             by_participant.setdefault(str(rec.participant), {}).setdefault(str(rec.sample), []).append(rec)
     reference = getattr(getattr(result, "options", None), "reference", None)
+    inputs = qc_inputs_of(result)
     sheets = []
     for participant in sorted(by_participant):
         samples = by_participant[participant]
         columns = min(max(len(v) for v in samples.values()), QC_SHEET_COLUMNS)
         # lines of the grid: one or more per sample
         lines: list[list[Any]] = []
-        for sample in sorted(samples, key=lambda name: (name != reference, name)):  # the reference first
+        # the reference first, then in natural order (bumps8 before bumps22)
+        for sample in sorted(samples, key=lambda name: (name != reference, natural_key(name))):
             recs = samples[sample]
             lines += [recs[i:i + columns] for i in range(0, len(recs), columns)]
         pages = [lines[i:i + QC_SHEET_ROWS] for i in range(0, len(lines), QC_SHEET_ROWS)]
         for number, page in enumerate(pages, start=1):
-            cells = tuple(qc_inputs(result, rec.source) for line in page for rec in line)
+            cells = tuple(inputs(rec.source) for line in page for rec in line)
             places = tuple((r, c) for r, line in enumerate(page) for c in range(len(line)))
             sheets.append(QCSheet(participant, cells, places, len(page), columns, number, len(pages)))
     return sheets
@@ -230,4 +240,4 @@ def _fill_panel(ax: Any, inputs: QCInputs) -> None:
 def qc_sheet_png(sheet: QCSheet, dpi: int) -> bytes:
     """The PNG bytes of :func:`figure_qc_sheet` at ``dpi``; a module-level function, so that a
     process pool can call it."""
-    return png_bytes(_draw_sheet(sheet, _KEPT), dpi)
+    return figure_png(_draw_sheet(sheet, _KEPT), dpi)
