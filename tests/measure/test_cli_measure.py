@@ -191,3 +191,26 @@ def test_simulate_sample_table_mistakes_are_one_line(app, tmp_path, extra, rows,
     assert res.exit_code == 2, res.output
     assert res.stderr.startswith("error: ") and message in res.stderr and res.stderr.count("\n") == 1
     assert not out.exists()
+
+
+@pytest.mark.parametrize("field, bad", [("level", 1.5), ("n_bins", 0), ("outlier_z", -1.0), ("n_null", 10),
+                                        ("breakpoint_space", "ln"), ("breakpoint_method", "guess"),
+                                        ("breakpoint_trend", "up"), ("seed", -1)])
+def test_each_setting_is_named_alone_with_its_option(field, bad):
+    """A bad setting is named alone with the analyse option that sets it (it was 'n_null must lie
+    in ... and n_boot in ..., got X and 200', naming a setting the user had not touched)."""
+    from fingerpad.measure.study import ANALYSIS_OPTION_NAMES
+
+    with pytest.raises(FingerpadError) as info:
+        m.AnalysisOptions(**{field: bad})
+    message = str(info.value)
+    assert message.startswith(f"{field} ({ANALYSIS_OPTION_NAMES[field]}): ") and message.endswith(f"got {bad!r}")
+    others = set(ANALYSIS_OPTION_NAMES) - {field}
+    assert not any(f"{other} " in message or f"{other}:" in message for other in others)
+
+
+def test_library_only_settings_are_named_and_capped():
+    with pytest.raises(FingerpadError, match=r"^n_boot: must lie in 20\.\.100000, got 10$"):
+        m.AnalysisOptions(n_boot=10)
+    with pytest.raises(FingerpadError, match=r"^min_fit_strokes: must lie in 3\.\.100000, got 10000000$"):
+        m.AnalysisOptions(min_fit_strokes=10_000_000)

@@ -34,6 +34,13 @@ MAX_SIMULATIONS = 100_000
 MAX_BINS = 1000
 
 
+#: The ``fingerpad analyse`` option of each :class:`AnalysisOptions` field a user sets there
+#: (named in the field's error message beside the field).
+ANALYSIS_OPTION_NAMES = {"level": "--level", "n_bins": "--bins", "outlier_z": "--outlier-z", "n_null": "--n-null",
+                         "breakpoint_space": "--breakpoint-space", "breakpoint_method": "--breakpoint-method",
+                         "breakpoint_trend": "--trend", "seed": "--seed"}
+
+
 @dataclass(frozen=True)
 class AnalysisOptions:
     """Options of :func:`analyse_study`.
@@ -94,28 +101,36 @@ class AnalysisOptions:
     population: bool = True
 
     def __post_init__(self) -> None:
+        # one message per setting, naming the field and the option that sets it from the
+        # command line (``fingerpad analyse``), so that the API and the CLI say the same thing
+        def bad(field: str, rule: str) -> FingerpadError:
+            option = ANALYSIS_OPTION_NAMES.get(field)
+            return FingerpadError(f"{field}{f' ({option})' if option else ''}: {rule}, got {getattr(self, field)!r}")
+
         if not self.reference:
             raise FingerpadError("a reference sample must be named")
         if not 0 < self.level < 1:
-            raise FingerpadError(f"level must lie in (0, 1), got {self.level!r}")
-        if not 1 <= self.n_bins <= MAX_BINS or self.min_fit_strokes < 3:
-            raise FingerpadError(f"n_bins must lie in 1..{MAX_BINS} and min_fit_strokes be >= 3, got {self.n_bins!r} "
-                                 f"and {self.min_fit_strokes!r}")
+            raise bad("level", "must lie in (0, 1)")
+        if not 1 <= self.n_bins <= MAX_BINS:
+            raise bad("n_bins", f"must lie in 1..{MAX_BINS}")
+        if not 3 <= self.min_fit_strokes <= MAX_SIMULATIONS:
+            raise bad("min_fit_strokes", f"must lie in 3..{MAX_SIMULATIONS}")
         if not self.outlier_z > 0:
-            raise FingerpadError(f"outlier_z must be positive, got {self.outlier_z!r}")
-        if not (19 <= self.n_null <= MAX_SIMULATIONS and 20 <= self.n_boot <= MAX_SIMULATIONS):
-            raise FingerpadError(f"n_null must lie in 19..{MAX_SIMULATIONS} and n_boot in 20..{MAX_SIMULATIONS}, got "
-                                 f"{self.n_null!r} and {self.n_boot!r}")
+            raise bad("outlier_z", "must be positive")
+        if not 19 <= self.n_null <= MAX_SIMULATIONS:
+            raise bad("n_null", f"must lie in 19..{MAX_SIMULATIONS}")
+        if not 20 <= self.n_boot <= MAX_SIMULATIONS:
+            raise bad("n_boot", f"must lie in 20..{MAX_SIMULATIONS}")
         if self.breakpoint_space not in ("log", "linear"):
-            raise FingerpadError(f"breakpoint_space must be 'log' or 'linear', got {self.breakpoint_space!r}")
+            raise bad("breakpoint_space", "must be 'log' or 'linear'")
         if self.breakpoint_method not in ("profile", "bootstrap"):
-            raise FingerpadError(f"breakpoint_method must be 'profile' or 'bootstrap', got {self.breakpoint_method!r}")
+            raise bad("breakpoint_method", "must be 'profile' or 'bootstrap'")
         if self.breakpoint_trend not in ("any", "steeper", "flatter"):
-            raise FingerpadError(f"breakpoint_trend must be 'any', 'steeper' or 'flatter', got {self.breakpoint_trend!r}")
+            raise bad("breakpoint_trend", "must be 'any', 'steeper' or 'flatter'")
         if not 0 <= self.breakpoint_edge < 0.5:
-            raise FingerpadError(f"breakpoint_edge must lie in [0, 0.5), got {self.breakpoint_edge!r}")
+            raise bad("breakpoint_edge", "must lie in [0, 0.5)")
         if self.seed < 0:
-            raise FingerpadError(f"seed must be a non-negative integer, got {self.seed!r}")
+            raise bad("seed", "must be a non-negative integer")
 
 
 @dataclass
