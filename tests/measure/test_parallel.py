@@ -63,3 +63,26 @@ def test_analysis_on_two_workers_is_the_same_as_in_one_process(small_study_dir, 
     assert {k: t.table.tobytes() for k, t in result.tables.items()} == \
         {k: t.table.tobytes() for k, t in study_small.tables.items()}
     assert {f.model for f in result.modulus_fits.values()} == {"bem"}  # the tables keep the model's name
+
+
+def test_forks_happen_with_ducc0_s_pool_shrunk_to_this_thread():
+    """ducc0 joins its pool's threads inside fork(); the suite once hung there for good. While
+    workers fork, the pool holds only the calling thread (nothing to join), and it is restored
+    after; gc is frozen meanwhile (copy on write)."""
+    import gc
+
+    ducc0 = pytest.importorskip("ducc0")
+    import ducc0.misc as dm
+
+    from fingerpad.measure.parallel import fork_ready
+
+    ducc0.fft.r2c(np.ones((8, 8)), nthreads=1)  # the pool exists
+    before = dm.thread_pool_size()
+    dm.resize_thread_pool(2)
+    try:
+        with fork_ready():
+            assert dm.thread_pool_size() == 1 and gc.get_freeze_count() > 0
+            seen = forked_map(lambda x: x + 1, range(4), workers=2)
+        assert dm.thread_pool_size() == 2 and seen == [1, 2, 3, 4]
+    finally:
+        dm.resize_thread_pool(before)

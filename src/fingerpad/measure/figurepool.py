@@ -17,7 +17,7 @@ from typing import Any
 from ..plotting.measure import participant_png, qc_inputs_of, qc_png, sample_png
 from ..plotting.qcsheet import qc_sheet_png, qc_sheets
 from ..plotting.render import load_drawing_modules
-from .parallel import frozen_heap, own_streams, usable_cpus
+from .parallel import fork_ready, own_streams, usable_cpus
 from .study import StudyResult
 
 __all__ = ["EarlyQC", "draw_figures", "qc_drawer", "qc_tasks", "safe_name"]
@@ -163,7 +163,7 @@ class EarlyQC:
             self._forked_recordings = recordings
             # a few recordings per task: one result each would cost more in messages than
             # the ~9 ms of finding one recording's strokes; the workers fork at the first task
-            with frozen_heap():
+            with fork_ready():
                 return list(self._pool.map(_forked_strokes, range(len(recordings)),
                                            [options] * len(recordings), chunksize=4))
         finally:

@@ -21,7 +21,7 @@ from typing import Any
 
 from ..errors import FingerpadError
 
-__all__ = ["forked_map", "frozen_heap", "own_streams", "resolve_workers", "usable_cpus"]
+__all__ = ["fork_ready", "forked_map", "own_streams", "resolve_workers", "usable_cpus"]
 
 #: The function the workers run: set before they fork, so that each inherits it.
 _FUNCTION: list[Callable[[Any], Any]] = []
@@ -42,19 +42,31 @@ def resolve_workers(workers: int | None, n_items: int) -> int:
 
 
 @contextlib.contextmanager
-def frozen_heap() -> Iterator[None]:
-    """The objects that exist on entry out of the garbage collector's reach until exit (in
-    processes forked meanwhile: for good). Fork before exit: a collection in a worker would
-    otherwise write to every object it inherited, copying their memory pages (copy on write);
-    half the workers' extra CPU (3x8's fits, both workers on one core: 0.9 -> 0.45 s over 5.7 s
-    in one process). The same results."""
+def fork_ready() -> Iterator[None]:
+    """This process ready to fork workers, until exit (fork before exit).
+
+    Two things: (1) the objects that exist on entry are out of the garbage collector's reach (in
+    processes forked meanwhile: for good): a collection in a worker would otherwise write to
+    every object it inherited, copying their memory pages (copy on write); half the workers'
+    extra CPU (3x8's fits, both workers on one core: 0.9 -> 0.45 s over 5.7 s in one process).
+    (2) ducc0's thread pool (the FFTs' library) shrunk to the calling thread: ducc0 stops and
+    joins its pool's threads in a handler that runs inside ``fork()``, and the suite once hung
+    there for good (the second worker's fork in :func:`forked_map`, native stack fork -> ducc0
+    -> std::thread::join, 2026-11-29); with no pool thread there is nothing to join. The pool is
+    restored on exit. The same results (the FFTs here run on one thread)."""
     import gc
 
+    ducc0_misc = sys.modules.get("ducc0.misc")  # only if loaded: importing it here would cost
+    size = ducc0_misc.thread_pool_size() if ducc0_misc is not None else None
+    if size is not None and size > 1:
+        ducc0_misc.resize_thread_pool(1)
     gc.freeze()
     try:
         yield
     finally:
         gc.unfreeze()
+        if size is not None and size > 1:
+            ducc0_misc.resize_thread_pool(size)
 
 
 def own_streams() -> None:
@@ -98,7 +110,7 @@ def forked_map(function: Callable[[Any], Any], items: Sequence[Any], workers: in
 
     _FUNCTION[:] = [function]
     try:
-        with frozen_heap(), ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
+        with fork_ready(), ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
                                                 initializer=own_streams) as pool:
             size = max(1, int(chunksize))
             chunks = [items[i:i + size] for i in range(0, len(items), size)]
