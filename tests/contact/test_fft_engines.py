@@ -125,3 +125,58 @@ def test_bad_setting_on_the_command_line(monkeypatch: pytest.MonkeyPatch) -> Non
     assert res.exit_code == 2
     assert "error: unknown FFT engine 'bogus' (FINGERPAD_FFT)" in res.output
     assert "Traceback" not in res.output
+
+
+@pytest.fixture
+def ducc0_pool_of_two():
+    """ducc0's FFT thread pool running with two threads (as on a 2-core machine), restored after."""
+    import ducc0.fft
+    import ducc0.misc as dm
+
+    ducc0.fft.r2c(np.ones((8, 8)), nthreads=1)  # the pool exists
+    before = dm.thread_pool_size()
+    dm.resize_thread_pool(2)
+    yield dm
+    dm.resize_thread_pool(before)
+
+
+@needs_ducc0
+def test_every_fork_of_the_process_parks_the_fft_threads(ducc0_pool_of_two, monkeypatch):
+    """A fork once hung for good in ducc0's fork handler (joining its pool's threads): the pool
+    holds only the calling thread wherever this process forks workers (the analysis's pools, a
+    local sweep cluster's start, the deflection's ramps), and gets its size back after."""
+    from fingerpad.contact.greens import fft_threads_parked
+    from fingerpad.micro.deflection import ramps
+
+    dm = ducc0_pool_of_two
+    with fft_threads_parked():
+        assert dm.thread_pool_size() == 1
+    assert dm.thread_pool_size() == 2
+    with pytest.raises(RuntimeError), fft_threads_parked():  # restored after an error too
+        raise RuntimeError
+    assert dm.thread_pool_size() == 2
+    if sys.platform.startswith("linux"):
+        pytest.importorskip("distributed")
+        from fingerpad.design.engine import _worker_start
+
+        monkeypatch.delenv("FINGERPAD_DEVICE", raising=False)
+        with _worker_start():
+            assert dm.thread_pool_size() == 1
+        assert dm.thread_pool_size() == 2
+
+    seen = []
+
+    class Pool:  # records the pool size where the executor would fork its workers
+        def __init__(self, *args, **kwargs):
+            seen.append(dm.thread_pool_size())
+
+        def __enter__(self):
+            raise RuntimeError("stop here")
+
+        def __exit__(self, *exc):
+            return False
+
+    monkeypatch.setattr(ramps, "ProcessPoolExecutor", Pool)
+    with pytest.raises(RuntimeError, match="stop here"):
+        ramps._pooled([], 2, None)
+    assert seen == [1] and dm.thread_pool_size() == 2

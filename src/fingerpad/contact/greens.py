@@ -16,8 +16,11 @@ the conjugate gradient combines to save transforms.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import os
+import sys
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -28,7 +31,7 @@ from ..textures import Texture
 from .device import choice_setting, device_namespace
 from .layered import Layer, spectral_factor
 
-__all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "check_setup", "fft_settings", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
+__all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "check_setup", "fft_settings", "fft_threads_parked", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
            "love_rectangle", "smoothed_rectangle"]
 
 FFT_ENGINES = ("auto", "ducc0", "scipy")
@@ -64,6 +67,28 @@ def fft_settings(fft: str | None = None, workers: int | None = None) -> tuple[st
         raise SetupError(f"{source} must be a whole number of threads in 0..{MAX_FFT_WORKERS} (0: all cores), "
                          f"got {workers!r}")
     return engine, workers or os.cpu_count() or 1
+
+
+@contextlib.contextmanager
+def fft_threads_parked() -> Iterator[None]:
+    """ducc0's FFT thread pool shrunk to the calling thread until exit: wrap every fork of this
+    process (worker pools, a local Dask cluster's start).
+
+    ducc0 stops and joins its pool's threads in a handler that runs inside ``fork()``; the suite
+    once hung there for good (native stack fork -> ducc0 -> std::thread::join, ducc0 0.42,
+    2026-11-29), a race that a process with many threads makes likely. With no pool thread there
+    is nothing to join. The pool's size is restored on exit. The results are the same: the
+    FFTs choose their threads per call (``nthreads``), and meanwhile run on the calling thread.
+    Does nothing where ducc0 is not loaded (importing it here would cost time)."""
+    misc = sys.modules.get("ducc0.misc")
+    size = misc.thread_pool_size() if misc is not None else None
+    if size is not None and size > 1:
+        misc.resize_thread_pool(1)
+    try:
+        yield
+    finally:
+        if size is not None and size > 1:
+            misc.resize_thread_pool(size)
 
 
 def _ducc0_transforms(workers: int) -> tuple[Any, Any]:

@@ -238,7 +238,11 @@ def _worker_start() -> Iterator[None]:
 
     for name in POINT_MODULES:  # what every worker imports for its first point
         importlib.import_module(name)
-    with dask.config.set({"distributed.worker.multiprocessing-method": "fork"}), warnings.catch_warnings():
+    from ..contact.greens import fft_threads_parked
+
+    # the FFTs' threads parked while the workers fork (a fork once hung in ducc0's fork handler)
+    with dask.config.set({"distributed.worker.multiprocessing-method": "fork"}), warnings.catch_warnings(), \
+            fft_threads_parked():
         # Python >= 3.12 warns about forking a process with threads (the cluster's event loop):
         # the child runs only multiprocessing's start of a Dask worker
         warnings.filterwarnings("ignore", message=".*fork.*", category=DeprecationWarning)

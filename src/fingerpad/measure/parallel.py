@@ -49,24 +49,18 @@ def fork_ready() -> Iterator[None]:
     processes forked meanwhile: for good): a collection in a worker would otherwise write to
     every object it inherited, copying their memory pages (copy on write); half the workers'
     extra CPU (3x8's fits, both workers on one core: 0.9 -> 0.45 s over 5.7 s in one process).
-    (2) ducc0's thread pool (the FFTs' library) shrunk to the calling thread: ducc0 stops and
-    joins its pool's threads in a handler that runs inside ``fork()``, and the suite once hung
-    there for good (the second worker's fork in :func:`forked_map`, native stack fork -> ducc0
-    -> std::thread::join, 2026-11-29); with no pool thread there is nothing to join. The pool is
-    restored on exit. The same results (the FFTs here run on one thread)."""
+    (2) the FFTs' thread pool parked (:func:`fingerpad.contact.greens.fft_threads_parked`: a
+    fork once hung for good in ducc0's fork handler). The same results."""
     import gc
 
-    ducc0_misc = sys.modules.get("ducc0.misc")  # only if loaded: importing it here would cost
-    size = ducc0_misc.thread_pool_size() if ducc0_misc is not None else None
-    if size is not None and size > 1:
-        ducc0_misc.resize_thread_pool(1)
-    gc.freeze()
-    try:
-        yield
-    finally:
-        gc.unfreeze()
-        if size is not None and size > 1:
-            ducc0_misc.resize_thread_pool(size)
+    from ..contact.greens import fft_threads_parked
+
+    with fft_threads_parked():
+        gc.freeze()
+        try:
+            yield
+        finally:
+            gc.unfreeze()
 
 
 def own_streams() -> None:

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from ...contact.greens import fft_threads_parked
 from ...errors import FingerpadError
 from ...units import parse_int
 from .mesh import SectionGeometry, build_mesh
@@ -193,7 +194,9 @@ def _pooled(jobs: list[SectionJob], workers: int, progress: Callable[[str], None
     tails: list[list[Any]] = [[] for _ in jobs]
     if progress:
         progress(f"pressing {len(jobs)} section(s), then shearing in {workers} processes")
-    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+    # the pool forks its workers as tasks arrive: the FFTs' threads parked meanwhile (a fork once
+    # hung in ducc0's fork handler; fft_threads_parked)
+    with fft_threads_parked(), ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
         # the normal-load ramps first (1-2 s each), then the shear ramps longest first (LPT),
         # as far as the inputs tell: a ramp's CPU time grows with the section's unknowns (its
         # Newton steps' sparse LU) and with the pressure (more steps, more failed ones), so the
