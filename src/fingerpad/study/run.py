@@ -25,7 +25,7 @@ from ..finger import Finger
 from ..micro.hertz import HertzUnitCell, hertz_cell_for, supports_hertz
 from ..textures import Texture
 from .spec import Study
-from .states import adhesive_states, load_notes, resolve_adhesive_cell, state_brackets, state_choices
+from .states import adhesive_states, load_notes, resolve_adhesive_cell, state_brackets, state_choices, texture_maker
 from .states import pull_off_error as adhesive_pull_off_error
 # the search of a load from its centre pressure and the load floor of an estimate, where callers found them before
 from .states import _load_floor, load_at_centre_pressure  # noqa: F401
@@ -297,12 +297,10 @@ def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, 
     preparation that solves nothing."""
     from ..coupling import couple
     from ..micro.resolution import choose_grid
-    from .texture import TextureSpec
 
     loads = np.append(study.loads, study.zone_load)
     ridge = np.asarray(study.finger.ridge_area(loads), dtype=float)
-    generated = isinstance(study.texture, TextureSpec) and study.texture.name is not None
-    make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
+    make = texture_maker(study)
     target = None if study.grid is not None or make is None else study.accuracy
     ratio = (lambda cell: couple(loads, ridge, cell).area_ratio) if estimate or target is not None else \
         (lambda cell: np.full(loads.size, np.nan))

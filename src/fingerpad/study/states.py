@@ -24,7 +24,7 @@ from .spec import Study
 
 __all__ = ["FINGER_LOAD_LIMIT", "MAX_ADHESIVE_GRID", "PULLED_IN_METHOD", "adhesive_states", "centre_load",
            "load_at_centre_pressure", "pull_off_error", "load_notes", "resolve_adhesive_cell", "state_brackets", "state_choices",
-           "state_report"]
+           "state_report", "texture_maker"]
 
 
 #: Loads above this (N) are beyond what a finger exerts in touch; reports say so.
@@ -74,16 +74,24 @@ def centre_load(finger: Finger, cell: Any) -> Callable[[float], float]:
 
 
 
+def texture_maker(study: Study) -> Callable[[int], Texture] | None:
+    """``make(nx)``: the study's texture built at ``nx`` points along x (a generated texture);
+    ``None`` for a height map, whose grid is its own."""
+    from .texture import TextureSpec
+
+    if isinstance(study.texture, TextureSpec) and study.texture.name is not None:
+        return lambda nx: study.texture.build(nx)  # type: ignore[union-attr]
+    return None
+
+
 def state_choices(study: Study, tex: Texture, e1: float, choice: Any) -> tuple[dict[str, Any], int]:
     """The grid of each state pressure (:func:`~fingerpad.micro.resolution.choose_state_grids`):
     chosen by the study's accuracy from the starting grid where the curve's grid is chosen
     automatically, else the curve's own grid (given, or a measured map's). The loads asked for
     do not enter. Returns the choices and the solves they added."""
     from ..micro.resolution import choose_state_grids
-    from .texture import TextureSpec
 
-    generated = isinstance(study.texture, TextureSpec) and study.texture.name is not None
-    make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
+    make = texture_maker(study)
     automatic = study.grid is None and make is not None
     start = tex if automatic else choice.cell.texture
     return choose_state_grids(
@@ -159,13 +167,11 @@ def resolve_adhesive_cell(study: Study, grid: int, e1: float, progress: Callable
     A_re/A_fr error (the adhesive pad's, the range following the pixel) exceeds the accuracy."""
     from ..coupling import predict_curve
     from ..micro.adhesive_cell import AdhesiveUnitCell
-    from ..micro.resolution import companion, choose_grid
-    from .texture import TextureSpec
+    from ..micro.resolution import adopt_extrapolated, choose_grid, pulled_in_companions
 
     finger = study.finger
     loads = np.append(study.loads, study.zone_load)
-    generated = isinstance(study.texture, TextureSpec) and study.texture.name is not None
-    make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
+    make = texture_maker(study)
     tex = make(grid) if make is not None else study.build_texture()
     target = None if study.grid is not None or make is None else study.accuracy
     ratio = (lambda cell: predict_curve(loads, finger, cell, reference=False).area_ratio) \
@@ -173,21 +179,17 @@ def resolve_adhesive_cell(study: Study, grid: int, e1: float, progress: Callable
     options = {"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache(),
                "layer": finger.layer, "work_of_adhesion": finger.work_of_adhesion,
                "adhesion_range": finger.adhesion_range, "law": finger.adhesion_law}
-    choice = choose_grid(make, tex, e1, (0.0, 0.0), ratio, target=target, max_grid=MAX_ADHESIVE_GRID,
-                         cell_options=options, progress=progress, cell_type=AdhesiveUnitCell)
-    # a pulled-in transition is extrapolated from the grid and its half; its estimate compares
-    # that with the same extrapolation one grid coarser, which needs the quarter grid (1/16 of
-    # the work of the grid, where the doubling did not make it already)
-    fine, coarse = choice.cell, choice.coarse
-    if coarse is not None and not fine.flat and fine.pulled_in and coarse.pulled_in:
-        nq = coarse.texture.shape[0] // 2
-        if nq not in choice.cells:
-            quarter_tex = companion(make, coarse.texture)
-            if quarter_tex is not None:
-                quarter = AdhesiveUnitCell(quarter_tex, e1, **options).prepare()
-                choice.cells[int(quarter_tex.shape[0])] = quarter
-                choice.solves += quarter.solves
-    return choice
+    # a pulled-in transition is extrapolated from the grid and its half (its estimate compares
+    # that with the same extrapolation one grid coarser, which needs the quarter grid: 1/16 of
+    # the work of the grid) and the cell reports it, psi(p) included, before its A_re/A_fr is
+    # read for the estimate (docs/model.md 6.6)
+
+    def settle(cell: Any, cells: dict[int, Any]) -> dict[str, Any]:
+        pulled_in_companions(cell, make, lambda t: AdhesiveUnitCell(t, e1, **options).prepare(), cells)
+        return adopt_extrapolated(cells, int(cell.texture.shape[0]))
+
+    return choose_grid(make, tex, e1, (0.0, 0.0), ratio, target=target, max_grid=MAX_ADHESIVE_GRID,
+                       cell_options=options, progress=progress, cell_type=AdhesiveUnitCell, settle=settle)
 
 
 def adhesive_states(choice: Any, accuracy: float) -> dict[str, Any]:
@@ -195,17 +197,14 @@ def adhesive_states(choice: Any, accuracy: float) -> dict[str, Any]:
     the half grid's beside them, the estimate the change between them divided by ``2^q - 1``
     (:meth:`~fingerpad.micro.resolution.GridChoice.state_pressure_errors`; the grid is chosen by
     A_re/A_fr, not by the states, so ``accuracy`` is what the estimate is compared with)."""
-    from ..micro.resolution import STATES, StateChoice, extrapolated_states
+    from ..micro.resolution import STATES, StateChoice
 
     errors = choice.state_pressure_errors()
     out = {name: StateChoice(name, choice.cell, choice.coarse, errors[name], accuracy) for name in STATES}
-    # a transition the attraction pulled in: extrapolated to a vanishing pixel (docs/model.md 6.6)
-    quarter = None
-    if choice.coarse is not None:
-        quarter = choice.cells.get(int(choice.coarse.texture.shape[0]) // 2)
-    for name, (p, pc, error) in extrapolated_states(choice.cell, choice.coarse, quarter).items():
+    # a transition the attraction pulled in: extrapolated to a vanishing pixel, which the cell
+    # adopted in its grid's choice (:func:`resolve_adhesive_cell`; docs/model.md 6.6)
+    for name, (p, pc, error) in choice.extrapolated.items():
         out[name] = StateChoice(name, choice.cell, choice.coarse, error, accuracy, reported=p, reported_coarse=pc)
-        choice.cell.adopt_pressure(name, p)
     return out
 
 
