@@ -20,7 +20,9 @@ linearly in ``ln u`` (weights ``1 - t``, ``t``):
   (0 below the member's pull-off pressure);
 * the pull-off pressure, the work of separation (in units of ``E*`` and ``E* Lx``) and the
   transition and full-contact pressures (units of ``E*``) in ``ln``-``ln`` (linearly where one
-  of them is 0 or infinite).
+  of them is 0 or infinite), as the nodes report them: a node whose transition was pulled in
+  reports it extrapolated to a vanishing pixel, its psi jumping there, by the rule of a single
+  prediction's cell (:meth:`AdhesiveFamily.prepare`, docs/model.md 6.6).
 
 **The interpolation error** is estimated per member from the same nodes
 (:mod:`fingerpad.population.adhesion`): quadratic interpolants through a third node, each of the
