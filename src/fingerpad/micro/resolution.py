@@ -32,8 +32,8 @@ if TYPE_CHECKING:
     from ..textures import Texture
 
 __all__ = ["DEFAULT_ACCURACY", "MAX_AUTO_GRID", "MAX_STATE_GRID", "STATES", "GridChoice", "StateChoice",
-           "adopt_extrapolated", "choose_grid", "choose_state_grids", "companion", "estimate_method", "extrapolated_states", "halve",
-           "order_factor", "pulled_in_companions", "state_width"]
+           "adopt_extrapolated", "choose_grid", "choose_state_grids", "companion", "estimate_method",
+           "extrapolated_states", "halve", "order_factor", "pulled_in_companions", "state_width"]
 
 #: Target of the estimated relative error of A_re/A_fr when the grid is chosen automatically. The
 #: estimate is conservative: on the default cell it is 2.8 % at grid 64 and 1.2 % at 128 where the

@@ -23,8 +23,8 @@ from ..textures import Texture
 from .spec import Study
 
 __all__ = ["FINGER_LOAD_LIMIT", "MAX_ADHESIVE_GRID", "PULLED_IN_METHOD", "adhesive_states", "centre_load",
-           "load_at_centre_pressure", "pull_off_error", "load_notes", "resolve_adhesive_cell", "state_brackets", "state_choices",
-           "state_report", "texture_maker"]
+           "load_at_centre_pressure", "load_notes", "pull_off_error", "resolve_adhesive_cell", "state_brackets",
+           "state_choices", "state_report", "texture_maker"]
 
 
 #: Loads above this (N) are beyond what a finger exerts in touch; reports say so.
@@ -161,7 +161,7 @@ MAX_ADHESIVE_GRID = 256
 
 
 def resolve_adhesive_cell(study: Study, grid: int, e1: float, progress: Callable[[int, int], None] | None,
-                            estimate: bool = True) -> Any:
+                          estimate: bool = True) -> Any:
     """The adhesive cell (:class:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell`) of the study's
     texture, from the grid ``grid`` the non-adhesive cell took, doubled while the estimate of its
     A_re/A_fr error (the adhesive pad's, the range following the pixel) exceeds the accuracy."""
