@@ -235,8 +235,9 @@ def test_family_nodes_report_a_pulled_in_transition_as_a_single_prediction(tmp_p
     for u, node in zip(family.nodes, family.cells, strict=True):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
+            # (the family's own companion, read from the cache its settings key)
             half = AdhesiveUnitCell(study.texture.build(16), 1.0, work_of_adhesion=u * family.length,
-                                    cache=False).prepare()
+                                    **family.options).prepare()
         # (where grid 16 is held in full contact at zero load, not pulled in, nothing is extrapolated)
         want = extrapolated_states(node, half).get("transition", (node.own_state_pressure("transition"),))[0]
         assert node.transition_pressure == want
