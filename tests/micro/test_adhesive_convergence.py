@@ -119,7 +119,7 @@ def test_pulled_in_transition_is_extrapolated_at_first_order(pulled_in_cells) ->
     assert own[1] < p < 32e3  # above the grid's jump, below the non-adhesive transition
     # nothing without a half grid, or with a half grid that was not pulled in
     assert extrapolated_states(c64, None) == {}
-    # the cell reports what it adopts; its own bracket and psi(p) stay its own
+    # the cell reports what it adopts; its own bracket stays its own (psi(p): test_adhesive_reported.py)
     c64.adopt_pressure("transition", p)
     try:
         assert c64.transition_pressure == p and c64.own_state_pressure("transition") == own[1]

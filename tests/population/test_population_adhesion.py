@@ -208,3 +208,48 @@ def test_the_same_refusal_at_every_door(cache, tmp_path):
         attach(study_from_dict({"texture": dict(TEXTURE), "model": {"kind": "bem"},
                                 "finger": {"preset": "layered", "work_of_adhesion": 0.05}}), TABLE)
     assert str(layered.value) == ADHESION_LAYERED
+
+
+def test_family_nodes_report_a_pulled_in_transition_as_a_single_prediction(tmp_path):
+    # the README caps at w 0.15-0.22 J/m2 on grid 32 (its half 16): each node of the family pulled
+    # in reports its transition extrapolated by the rule a single prediction's cell follows
+    # (micro.resolution.adopt_extrapolated), not the grid's own; a member's psi jumps where its
+    # states say (~10 s)
+    import warnings
+
+    from fingerpad.micro.resolution import extrapolated_states
+    from fingerpad.population.adhesion import member_family
+    from fingerpad.study.run import centre_state
+
+    study = study_from_dict({
+        "texture": {"name": "caps", "radius": 100e-6, "height": 20e-6, "spacing": 175e-6, "lattice": "hexagonal"},
+        "material": {"modulus": 0.5e9, "poisson": 0.4}, "finger": {"work_of_adhesion": 0.3},
+        "model": {"kind": "bem", "grid": 32, "cache": str(tmp_path)}, "loads": {"values": [0.1]}})
+    e = study.reduced_modulus
+    fingers = [study.finger.with_overrides(work_of_adhesion=w) for w in (0.15, 0.2, 0.22)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        tex = study.build_texture()
+        family = member_family(study, AdhesiveUnitCell(tex, e, work_of_adhesion=0.3, cache=False), fingers, [e] * 3)
+    adopted = 0
+    for u, node in zip(family.nodes, family.cells, strict=True):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            # (the family's own companion, read from the cache its settings key)
+            half = AdhesiveUnitCell(study.texture.build(16), 1.0, work_of_adhesion=u * family.length,
+                                    **family.options).prepare()
+        # (where grid 16 is held in full contact at zero load, not pulled in, nothing is extrapolated)
+        want = extrapolated_states(node, half).get("transition", (node.own_state_pressure("transition"),))[0]
+        assert node.transition_pressure == want
+        adopted += want != node.own_state_pressure("transition")
+    assert adopted >= 2  # (measured: the nodes at w 0.149 and 0.218 J/m2, not 0.320)
+    member = family.cell_at(0.2, e)
+    assert member.transition_pressure > 0 and all(family.cells[i].pulled_in for i in member.weights)
+    t = member.transition_pressure
+    p = np.geomspace(0.2, 5, 400) * t
+    psi = member.contact_fraction(p)
+    states = np.array([centre_state(float(q), member) for q in p])
+    # asperity contact below the member's transition and only there, and psi's jump stands there
+    assert np.array_equal(states == "asperity", p < t)
+    jump = int(np.argmax(np.diff(psi)))
+    assert p[jump] < t <= p[jump + 1] and psi[jump + 1] - psi[jump] > 0.3

@@ -4,7 +4,7 @@ pressure: :class:`FingerStack` and :func:`centre_loads` (issue 34).
 :func:`centre_loads` is the package's one solver of ``1.5 F / A_fr(F) = p`` (Eq. 3.7 at the pad
 centre; Eq. 3.6 generalised to any unit cell) for a finger: a prediction's critical load
 (:func:`~fingerpad.coupling.predict_curve`) and full-contact load
-(:func:`~fingerpad.study.run.load_at_centre_pressure`) take it for one finger, a population's
+(:func:`~fingerpad.study.states.load_at_centre_pressure`) take it for one finger, a population's
 members (:mod:`.members`) for all of them at once, and since each finger's iterates are
 elementwise a member's load is the bits of the same finger predicted alone. SI units (m, N, Pa).
 """

@@ -37,8 +37,9 @@ only (the JKR limit's cohesive zone; no attraction reaching out of contact). Whe
 contacts pull the skin onto the texture's base from a distance (:attr:`AdhesiveUnitCell.pulled_in`:
 the jump comes when their edges are a fixed number of pixels short of the base, about three
 ranges of gap), the transition's error is first order in the pixel, and the prediction reports
-it extrapolated from the grid and its half (:func:`fingerpad.micro.resolution.extrapolated_states`,
-:meth:`AdhesiveUnitCell.adopt_pressure`; docs/model.md 6.6). SI units.
+it extrapolated from the grid and its half (:func:`fingerpad.micro.resolution.adopt_extrapolated`,
+:meth:`AdhesiveUnitCell.adopt_pressure`), its psi(p) jumping there (docs/model.md 6.6, "The
+curve with the reported transition"). SI units.
 """
 
 from __future__ import annotations
@@ -264,6 +265,7 @@ class AdhesiveUnitCell:
         self.solves = 0
         self._entry: dict[str, Any] = {}
         self._adopted: dict[str, float] = {}  # state pressures reported instead of the own (Pa)
+        self._shift_memo: tuple[Any, tuple[float, ...] | None] | None = None
         self._interp: Any = None
         self._progress: tuple[Progress | None, int, int] = (None, 0, 0)
         if self.cache is not None:
@@ -454,14 +456,22 @@ class AdhesiveUnitCell:
 
     def contact_fraction(self, p: "np.ndarray | float") -> np.ndarray:
         """psi(p) on the loading branch at mean pressure ``p`` (Pa, any sign): 0 below the
-        pull-off pressure, the last node's value above the top of the branch."""
+        pull-off pressure, the last node's value above the top of the branch. Where the cell
+        reports an adopted transition (:meth:`adopt_pressure`), its jump stands there
+        (:meth:`_shifted`)."""
         p = np.asarray(p, dtype=float)
         if self.flat:
             return np.where(p >= self.pull_off_pressure, 1.0, 0.0)
+        shift = self._shift()
+        if shift is None:
+            return self._own_fraction(p / self.modulus)
+        return self._shifted(p / self.modulus, shift)
+
+    def _own_fraction(self, q: np.ndarray) -> np.ndarray:
+        """psi of the cell's own loading branch at unit pressures ``q`` (p / E*)."""
         if self._interp is None:
             self._interp = self._build()
         interp, scale, lo, hi, last = self._interp
-        q = p / self.modulus
         out = np.zeros_like(q)
         inside = (q >= lo) & (q <= hi)
         out[inside] = interp(np.arcsinh(q[inside] / scale))
@@ -500,6 +510,11 @@ class AdhesiveUnitCell:
             return self._adopted[name]
         return self.own_state_pressure(name)
 
+    def reported_state_pressure(self, name: str) -> float:
+        """Pressure (Pa) of state ``name`` as the cell reports it: adopted
+        (:meth:`adopt_pressure`), else its own."""
+        return self._state_pressure(name)
+
     def own_state_pressure(self, name: str) -> float:
         """Pressure (Pa) of state ``name`` (``"transition"`` or ``"full"``) on this cell's own
         loading branch, whatever it adopted (:meth:`adopt_pressure`): the geometric middle of its
@@ -531,15 +546,72 @@ class AdhesiveUnitCell:
     def adopt_pressure(self, name: str, pressure: float | None) -> None:
         """Report ``pressure`` (Pa) as this cell's pressure of state ``name`` (its zones, critical
         and full-contact loads): the transition extrapolated to a vanishing pixel from this grid
-        and the half grid's (:func:`fingerpad.micro.resolution.extrapolated_states`); ``None``
-        reports the cell's own again. The curve psi(p), its kinks and the brackets stay the
-        cell's own (as :meth:`fingerpad.micro.bem.BEMUnitCell.adopt_states` does)."""
+        and the half grid's (:func:`fingerpad.micro.resolution.adopt_extrapolated`); ``None``
+        reports the cell's own again. psi(p) then jumps there too (:meth:`_shifted`: one
+        transition per prediction); the brackets and the stored nodes stay the cell's own."""
         if name not in ("transition", "full"):
             raise FingerpadError(f"adopt_pressure: no state {name!r}")
         if pressure is None:
             self._adopted.pop(name, None)
         else:
             self._adopted[name] = float(pressure)
+
+    def _shift(self) -> tuple[float, ...] | None:
+        """Where psi's jump moves to (unit pressures, p / E*), ``None`` where the cell reports its
+        own transition: ``(a, b, fb, t, f, slope)``, the branch's last node below its own jump
+        ``a`` and the first at or past it ``b``, the first node at or past its own full contact
+        ``fb``, the reported transition ``t`` and full contact ``f`` (at least ``t``), and the
+        branch's mean slope ``d psi / d ln p`` over the node spacing below ``a``. Kept per
+        adopted pressures (the coupling reads psi many times)."""
+        key = (tuple(sorted(self._adopted.items())), self._entry.get("loading") is not None)
+        if self._shift_memo is None or self._shift_memo[0] != key:
+            self._shift_memo = (key, self._find_shift())
+        return self._shift_memo[1]
+
+    def _find_shift(self) -> tuple[float, ...] | None:
+        if "transition" not in self._adopted or self._entry.get("loading", {}).get("transition") is None:
+            return None
+        t = self._adopted["transition"] / self.modulus
+        lo, hi = self._entry["loading"]["transition"]
+        if lo <= 0 or t <= 0 or t == self.own_state_pressure("transition") / self.modulus:
+            return None
+        ps, _ = self._nodes()
+        a = float(ps[ps <= lo].max())
+        b = float(ps[ps >= hi].min()) if (ps >= hi).any() else float(ps[-1])
+        full = self._entry["loading"].get("full")
+        fb = float(ps[ps >= full[1]].min()) if full is not None and full[1] is not None and (ps >= full[1]).any() \
+            else float(ps[-1])
+        f = max(self._state_pressure("full") / self.modulus, t)
+        if not math.isfinite(f):  # no full contact on the branch: the part past the jump in proportion
+            f, fb = t, b
+        step = 10.0 ** (1.0 / POINTS_PER_DECADE)
+        below = self._own_fraction(np.array([a / step, a]))
+        slope = max(float(below[1] - below[0]) / math.log(step), 0.0)
+        return a, b, max(fb, b), t, f, slope
+
+    def _shifted(self, q: np.ndarray, shift: tuple[float, ...]) -> np.ndarray:
+        """psi with its jump at the reported transition (docs/model.md 6.6, "The curve with the
+        reported transition"): the own branch below its last node ``a`` before its jump; from
+        there to the reported transition ``t`` the branch continued at its slope over the node
+        spacing below ``a`` (linearly in ln p, at most the value past the jump); from ``t`` the
+        part past the own jump, ``[t, f]`` carried onto ``[b, fb]`` linearly in ln p and in
+        proportion above ``f``."""
+        a, b, fb, t, f, slope = shift
+        q = np.asarray(q, dtype=float)
+        out = self._own_fraction(np.minimum(q, a))
+        cont = (q > a) & (q < t)
+        if cont.any():
+            after = float(self._own_fraction(np.array([b]))[0])
+            out[cont] = np.minimum(out[cont] + slope * np.log(q[cont] / a), after)
+        past = q >= t
+        if past.any():
+            own = np.where(q[past] > f, q[past] * (fb / f), b)
+            if f > t:
+                inside = q[past] <= f
+                frac = np.log(np.maximum(q[past], t) / t) / math.log(f / t)
+                own = np.where(inside, b * (fb / b) ** frac, own)
+            out[past] = self._own_fraction(own)
+        return out
 
     @property
     def transition_pressure(self) -> float:
@@ -570,6 +642,14 @@ class AdhesiveUnitCell:
         ps, psi = self._nodes()
         jumps = np.flatnonzero(np.diff(psi) > MAX_PSI_STEP)
         out = {0.0, float(ps[0])} | {float(ps[i]) for i in jumps} | {float(ps[i + 1]) for i in jumps}
+        shift = self._shift()
+        if shift is not None:
+            # the own kinks below the continued branch, its ends, and those past the jump carried back
+            a, b, fb, t, f, _ = shift
+            past = np.array(sorted(v for v in out if v >= b), dtype=float)
+            back = np.where(past > fb, past * (f / fb),
+                            t * (f / t) ** (np.log(past / b) / math.log(fb / b)) if fb > b else t)
+            out = {v for v in out if v <= a} | {a, t, f} | {float(v) for v in np.atleast_1d(back)}
         return tuple(sorted(v * self.modulus for v in out))
 
     @property

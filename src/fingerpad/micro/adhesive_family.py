@@ -20,7 +20,9 @@ linearly in ``ln u`` (weights ``1 - t``, ``t``):
   (0 below the member's pull-off pressure);
 * the pull-off pressure, the work of separation (in units of ``E*`` and ``E* Lx``) and the
   transition and full-contact pressures (units of ``E*``) in ``ln``-``ln`` (linearly where one
-  of them is 0 or infinite).
+  of them is 0 or infinite), as the nodes report them: a node whose transition was pulled in
+  reports it extrapolated to a vanishing pixel, its psi jumping there, by the rule of a single
+  prediction's cell (:meth:`AdhesiveFamily.prepare`, docs/model.md 6.6).
 
 **The interpolation error** is estimated per member from the same nodes
 (:mod:`fingerpad.population.adhesion`): quadratic interpolants through a third node, each of the
@@ -145,17 +147,35 @@ class AdhesiveFamily:
             raise FingerpadError(f"adhesive family: at least {MIN_FAMILY_CELLS} ascending nodes, got {self.nodes}")
         _, _, self.length = periodic_cell(texture, 1.0)
         # every cell at E* = 1 Pa: its pressures are in units of E*, its work of adhesion is u Lx
+        self.options = dict(options)
         self.cells = [AdhesiveUnitCell(texture, 1.0, work_of_adhesion=u * self.length, **options) for u in self.nodes]
         self.flat = self.cells[0].flat
         self.solves = 0
 
-    def prepare(self, progress: Callable[[int, int], None] | None = None) -> "AdhesiveFamily":
-        """Solve (or read from the cache) every node's cell; ``progress(done, total)`` after each."""
-        for i, cell in enumerate(self.cells):
+    def prepare(self, progress: Callable[[int, int], None] | None = None,
+                make_texture: Callable[[int], Any] | None = None) -> "AdhesiveFamily":
+        """Solve (or read from the cache) every node's cell; ``progress(done, total)`` after each.
+
+        A node whose transition was pulled in reports it extrapolated to a vanishing pixel, as
+        a single prediction's cell does (:func:`~fingerpad.micro.resolution.adopt_extrapolated`,
+        docs/model.md 6.6): its half and quarter grids are solved beside it (``make_texture(nx)``
+        builds the texture at ``nx`` points along x; ``None``: the cell's heights block-averaged
+        2 x 2, :func:`~fingerpad.micro.resolution.companion`)."""
+        from .adhesive_cell import AdhesiveUnitCell
+        from .resolution import adopt_extrapolated, pulled_in_companions
+
+        for i, (u, cell) in enumerate(zip(self.nodes, self.cells, strict=True)):
             if not self.flat:
                 before = cell.solves
                 cell.prepare()
                 self.solves += cell.solves - before
+                grid = int(cell.texture.shape[0])
+                held: dict[int, Any] = {grid: cell}
+                self.solves += pulled_in_companions(
+                    cell, make_texture,
+                    lambda t, u=u: AdhesiveUnitCell(t, 1.0, work_of_adhesion=u * self.length, **self.options).prepare(),
+                    held)
+                adopt_extrapolated(held, grid)
             if progress is not None:
                 progress(i + 1, len(self.cells))
         return self
@@ -222,7 +242,9 @@ class InterpolatedAdhesiveCell:
         self.texture = first.texture
         self._unit_pull_off = -_interp_log([-c.pull_off_pressure for c, _ in self._cells], list(weights.values()))
         self._unit_work_sep = _interp_log([c.work_of_separation for c, _ in self._cells], list(weights.values()))
-        self._unit_states = {name: _interp_log([c.own_state_pressure(name) for c, _ in self._cells],
+        # the nodes' state pressures as they report them (a pulled-in transition extrapolated,
+        # their psi jumping there: AdhesiveFamily.prepare)
+        self._unit_states = {name: _interp_log([c.reported_state_pressure(name) for c, _ in self._cells],
                                                list(weights.values())) for name in ("transition", "full")}
         self._marks: tuple[list[float], list[list[float]]] | None = None
 
@@ -238,7 +260,7 @@ class InterpolatedAdhesiveCell:
         mine = [self._unit_pull_off, 0.0]
         theirs = [[c.pull_off_pressure, 0.0] for c, _ in self._cells]
         for name in ("transition", "full"):
-            values = [self._unit_states[name], *(c.own_state_pressure(name) for c, _ in self._cells)]
+            values = [self._unit_states[name], *(c.reported_state_pressure(name) for c, _ in self._cells)]
             if all(0 < v < math.inf for v in values) and all(v > row[-1] for v, row in
                                                               zip(values, [mine, *theirs], strict=True)):
                 mine.append(values[0])

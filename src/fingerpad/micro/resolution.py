@@ -32,8 +32,8 @@ if TYPE_CHECKING:
     from ..textures import Texture
 
 __all__ = ["DEFAULT_ACCURACY", "MAX_AUTO_GRID", "MAX_STATE_GRID", "STATES", "GridChoice", "StateChoice",
-           "choose_grid", "choose_state_grids", "companion", "estimate_method", "extrapolated_states", "halve",
-           "order_factor", "state_width"]
+           "adopt_extrapolated", "choose_grid", "choose_state_grids", "companion", "estimate_method",
+           "extrapolated_states", "halve", "order_factor", "pulled_in_companions", "state_width"]
 
 #: Target of the estimated relative error of A_re/A_fr when the grid is chosen automatically. The
 #: estimate is conservative: on the default cell it is 2.8 % at grid 64 and 1.2 % at 128 where the
@@ -90,6 +90,9 @@ class GridChoice:
     solves: int = 0
     #: Every cell prepared for the choice, by grid points along x (the state grids reuse them).
     cells: dict[int, BEMUnitCell] = field(default_factory=dict)
+    #: What ``settle`` reported of the chosen cell (:func:`choose_grid`): an adhesive cell's
+    #: extrapolated states, ``{state: (pressure, coarse pressure, error)}`` (empty: none).
+    extrapolated: dict[str, Any] = field(default_factory=dict)
 
     @property
     def met(self) -> bool | None:
@@ -138,8 +141,9 @@ def extrapolated_states(fine: Any, coarse: Any, quarter: Any = None) -> dict[str
 
     ``fine``, ``coarse``, ``quarter``: prepared adhesive cells of the same texture at ``N``,
     ``N/2`` and ``N/4`` points along x (``quarter`` may be ``None``). Only where ``fine`` and
-    ``coarse`` were both pulled in; the full contact only where it came with the transition (the
-    same bracket on both grids: the jump into full contact). Returns per state ``(pressure,
+    ``coarse`` were both pulled in; the full contact with it where it came with the transition on
+    ``fine`` (the same bracket: the jump into full contact) or where ``fine``'s own lies below the
+    extrapolated transition (full contact cannot precede it). Returns per state ``(pressure,
     coarse pressure, error)``: ``p_N + (p_N - p_{N/2}) / (2^q - 1)`` (Pa); the same extrapolation
     from ``N/2`` and ``N/4`` where ``quarter`` was pulled in too, else the grid's own ``p_N``
     (what the extrapolation is compared with); the estimated relative error, the relative change
@@ -161,9 +165,58 @@ def extrapolated_states(fine: Any, coarse: Any, quarter: Any = None) -> dict[str
         return {}
     error = max(abs(p / pc - 1.0), fine.rtol)
     out = {"transition": (p, pc, error)}
-    if all(c.full is not None and c.transition is not None and c.full == c.transition for c in (fine, coarse)):
+    # the full contact with it where it came at the transition on the grid reported (the jump
+    # into full contact), or where the grid's own comes below it: it cannot precede the transition
+    if (fine.full is not None and fine.full == fine.transition) or fine.own_state_pressure("full") < p:
         out["full"] = (p, pc, error)
     return out
+
+
+def adopt_extrapolated(cells: dict[int, Any], grid: int) -> dict[str, tuple[float, float, float]]:
+    """The one place an adhesive cell reports its pulled-in transition extrapolated (docs/model.md
+    6.6): the cell at ``grid`` points along x adopts :func:`extrapolated_states` from itself and
+    the cells at ``grid / 2`` and ``grid / 4`` (``cells``: prepared adhesive cells of one texture
+    by grid points along x; those missing count as ``None``), so that its zones, critical load
+    and ``psi(p)`` all jump there
+    (:meth:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell.adopt_pressure`); the half grid's
+    cell adopts its own (from ``grid / 2``, ``/ 4``, ``/ 8``) where it has one, so that an
+    estimate comparing the two compares the curves reported on each. Returns the cell's
+    ``{state: (pressure, coarse pressure, error)}`` (empty: nothing extrapolated)."""
+    fine = cells.get(grid)
+    if fine is None:
+        return {}
+    out = extrapolated_states(fine, cells.get(grid // 2), cells.get(grid // 4))
+    for name, (p, _, _) in out.items():
+        fine.adopt_pressure(name, p)
+    coarse = cells.get(grid // 2)
+    if out and coarse is not None:
+        for name, (p, _, _) in extrapolated_states(coarse, cells.get(grid // 4), cells.get(grid // 8)).items():
+            coarse.adopt_pressure(name, p)
+    return out
+
+
+def pulled_in_companions(cell: Any, make_texture: Callable[[int], "Texture"] | None,
+                         make_cell: Callable[["Texture"], Any], cells: dict[int, Any]) -> int:
+    """Add to ``cells`` (by grid points along x) the companions :func:`adopt_extrapolated` needs
+    for ``cell``: where ``cell`` was pulled in, its half grid's, and where that was pulled in
+    too, the quarter grid's (1/4 and 1/16 of the work of the grid), each made by
+    ``make_cell(texture)`` (prepared) on :func:`companion`'s texture, unless ``cells`` holds it.
+    Returns the solves added."""
+    solves = 0
+    current = cell
+    for _ in range(2):
+        if current.flat or not current.pulled_in:
+            break
+        n = int(current.texture.shape[0]) // 2
+        if n not in cells:
+            tex = companion(make_texture, current.texture)
+            if tex is None:
+                break
+            made = make_cell(tex)
+            cells[int(tex.shape[0])] = made
+            solves += made.solves
+        current = cells[n]
+    return solves
 
 
 def _state_error(fine: BEMUnitCell, coarse: BEMUnitCell, name: str) -> float:
@@ -268,6 +321,7 @@ def choose_grid(
     cell_options: dict[str, Any] | None = None,
     progress: Callable[[int, int], None] | None = None,
     cell_type: Callable[..., Any] = BEMUnitCell,
+    settle: Callable[[Any, dict[int, Any]], dict[str, Any]] | None = None,
 ) -> GridChoice:
     """Prepare the BEM cell of ``texture`` and estimate (or bound) its discretisation error.
 
@@ -299,6 +353,11 @@ def choose_grid(
         :class:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell` for an adhesive skin (whose
         range follows the pixel, so the estimate measures both together; its
         ``convergence_order``, 1/2, scales the change to the error left: :func:`order_factor`).
+    settle
+        ``settle(cell, cells)`` before each estimate, ``cells`` the prepared cells by grid points
+        along x (it may add some): what the cell reports beyond its own curve, settled before
+        its ``ratio`` is read (an adhesive cell's extrapolated transition,
+        :func:`adopt_extrapolated`); its result is the choice's :attr:`GridChoice.extrapolated`.
     """
     opts = dict(cell_options or {})
 
@@ -321,8 +380,13 @@ def choose_grid(
     coarse = prepared(coarse_tex, False, lighter) if coarse_tex is not None else None
     fine = prepared(fine_tex, True)
     history: list[tuple[int, float]] = []
+    settled: dict[str, Any] = {}
     while True:
         error = math.nan
+        if settle is not None:
+            held = _by_grid(cells)
+            settled = settle(fine, held)
+            cells.extend(c for c in held.values() if not any(c is d for d in cells))
         if coarse is not None:
             with np.errstate(divide="ignore", invalid="ignore"):
                 rel = np.asarray(ratio(fine), float) / np.asarray(ratio(coarse), float) - 1.0
@@ -332,11 +396,13 @@ def choose_grid(
         grow = (target is not None and make_texture is not None and not math.isnan(error)
                 and error > target and 2 * fine_tex.shape[0] <= max_grid)
         if not grow:
-            return GridChoice(fine, coarse, error, target, history, sum(c.solves for c in cells), _by_grid(cells))
+            return GridChoice(fine, coarse, error, target, history, sum(c.solves for c in cells), _by_grid(cells),
+                              settled)
         try:
             next_tex = make_texture(2 * fine_tex.shape[0])  # type: ignore[misc]
         except FingerpadError:
-            return GridChoice(fine, coarse, error, target, history, sum(c.solves for c in cells), _by_grid(cells))
+            return GridChoice(fine, coarse, error, target, history, sum(c.solves for c in cells), _by_grid(cells),
+                              settled)
         coarse, fine_tex = fine, next_tex
         fine = prepared(fine_tex, True)
 

@@ -89,6 +89,7 @@ def member_family(study: Any, cell: Any, fingers: Sequence[Finger], moduli: Sequ
         A finger without adhesion among them (:data:`ADHESION_MIXED`).
     """
     from ..micro.bem import periodic_cell
+    from ..study.states import texture_maker
 
     if any(not f.adhesive for f in fingers):
         raise FingerpadError(ADHESION_MIXED)
@@ -106,7 +107,8 @@ def member_family(study: Any, cell: Any, fingers: Sequence[Finger], moduli: Sequ
         if progress is not None:
             progress(len(nodes), len(nodes))
         return kept
-    family.prepare(progress)
+    # pulled-in nodes extrapolated as a single prediction's cell (study.states, docs/model.md 6.6)
+    family.prepare(progress, texture_maker(study))
     while len(_families) >= FAMILIES_KEPT:
         del _families[next(iter(_families))]
     _families[key] = family

@@ -85,7 +85,7 @@ def member_full_contact_loads(fingers: Sequence[Finger], pressures: Sequence[flo
     """Per finger, the load (N) at which its pad-centre pressure ``1.5 F / A_fr(F)`` reaches its
     cell's full-contact pressure ``pressures[i]`` (Pa), all fingers in one search
     (:func:`~fingerpad.coupling.loads.centre_loads`; ``inf`` for an infinite pressure, NaN if
-    none): :func:`~fingerpad.study.run.load_at_centre_pressure` of each finger, bit for bit.
+    none): :func:`~fingerpad.study.states.load_at_centre_pressure` of each finger, bit for bit.
     ``stack``: the fingers' stack if one is at hand."""
     return centre_loads(FingerStack(fingers) if stack is None else stack, np.asarray(pressures, dtype=float))
 
@@ -230,7 +230,7 @@ def _adhesive_codes(nominal: Prediction, fingers: Sequence[Finger], moduli: Sequ
     (:func:`~.adhesion.predict_adhesive_members`); the critical and full-contact loads and the
     centre states from the adhesive pad's centre pressure (Eq. 3.17), as a prediction takes them."""
     from ..micro.adhesive_pad import adhesive_pad
-    from ..study.run import _centre_load
+    from ..study.states import centre_load
     from .adhesion import predict_adhesive_members
 
     study = nominal.study
@@ -241,7 +241,7 @@ def _adhesive_codes(nominal: Prediction, fingers: Sequence[Finger], moduli: Sequ
         stats["adhesion"] = done
     loads = np.asarray(study.loads, dtype=float)
     crit = np.array([c.critical_load for c in done.curves], float)
-    full = np.array([_centre_load(f, c)(c.full_contact_pressure) if full_contact else math.nan
+    full = np.array([centre_load(f, c)(c.full_contact_pressure) if full_contact else math.nan
                      for f, c in zip(fingers, done.cells, strict=True)], float)
     codes = np.zeros((len(fingers), loads.size), np.int8)
     for i, (f, c, curve) in enumerate(zip(fingers, done.cells, done.curves, strict=True)):

@@ -22,10 +22,13 @@ from ..coupling import CurvePrediction, predict_curve
 from ..errors import FingerpadError
 from ..units import format_percent
 from ..finger import Finger
-from ..micro.bem import STATE_SEARCH_CAP
 from ..micro.hertz import HertzUnitCell, hertz_cell_for, supports_hertz
 from ..textures import Texture
 from .spec import Study
+from .states import adhesive_states, load_notes, resolve_adhesive_cell, state_brackets, state_choices, texture_maker
+from .states import pull_off_error as adhesive_pull_off_error
+# the search of a load from its centre pressure and the load floor of an estimate, where callers found them before
+from .states import _load_floor, load_at_centre_pressure  # noqa: F401
 
 __all__ = ["P_HIGH", "P_LOW", "Prediction", "bem_pressure_range", "centre_state", "pad_layer_note", "prepare_bem_cell",
            "run_study"]
@@ -142,21 +145,6 @@ def centre_state(peak_pressure: float, cell: Any) -> str:
     return "asperity"
 
 
-#: Loads above this (N) are beyond what a finger exerts in touch; reports say so.
-FINGER_LOAD_LIMIT = 100.0
-
-
-def load_at_centre_pressure(finger: Finger, pressure: float) -> float:
-    """Load (N) at which the centre pressure ``1.5 F / A_fr(F)`` equals ``pressure`` (Pa);
-    ``inf`` for an infinite pressure, NaN if none in the searched load range
-    (:data:`~fingerpad.micro.response.DEFAULT_LOAD_RANGE`): the package's one search of this
-    equation, :func:`~fingerpad.coupling.loads.centre_loads`, which a population's members take
-    all at once (the same bits)."""
-    from ..coupling.loads import FingerStack, centre_loads
-
-    return float(centre_loads(FingerStack([finger]), [float(pressure)])[0])
-
-
 #: A layered finger's pad modulus E_fp* and its skin's effective modulus at the pad's contact
 #: scale may differ by this factor before a note says so.
 PAD_LAYER_TOLERANCE = 1.5
@@ -184,36 +172,6 @@ def pad_layer_note(finger: Finger, load: float) -> str | None:
     return (f"layered skin: its effective modulus at the pad's contact radius ({a * 1e3:.3g} mm at {load:g} N) is "
             f"{e_pad / 1e3:.3g} kPa, the pad's E_fp* is {finger.modulus / 1e3:.3g} kPa: the pad (Eq. 2.5) keeps "
             "E_fp*; set the finger's modulus to the skin's for one skin through the scales")
-
-
-def _centre_load(finger: Finger, cell: Any) -> Callable[[float], float]:
-    """``pressure -> load`` (N) at which the pad centre reaches ``pressure`` (Pa): the Hertz
-    pad's ``1.5 F / A_fr`` (:func:`load_at_centre_pressure`), or with an adhesive cell the
-    adhesive pad's centre pressure (Eq. 3.17)."""
-    if not getattr(cell, "adhesive", False):
-        return lambda p: load_at_centre_pressure(finger, p)
-    from ..micro.adhesive_pad import adhesive_pad
-    from ..micro.response import DEFAULT_LOAD_RANGE, solve_load
-
-    pad = adhesive_pad(finger, cell)
-
-    def centre(load: float) -> float:
-        f = np.array([load])
-        return float(pad.centre_pressure(f, pad.areas(f)[1])[0])
-
-    def load_at(p: float) -> float:
-        if math.isinf(p):
-            return math.inf
-        if not math.isfinite(p):
-            return math.nan
-        if p <= centre(0.0):
-            return 0.0
-        try:
-            return solve_load(lambda f: centre(f) - p, DEFAULT_LOAD_RANGE, "load", lambda lo, hi: "")
-        except FingerpadError:
-            return math.nan
-
-    return load_at
 
 
 def _threshold_pressures(finger: Finger, p_range: tuple[float, float]) -> tuple[float, float]:
@@ -325,7 +283,7 @@ def prepare_bem_cell(study: Study) -> Any:
     study.check()
     tex = study.build_texture()
     choice = _resolved_cell(study, tex, study.reduced_modulus, bem_pressure_range(study), None, estimate=False)
-    _, solves = _state_choices(study, tex, study.reduced_modulus, choice)
+    _, solves = state_choices(study, tex, study.reduced_modulus, choice)
     choice.solves += solves
     return choice
 
@@ -339,12 +297,10 @@ def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, 
     preparation that solves nothing."""
     from ..coupling import couple
     from ..micro.resolution import choose_grid
-    from .texture import TextureSpec
 
     loads = np.append(study.loads, study.zone_load)
     ridge = np.asarray(study.finger.ridge_area(loads), dtype=float)
-    generated = isinstance(study.texture, TextureSpec) and study.texture.name is not None
-    make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
+    make = texture_maker(study)
     target = None if study.grid is not None or make is None else study.accuracy
     ratio = (lambda cell: couple(loads, ridge, cell).area_ratio) if estimate or target is not None else \
         (lambda cell: np.full(loads.size, np.nan))
@@ -355,155 +311,6 @@ def _resolved_cell(study: Study, tex: Texture, e1: float, p_range: tuple[float, 
                       "layer": study.finger.layer},
         progress=progress,
     )
-
-
-def _state_choices(study: Study, tex: Texture, e1: float, choice: Any) -> tuple[dict[str, Any], int]:
-    """The grid of each state pressure (:func:`~fingerpad.micro.resolution.choose_state_grids`):
-    chosen by the study's accuracy from the starting grid where the curve's grid is chosen
-    automatically, else the curve's own grid (given, or a measured map's). The loads asked for
-    do not enter. Returns the choices and the solves they added."""
-    from ..micro.resolution import choose_state_grids
-    from .texture import TextureSpec
-
-    generated = isinstance(study.texture, TextureSpec) and study.texture.name is not None
-    make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
-    automatic = study.grid is None and make is not None
-    start = tex if automatic else choice.cell.texture
-    return choose_state_grids(
-        make, start, e1, target=study.accuracy if automatic else None,
-        cell_options={"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache(),
-                      "layer": study.finger.layer},
-        cells=choice.cells,
-    )
-
-
-def _state_report(states: dict[str, Any], finger: Finger,
-                  centre_load: Callable[[float], float] | None = None) -> dict[str, Any]:
-    """Per state: its grid, the half grid's, the pressure's and the load's estimated errors
-    (``centre_load``: pressure -> load at the pad centre, :func:`_centre_load`; by default the
-    Hertz pad's, :func:`load_at_centre_pressure`)."""
-    if centre_load is None:
-        centre_load = lambda p: load_at_centre_pressure(finger, p)  # noqa: E731
-    out = {}
-    for name, st in states.items():
-        p, pc = st.pressure, st.coarse_pressure
-        f, fc = centre_load(p), centre_load(pc)
-        with np.errstate(all="ignore"):
-            load_error = abs(f / fc - 1.0) if math.isfinite(f) and math.isfinite(fc) and fc > 0 else \
-                (math.nan if math.isnan(st.error) else math.inf)
-        if not math.isnan(st.error) and math.isfinite(load_error):
-            load_error = max(load_error, _load_floor(centre_load, st))
-        out[name] = {
-            "grid": list(st.cell.texture.shape),
-            "coarse_grid": list(st.coarse.texture.shape) if st.coarse is not None else None,
-            "pressure_error": st.error,
-            "load_error": load_error,
-            "coarse_pressure": pc,
-            "target": st.target,
-            "met": st.met,
-            "history": [{"grid": g, "pressure_error": e} for g, e in st.history],
-            "method": "relative change from the half grid, |p_N / p_{N/2} - 1| (at least the bracket's width); "
-                      "the load's: the same change carried through the pad, |F(p_N) / F(p_{N/2}) - 1|"
-            if st.reported is None else PULLED_IN_METHOD,
-        }
-        if st.reported is not None:
-            out[name]["own_pressure"] = st.cell.own_state_pressure(name)
-    return out
-
-
-#: How a pulled-in transition's pressure and estimate are made (the state report's ``method``).
-PULLED_IN_METHOD = ("the skin was pulled onto the base from more than a range (docs/model.md 6.6): the pressure "
-                    "extrapolated to a vanishing pixel at first order, p = p_N + (p_N - p_{N/2}); its estimate the "
-                    "change from the same extrapolation one grid coarser, |p / p' - 1| (at least the bracket's "
-                    "width); the load's: the same carried through the pad, |F(p) / F(p') - 1|")
-
-
-def _load_floor(centre_load: Callable[[float], float], st: Any) -> float:
-    """The load change of a pressure change of the brackets' relative width, the wider of the
-    cell's and its companion's (the estimate's floor, as the pressure's)."""
-    from ..micro.resolution import state_width
-
-    p = st.pressure
-    width = max(state_width(c, st.state) for c in (st.cell, st.coarse) if c is not None)
-    f, f2 = centre_load(p), centre_load(p * (1.0 + width))
-    return abs(f2 / f - 1.0) if math.isfinite(f) and math.isfinite(f2) and f > 0 else 0.0
-
-
-#: The automatic grid of an adhesive cell stops at this many points along x: each of its ~120
-#: solves is a continuation step (grid 128: ~15 s on one core, 256: ~1.5 min; measured on the
-#: default cell), and the estimate is reported where it stays above the accuracy.
-MAX_ADHESIVE_GRID = 256
-
-
-def _adhesive_resolved_cell(study: Study, grid: int, e1: float, progress: Callable[[int, int], None] | None,
-                            estimate: bool = True) -> Any:
-    """The adhesive cell (:class:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell`) of the study's
-    texture, from the grid ``grid`` the non-adhesive cell took, doubled while the estimate of its
-    A_re/A_fr error (the adhesive pad's, the range following the pixel) exceeds the accuracy."""
-    from ..coupling import predict_curve
-    from ..micro.adhesive_cell import AdhesiveUnitCell
-    from ..micro.resolution import companion, choose_grid
-    from .texture import TextureSpec
-
-    finger = study.finger
-    loads = np.append(study.loads, study.zone_load)
-    generated = isinstance(study.texture, TextureSpec) and study.texture.name is not None
-    make = (lambda nx: study.texture.build(nx)) if generated else None  # type: ignore[union-attr]
-    tex = make(grid) if make is not None else study.build_texture()
-    target = None if study.grid is not None or make is None else study.accuracy
-    ratio = (lambda cell: predict_curve(loads, finger, cell, reference=False).area_ratio) \
-        if estimate or target is not None else (lambda cell: np.full(loads.size, np.nan))
-    options = {"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache(),
-               "layer": finger.layer, "work_of_adhesion": finger.work_of_adhesion,
-               "adhesion_range": finger.adhesion_range, "law": finger.adhesion_law}
-    choice = choose_grid(make, tex, e1, (0.0, 0.0), ratio, target=target, max_grid=MAX_ADHESIVE_GRID,
-                         cell_options=options, progress=progress, cell_type=AdhesiveUnitCell)
-    # a pulled-in transition is extrapolated from the grid and its half; its estimate compares
-    # that with the same extrapolation one grid coarser, which needs the quarter grid (1/16 of
-    # the work of the grid, where the doubling did not make it already)
-    fine, coarse = choice.cell, choice.coarse
-    if coarse is not None and not fine.flat and fine.pulled_in and coarse.pulled_in:
-        nq = coarse.texture.shape[0] // 2
-        if nq not in choice.cells:
-            quarter_tex = companion(make, coarse.texture)
-            if quarter_tex is not None:
-                quarter = AdhesiveUnitCell(quarter_tex, e1, **options).prepare()
-                choice.cells[int(quarter_tex.shape[0])] = quarter
-                choice.solves += quarter.solves
-    return choice
-
-
-def _adhesive_states(choice: Any, accuracy: float) -> dict[str, Any]:
-    """The state pressures of an adhesive cell as state choices: its own brackets on its grid,
-    the half grid's beside them, the estimate the change between them divided by ``2^q - 1``
-    (:meth:`~fingerpad.micro.resolution.GridChoice.state_pressure_errors`; the grid is chosen by
-    A_re/A_fr, not by the states, so ``accuracy`` is what the estimate is compared with)."""
-    from ..micro.resolution import STATES, StateChoice, extrapolated_states
-
-    errors = choice.state_pressure_errors()
-    out = {name: StateChoice(name, choice.cell, choice.coarse, errors[name], accuracy) for name in STATES}
-    # a transition the attraction pulled in: extrapolated to a vanishing pixel (docs/model.md 6.6)
-    quarter = None
-    if choice.coarse is not None:
-        quarter = choice.cells.get(int(choice.coarse.texture.shape[0]) // 2)
-    for name, (p, pc, error) in extrapolated_states(choice.cell, choice.coarse, quarter).items():
-        out[name] = StateChoice(name, choice.cell, choice.coarse, error, accuracy, reported=p, reported_coarse=pc)
-        choice.cell.adopt_pressure(name, p)
-    return out
-
-
-def _pull_off_error(choice: Any) -> float:
-    """Estimated relative error of the finger's pull-off force (Eqs. 3.15-3.18: proportional to
-    the cell's work of separation ``W``): ``|W_N / W_{N/2} - 1| / (2^q - 1)`` from the adhesive
-    cell and its half-grid companion (NaN without one)."""
-    from ..micro.resolution import order_factor
-
-    if choice.coarse is None:
-        return math.nan
-    fine, coarse = choice.cell.work_of_separation, choice.coarse.work_of_separation
-    if not (coarse > 0 and math.isfinite(fine)):
-        return math.nan
-    return abs(fine / coarse - 1.0) * order_factor(type(choice.cell))
 
 
 def _resolution_report(choice: Any, study: Study, states: dict[str, Any] | None = None) -> dict[str, Any]:
@@ -706,7 +513,7 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
 
             start_fork_server()  # the ramps' worker server starts beside the cell's solve
         choice = _resolved_cell(study, tex, e1, p_range, progress)
-        states, state_solves = _state_choices(study, tex, e1, choice)
+        states, state_solves = state_choices(study, tex, e1, choice)
         choice.solves += state_solves
         cell, tex = choice.cell, choice.cell.texture
         if not cell.flat:
@@ -719,10 +526,10 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
             plain = cell
             plain.prepare(*_threshold_pressures(finger, p_range))
             solves_before = choice.solves
-            choice = _adhesive_resolved_cell(study, tex.shape[0], e1, progress)
+            choice = resolve_adhesive_cell(study, tex.shape[0], e1, progress)
             cell, tex = choice.cell, choice.cell.texture
-            states = _adhesive_states(choice, study.accuracy)
-            pull_off_error = _pull_off_error(choice)
+            states = adhesive_states(choice, study.accuracy)
+            pull_off_error = adhesive_pull_off_error(choice)
         resolution = _resolution_report(choice, study, states)
         resolution["solves"] += solves_before
         what = "A_re/A_fr (with adhesion)" if finger.adhesive else "A_re/A_fr"
@@ -764,28 +571,9 @@ def run_study(study: Study, progress: Callable[[int, int], None] | None = None, 
         "hertz": hertz.critical_load_hertz if hertz is not None else None,
     }
     full: dict[str, float | None] = {"bem": None}
-    brackets: dict[str, Any] = {}
-    centre_load = _centre_load(finger, cell)
-    state_report = _state_report(states, finger, centre_load) if cell is not None and not cell.flat else {}
+    full["bem"], brackets = state_brackets(cell, states, finger)
     if cell is not None and not cell.flat:
-        full["bem"] = centre_load(cell.full_contact_pressure)
-        for state, bracket in (("transition", cell.transition), ("full", cell.full)):
-            lo, hi = (float(b) for b in bracket)
-            brackets[state] = {
-                "pressure": [lo, hi],
-                "load": [centre_load(lo), centre_load(hi)],
-                "relative_width": (hi - lo) / hi if math.isfinite(hi) else None,
-                **(state_report.get(state, {})),
-            }
-        for name, f in (("critical", crit["bem"]), ("full-contact", full["bem"])):  # noqa: B007
-            if f is not None and math.isfinite(f) and f > FINGER_LOAD_LIMIT:
-                notes.append(f"BEM {name} load {f:.4g} N lies beyond the loads a finger exerts "
-                             f"(above {FINGER_LOAD_LIMIT:g} N)")
-        if math.isinf(cell.full_contact_pressure):
-            notes.append(f"full contact not reached up to {cell.full[0] / 1e3:.4g} kPa (the last node below "
-                         f"{STATE_SEARCH_CAP:g} E*, where linear elasticity ends)")
-    elif cell is not None:
-        full["bem"] = 0.0
+        load_notes(cell, crit["bem"], full["bem"], notes)
     primary_cell = cell if cell is not None else hertz_cell
     adhesion = None
     if bem is not None and bem.adhesion is not None:
