@@ -611,11 +611,18 @@ class AdhesiveUnitCell:
         """This texture's adhesive cell for another skin (reduced modulus ``modulus``, Pa, and
         ``layer``): ``w / E*`` changes with the modulus, so it is another unit cell (made with
         this one's settings and cache, prepared)."""
-        cell = AdhesiveUnitCell(self.texture, modulus, work_of_adhesion=self.work_of_adhesion,
+        return self._like(self.texture, modulus, layer).prepare()
+
+    def sibling(self, texture: "Texture") -> "AdhesiveUnitCell":
+        """The adhesive cell of another map of this texture (another grid: the estimates' coarser
+        companions), with this cell's skin, adhesion, settings and cache; not prepared."""
+        return self._like(texture, self.modulus, self.layer)
+
+    def _like(self, texture: "Texture", modulus: float, layer: Layer | None) -> "AdhesiveUnitCell":
+        return AdhesiveUnitCell(texture, modulus, work_of_adhesion=self.work_of_adhesion,
                                 adhesion_range=self.physical_range, law=self.law.name, tol=self.tol,
                                 max_iter=self.max_iter, cache=self.cache if self.cache is not None else False,
                                 rtol=self.rtol, layer=layer, curve_tol=self.curve_tol)
-        return cell.prepare()
 
     @property
     def interpolation_error(self) -> float:
