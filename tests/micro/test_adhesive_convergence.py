@@ -5,7 +5,10 @@
   at w 0.05 J/m^2 (within 2 % between grids 128 and 256);
 * the grid's error estimate of an adhesive cell is the change from the half grid scaled to the
   error left at convergence order 1/2 (Maugis's parameter grows as the pixel's -1/2 power),
-  while a non-adhesive cell's estimate is unchanged.
+  while a non-adhesive cell's estimate is unchanged;
+* a transition the attraction pulled in (w 0.3 J/m^2) is extrapolated with the orders 1 and 3/2
+  removed, exact for that form, its estimate exact for an order-2 remainder and safeguarded
+  where the grids show another form; on grids 32-256 it is met within 0.2 % of 512's.
 """
 
 from __future__ import annotations

@@ -31,7 +31,7 @@ from .bem import BEMUnitCell
 if TYPE_CHECKING:
     from ..textures import Texture
 
-__all__ = ["DEFAULT_ACCURACY", "MAX_AUTO_GRID", "MAX_STATE_GRID", "STATES", "GridChoice", "StateChoice",
+__all__ = ["DEFAULT_ACCURACY", "MAX_AUTO_GRID", "MAX_STATE_GRID", "PULL_IN_METHOD", "STATES", "GridChoice", "StateChoice",
            "choose_grid", "choose_state_grids", "companion", "eighth_of", "estimate_method", "extrapolated_states",
            "halve", "order_factor", "richardson", "state_width"]
 
@@ -139,6 +139,14 @@ PULL_IN_ORDERS = (1.0, 1.5)
 PULL_IN_NEXT_ORDER = 2.0
 #: Kept for the single extrapolation (two grids only): the first of :data:`PULL_IN_ORDERS`.
 PULL_IN_ORDER = PULL_IN_ORDERS[0]
+#: How :func:`extrapolated_states` makes a pulled-in transition's pressure and estimate, in words
+#: (a state report's ``method``).
+PULL_IN_METHOD = ("the skin was pulled onto the base from more than a range (docs/model.md 6.6): the pressure "
+                  "extrapolated to a vanishing pixel with the orders 1 and 3/2 removed (Richardson on the grid, "
+                  "its half and its quarter; p_N + (p_N - p_{N/2}) where only the half grid was pulled in); its "
+                  "estimate |p / p' - 1|, p' the limit one order further with the eighth grid too (else the "
+                  "extrapolation of one order less), at least the bracket's width; the load's: the same carried "
+                  "through the pad, |F(p) / F(p') - 1|")
 
 
 def richardson(values: "list[float]", orders: "tuple[float, ...]" = PULL_IN_ORDERS) -> float:
