@@ -131,8 +131,8 @@ def estimate_method(cell_type: Any) -> str:
 #: ``c dx``: first order. ``c`` itself drifts with the cohesive zone's Maugis parameter, which
 #: grows as ``dx^(-1/2)`` (the range follows the pixel as ``dx^(1/2)``): 2.4 to 3.0 pixels on
 #: grids 64 to 512, a term of order 3/2. Measured on the default cell at ``w`` 0.3 J/m^2, grids 64
-#: to 512: ``p* - a dx + b dx^(3/2)`` fits the grid's own transitions within 0.02 %, every other
-#: pair of orders from {1/2, 1, 3/2, 2, 3} 10-20 times worse (docs/model.md 6.6).
+#: to 512: ``p* - a dx + b dx^(3/2)`` fits the grid's own transitions within 6 Pa (0.03 %), every
+#: other pair of orders from {1/2, 1, 3/2, 2, 3} 6-30 times worse (docs/model.md 6.6).
 PULL_IN_ORDERS = (1.0, 1.5)
 #: Order of what the two extrapolations leave (the next power of ``dx^(1/2)``): the change of the
 #: twice-extrapolated transition from the half grid is divided by ``2^q - 1`` for its estimate.
