@@ -35,11 +35,11 @@ grid's error estimate (:mod:`fingerpad.micro.resolution`) measures both together
 regularised acts within :data:`~fingerpad.contact.interaction.TIP_PIXELS` pixels of the contact
 only (the JKR limit's cohesive zone; no attraction reaching out of contact). Where the caps'
 contacts pull the skin onto the texture's base from a distance (:attr:`AdhesiveUnitCell.pulled_in`:
-the jump comes when their edges are a fixed number of pixels short of the base, about three
-ranges of gap), the transition's error is first order in the pixel, and the prediction reports
-it extrapolated from the grid and its half (:func:`fingerpad.micro.resolution.adopt_extrapolated`,
-:meth:`AdhesiveUnitCell.adopt_pressure`), its psi(p) jumping there (docs/model.md 6.6, "The
-curve with the reported transition"). SI units.
+the jump comes when their edges are 2.5-3 pixels short of the base, about three ranges of gap),
+the transition's error is of orders 1 and 3/2 in the pixel, and the prediction reports it
+extrapolated from the grid, its half and its quarter, estimated with the eighth
+(:func:`fingerpad.micro.resolution.adopt_extrapolated`, :meth:`AdhesiveUnitCell.adopt_pressure`),
+its psi(p) jumping there (docs/model.md 6.6, "The curve with the reported transition"). SI units.
 """
 
 from __future__ import annotations
@@ -201,8 +201,8 @@ class AdhesiveUnitCell:
     #: default cell at ``w`` 0.3 J/m^2 the transition's change per grid doubling shrinks by 0.67.
     #: The grid's error estimate scales the change from the half grid by ``1 / (2^q - 1)``
     #: (:func:`fingerpad.micro.resolution.order_factor`). A transition the attraction pulled in
-    #: (:attr:`pulled_in`) is instead extrapolated at first order and estimated from the
-    #: extrapolation's own change (:func:`fingerpad.micro.resolution.extrapolated_states`).
+    #: (:attr:`pulled_in`) is instead extrapolated with the orders 1 and 3/2 removed and estimated
+    #: against the next order's limit (:func:`fingerpad.micro.resolution.extrapolated_states`).
     convergence_order = 0.5
 
     def __init__(
@@ -691,11 +691,18 @@ class AdhesiveUnitCell:
         """This texture's adhesive cell for another skin (reduced modulus ``modulus``, Pa, and
         ``layer``): ``w / E*`` changes with the modulus, so it is another unit cell (made with
         this one's settings and cache, prepared)."""
-        cell = AdhesiveUnitCell(self.texture, modulus, work_of_adhesion=self.work_of_adhesion,
+        return self._like(self.texture, modulus, layer).prepare()
+
+    def sibling(self, texture: "Texture") -> "AdhesiveUnitCell":
+        """The adhesive cell of another map of this texture (another grid: the estimates' coarser
+        companions), with this cell's skin, adhesion, settings and cache; not prepared."""
+        return self._like(texture, self.modulus, self.layer)
+
+    def _like(self, texture: "Texture", modulus: float, layer: Layer | None) -> "AdhesiveUnitCell":
+        return AdhesiveUnitCell(texture, modulus, work_of_adhesion=self.work_of_adhesion,
                                 adhesion_range=self.physical_range, law=self.law.name, tol=self.tol,
                                 max_iter=self.max_iter, cache=self.cache if self.cache is not None else False,
                                 rtol=self.rtol, layer=layer, curve_tol=self.curve_tol)
-        return cell.prepare()
 
     @property
     def interpolation_error(self) -> float:

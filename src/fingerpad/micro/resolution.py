@@ -31,9 +31,10 @@ from .bem import BEMUnitCell
 if TYPE_CHECKING:
     from ..textures import Texture
 
-__all__ = ["DEFAULT_ACCURACY", "MAX_AUTO_GRID", "MAX_STATE_GRID", "STATES", "GridChoice", "StateChoice",
-           "adopt_extrapolated", "choose_grid", "choose_state_grids", "companion", "estimate_method",
-           "extrapolated_states", "halve", "order_factor", "pulled_in_companions", "state_width"]
+__all__ = ["DEFAULT_ACCURACY", "MAX_AUTO_GRID", "MAX_STATE_GRID", "PULL_IN_METHOD", "STATES", "GridChoice",
+           "StateChoice", "adopt_extrapolated", "choose_grid", "choose_state_grids", "companion", "eighth_of",
+           "estimate_method", "extrapolated_states", "halve", "order_factor", "pulled_in_companions", "richardson",
+           "state_width"]
 
 #: Target of the estimated relative error of A_re/A_fr when the grid is chosen automatically. The
 #: estimate is conservative: on the default cell it is 2.8 % at grid 64 and 1.2 % at 128 where the
@@ -127,70 +128,122 @@ def estimate_method(cell_type: Any) -> str:
             f"(convergence of order q = {order:g} in the pixel: the adhesion range follows it)")
 
 
-#: Order in the pixel of the error of a pulled-in transition (an adhesive cell's
-#: :attr:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell.pulled_in`): the skin is pulled onto
-#: the base when the contact's edge comes within a fixed number of pixels of it (2.5-3 on the
-#: default cell at every grid), so the pressure misses the edge's arrival by a first-order amount
-#: (docs/model.md 6.6, "Convergence past the transition").
-PULL_IN_ORDER = 1.0
+#: Orders in the pixel of the error of a pulled-in transition (an adhesive cell's
+#: :attr:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell.pulled_in`), removed one after the
+#: other by :func:`extrapolated_states`. The skin is pulled onto the base when the caps' contact
+#: edges come within ``c`` pixels of their feet, so the pressure misses the edges' arrival by
+#: ``c dx``: first order. ``c`` itself drifts with the cohesive zone's Maugis parameter, which
+#: grows as ``dx^(-1/2)`` (the range follows the pixel as ``dx^(1/2)``): 2.4 to 3.0 pixels on
+#: grids 64 to 512, a term of order 3/2. Measured on the default cell at ``w`` 0.3 J/m^2, grids 64
+#: to 512: ``p* - a dx + b dx^(3/2)`` fits the grid's own transitions within 6 Pa (0.03 %), every
+#: other pair of orders from {1/2, 1, 3/2, 2, 3} 6-30 times worse (docs/model.md 6.6).
+PULL_IN_ORDERS = (1.0, 1.5)
+#: Order of what the two extrapolations leave (the next power of ``dx^(1/2)``): the change of the
+#: twice-extrapolated transition from the half grid is divided by ``2^q - 1`` for its estimate.
+PULL_IN_NEXT_ORDER = 2.0
+#: Kept for the single extrapolation (two grids only): the first of :data:`PULL_IN_ORDERS`.
+PULL_IN_ORDER = PULL_IN_ORDERS[0]
+#: How :func:`extrapolated_states` makes a pulled-in transition's pressure and estimate, in words
+#: (a state report's ``method``).
+PULL_IN_METHOD = ("the skin was pulled onto the base from more than a range (docs/model.md 6.6): the pressure "
+                  "extrapolated to a vanishing pixel with the orders 1 and 3/2 removed (Richardson on the grid, "
+                  "its half and its quarter; p_N + (p_N - p_{N/2}) where only the half grid was pulled in); its "
+                  "estimate |p / p' - 1|, p' the limit one order further with the eighth grid too (else the "
+                  "extrapolation of one order less), at least the bracket's width; the load's: the same carried "
+                  "through the pad, |F(p) / F(p') - 1|")
 
 
-def extrapolated_states(fine: Any, coarse: Any, quarter: Any = None) -> dict[str, tuple[float, float, float]]:
+def richardson(values: "list[float]", orders: "tuple[float, ...]" = PULL_IN_ORDERS) -> float:
+    """The value at a vanishing pixel of ``values`` (a quantity on grids ``N, N/2, N/4, ...``,
+    finest first) whose error is a sum of terms ``c_i dx^(q_i)``: Richardson's extrapolation,
+    the term of order ``orders[0]`` removed from each pair of neighbours, then ``orders[1]`` from
+    each pair of those, ... as far as the values go (``len(values) - 1`` orders; one value: itself).
+    Exact for ``values`` of that form."""
+    level = [float(v) for v in values]
+    for q in orders[: len(level) - 1]:
+        factor = 1.0 / (2.0**q - 1.0)
+        level = [fine + (fine - coarse) * factor for fine, coarse in zip(level[:-1], level[1:], strict=False)]
+    return level[0]
+
+
+def extrapolated_states(fine: Any, coarse: Any, quarter: Any = None,
+                        eighth: Any = None) -> dict[str, tuple[float, float, float]]:
     """The state pressures of an adhesive cell whose transition was pulled in, extrapolated to a
-    vanishing pixel (Richardson, order :data:`PULL_IN_ORDER`) from its grid and the half grid's.
+    vanishing pixel (Richardson, :func:`richardson`, orders :data:`PULL_IN_ORDERS`).
 
-    ``fine``, ``coarse``, ``quarter``: prepared adhesive cells of the same texture at ``N``,
-    ``N/2`` and ``N/4`` points along x (``quarter`` may be ``None``). Only where ``fine`` and
-    ``coarse`` were both pulled in; the full contact with it where it came with the transition on
-    ``fine`` (the same bracket: the jump into full contact) or where ``fine``'s own lies below the
-    extrapolated transition (full contact cannot precede it). Returns per state ``(pressure,
-    coarse pressure, error)``: ``p_N + (p_N - p_{N/2}) / (2^q - 1)`` (Pa); the same extrapolation
-    from ``N/2`` and ``N/4`` where ``quarter`` was pulled in too, else the grid's own ``p_N``
-    (what the extrapolation is compared with); the estimated relative error, the relative change
-    between them (at least the bracket's relative width). Empty where nothing is extrapolated."""
+    ``fine``, ``coarse``, ``quarter``, ``eighth``: prepared adhesive cells of the same texture at
+    ``N``, ``N/2``, ``N/4`` and ``N/8`` points along x (``quarter``, ``eighth`` may be ``None``;
+    ``eighth`` is then made from ``quarter``'s texture block-averaged 2 x 2, :func:`eighth_of`, a
+    sixty-fourth of ``fine``'s work). Only where ``fine`` and ``coarse`` were both pulled in; the
+    full contact with it where it came with the transition on ``fine`` (the same bracket: the jump
+    into full contact) or where ``fine``'s own lies below the extrapolated transition (full
+    contact cannot precede it). Returns per state ``(pressure, compared, error)`` (Pa, Pa, -), the error
+    ``|pressure / compared - 1|`` (at least the bracket's relative width):
+
+    * ``quarter`` and ``eighth`` pulled in: the pressure :func:`richardson` of ``p_N, p_{N/2},
+      p_{N/4}`` (orders 1 and 3/2 removed); compared with the limit the next order
+      (:data:`PULL_IN_NEXT_ORDER`) gives with ``p_{N/8}`` as well, which moves it by the change
+      from the half grid's value over ``2^2 - 1`` (exact for an error of that order). Where the
+      four grids do not take the assumed form (:func:`_asymptotic`), compared instead with the
+      farther of the half grid's value (the change undivided) and the limit at the order the
+      three finest grids' own changes show (:func:`_own_order_limit`, where they show one);
+    * ``quarter`` only: the same pressure, compared with the first-order extrapolation
+      ``p1 = p_N + (p_N - p_{N/2})`` (the last correction);
+    * ``fine`` and ``coarse`` only: ``p1``, compared with the grid's own ``p_N``.
+
+    Empty where nothing is extrapolated."""
     if coarse is None or not (getattr(fine, "pulled_in", False) and getattr(coarse, "pulled_in", False)):
         return {}
-    factor = 1.0 / (2.0**PULL_IN_ORDER - 1.0)
-
-    def extrapolated(a: Any, b: Any) -> float:
-        pa, pb = a.own_state_pressure("transition"), b.own_state_pressure("transition")
-        return pa + (pa - pb) * factor
-
-    p = extrapolated(fine, coarse)
+    chain = [fine, coarse]
     if quarter is not None and getattr(quarter, "pulled_in", False):
-        pc = extrapolated(coarse, quarter)
-    else:
-        pc = fine.own_state_pressure("transition")
-    if not (math.isfinite(p) and p > 0 and math.isfinite(pc) and pc > 0):
+        chain.append(quarter)
+        if eighth is None:
+            eighth = eighth_of(quarter)
+        if eighth is not None and getattr(eighth, "pulled_in", False):
+            chain.append(eighth)
+    own = [c.own_state_pressure("transition") for c in chain]
+    if not all(math.isfinite(v) and v > 0 for v in own):
         return {}
-    error = max(abs(p / pc - 1.0), fine.rtol)
-    out = {"transition": (p, pc, error)}
+    p = richardson(own[:3])
+    if len(own) == 4:
+        if _asymptotic(own):
+            compared = richardson(own, PULL_IN_ORDERS + (PULL_IN_NEXT_ORDER,))
+        else:
+            candidates = [richardson(own[1:4]), _own_order_limit(own[:3])]
+            compared = max((c for c in candidates if c > 0), key=lambda c: abs(p / c - 1.0), default=math.nan)
+    else:
+        compared = richardson(own[:len(own) - 1])  # p1 with the quarter, p_N without
+    if not (math.isfinite(p) and p > 0 and math.isfinite(compared) and compared > 0):
+        return {}
+    error = max(abs(p / compared - 1.0), fine.rtol)
+    out = {"transition": (p, compared, error)}
     # the full contact with it where it came at the transition on the grid reported (the jump
     # into full contact), or where the grid's own comes below it: it cannot precede the transition
     if (fine.full is not None and fine.full == fine.transition) or fine.own_state_pressure("full") < p:
-        out["full"] = (p, pc, error)
+        out["full"] = (p, compared, error)
     return out
 
 
 def adopt_extrapolated(cells: dict[int, Any], grid: int) -> dict[str, tuple[float, float, float]]:
     """The one place an adhesive cell reports its pulled-in transition extrapolated (docs/model.md
     6.6): the cell at ``grid`` points along x adopts :func:`extrapolated_states` from itself and
-    the cells at ``grid / 2`` and ``grid / 4`` (``cells``: prepared adhesive cells of one texture
-    by grid points along x; those missing count as ``None``), so that its zones, critical load
+    the cells at ``grid / 2``, ``grid / 4`` and ``grid / 8`` (``cells``: prepared adhesive cells of
+    one texture by grid points along x; those missing count as ``None``), so that its zones, critical load
     and ``psi(p)`` all jump there
     (:meth:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell.adopt_pressure`); the half grid's
-    cell adopts its own (from ``grid / 2``, ``/ 4``, ``/ 8``) where it has one, so that an
+    cell adopts its own (from ``grid / 2`` to ``/ 16``) where it has one, so that an
     estimate comparing the two compares the curves reported on each. Returns the cell's
     ``{state: (pressure, coarse pressure, error)}`` (empty: nothing extrapolated)."""
     fine = cells.get(grid)
     if fine is None:
         return {}
-    out = extrapolated_states(fine, cells.get(grid // 2), cells.get(grid // 4))
+    out = extrapolated_states(fine, cells.get(grid // 2), cells.get(grid // 4), cells.get(grid // 8))
     for name, (p, _, _) in out.items():
         fine.adopt_pressure(name, p)
     coarse = cells.get(grid // 2)
     if out and coarse is not None:
-        for name, (p, _, _) in extrapolated_states(coarse, cells.get(grid // 4), cells.get(grid // 8)).items():
+        for name, (p, _, _) in extrapolated_states(coarse, cells.get(grid // 4), cells.get(grid // 8),
+                                                   cells.get(grid // 16)).items():
             coarse.adopt_pressure(name, p)
     return out
 
@@ -199,12 +252,13 @@ def pulled_in_companions(cell: Any, make_texture: Callable[[int], "Texture"] | N
                          make_cell: Callable[["Texture"], Any], cells: dict[int, Any]) -> int:
     """Add to ``cells`` (by grid points along x) the companions :func:`adopt_extrapolated` needs
     for ``cell``: where ``cell`` was pulled in, its half grid's, and where that was pulled in
-    too, the quarter grid's (1/4 and 1/16 of the work of the grid), each made by
+    too, the quarter grid's, and so the eighth's (1/4, 1/16 and 1/64 of the work of the grid; the
+    eighth feeds the estimate only), each made by
     ``make_cell(texture)`` (prepared) on :func:`companion`'s texture, unless ``cells`` holds it.
     Returns the solves added."""
     solves = 0
     current = cell
-    for _ in range(2):
+    for _ in range(3):
         if current.flat or not current.pulled_in:
             break
         n = int(current.texture.shape[0]) // 2
@@ -217,6 +271,38 @@ def pulled_in_companions(cell: Any, make_texture: Callable[[int], "Texture"] | N
             solves += made.solves
         current = cells[n]
     return solves
+
+
+def _asymptotic(own: "list[float]") -> bool:
+    """Whether four grids' transitions (finest first) take the form the extrapolations assume, an
+    error with no term below first order: what the first-order extrapolation leaves shrinks
+    faster than an error of order 1/2 (by less than ``2^(-1/2)`` per doubling; ``2^(-3/2)`` once
+    only the order 3/2 is left; measured on the default cell at ``w`` 0.3 J/m^2: 0.48 on grids 32
+    to 256, 0.34 on 64 to 512), and the second extrapolation moves less than the first."""
+    e = [richardson(own[i:i + 2]) for i in range(3)]
+    d_fine, d_coarse = e[0] - e[1], e[1] - e[2]
+    d_second = richardson(own[:3]) - richardson(own[1:4])
+    return abs(d_fine) < 2.0**-0.5 * abs(d_coarse) and abs(d_second) < abs(d_fine)
+
+
+def _own_order_limit(own: "list[float]") -> float:
+    """The limit of three grids' values (finest first) at the order their own changes show,
+    ``p_N + (p_N - p_{N/2}) r / (1 - r)`` with ``r = (p_N - p_{N/2}) / (p_{N/2} - p_{N/4})``
+    (Aitken's); NaN where the changes do not shrink monotonically (no order to read)."""
+    d_fine, d_coarse = own[0] - own[1], own[1] - own[2]
+    r = d_fine / d_coarse if d_coarse != 0 else math.nan
+    return own[0] + d_fine * r / (1.0 - r) if 0.0 < r < 1.0 else math.nan
+
+
+def eighth_of(quarter: Any) -> Any:
+    """The adhesive cell of ``quarter``'s texture block-averaged 2 x 2 (:func:`halve`), with its
+    settings and cache, prepared; ``None`` where the texture cannot be halved (as a measured
+    map's companion is made: the cell does not know its texture's generator). On the default
+    caps at ``w`` 0.3 J/m^2 its transition bracket is the generated grid 32's."""
+    tex = halve(quarter.texture)
+    if tex is None:
+        return None
+    return quarter.sibling(tex).prepare()
 
 
 def _state_error(fine: BEMUnitCell, coarse: BEMUnitCell, name: str) -> float:

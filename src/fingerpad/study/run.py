@@ -209,7 +209,8 @@ def _adhesion_report(curve: CurvePrediction, finger: Finger, notes: list[str]) -
                      f"range {info['adhesion_range_used']:.3g} m, whose cohesive zone spans a pixel, acting within "
                      f"{TIP_PIXELS} pixels of the contact (the JKR limit's cohesive zone): the contacts are JKR's; "
                      "where adhesion pulls the skin onto the texture's base from a distance (large w) the "
-                     "transition is extrapolated to a vanishing pixel from the grid and its half (docs/model.md 6.6)"
+                     "transition is extrapolated to a vanishing pixel from the grid, its half and its quarter "
+                     "(docs/model.md 6.6)"
                      if info.get("transition_pulled_in") else
                      "where adhesion pulls the skin into full contact (large w) the grid converges slowly "
                      "(docs/model.md 6.6)")

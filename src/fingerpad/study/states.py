@@ -19,6 +19,7 @@ import numpy as np
 from ..errors import FingerpadError
 from ..finger import Finger
 from ..micro.bem import STATE_SEARCH_CAP
+from ..micro.resolution import PULL_IN_METHOD
 from ..textures import Texture
 from .spec import Study
 
@@ -136,11 +137,9 @@ def state_report(states: dict[str, Any], finger: Finger,
     return out
 
 
-#: How a pulled-in transition's pressure and estimate are made (the state report's ``method``).
-PULLED_IN_METHOD = ("the skin was pulled onto the base from more than a range (docs/model.md 6.6): the pressure "
-                    "extrapolated to a vanishing pixel at first order, p = p_N + (p_N - p_{N/2}); its estimate the "
-                    "change from the same extrapolation one grid coarser, |p / p' - 1| (at least the bracket's "
-                    "width); the load's: the same carried through the pad, |F(p) / F(p') - 1|")
+#: How a pulled-in transition's pressure and estimate are made (the state report's ``method``):
+#: the rule's own words, where the rule is (:data:`fingerpad.micro.resolution.PULL_IN_METHOD`).
+PULLED_IN_METHOD = PULL_IN_METHOD
 
 
 def _load_floor(centre_load: Callable[[float], float], st: Any) -> float:
@@ -179,10 +178,9 @@ def resolve_adhesive_cell(study: Study, grid: int, e1: float, progress: Callable
     options = {"tol": study.tol, "max_iter": study.max_iter, "cache": study.curve_cache(),
                "layer": finger.layer, "work_of_adhesion": finger.work_of_adhesion,
                "adhesion_range": finger.adhesion_range, "law": finger.adhesion_law}
-    # a pulled-in transition is extrapolated from the grid and its half (its estimate compares
-    # that with the same extrapolation one grid coarser, which needs the quarter grid: 1/16 of
-    # the work of the grid) and the cell reports it, psi(p) included, before its A_re/A_fr is
-    # read for the estimate (docs/model.md 6.6)
+    # a pulled-in transition is extrapolated from the grid, its half and its quarter, its estimate
+    # taken with the eighth (1/16 and 1/64 of the work of the grid for the last two), and the cell
+    # reports it, psi(p) included, before its A_re/A_fr is read for the estimate (docs/model.md 6.6)
 
     def settle(cell: Any, cells: dict[int, Any]) -> dict[str, Any]:
         pulled_in_companions(cell, make, lambda t: AdhesiveUnitCell(t, e1, **options).prepare(), cells)
