@@ -137,3 +137,61 @@ def test_participant_and_sample_pngs_on_kept_figures_are_the_same_as_on_new_ones
             assert participant_png(study_small, p, 40) == fresh[p], p
         for s in samples[::order]:
             assert sample_png(study_small, s, 40) == fresh[s], s
+
+
+def test_participant_figure_draws_every_stroke_in_its_condition_s_colour(study_small):
+    """The strokes of all conditions share one scatter per marker: each stroke is drawn once,
+    where it lies, in its condition's colour (outliers as crosses), on both panels."""
+    from matplotlib.colors import to_rgba
+
+    from fingerpad.plotting.measure import _colours, condition_label
+
+    s = study_small.strokes[study_small.strokes["participant"] == "P01"]
+    conds = sorted({(a, b) for a, b in zip(s["sample"], s["direction"])})
+    colours = _colours([condition_label(*c) for c in conds])
+    fig = figure_participant(study_small, "P01")
+
+    def drawn(ax):
+        points = []
+        for c in ax.collections:
+            if not hasattr(c, "get_offsets") or type(c).__name__ != "PathCollection":
+                continue
+            rgba = c.get_edgecolor() if len(c.get_facecolor()) == 0 else c.get_facecolor()
+            for (x, y), colour in zip(c.get_offsets(), np.broadcast_to(rgba, (len(c.get_offsets()), 4))):
+                points.append((round(float(x), 12), round(float(y), 12), tuple(np.round(colour[:3], 6))))
+        return sorted(points)
+
+    def expected(column, rows):
+        return sorted((round(float(x), 12), round(float(y), 12),
+                       tuple(np.round(to_rgba(colours[condition_label(a, b)])[:3], 6)))
+                      for x, y, a, b in zip(rows["load"], rows[column], rows["sample"], rows["direction"]))
+
+    assert drawn(fig.axes[0]) == expected("mu", s)
+    ref = study_small.options.reference
+    usable = s[(~s["outlier"].to_numpy(dtype=bool)) & (s["sample"] != ref).to_numpy()]
+    assert drawn(fig.axes[1]) == expected("mu_norm", usable)
+
+
+def test_sample_figure_error_bars_and_legend_order(study_small):
+    """Each participant's binned mean has its bar, mean +- s.e., in its colour, under the data
+    lines; the legend lists the population curve first and the participants after it."""
+    from matplotlib.colors import to_rgba
+
+    from fingerpad.plotting.measure import _colours, figure_sample
+
+    sample = next(s for s in sorted(study_small.strokes["sample"].unique()) if s != study_small.options.reference)
+    fig = figure_sample(study_small, sample)
+    b = study_small.bins[(study_small.bins["sample"] == sample) & (study_small.bins["sense"] == "both")]
+    colours = _colours(sorted(b["participant"].unique()))
+    for ax, mu, sem in ((fig.axes[0], "mu", "mu_sem"), (fig.axes[1], "mu_norm", "mu_norm_sem")):
+        bars = [c for c in ax.collections if type(c).__name__ == "LineCollection"]
+        assert len(bars) == 1 and bars[0].get_zorder() < min(line.get_zorder() for line in ax.lines if line.get_gid())
+        got = sorted((round(float(seg[0, 0]), 12), round(float(seg[0, 1]), 12), round(float(seg[1, 1]), 12),
+                      tuple(np.round(col[:3], 6)))
+                     for seg, col in zip(bars[0].get_segments(), bars[0].get_color()) if np.isfinite(seg).all())
+        want = sorted((round(float(x), 12), round(float(y - e), 12), round(float(y + e), 12),
+                       tuple(np.round(to_rgba(colours[p])[:3], 6)))
+                      for x, y, e, p in zip(b["load"], b[mu], b[sem], b["participant"]) if np.isfinite(e))
+        assert got == want and got
+    labels = [t.get_text() for t in fig.axes[1].get_legend().get_texts()]
+    assert labels[0].startswith("mean of participants") and labels[-1] == sorted(colours)[-1]

@@ -86,3 +86,24 @@ def test_forks_happen_with_ducc0_s_pool_shrunk_to_this_thread():
         assert dm.thread_pool_size() == 2 and seen == [1, 2, 3, 4]
     finally:
         dm.resize_thread_pool(before)
+
+
+def _blas_threads(_item: int) -> tuple[int, list[int]]:
+    from threadpoolctl import threadpool_info
+
+    return os.getpid(), [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+
+
+def test_workers_run_blas_on_one_thread_for_good():
+    """Each worker puts BLAS on one thread once (one_blas_thread), and it stays so for every
+    later task of that worker; the calling process keeps its own setting."""
+    from threadpoolctl import threadpool_info
+
+    from fingerpad.measure import parallel
+
+    here = [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"]
+    out = forked_map(_blas_threads, range(6), workers=2)
+    assert {pid for pid, _ in out} and os.getpid() not in {pid for pid, _ in out}
+    assert all(threads and set(threads) == {1} for _, threads in out)
+    assert [lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"] == here
+    assert parallel._ONE_BLAS_THREAD != [os.getpid()]  # nothing limited here

@@ -17,7 +17,7 @@ from typing import Any
 from ..plotting.measure import participant_png, qc_inputs_of, qc_png, sample_png
 from ..plotting.qcsheet import qc_sheet_png, qc_sheets
 from ..plotting.render import load_drawing_modules
-from .parallel import fork_ready, own_streams, usable_cpus
+from .parallel import fork_ready, one_blas_thread, own_streams, usable_cpus
 from .study import StudyResult
 
 __all__ = ["EarlyQC", "draw_figures", "qc_drawer", "qc_tasks", "safe_name"]
@@ -52,12 +52,10 @@ _FORKED: list[Any] = []
 
 
 def _forked_strokes(index: int, options: Any) -> Any:
-    from threadpoolctl import threadpool_limits
-
     from .tables import recording_strokes
 
-    with threadpool_limits(limits=1, user_api="blas"):  # as analyse_study: the same last bits
-        frame, report = recording_strokes(_FORKED[index], options)
+    one_blas_thread()  # as analyse_study: the same last bits
+    frame, report = recording_strokes(_FORKED[index], options)
     # the direction signal (one number per sample: 74 MB for 150 recordings) served only to
     # measure the strokes; sending it back cost more than finding the strokes
     report.signal = None

@@ -117,8 +117,7 @@ def _finish(ax: Any) -> None:
     # nothing is drawn above them (no top ticks, no offset text on these axes); the automatic
     # placement lays out every y tick label again at each draw to find out (~15 % of a figure)
     ax.set_title(ax.get_title(), y=1.0)
-    if ax.get_legend_handles_labels()[0]:
-        place_legend_once(ax.legend(fontsize=7, loc="best"))
+    _legend_lines(ax)
 
 
 def _colours(names: list[str]) -> dict[str, Any]:
@@ -164,18 +163,26 @@ def _draw_participant(result: StudyResult, participant: str, kept: dict[tuple[st
     # each condition's rows (and each sense's usable ones) looked up once: the rows, in order,
     # of a boolean selection per condition, without a pass over the participant's table for each
     of_condition = dict(iter(s.groupby(["sample", "direction"], sort=False)))
+    # the strokes of every condition in one scatter per marker (each point in its condition's
+    # colour, conditions in order): one collection per marker instead of three per condition,
+    # whose making and drawing was ~40 % of a figure of nine conditions
+    points: dict[str, list[tuple[np.ndarray, np.ndarray, Any]]] = {}
     for sample, direction in conds:
-        label = condition_label(sample, direction)
         g = of_condition[(sample, direction)]
-        colour = colours[label]
+        colour = colours[condition_label(sample, direction)]
         outlier = g["outlier"].to_numpy(dtype=bool)
         senses = g["sense"].to_numpy()
         loads, mus = g["load"].to_numpy(), g["mu"].to_numpy()
         for sense, (marker, _) in _SENSE_STYLE.items():
             keep = (senses == sense) & ~outlier
-            ax.scatter(loads[keep], mus[keep], marker=marker, s=14, color=colour, alpha=0.6, linewidths=0)
-        out = g[outlier]
-        ax.scatter(out["load"], out["mu"], marker="x", s=24, color=colour)
+            points.setdefault(marker, []).append((loads[keep], mus[keep], colour))
+        points.setdefault("x", []).append((loads[outlier], mus[outlier], colour))
+    for marker, parts in points.items():
+        _scatter_parts(ax, parts, marker=marker, **(dict(s=24) if marker == "x" else dict(s=14, alpha=0.6,
+                                                                                           linewidths=0)))
+    for sample, direction in conds:
+        label = condition_label(sample, direction)
+        colour = colours[label]
         fit = result.power_laws.get((participant, sample, direction, "both"))
         if fit is not None:
             ax.plot(grid, fit(grid), color=colour, lw=1.5,
@@ -187,12 +194,13 @@ def _draw_participant(result: StudyResult, participant: str, kept: dict[tuple[st
     _finish(ax)
     if textured:
         ax = axes[1]
+        usable = {c: of_condition[c][~of_condition[c]["outlier"].to_numpy(dtype=bool)] for c in textured}
+        _scatter_parts(ax, [(usable[c]["load"].to_numpy(), usable[c]["mu_norm"].to_numpy(),
+                             colours[condition_label(*c)]) for c in textured], s=14, alpha=0.6, linewidths=0)
         for sample, direction in textured:
             label = condition_label(sample, direction)
             colour = colours[label]
-            g = of_condition[(sample, direction)]
-            g = g[~g["outlier"].to_numpy(dtype=bool)]
-            ax.scatter(g["load"], g["mu_norm"], s=14, color=colour, alpha=0.6, linewidths=0)
+            g = usable[(sample, direction)]
             bp = result.breakpoints.get((participant, sample, direction))
             fine = np.geomspace(g["load"].min(), g["load"].max(), 80) if len(g) else grid
             if bp is not None and bp.detected:
@@ -214,6 +222,48 @@ def _draw_participant(result: StudyResult, participant: str, kept: dict[tuple[st
     return fig
 
 
+def _scatter_parts(ax: Any, parts: list[tuple[np.ndarray, np.ndarray, Any]], **style: Any) -> None:
+    """One scatter of the points of every ``(x, y, colour)`` of ``parts``, in order, each point
+    in its part's colour; nothing where no part has a point."""
+    if not any(len(x) for x, _, _ in parts):
+        return
+    colour = np.concatenate([np.tile(np.asarray(c, dtype=float)[None, :4], (len(x), 1)) for x, _, c in parts])
+    ax.scatter(np.concatenate([x for x, _, _ in parts]), np.concatenate([y for _, y, _ in parts]), c=colour,
+               **style)
+
+
+#: The gid of a data line whose error bars :func:`_error_bars` draws (:func:`_legend_lines` lists
+#: such lines last)
+_WITH_BARS = "fingerpad-error-bars"
+
+
+def _error_bars(ax: Any, bars: list[tuple[Any, Any, Any, Any]], **style: Any) -> None:
+    """The vertical error bars ``y +- err`` at ``x`` of every ``(x, y, err, colour)`` of
+    ``bars``, as one collection (zorder 2, below the data lines at 2.1, as ``errorbar`` draws
+    them): ``errorbar`` made a collection, a container and their styles per call, ~40 % of a
+    sample figure with 20 participants."""
+    if not bars:
+        return
+    x = np.concatenate([np.asarray(b[0], dtype=float) for b in bars])
+    y = np.concatenate([np.asarray(b[1], dtype=float) for b in bars])
+    err = np.concatenate([np.asarray(b[2], dtype=float) for b in bars])
+    colours = [b[3] for b in bars for _ in range(len(b[0]))]
+    ax.vlines(x, y - err, y + err, colors=colours, zorder=2, **style)
+
+
+def _legend_lines(ax: Any) -> None:
+    """The legend of ``ax`` (if anything has a label), the data lines of :func:`_error_bars`
+    last, where matplotlib lists ``errorbar`` plots (its containers follow the other artists);
+    each shown by its line and markers: ``errorbar``'s legend handler drew two collections
+    per entry (~25 % of a sample figure with 20 participants) for a tick the eye does not need
+    to match an entry to its curve."""
+    handles, labels = ax.get_legend_handles_labels()
+    if handles:
+        order = sorted(range(len(handles)), key=lambda i: handles[i].get_gid() == _WITH_BARS)
+        place_legend_once(ax.legend([handles[i] for i in order], [labels[i] for i in order], fontsize=7,
+                                    loc="best"))
+
+
 def figure_sample(result: StudyResult, sample: str):
     """Figure of one sample: every participant's binned mu(F), the normalised curves, and the
     between-participant coefficient of variation before/after normalising."""
@@ -230,19 +280,28 @@ def _draw_sample(result: StudyResult, sample: str, kept: dict[tuple[str, int], A
     fig, axes = _figure(kept, "sample", 1 if is_ref else 3, width=4.6)
     grid = result.load_grid()
     ax = axes[0]
+    bars: list[tuple[Any, Any, Any, Any]] = []
     for p in participants:
         g = s[s["participant"] == p]
         for direction, gd in g.groupby("direction"):
-            ax.errorbar(gd["load"], gd["mu"], yerr=gd["mu_sem"], fmt="o-", ms=3, lw=1, color=colours[p],
-                        label=condition_label(p, direction))
+            ax.plot(gd["load"], gd["mu"], "o-", ms=3, lw=1, color=colours[p], zorder=2.1, gid=_WITH_BARS,
+                    label=condition_label(p, direction))
+            bars.append((gd["load"], gd["mu"], gd["mu_sem"], colours[p]))
+    _error_bars(ax, bars, linewidth=1)
     ax.set(xscale="log", yscale="log", xlabel="normal load F (N)", ylabel="mu (binned mean +- s.e. over recordings)",
            title=f"{sample}{' (reference)' if is_ref else ''}: raw friction")
     _finish(ax)
     if not is_ref:
         ax = axes[1]
+        bars = []
         for p in participants:
             g = s[s["participant"] == p]
-            ax.errorbar(g["load"], g["mu_norm"], yerr=g["mu_norm_sem"], fmt="o", ms=3, color=colours[p], label=p)
+            ax.plot(g["load"], g["mu_norm"], "o", ms=3, color=colours[p], zorder=2.1, gid=_WITH_BARS, label=p)
+            bars.append((g["load"], g["mu_norm"], g["mu_norm_sem"], colours[p]))
+        # every participant's error bars under every model line (errorbar drew each
+        # participant's bars under its own line, over the lines before it)
+        _error_bars(ax, bars)
+        for p in participants:
             # the model at each participant's fitted E_s (one line per direction)
             table = result.tables.get(sample)
             for key, mf in result.modulus_fits.items():
