@@ -59,6 +59,8 @@ from .bem import DEFAULT_RTOL, MAX_PSI_STEP, STATE_SEARCH_CAP
 from .layered_cell import _round, unit_layer
 from .loadcurve import Progress
 from .psi_curve import piecewise_pchip
+from .pull_apart import SEPARATION_STEP, pull_apart
+from .reported_curve import jump_shift, shifted_fraction
 from .unit_key import POINTS_PER_DECADE, unit_cell_key, unit_texture
 
 if TYPE_CHECKING:
@@ -77,10 +79,6 @@ __all__ = ["AdhesiveUnitCell", "adhesion_key", "pull_apart"]
 #: The loading branch starts its node grid at this fraction of ``w / Lx`` (below, psi is its
 #: zero-load value to within its interpolation error).
 LOW_NODE = 1e-2
-#: Mean-gap steps of the pull-apart, in ranges.
-SEPARATION_STEP = 0.25
-#: Most solves of one pull-apart (the step doubles every 100 solves past 200).
-MAX_SEPARATION_SOLVES = 600
 #: Most extra solves bisecting steep steps of one branch.
 MAX_REFINE = 40
 #: Version of what an adhesive cell stores (part of its key). 3: the loading branch stores the
@@ -90,74 +88,6 @@ ADHESIVE_CELL_VERSION = 3
 #: least gap over the texture's base, at the last solution below the transition, exceeds this
 #: many ranges: the regularised attraction closed it from a distance, not the loading.
 PULL_IN_RANGES = 1.0
-
-
-def pull_apart(solver: HalfSpaceSolver, start: ContactResult, step: float) -> dict[str, Any]:
-    """The skin pulled off ``solver``'s texture from ``start`` (an adhesive solution): its mean gap
-    raised (its approach lowered) step by step, each solve from the last, until no pixel touches
-    and the tension has fallen below 1e-3 of the largest met.
-
-    The step starts at 1/16 of ``step`` (m, the solver's units; a contact takes tension at almost
-    no displacement) and doubles up to it; it is halved (down to 1/16 of it) where the tension
-    drops by more than :data:`PULL_CHANGE` of the largest met between two solves, where contacts
-    snap off, so that the work integral is resolved there. At most
-    :data:`MAX_SEPARATION_SOLVES` solves; the step doubles every 100 solves past 200, and grows
-    by half each solve once no pixel touches (the attraction's smooth tail).
-
-    Returns ``pull_off`` (the least mean pressure, <= 0: the pull-off pressure of load control),
-    ``work`` (the area under ``-p`` against the approach, trapezoids: the work of separation per
-    unit area, snap-offs' losses included), the tensile branch up to the least pressure
-    (``pressure``, ``contact_fraction``, ``mean_gap``, ``max_pressure``, ``contact_state``),
-    ``let_go`` and ``solves``; in the solver's units."""
-
-    def row(d: float, r: ContactResult) -> tuple:
-        return (d, r.mean_pressure, r.contact_fraction, r.mean_gap, r.max_pressure, r.contact_state)
-
-    d = start.approach
-    res = start
-    curve = [row(d, start)]
-    least = 0.0
-    h = step / 16.0  # the first pull: a contact holds tension at almost no displacement
-    solves = 0
-    while solves < MAX_SEPARATION_SOLVES:
-        if solves >= 200 and solves % 100 == 0:
-            step *= 2.0
-        with warnings.catch_warnings():
-            warnings.filterwarnings("ignore", message="contact solve did not converge", category=RuntimeWarning)
-            trial = solver.solve_approach(d - h, initial=res)
-        solves += 1
-        # a snap: the tension drops (contacts let go) by much in one step: resolve it from the
-        # same start with half the step (while it grows, the tension changes smoothly)
-        if trial.mean_pressure - res.mean_pressure > PULL_CHANGE * abs(least) > 0 and h > step / 16.0:
-            h /= 2.0
-            continue
-        d, res = d - h, trial
-        curve.append(row(d, res))
-        least = min(least, res.mean_pressure)
-        if res.contact_fraction == 0 and abs(res.mean_pressure) <= 1e-3 * abs(least):
-            break
-        # out of contact the attraction's tail decays smoothly: longer steps there
-        h = 1.5 * h if res.contact_fraction == 0 else min(2.0 * h, step)
-    ds = np.array([c[0] for c in curve])
-    ps = np.array([c[1] for c in curve])
-    fr = np.array([c[2] for c in curve])
-    i = int(np.argmin(ps))
-    # the work of separation: int -p d(approach) from the start to the let-go, trapezoids after
-    # the first step, which takes its end's tension (the start's pressure is a contact's reaction,
-    # not a point of the separation curve: a closed contact takes tension at no displacement)
-    mids = 0.5 * (ps[1:] + ps[:-1])
-    if mids.size:
-        mids[0] = ps[1]
-    work = float(np.sum(-mids * (ds[:-1] - ds[1:])))
-    return {"pull_off": float(min(ps[i], 0.0)), "work": work, "pressure": ps[: i + 1].tolist(),
-            "contact_fraction": fr[: i + 1].tolist(), "mean_gap": [c[3] for c in curve[: i + 1]],
-            "max_pressure": [c[4] for c in curve[: i + 1]], "contact_state": [c[5] for c in curve[: i + 1]],
-            "let_go": bool(fr[-1] == 0), "solves": solves}
-
-
-#: A pull-apart step is halved where the mean pressure changes by more than this fraction of the
-#: largest tension (:func:`pull_apart`).
-PULL_CHANGE = 0.2
 
 
 def adhesion_key(law: str, work: float, range_: float) -> dict[str, Any]:
@@ -571,47 +501,14 @@ class AdhesiveUnitCell:
     def _find_shift(self) -> tuple[float, ...] | None:
         if "transition" not in self._adopted or self._entry.get("loading", {}).get("transition") is None:
             return None
-        t = self._adopted["transition"] / self.modulus
-        lo, hi = self._entry["loading"]["transition"]
-        if lo <= 0 or t <= 0 or t == self.own_state_pressure("transition") / self.modulus:
-            return None
         ps, _ = self._nodes()
-        a = float(ps[ps <= lo].max())
-        b = float(ps[ps >= hi].min()) if (ps >= hi).any() else float(ps[-1])
-        full = self._entry["loading"].get("full")
-        fb = float(ps[ps >= full[1]].min()) if full is not None and full[1] is not None and (ps >= full[1]).any() \
-            else float(ps[-1])
-        f = max(self._state_pressure("full") / self.modulus, t)
-        if not math.isfinite(f):  # no full contact on the branch: the part past the jump in proportion
-            f, fb = t, b
-        step = 10.0 ** (1.0 / POINTS_PER_DECADE)
-        below = self._own_fraction(np.array([a / step, a]))
-        slope = max(float(below[1] - below[0]) / math.log(step), 0.0)
-        return a, b, max(fb, b), t, f, slope
+        return jump_shift(ps, self._own_fraction, self._entry["loading"], self._adopted["transition"] / self.modulus,
+                          self.own_state_pressure("transition") / self.modulus,
+                          self._state_pressure("full") / self.modulus)
 
     def _shifted(self, q: np.ndarray, shift: tuple[float, ...]) -> np.ndarray:
-        """psi with its jump at the reported transition (docs/model.md 6.6, "The curve with the
-        reported transition"): the own branch below its last node ``a`` before its jump; from
-        there to the reported transition ``t`` the branch continued at its slope over the node
-        spacing below ``a`` (linearly in ln p, at most the value past the jump); from ``t`` the
-        part past the own jump, ``[t, f]`` carried onto ``[b, fb]`` linearly in ln p and in
-        proportion above ``f``."""
-        a, b, fb, t, f, slope = shift
-        q = np.asarray(q, dtype=float)
-        out = self._own_fraction(np.minimum(q, a))
-        cont = (q > a) & (q < t)
-        if cont.any():
-            after = float(self._own_fraction(np.array([b]))[0])
-            out[cont] = np.minimum(out[cont] + slope * np.log(q[cont] / a), after)
-        past = q >= t
-        if past.any():
-            own = np.where(q[past] > f, q[past] * (fb / f), b)
-            if f > t:
-                inside = q[past] <= f
-                frac = np.log(np.maximum(q[past], t) / t) / math.log(f / t)
-                own = np.where(inside, b * (fb / b) ** frac, own)
-            out[past] = self._own_fraction(own)
-        return out
+        """psi with its jump at the reported transition (:func:`~.reported_curve.shifted_fraction`)."""
+        return shifted_fraction(q, shift, self._own_fraction)
 
     @property
     def transition_pressure(self) -> float:

@@ -340,7 +340,7 @@ def _run_adhesive(job: SolveJob, progress: Callable[[int, int], None] | None,
     to the grid where it is below a pixel)."""
     from ..contact import HalfSpaceSolver
     from ..contact.interaction import regularised_interaction
-    from ..micro.adhesive_cell import SEPARATION_STEP, pull_apart
+    from ..micro.pull_apart import SEPARATION_STEP, pull_apart
     from ..micro.loadcurve import LoadCurve
 
     adh = job.adhesion
