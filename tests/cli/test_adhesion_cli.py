@@ -147,6 +147,20 @@ def test_predict_reports_pull_off_share_and_threshold(tmp_path) -> None:
                                                  rel=1e-9)
 
 
+def test_predict_where_adhesion_alone_reaches_the_transition(tmp_path) -> None:
+    """On a coarse grid w 0.3 J/m^2 brings the skin onto the base at no load: the transition's
+    bracket is [0, 0] and the critical load 0 (documented), not a division by zero (it was a
+    ZeroDivisionError traceback in the bracket's relative width)."""
+    args = ["predict", *CAPS[:-1], "8", *MATERIAL, "--loads", "0.5N", "--model", "bem", "--cache", str(tmp_path),
+            "--work-of-adhesion", "0.3J/m2", "--json", "-"]
+    result = invoke(*args)
+    assert result.exit_code == 0, result.output
+    doc = json.loads(result.stdout)
+    tr = doc["state_brackets"]["transition"]
+    assert tr["pressure"] == [0.0, 0.0] and tr["relative_width"] is None
+    assert doc["critical_load"]["bem"] == 0.0
+
+
 def test_predict_table_and_errors(tmp_path, monkeypatch) -> None:
     monkeypatch.chdir(tmp_path)  # its refusals use the default --out, which make run's out/ must not meet
     base = ["predict", *CAPS, *MATERIAL, "--loads", "0.5N", "--model", "bem", "--cache", str(tmp_path)]

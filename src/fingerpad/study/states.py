@@ -237,7 +237,8 @@ def state_brackets(cell: Any, states: dict[str, Any], finger: Finger) -> tuple[f
         brackets[state] = {
             "pressure": [lo, hi],
             "load": [at_centre(lo), at_centre(hi)],
-            "relative_width": (hi - lo) / hi if math.isfinite(hi) else None,
+            # none where the state is not reached, or reached at no load (adhesion alone: hi = 0)
+            "relative_width": (hi - lo) / hi if math.isfinite(hi) and hi > 0 else None,
             **(report.get(state, {})),
         }
     return full, brackets
