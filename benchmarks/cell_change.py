@@ -44,6 +44,8 @@ from curve_tolerance import compare  # noqa: E402
 
 
 def _plain(value: Any) -> Any:
+    # not fingerpad.encode.to_jsonable: this runs under the checkout compared against (--before),
+    # whose package may predate it; non-finite floats stay floats (json writes them)
     if isinstance(value, dict):
         return {str(k): _plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):

@@ -141,8 +141,6 @@ PULL_IN_ORDERS = (1.0, 1.5)
 #: Order of what the two extrapolations leave (the next power of ``dx^(1/2)``): the change of the
 #: twice-extrapolated transition from the half grid is divided by ``2^q - 1`` for its estimate.
 PULL_IN_NEXT_ORDER = 2.0
-#: Kept for the single extrapolation (two grids only): the first of :data:`PULL_IN_ORDERS`.
-PULL_IN_ORDER = PULL_IN_ORDERS[0]
 #: How :func:`extrapolated_states` makes a pulled-in transition's pressure and estimate, in words
 #: (a state report's ``method``).
 PULL_IN_METHOD = ("the skin was pulled onto the base from more than a range (docs/model.md 6.6): the pressure "

@@ -3,7 +3,7 @@
 What :func:`~fingerpad.study.run.run_study` asks of the cell besides its curve: the grid of each
 state pressure (:func:`state_choices`), the adhesive cell on its grid with its companions
 (:func:`resolve_adhesive_cell`) and its state pressures, a pulled-in transition extrapolated to
-a vanishing pixel (:func:`adhesive_states`, :data:`PULLED_IN_METHOD`), and the report of the
+a vanishing pixel (:func:`adhesive_states`, :data:`~fingerpad.micro.resolution.PULL_IN_METHOD`), and the report of the
 state brackets: their pressures, the loads they map to at the pad centre (:func:`centre_load`)
 and their estimates (:func:`state_report`, :func:`state_brackets`). SI units.
 """
@@ -23,7 +23,7 @@ from ..micro.resolution import PULL_IN_METHOD
 from ..textures import Texture
 from .spec import Study
 
-__all__ = ["FINGER_LOAD_LIMIT", "MAX_ADHESIVE_GRID", "PULLED_IN_METHOD", "adhesive_states", "centre_load",
+__all__ = ["FINGER_LOAD_LIMIT", "MAX_ADHESIVE_GRID", "adhesive_states", "centre_load",
            "load_at_centre_pressure", "load_notes", "pull_off_error", "resolve_adhesive_cell", "state_brackets",
            "state_choices", "state_report", "texture_maker"]
 
@@ -130,16 +130,11 @@ def state_report(states: dict[str, Any], finger: Finger,
             "history": [{"grid": g, "pressure_error": e} for g, e in st.history],
             "method": "relative change from the half grid, |p_N / p_{N/2} - 1| (at least the bracket's width); "
                       "the load's: the same change carried through the pad, |F(p_N) / F(p_{N/2}) - 1|"
-            if st.reported is None else PULLED_IN_METHOD,
+            if st.reported is None else PULL_IN_METHOD,
         }
         if st.reported is not None:
             out[name]["own_pressure"] = st.cell.own_state_pressure(name)
     return out
-
-
-#: How a pulled-in transition's pressure and estimate are made (the state report's ``method``):
-#: the rule's own words, where the rule is (:data:`fingerpad.micro.resolution.PULL_IN_METHOD`).
-PULLED_IN_METHOD = PULL_IN_METHOD
 
 
 def _load_floor(centre_load: Callable[[float], float], st: Any) -> float:
