@@ -316,10 +316,12 @@ def test_fast_kernels_match_array_kernels(formulation: str, kernels: str, precon
     np.testing.assert_allclose(a.pressure, b.pressure, rtol=0, atol=1e-9 * a.max_pressure)
 
 
-def test_auto_kernels_turn_compiled_after_enough_work(monkeypatch) -> None:
-    """``kernels="auto"``: NumPy loops until the solver has done COMPILED_AFTER_WORK (grid
-    points x iterations), the compiled ones from there, coarse levels included; same solutions.
-    The compiled loops then run on the types they were warmed up on (no compile mid-solve)."""
+def test_auto_kernels_are_the_grid_s_choice_not_the_history_s(monkeypatch) -> None:
+    """``kernels="auto"``: below COMPILED_FIRST_POINTS NumPy loops however much the solver has
+    solved (the compiled loops differ in the last bits, so a switch would make a solve depend on
+    the solves before it), bit for bit ``kernels="numpy"``; from that grid size the compiled
+    loops from the first solve, coarse levels included, with the same solution to the solver's
+    tolerance and on the types they were warmed up on (no compile mid-solve)."""
     pytest.importorskip("numba")
     import fingerpad.contact.solver as solver_mod
     from fingerpad.contact import kernels_numba
@@ -329,21 +331,21 @@ def test_auto_kernels_turn_compiled_after_enough_work(monkeypatch) -> None:
     tex = random_rough(128, 1e-4, 1e-6, seed=5)
     pbar = 0.3 * E * tex.peak_to_valley / tex.size[0]
     solver = HalfSpaceSolver(tex, E)
-    first = solver.solve_pressure(pbar)
-    monkeypatch.setattr(solver_mod, "COMPILED_AFTER_WORK", solver._work + 1)  # not yet ...
-    solver.solve_pressure(pbar)
+    ref = HalfSpaceSolver(tex, E, kernels="numpy").solve_pressure(pbar)
+    for p in np.geomspace(0.1, 3.0, 6) * pbar:  # work: any threshold of it would pass
+        solver.solve_pressure(p)
+    late = solver.solve_pressure(pbar)
     assert type(solver._kern) is NumpyKernels
-    monkeypatch.setattr(solver_mod, "COMPILED_AFTER_WORK", solver._work)  # ... now
-    third = solver.solve_pressure(pbar)
-    assert isinstance(solver._kern, NumbaKernels)
-    assert isinstance(solver._coarse["half"]._kern, NumbaKernels)
-    ref = HalfSpaceSolver(tex, E, kernels="numpy")
-    for _ in range(3):
-        ref_third = ref.solve_pressure(pbar)
-    assert first.converged and third.converged
-    assert third.iterations == ref_third.iterations
-    assert np.array_equal(third.contact, ref_third.contact)
-    np.testing.assert_allclose(third.pressure, ref_third.pressure, rtol=0, atol=1e-9 * first.max_pressure)
+    assert np.array_equal(late.pressure, ref.pressure)
+
+    monkeypatch.setattr(solver_mod, "COMPILED_FIRST_POINTS", 128 * 128)  # this grid is "large"
+    big = HalfSpaceSolver(tex, E)
+    first = big.solve_pressure(pbar)
+    assert isinstance(big._kern, NumbaKernels)
+    assert isinstance(big._coarse["half"]._kern, NumbaKernels)
+    assert first.converged and first.iterations == ref.iterations
+    assert np.array_equal(first.contact, ref.contact)
+    np.testing.assert_allclose(first.pressure, ref.pressure, rtol=0, atol=1e-9 * ref.max_pressure)
     loops = kernels_numba._NUMBA
     assert all(len(f.signatures) == 1 for f in loops if f.signatures), [f.signatures for f in loops]
 
@@ -386,11 +388,11 @@ def test_compiled_kernels_that_cannot_load_fall_back_to_numpy(monkeypatch) -> No
     monkeypatch.setattr(kernels_numba, "_NUMBA", None)
     monkeypatch.setattr(kernels_numba, "_build_numba", broken)
     monkeypatch.setattr(solver_mod, "_COMPILED_UNAVAILABLE", False)
-    monkeypatch.setattr(solver_mod, "COMPILED_AFTER_WORK", 1)  # from the second solve
     tex = random_rough(64, 1e-4, 1e-6, seed=5)
     pbar = 0.3 * E * tex.peak_to_valley / tex.size[0]
+    a = HalfSpaceSolver(tex, E).solve_pressure(pbar)
+    monkeypatch.setattr(solver_mod, "COMPILED_FIRST_POINTS", 64 * 64)  # this grid turns to them
     solver = HalfSpaceSolver(tex, E)
-    a = solver.solve_pressure(pbar)
     with pytest.warns(RuntimeWarning, match="compiled kernels unavailable.*no locator"):
         b = solver.solve_pressure(pbar)
     assert type(solver._kern) is NumpyKernels and b.converged

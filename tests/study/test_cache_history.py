@@ -133,3 +133,21 @@ def test_a_population_sweep_point_is_the_same_on_a_cold_and_a_filled_cache(tmp_p
     for key in first:
         assert np.array_equal(np.asarray(first[key]), np.asarray(again[key]), equal_nan=first[key] is not None
                               and np.asarray(first[key]).dtype.kind == "f"), key
+
+
+def test_a_node_does_not_depend_on_the_solver_s_past_work(tmp_path, monkeypatch):
+    """The element-wise kernels a solver runs on are chosen from its grid alone, not from the
+    work it has done: the compiled loops sum in another order than NumPy's (last bits), so a
+    switch after so much work made a node's bits depend on how many nodes the run had to solve
+    before it (those the cache lacked) -- at 512^2 after about 25 solves of a cell."""
+    pytest.importorskip("numba")
+    import fingerpad.contact.solver as solver_mod
+
+    # a threshold of work passed within the first few solves of a grid-32 cell (raising=False:
+    # a rule that has no such threshold passes as it is)
+    monkeypatch.setattr(solver_mod, "COMPILED_AFTER_WORK", 32 * 32 * 20, raising=False)
+    a = BEMUnitCell(caps(), E, cache=False).prepare(3e2, 3e4)
+    b = BEMUnitCell(caps(), E, cache=False).prepare(5e3, 3e4)
+    shared = set(a._unit_points) & set(b._unit_points)
+    assert len(shared) > 5
+    assert all(a._unit_points[q] == b._unit_points[q] for q in shared)

@@ -104,16 +104,15 @@ DUAL_ABOVE = 0.75
 
 
 _COMPILED_UNAVAILABLE = False  # set once the compiled kernels failed to load in this process
-#: ``kernels="auto"`` turns to the compiled loops once a solver has done this much work (grid
-#: points x fine iterations, summed over its solves; ~2 s of solving on the 2-core development
-#: machine): taking the work done as a guess of the work to come, their ~0.5 s load pays back
-#: from there (~20 % per solve). Measured: a 50-point curve at 1024^2 gains, a 5-point one at
-#: 1024^2 or a 10-point one at 256^2 lost 0.1-0.5 s when they were loaded on the second solve.
-COMPILED_AFTER_WORK = 2**26
-#: ... and from the first solve on grids of this many points: the load cost 0.2-0.3 s net on one
-#: 2048^2 cap-cell solve (1.8 s) and saved ~2 s on one 4096^2 solve (10.6-11.8 s against
-#: 8.3-9.1 s), measured on 2 cores; this lies between.
-COMPILED_FIRST_POINTS = 2**23
+#: ``kernels="auto"`` runs on the compiled loops from the first solve on grids of this many
+#: points and more, on NumPy below, whatever the solver has done before. The loops sum in
+#: another order than NumPy's (the last bits of a solve differ, ~1e-11 relative), so the choice
+#: is the grid's alone: a switch after so much work (before 2026-11-29) made a cell's node depend
+#: on how many nodes the run solved before it, i.e. on what the cache held (at 512^2 after about
+#: 25 solves of a cell). Their ~0.5 s load per process pays back on the solves of a cell or a
+#: curve at 1024^2 (a 50-point curve: 11.5-12.7 s against 13.3-15.0 s on NumPy alone) and costs
+#: ~0.2-0.3 s net on one lone solve there.
+COMPILED_FIRST_POINTS = 2**20
 
 
 def _kernels_for(xp: Any, choice: str, shape: tuple[int, ...] = (), threads: int = 1) -> ArrayKernels:
@@ -196,11 +195,10 @@ class HalfSpaceSolver:
     kernels
         Element-wise work: ``"numpy"`` (in place, NumPy), ``"numba"`` (fused loops compiled
         with Numba: ~20 % faster solves, but ~0.5 s to load once per process) or ``"array"``
-        (the array-namespace reference). ``"auto"``: for NumPy arrays, ``"numpy"`` until the
-        solver has done :data:`COMPILED_AFTER_WORK` grid points x iterations of work (a long
-        load curve or response table, where the load pays back), ``"numba"`` from there, and
-        from the first solve on grids of :data:`COMPILED_FIRST_POINTS` points and more;
-        ``"array"`` for other namespaces.
+        (the array-namespace reference). ``"auto"``: for NumPy arrays, ``"numba"`` on grids of
+        :data:`COMPILED_FIRST_POINTS` points and more (where their load pays back), ``"numpy"``
+        below, decided by the grid alone (the two differ in the last bits: a node's value must
+        not depend on what the solver solved before it); ``"array"`` for other namespaces.
     precondition
         Preconditioned conjugate gradient (the inverse operator as preconditioner, see
         :func:`fingerpad.contact.ccg.constrained_cg`); ``False`` gives the plain Polonsky-Keer
@@ -285,7 +283,6 @@ class HalfSpaceSolver:
         # namespaces: the array-API reference.
         choice = ("numpy" if self.backend.is_numpy else "array") if kernels == "auto" else kernels
         self._kern = _kernels_for(xp_, choice, texture.shape, self.backend.workers)
-        self._work = 0  # grid points x fine iterations of this solver's solves (kernels="auto")
         self._compiled = False
         self.precondition = bool(precondition)
         self._pre: dict[str, Any] = {}
@@ -400,12 +397,10 @@ class HalfSpaceSolver:
             # the interaction is a term of the energy the gap form minimises: its own iteration
             return self._solve_adhesive(mode, value, initial)
         # _jit_disabled last: it asks the import system for Numba (~50 us, ~7 ms of a grid-48
-        # sweep point's 140 solves when it ran before every one), needed only once the work
-        # calls for compiled loops
+        # sweep point's 140 solves when it ran before every one), needed only on large grids
         if (self._kernels_choice == "auto" and self.backend.is_numpy and not self._compiled
-                and (self._work >= COMPILED_AFTER_WORK or math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS)
-                and not _jit_disabled()):
-            # a long curve or table, or one very long solve: the compiled loops' load pays back
+                and math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS and not _jit_disabled()):
+            # a large grid: the compiled loops' load pays back (the grid's rule, not the history's)
             self._use_compiled()
         if form is None:
             form = self._choose(mode, value, initial)
@@ -451,7 +446,6 @@ class HalfSpaceSolver:
             if raw2.converged or raw2.residual < raw.residual:
                 raw, form = raw2, other
         result = finish(self, form, mode, value, raw, time.perf_counter() - start)
-        self._work += math.prod(self.texture.shape) * raw.iterations
         self._warm = (weakref.ref(result.pressure), coarse_p) if coarse_p is not None and form == "primal" else None
         if not result.converged:
             warnings.warn(

@@ -32,8 +32,10 @@ from filelock import FileLock, Timeout
 #: brackets searched beyond the asked range; 3: unit cells stored modulus- and length-free,
 #: pressures over E* and lengths over the cell length, keyed without either; 4: a node's value a
 #: function of its pressure alone -- grid and refinement nodes solved cold, not warm-started from
-#: whichever nodes a run happened to solve -- so that a cached node is what a solve would give).
-CACHE_VERSION = 4
+#: whichever nodes a run happened to solve -- so that a cached node is what a solve would give;
+#: 5: a solver's element-wise kernels chosen by its grid alone, not by the work it had done, whose
+#: switch gave a cell's later nodes at 512^2 other last bits than the same nodes solved early).
+CACHE_VERSION = 5
 
 
 class CacheWarning(UserWarning):
