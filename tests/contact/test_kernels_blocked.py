@@ -94,3 +94,19 @@ def test_a_blocked_solve_matches_the_one_block_solve(monkeypatch):
     np.testing.assert_array_equal(got.pressure > 0, ref.pressure > 0)
     assert np.max(np.abs(got.pressure - ref.pressure)) <= 1e-9 * ref.pressure.max()
     assert got.pressure.mean() == pytest.approx(15e3, rel=1e-12)
+
+
+@pytest.mark.parametrize("kernels", [NumpyKernels, lambda: BlockedNumpyKernels(2)])
+def test_the_projected_step_counts_its_steps_within_a_solve(kernels):
+    """The projected step returns the field's sum (for the mean's drift check) on every eighth
+    step of a solve: counted from the solve's start, not across the solver's earlier solves,
+    whose step counts would otherwise decide when a later solve rescales its iterate."""
+    kern = kernels()
+    rows = BLOCKED_MIN_ROWS
+    x = np.ones((rows, 8))
+    t = np.zeros_like(x)  # a zero step: nothing clips, only the count decides
+    for _ in range(5):  # an earlier solve of five steps
+        kern.pstep(x, t, 0.0)
+    kern.release()
+    totals = [not np.isnan(kern.pstep(x, t, 0.0)[2]) for _ in range(16)]
+    assert totals == [k % 8 == 7 for k in range(16)]

@@ -192,6 +192,10 @@ class NumpyKernels(ArrayKernels):
 
     def release(self) -> None:
         self._buf.clear()
+        # the projected step's count decides when its sum is taken (every eighth step, for the
+        # mean's drift): counted within a solve, so that a solve does not depend on how many
+        # steps the solver's earlier solves took
+        self._steps = 0
 
     def free_stats(self, ax, b, x, shift):
         d = self._scratch("d", x.shape)
