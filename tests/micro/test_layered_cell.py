@@ -87,10 +87,14 @@ def test_half_space_key_is_the_one_it_always_was():
     before = content_key(unit.heights, cell="unit", size=unit.size, base_level=unit.base_level, tol=1e-8,
                          max_iter=5000, ppd=POINTS_PER_DECADE, rtol=DEFAULT_RTOL)
     assert unit_cell_key(tex, tol=1e-8, max_iter=5000, rtol=DEFAULT_RTOL) == before
-    assert BEMUnitCell(tex, 1e6, cache=False, curve_tol=0).key == before
+    # a cell adds its solver's arithmetic (FFT engine and kernels; CACHE_VERSION 5)
+    cell = BEMUnitCell(tex, 1e6, cache=False, curve_tol=0)
+    arithmetic = cell.solver.arithmetic
+    with_arithmetic = unit_cell_key(tex, tol=1e-8, max_iter=5000, rtol=DEFAULT_RTOL, arithmetic=arithmetic)
+    assert cell.key == with_arithmetic != before
     assert BEMUnitCell(tex, 1e6, cache=False).key == unit_cell_key(tex, tol=1e-8, max_iter=5000, rtol=DEFAULT_RTOL,
-                                                                   node_tol=CURVE_TOL) != before
-    assert BEMUnitCell(tex, 1e6, cache=False, layer=Layer(30e-6, 1e6, NU, E2, NU)).key != before
+                                                                   arithmetic=arithmetic, node_tol=CURVE_TOL) != before
+    assert BEMUnitCell(tex, 1e6, cache=False, layer=Layer(30e-6, 1e6, NU, E2, NU)).key != with_arithmetic
 
 
 def test_equal_moduli_are_the_homogeneous_cell():

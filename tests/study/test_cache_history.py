@@ -151,3 +151,22 @@ def test_a_node_does_not_depend_on_the_solver_s_past_work(tmp_path, monkeypatch)
     shared = set(a._unit_points) & set(b._unit_points)
     assert len(shared) > 5
     assert all(a._unit_points[q] == b._unit_points[q] for q in shared)
+
+
+def test_an_entry_of_other_arithmetic_is_not_read(tmp_path, monkeypatch):
+    """Two installations sharing a cache folder (the default ~/.cache/fingerpad), one with
+    ducc0's FFTs and one with SciPy's, give their nodes different last bits: a cell keys its
+    entry by its solver's arithmetic, so neither reads the other's and each gives its own
+    bits whatever the folder held."""
+    pytest.importorskip("ducc0")
+    store = CurveCache(tmp_path / "shared")
+    monkeypatch.setenv("FINGERPAD_FFT", "scipy")
+    scipy_cell = BEMUnitCell(caps(), E, cache=store).prepare(3e2, 3e4)
+    assert scipy_cell.solver.arithmetic == "scipy/numpy"
+    monkeypatch.setenv("FINGERPAD_FFT", "ducc0")
+    shared = BEMUnitCell(caps(), E, cache=store).prepare(3e2, 3e4)
+    own = BEMUnitCell(caps(), E, cache=CurveCache(tmp_path / "own")).prepare(3e2, 3e4)
+    assert shared.solver.arithmetic == "ducc0/numpy"
+    assert shared.solves == own.solves > 0  # nothing read from the other installation's entry
+    assert numbers(shared) == numbers(own)
+    assert numbers(shared) != numbers(scipy_cell)  # (the case the key keeps apart)

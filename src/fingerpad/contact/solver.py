@@ -489,6 +489,22 @@ class HalfSpaceSolver:
         return self._adhesive
 
     @property
+    def arithmetic(self) -> str:
+        """What decides a solve's last bits besides its inputs: the FFT engine and the family of
+        element-wise kernels this solver runs on its grid, e.g. ``"ducc0/numpy"``. Stored results
+        are keyed by it, so that an entry one installation wrote (SciPy's FFTs, no Numba) is
+        never read as another's (ducc0, the compiled loops): the same command then gives the same
+        bits whatever the cache held."""
+        if not self.backend.is_numpy:
+            return f"{self.backend.fft}/array"
+        compiled = self._compiled or (
+            (self._kernels_choice == "numba"
+             or self._kernels_choice == "auto" and math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS)
+            and not _COMPILED_UNAVAILABLE and not _jit_disabled())
+        family = "numba" if compiled else "array" if self._kernels_choice == "array" else "numpy"
+        return f"{self.backend.fft}/{family}"
+
+    @property
     def _S(self) -> Any:
         if self._S_op is None and self.texture.periodic:
             self._S_op = stiffness_operator(self.backend, self.texture, self.modulus, self.layer)

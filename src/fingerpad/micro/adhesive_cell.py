@@ -190,6 +190,7 @@ class AdhesiveUnitCell:
         self.cache = CurveCache() if cache is None else (cache or None)
         extra = {} if self.node_tol == float(tol) else {"node_tol": self.node_tol}
         self.key = unit_cell_key(self.unit, tol=tol, max_iter=max_iter, rtol=rtol, layer=self.unit_layer,
+                                 arithmetic=self.solver.arithmetic,
                                  **adhesion_key(self.law.name, unit_work, unit_range), **extra)
         self.flat = texture.peak_to_valley <= 0
         self.solves = 0

@@ -217,7 +217,8 @@ class BEMUnitCell(InterpolatedCurve):
         extra: dict[str, float] = {} if self.node_tol == float(tol) else {"node_tol": self.node_tol}
         if self.full_rtol != rtol:  # a full-contact bracket of its own width: another entry
             extra["full_rtol"] = self.full_rtol
-        self.key = unit_cell_key(self.unit, tol=tol, max_iter=max_iter, rtol=rtol, layer=self.unit_layer, **extra)
+        self.key = unit_cell_key(self.unit, tol=tol, max_iter=max_iter, rtol=rtol, layer=self.unit_layer,
+                                 arithmetic=self.solver.arithmetic, **extra)
         # every node known (the cache's and those solved here: p / E* -> row in units of E* and Lx)
         # and the nodes this cell's curve uses (the canonical nodes of the ranges prepared: see
         # prepare()); the state brackets (p / E*)

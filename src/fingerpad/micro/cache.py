@@ -34,7 +34,9 @@ from filelock import FileLock, Timeout
 #: function of its pressure alone -- grid and refinement nodes solved cold, not warm-started from
 #: whichever nodes a run happened to solve -- so that a cached node is what a solve would give;
 #: 5: a solver's element-wise kernels chosen by its grid alone, not by the work it had done, whose
-#: switch gave a cell's later nodes at 512^2 other last bits than the same nodes solved early).
+#: switch gave a cell's later nodes at 512^2 other last bits than the same nodes solved early; and
+#: a cell's key holds its solver's arithmetic, the FFT engine and kernels, so that an entry one
+#: installation wrote is never read as another's).
 CACHE_VERSION = 5
 
 

@@ -56,7 +56,8 @@ def unit_cell_key(texture: "Texture", *, tol: float, max_iter: int, rtol: float,
     """Cache key of the unit cell of ``texture`` (:func:`unit_texture`) and the solver settings:
     no modulus, no absolute length. ``layer`` is the *unit* layer (:func:`unit_layer`), whose
     dimensionless numbers join the key. ``extra`` settings join the key (the sweep adds its grid
-    choice)."""
+    choice; a cell its solver's ``arithmetic``, the FFT engine and kernels that decide the last
+    bits of its nodes)."""
     from .cache import content_key
 
     unit = unit_texture(texture)  # idempotent: a unit texture is its own
