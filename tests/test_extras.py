@@ -122,5 +122,12 @@ def test_solver_runs_without_numba_silently(monkeypatch):
         result = solver.solve_pressure(pbar)
     assert type(solver._kern) is NumpyKernels
     assert np.array_equal(result.pressure, reference.pressure)
+    # a caller of many solves (a unit cell) asks for them wherever Numba is: here, none
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        cell_solver = HalfSpaceSolver(tex, 1e6, kernels="compiled")
+        assert cell_solver.arithmetic.endswith("/numpy")
+        assert np.array_equal(cell_solver.solve_pressure(pbar).pressure, reference.pressure)
+    assert type(cell_solver._kern) is NumpyKernels
     with pytest.raises(extras.MissingExtraError, match=r"kernels='numba': the 'fast' extra .*\(numba missing\)"):
         HalfSpaceSolver(tex, 1e6, kernels="numba")

@@ -350,6 +350,27 @@ def test_auto_kernels_are_the_grid_s_choice_not_the_history_s(monkeypatch) -> No
     assert all(len(f.signatures) == 1 for f in loops if f.signatures), [f.signatures for f in loops]
 
 
+def test_compiled_kernels_for_a_caller_of_many_solves_from_the_first_solve() -> None:
+    """``kernels="compiled"`` (a unit cell's curve): the compiled loops from the first solve on
+    any grid, coarse levels included, the same solution to the solver's tolerance as NumPy's
+    loops; ``arithmetic`` names them before the first solve (a cell's cache key)."""
+    pytest.importorskip("numba")
+    from fingerpad.contact.kernels import NumpyKernels
+    from fingerpad.contact.kernels_numba import NumbaKernels
+
+    tex = random_rough(128, 1e-4, 1e-6, seed=5)
+    pbar = 0.3 * E * tex.peak_to_valley / tex.size[0]
+    ref = HalfSpaceSolver(tex, E, kernels="numpy").solve_pressure(pbar)
+    solver = HalfSpaceSolver(tex, E, kernels="compiled")
+    assert solver.arithmetic.endswith("/numba") and type(solver._kern) is NumpyKernels  # not loaded yet
+    res = solver.solve_pressure(pbar)
+    assert isinstance(solver._kern, NumbaKernels)
+    assert isinstance(solver._coarse["half"]._kern, NumbaKernels)
+    assert res.converged and res.iterations == ref.iterations and np.array_equal(res.contact, ref.contact)
+    np.testing.assert_allclose(res.pressure, ref.pressure, rtol=0, atol=1e-9 * ref.max_pressure)
+    assert HalfSpaceSolver(tex, E).arithmetic.endswith("/numpy")  # "auto" on this grid
+
+
 def test_auto_kernels_compiled_from_the_first_solve_on_very_large_grids(monkeypatch) -> None:
     pytest.importorskip("numba")
     import fingerpad.contact.solver as solver_mod

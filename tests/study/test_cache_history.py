@@ -162,11 +162,11 @@ def test_an_entry_of_other_arithmetic_is_not_read(tmp_path, monkeypatch):
     store = CurveCache(tmp_path / "shared")
     monkeypatch.setenv("FINGERPAD_FFT", "scipy")
     scipy_cell = BEMUnitCell(caps(), E, cache=store).prepare(3e2, 3e4)
-    assert scipy_cell.solver.arithmetic == "scipy/numpy"
+    assert scipy_cell.solver.arithmetic.startswith("scipy/")
     monkeypatch.setenv("FINGERPAD_FFT", "ducc0")
     shared = BEMUnitCell(caps(), E, cache=store).prepare(3e2, 3e4)
     own = BEMUnitCell(caps(), E, cache=CurveCache(tmp_path / "own")).prepare(3e2, 3e4)
-    assert shared.solver.arithmetic == "ducc0/numpy"
+    assert shared.solver.arithmetic.startswith("ducc0/")
     assert shared.solves == own.solves > 0  # nothing read from the other installation's entry
     assert numbers(shared) == numbers(own)
     assert numbers(shared) != numbers(scipy_cell)  # (the case the key keeps apart)

@@ -198,7 +198,10 @@ class HalfSpaceSolver:
         (the array-namespace reference). ``"auto"``: for NumPy arrays, ``"numba"`` on grids of
         :data:`COMPILED_FIRST_POINTS` points and more (where their load pays back), ``"numpy"``
         below, decided by the grid alone (the two differ in the last bits: a node's value must
-        not depend on what the solver solved before it); ``"array"`` for other namespaces.
+        not depend on what the solver solved before it); ``"compiled"``: the compiled loops
+        from the first solve wherever Numba is installed, NumPy otherwise (silently), for a
+        caller of many solves whatever the grid (a unit cell's curve: 1.3-2x faster at grids
+        16-128, where NumPy's per-call cost dominates); ``"array"`` for other namespaces.
     precondition
         Preconditioned conjugate gradient (the inverse operator as preconditioner, see
         :func:`fingerpad.contact.ccg.constrained_cg`); ``False`` gives the plain Polonsky-Keer
@@ -272,8 +275,8 @@ class HalfSpaceSolver:
         self._S_op: Any = None  # the dual's stiffness and S h, built on first use (memory)
         self._Sh_field: Any = None
         self._xp = xp_
-        if kernels not in ("auto", "array", "numpy", "numba"):
-            raise FingerpadError(f"kernels must be auto, array, numpy or numba, got {kernels!r}")
+        if kernels not in ("auto", "compiled", "array", "numpy", "numba"):
+            raise FingerpadError(f"kernels must be auto, compiled, array, numpy or numba, got {kernels!r}")
         self._kernels_choice = kernels
         if kernels in ("numpy", "numba") and not self.backend.is_numpy:
             raise FingerpadError(f"kernels={kernels!r} needs NumPy arrays")
@@ -281,9 +284,10 @@ class HalfSpaceSolver:
             require("fast", "kernels='numba'", ("numba",))
         # NumPy arrays: in-place NumPy kernels until the compiled ones pay (see _solve); other
         # namespaces: the array-API reference.
-        choice = ("numpy" if self.backend.is_numpy else "array") if kernels == "auto" else kernels
+        choice = ("numpy" if self.backend.is_numpy else "array") if kernels in ("auto", "compiled") else kernels
         self._kern = _kernels_for(xp_, choice, texture.shape, self.backend.workers)
         self._compiled = False
+        self._kernels_decided = False
         self.precondition = bool(precondition)
         self._pre: dict[str, Any] = {}
         self._coarse: dict[str, HalfSpaceSolver | None] = {}
@@ -396,12 +400,13 @@ class HalfSpaceSolver:
         if self.interaction is not None:
             # the interaction is a term of the energy the gap form minimises: its own iteration
             return self._solve_adhesive(mode, value, initial)
-        # _jit_disabled last: it asks the import system for Numba (~50 us, ~7 ms of a grid-48
-        # sweep point's 140 solves when it ran before every one), needed only on large grids
-        if (self._kernels_choice == "auto" and self.backend.is_numpy and not self._compiled
-                and math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS and not _jit_disabled()):
-            # a large grid: the compiled loops' load pays back (the grid's rule, not the history's)
-            self._use_compiled()
+        if not self._kernels_decided:
+            # once, at the first solve: a large grid, or a caller of many solves, turns to the
+            # compiled loops, whose load then pays back (the grid's or the caller's rule, never
+            # the history's: the loops' last bits differ from NumPy's)
+            self._kernels_decided = True
+            if not self._compiled and self._turns_compiled():
+                self._use_compiled()
         if form is None:
             form = self._choose(mode, value, initial)
         seed: Any = initial
@@ -498,11 +503,19 @@ class HalfSpaceSolver:
         if not self.backend.is_numpy:
             return f"{self.backend.fft}/array"
         compiled = self._compiled or (
-            (self._kernels_choice == "numba"
-             or self._kernels_choice == "auto" and math.prod(self.texture.shape) >= COMPILED_FIRST_POINTS)
-            and not _COMPILED_UNAVAILABLE and not _jit_disabled())
+            (self._kernels_choice == "numba" or self._turns_compiled()) and not _COMPILED_UNAVAILABLE)
         family = "numba" if compiled else "array" if self._kernels_choice == "array" else "numpy"
         return f"{self.backend.fft}/{family}"
+
+    def _turns_compiled(self) -> bool:
+        """Whether this solver runs on the compiled loops (from its first solve): ``"compiled"``
+        wherever Numba is there, ``"auto"`` on grids of :data:`COMPILED_FIRST_POINTS` and more."""
+        if not self.backend.is_numpy or self._kernels_choice not in ("auto", "compiled"):
+            return False
+        if self._kernels_choice == "auto" and math.prod(self.texture.shape) < COMPILED_FIRST_POINTS:
+            return False
+        # last: it asks the import system for Numba (~50 us)
+        return not _jit_disabled()
 
     @property
     def _S(self) -> Any:

@@ -186,7 +186,7 @@ class AdhesiveUnitCell:
         self.curve_tol = curve_tol
         self.node_tol = max(float(tol), curve_tol)
         self.solver = HalfSpaceSolver(self.unit, 1.0, layer=self.unit_layer, tol=self.node_tol, max_iter=max_iter,
-                                      interaction=self.law)
+                                      interaction=self.law, kernels="compiled")
         self.cache = CurveCache() if cache is None else (cache or None)
         extra = {} if self.node_tol == float(tol) else {"node_tol": self.node_tol}
         self.key = unit_cell_key(self.unit, tol=tol, max_iter=max_iter, rtol=rtol, layer=self.unit_layer,

@@ -196,7 +196,9 @@ class BEMUnitCell(InterpolatedCurve):
         #: The layer of the unit cell: thickness over Lx, moduli over E* (None: a half-space).
         self.unit_layer = unit_layer(layer, self.modulus, self.length)
         #: The solver of the unit cell (unit modulus, lengths over Lx): its pressures are p / E*.
-        self.solver = HalfSpaceSolver(self.unit, 1.0, layer=self.unit_layer, tol=tol, max_iter=max_iter)
+        # a curve is many solves: the compiled loops where Numba is installed, whatever the grid
+        self.solver = HalfSpaceSolver(self.unit, 1.0, layer=self.unit_layer, tol=tol, max_iter=max_iter,
+                                      kernels="compiled")
         self.rtol = rtol
         self.full_rtol = float(rtol if full_rtol is None else full_rtol)
         if not (0 < self.full_rtol < 1):
