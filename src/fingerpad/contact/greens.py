@@ -30,6 +30,7 @@ from ..extras import require
 from ..textures import Texture
 from .device import choice_setting, device_namespace
 from .layered import Layer, spectral_factor
+from .transforms import ducc0_transforms, scipy_transforms
 
 __all__ = ["FFT_ENGINES", "Backend", "FFTOperator", "check_setup", "fft_settings", "fft_threads_parked", "compliance_operator", "preconditioner", "stiffness_operator", "wavenumbers",
            "love_rectangle", "smoothed_rectangle"]
@@ -91,37 +92,6 @@ def fft_threads_parked() -> Iterator[None]:
             misc.resize_thread_pool(size)
 
 
-def _ducc0_transforms(workers: int) -> tuple[Any, Any]:
-    """Real 2-D FFTs of ducc0 (the successor of the pocketfft inside SciPy, by its author)."""
-    import ducc0.fft as dfft  # noqa: PLC0415
-
-    def rfft2(a: np.ndarray, s: tuple[int, int] | None = None) -> np.ndarray:
-        if a.dtype not in (np.float32, np.float64):
-            a = a.astype(np.float64)  # ducc0 transforms float32/float64 only; SciPy converts
-        if s is not None and tuple(s) != a.shape:
-            # zero padding of finite bodies (scipy pads through its `s` argument)
-            padded = np.zeros(s, dtype=a.dtype)
-            padded[: a.shape[0], : a.shape[1]] = a
-            a = padded
-        return dfft.r2c(a, axes=(0, 1), nthreads=workers)
-
-    def irfft2(a: np.ndarray, s: tuple[int, int]) -> np.ndarray:
-        # Every spectrum the operators invert is a temporary (FFTOperator), so ducc0 may use it
-        # as scratch space: no extra spectrum-sized allocation per inverse transform. (It does
-        # overwrite it: a caller that keeps its spectrum must hand over a copy.)
-        return dfft.c2r(a, axes=(0, 1), lastsize=s[1], forward=False, inorm=2, nthreads=workers,
-                        allow_overwriting_input=True)
-
-    return rfft2, irfft2
-
-
-def _scipy_transforms(workers: int) -> tuple[Any, Any]:
-    import scipy.fft as sfft  # noqa: PLC0415
-
-    return (lambda a, s=None: sfft.rfft2(a, s=s, workers=workers),
-            lambda a, s: sfft.irfft2(a, s=s, workers=workers))
-
-
 class Backend:
     """Array namespace plus real FFTs.
 
@@ -161,14 +131,14 @@ class Backend:
             return
         if engine in ("auto", "ducc0"):
             try:
-                self.rfft2, self.irfft2 = _ducc0_transforms(self.workers)
+                self.rfft2, self.irfft2 = ducc0_transforms(self.workers)
                 self.fft = "ducc0"
                 return
             except ImportError as exc:
                 if engine == "ducc0":
                     require("fast", "FFT engine 'ducc0' (FINGERPAD_FFT=scipy needs none)", ("ducc0",))
                     raise SetupError(f"the FFT engine 'ducc0' could not load: {exc}") from None
-        self.rfft2, self.irfft2 = _scipy_transforms(self.workers)
+        self.rfft2, self.irfft2 = scipy_transforms(self.workers)
         self.fft = "scipy"
 
     def asarray(self, a: Any) -> Any:

@@ -36,7 +36,8 @@ from filelock import FileLock, Timeout
 #: 5: a solver's element-wise kernels chosen by its grid alone, not by the work it had done, whose
 #: switch gave a cell's later nodes at 512^2 other last bits than the same nodes solved early; and
 #: a cell's key holds its solver's arithmetic, the FFT engine and kernels, so that an entry one
-#: installation wrote is never read as another's).
+#: installation wrote is never read as another's; and ducc0's FFTs cut into blocks fixed by the
+#: field's shape, whose bits had depended on the number of threads from 256 x 448 up).
 CACHE_VERSION = 5
 
 
