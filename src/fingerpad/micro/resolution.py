@@ -234,8 +234,9 @@ def adopt_extrapolated(cells: dict[int, Any], grid: int) -> dict[str, tuple[floa
     one texture by grid points along x; those missing count as ``None``), so that its zones, critical load
     and ``psi(p)`` all jump there
     (:meth:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell.adopt_pressure`); the half grid's
-    cell adopts its own (from ``grid / 2`` to ``/ 16``) where it has one, so that an
-    estimate comparing the two compares the curves reported on each. Returns the cell's
+    cell adopts its own (from ``grid / 2`` to ``/ 16``) where it has one, so that it too reports
+    one transition (the grid's estimate moves the half grid's jump to the grid's for the
+    comparison, :func:`adopted_ratio_error`). Returns the cell's
     ``{state: (pressure, coarse pressure, error)}`` (empty: nothing extrapolated)."""
     fine = cells.get(grid)
     if fine is None:
@@ -279,7 +280,8 @@ def adopted_ratio_error(fine: Any, coarse: Any, ratio: Callable[[Any], np.ndarra
                         settled: dict[str, tuple[float, float, float]], factor: float) -> np.ndarray:
     """Per load, the estimated relative error of ``ratio(fine)`` (A_re/A_fr) for a cell that
     reports its transition extrapolated (``settled``: :func:`adopt_extrapolated`'s
-    ``{state: (pressure, compared, error)}``; docs/model.md 6.6, "The error of A_re/A_fr").
+    ``{state: (pressure, compared, error)}``; docs/model.md 6.6, "The error of A_re/A_fr with a
+    reported transition").
 
     Its error has two parts, estimated each from what is uncertain on the grid itself:
 
