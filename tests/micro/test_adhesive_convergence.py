@@ -249,3 +249,100 @@ def test_pulled_in_transition_converges_at_the_grids_a_prediction_takes() -> Non
     plain = {g: prepared(g, 0.05) for g in (128, 256)}
     assert not plain[128].pulled_in and not plain[256].pulled_in
     assert extrapolated_states(plain[256], plain[128]) == {}
+
+
+class JumpCell:
+    """A stand-in adhesive cell reporting an extrapolated transition (the estimate's bookkeeping
+    only, no solves): its A_re/A_fr is a branch of its own plus a term that moves with the
+    transition it reports, as a pad's does when its full-contact zone grows with a lower one."""
+
+    convergence_order = AdhesiveUnitCell.convergence_order
+    solves = 0
+    #: the branch per grid (a first-order change between grids), the transition's pull on A_re
+    BRANCH = {32: np.array([0.30, 0.40]), 64: np.array([0.301, 0.4005])}
+    PULL = np.array([0.0, 0.2])  # the first load below the jump, the second past it
+    OWN = {32: 10e3, 64: 15e3}
+
+    def __init__(self, texture, modulus, **options) -> None:
+        self.texture, self.adopted = texture, {}
+
+    def prepare(self, *args, progress=None):
+        return self
+
+    def own_state_pressure(self, name: str) -> float:
+        return self.OWN[self.texture.shape[0]]
+
+    def reported_state_pressure(self, name: str) -> float:
+        return self.adopted.get(name, self.own_state_pressure(name))
+
+    def adopt_pressure(self, name: str, pressure) -> None:
+        self.adopted.pop(name, None) if pressure is None else self.adopted.__setitem__(name, float(pressure))
+
+    def ratio(self) -> np.ndarray:
+        return self.BRANCH[self.texture.shape[0]] + self.PULL * np.log(20e3 / self.reported_state_pressure("transition"))
+
+
+def test_pulled_in_estimate_charges_the_grid_with_its_own_jump_not_the_half_grids() -> None:
+    # the grid reports its transition at 21 kPa, estimated 2 %; the half grid its own at 18 kPa
+    # (a 14 % error of its jump's position that is the half grid's, estimated by it)
+    reported = {64: 21e3, 32: 18e3}
+    e_t = 0.02
+
+    def settle(cell, cells):
+        for g, c in cells.items():
+            c.adopt_pressure("transition", reported[g])
+        return {"transition": (reported[64], reported[64] * (1 + e_t), e_t)}
+
+    choice = choose_grid(default_cell, default_cell(64), E, (0.0, 0.0), JumpCell.ratio, target=None,
+                         cell_type=JumpCell, settle=settle)
+    fine, coarse = choice.cell, choice.coarse
+    # the branch: the half grid with its jump where the grid reports it, scaled to order 1/2
+    r = fine.ratio()
+    aligned = JumpCell.BRANCH[32] + JumpCell.PULL * np.log(20e3 / reported[64])
+    branch = np.abs(r / aligned - 1) / (2**0.5 - 1)
+    # where the jump comes: r_N with the transition moved by its own estimate, both ways
+    moved = [JumpCell.BRANCH[64] + JumpCell.PULL * np.log(20e3 / (reported[64] * s)) for s in (1 - e_t, 1 + e_t)]
+    jump = np.max([np.abs(m / r - 1) for m in moved], axis=0)
+    assert choice.error == pytest.approx(float(np.max(branch + jump)), rel=1e-12)
+    # the curves as reported differ by far more (the half grid's jump 14 % low): not charged
+    assert float(np.max(np.abs(r / coarse.ratio() - 1))) / (2**0.5 - 1) > 2 * choice.error
+    # both cells report as before
+    assert fine.reported_state_pressure("transition") == reported[64]
+    assert coarse.reported_state_pressure("transition") == reported[32]
+    assert estimate_method(AdhesiveUnitCell, True) != estimate_method(AdhesiveUnitCell)
+
+
+@pytest.mark.slow
+def test_pulled_in_area_ratio_estimate_covers_the_error_against_finer_grids() -> None:
+    # the README caps, the default finger at w 0.3 J/m2, loads 0.1, 0.3, 1 N and the zone load 4 N;
+    # grids 16 to 256 (256: a few minutes). Each grid's estimate of A_re/A_fr (the branch against
+    # the half grid with its jump aligned, plus the transition's own estimate carried to A_re)
+    # covers its error against every finer grid at every load, and 256's is within the 2 % asked
+    # (measured: 60, 4.2 and 1.5 % on 64, 128 and 256; the reported curves compared, 142, 43 and
+    # 9.2 %). 512 (30 min) is not taken here: its reported transition, 22.76 kPa, is 0.2 % from
+    # 256's (the transition test above), within the 1.3 % the jump term moves it by.
+    from fingerpad.coupling import predict_curve
+    from fingerpad.finger import FINGER_PRESETS
+    from fingerpad.micro.resolution import adopt_extrapolated, adopted_ratio_error
+
+    finger = FINGER_PRESETS["default"].with_overrides(work_of_adhesion=0.3)
+    loads = np.array([0.1, 0.3, 1.0, 4.0])
+
+    def ratio(cell):
+        return predict_curve(loads, finger, cell, reference=False).area_ratio
+
+    cells = {g: prepared(g, 0.3) for g in (16, 32, 64, 128, 256)}
+    r, estimate = {}, {}
+    for g in (64, 128, 256):
+        for c in cells.values():
+            for name in ("transition", "full"):
+                c.adopt_pressure(name, None)
+        settled = adopt_extrapolated(cells, g)
+        assert "transition" in settled
+        r[g] = ratio(cells[g])
+        estimate[g] = adopted_ratio_error(cells[g], cells[g // 2], ratio, settled, order_factor(AdhesiveUnitCell))
+    for g in (64, 128):
+        for finer in (h for h in r if h > g):
+            assert np.all(np.abs(r[g] / r[finer] - 1) <= estimate[g])
+    assert float(np.max(estimate[256])) <= 0.02
+    assert r[256] == pytest.approx([0.3155, 0.3517, 0.6474, 0.8538], abs=2e-4)

@@ -131,3 +131,27 @@ def test_a_prediction_puts_its_zones_and_critical_load_where_psi_jumps(tmp_path)
     # the zone map at its load says what psi says at its centre
     z = pred.zones
     assert (z["contact_state"] == "full") == bool(cell.contact_fraction(np.array([z["peak_pressure"]]))[0] >= FULL)
+
+
+def test_the_branch_is_continued_at_its_slope_away_from_the_precursor_of_its_jump():
+    # a branch rising at 0.08 per e-fold of pressure, steepening sharply over the last 10 % before
+    # the grid's own jump (as the default cell's does at w 0.3 J/m2: 0.06-0.10, then 0.13-0.33):
+    # the continuation takes the branch's slope, not the precursor's
+    from fingerpad.micro.reported_curve import jump_shift
+    from fingerpad.micro.unit_key import POINTS_PER_DECADE
+
+    step = 10.0 ** (1.0 / POINTS_PER_DECADE)
+    nodes = 10.0 ** (np.arange(-40, -10) / POINTS_PER_DECADE)
+    own_lo = float(nodes[-8]) * 1.01  # the own jump just past a node
+    onset = 0.9 * own_lo
+
+    def own(q):
+        q = np.asarray(q, float)
+        psi = 0.2 + 0.08 * np.log(q / nodes[0]) + 2.0 * np.log(np.maximum(q / onset, 1.0))
+        return np.where(q > own_lo, 1.0, psi)
+
+    loading = {"transition": (own_lo, own_lo * 1.001), "full": (own_lo, own_lo * 1.001)}
+    a, b, fb, t, f, slope = jump_shift(nodes, own, loading, 1.3 * own_lo, own_lo, 1.3 * own_lo)
+    assert a == float(nodes[-8]) and t == f == pytest.approx(1.3 * own_lo)
+    assert a / 2 > nodes[0] and a / step < onset < a  # the span [a / 2, a / step] lies on the branch
+    assert slope == pytest.approx(0.08, rel=1e-9)

@@ -492,7 +492,7 @@ class AdhesiveUnitCell:
         own transition: ``(a, b, fb, t, f, slope)``, the branch's last node below its own jump
         ``a`` and the first at or past it ``b``, the first node at or past its own full contact
         ``fb``, the reported transition ``t`` and full contact ``f`` (at least ``t``), and the
-        branch's mean slope ``d psi / d ln p`` over the node spacing below ``a``. Kept per
+        branch's mean slope ``d psi / d ln p`` below ``a`` (:func:`~.reported_curve.jump_shift`). Kept per
         adopted pressures (the coupling reads psi many times)."""
         key = (tuple(sorted(self._adopted.items())), self._entry.get("loading") is not None)
         if self._shift_memo is None or self._shift_memo[0] != key:

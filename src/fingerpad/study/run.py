@@ -329,7 +329,7 @@ def _resolution_report(choice: Any, study: Study, states: dict[str, Any] | None 
         "full_contact_pressure_error": pressures["full"],
         "history": [{"grid": g, "area_ratio_error": e} for g, e in choice.history],
         "solves": choice.solves,
-        "method": estimate_method(type(choice.cell)),
+        "method": estimate_method(type(choice.cell), "transition" in choice.extrapolated),
     }
 
 
