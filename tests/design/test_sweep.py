@@ -656,21 +656,24 @@ def test_a_failed_cell_fails_its_chunk_alone_and_the_rerun_computes_it(tmp_path,
 def test_forked_workers_inherit_what_a_point_imports(tmp_path):
     """The modules a point imports on its first prediction are all in POINT_MODULES, which a sweep
     imports before it forks its local workers (else each worker imports them for its first point:
-    ~0.2 s of CPU each, issue 23)."""
+    ~0.2 s of CPU each, issue 23), and the compiled loops its cells run on are loaded there too
+    (Numba's ~0.5-1 s, once instead of once per worker)."""
     code = """
 import importlib, sys, warnings
 from fingerpad.contact.greens import Backend
+from fingerpad.contact.solver import preload_compiled_kernels
 from fingerpad.design.evaluate import POINT_MODULES, evaluate_point
 from fingerpad.design.spec import read_sweep_file, sweep_from_dict
 Backend()  # as run_sweep does before it starts the cluster
-for name in POINT_MODULES:
+for name in POINT_MODULES:  # as design.engine._worker_start does before it forks
     importlib.import_module(name)
+preload_compiled_kernels()
 spec = sweep_from_dict(read_sweep_file(sys.argv[1]))
 before = set(sys.modules)
 with warnings.catch_warnings():
     warnings.simplefilter("ignore")
     assert evaluate_point(spec.study_data(spec.assignment((0, 0))), spec.loads, [1e3, 1e4])["valid"]
-print(sorted(m for m in set(sys.modules) - before if m.split(".")[0] in ("scipy", "fingerpad")))
+print(sorted(m for m in set(sys.modules) - before if m.split(".")[0] in ("scipy", "fingerpad", "numba")))
 """
     res = subprocess.run([sys.executable, "-c", code, str(write_study(tmp_path))], capture_output=True, text=True,
                          timeout=120, env={**os.environ, "FINGERPAD_CACHE": str(tmp_path / "cache")})

@@ -138,6 +138,16 @@ def _kernels_for(xp: Any, choice: str, shape: tuple[int, ...] = (), threads: int
     return NumpyKernels()
 
 
+def preload_compiled_kernels() -> None:
+    """Load the compiled loops now, where Numba is installed and may run: a process about to
+    fork workers that solve unit cells (kernels="compiled") loads them once for all, instead of
+    each worker for its first cell (~0.5-1 s of CPU each). A failure is the solvers' to report
+    (the warning once, NumPy's loops), as it would be at their first solve."""
+    if _COMPILED_UNAVAILABLE or _jit_disabled():
+        return
+    _kernels_for(np, "numba")
+
+
 def _jit_disabled() -> bool:
     # NUMBA_DISABLE_JIT (coverage runs, debugging) makes the "compiled" loops plain Python,
     # ~40x slower than NumPy: "auto" then stays on NumPy. Without Numba (it comes with the

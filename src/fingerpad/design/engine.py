@@ -239,6 +239,10 @@ def _worker_start() -> Iterator[None]:
     for name in POINT_MODULES:  # what every worker imports for its first point
         importlib.import_module(name)
     from ..contact.greens import fft_threads_parked
+    from ..contact.solver import preload_compiled_kernels
+
+    # and the compiled loops the unit cells run on (kernels="compiled"), loaded once here
+    preload_compiled_kernels()
 
     # the FFTs' threads parked while the workers fork (a fork once hung in ducc0's fork handler)
     with dask.config.set({"distributed.worker.multiprocessing-method": "fork"}), warnings.catch_warnings(), \

@@ -42,7 +42,7 @@ MIN_FEATURE_PIXELS = 2.0
 #: workers, which then inherit them instead of each importing them for its first point
 #: (~0.2-0.25 s of CPU per worker, measured for issue 23: a tenth of a 16-point sweep).
 POINT_MODULES = ("fingerpad.study.run", "fingerpad.micro.resolution", "fingerpad.micro.cache", "scipy.interpolate",
-                 "scipy.optimize")
+                 "scipy.optimize", "fingerpad.contact.kernels_numba")
 
 #: Contact state at the pad centre, as stored.
 STATE_CODES = {"asperity": 0, "transition": 1, "full": 2}
