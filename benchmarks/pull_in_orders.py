@@ -149,35 +149,36 @@ def measure(name: str, case: dict, grids: list[int], modulus: float) -> dict:
 
 
 def table(rows: list[dict]) -> str:
+    """The cases as text, at most 80 columns."""
     lines = []
     for r in rows:
-        lines.append(f"{r['case']}: {r['what']}, w {r['work_of_adhesion']:.4g} J/m2")
-        lines.append("  own (kPa): " + ", ".join(
-            f"{n} {v / 1e3:.2f}{'' if r['pulled_in'][n] else ' (not pulled in)'}" for n, v in r["own"].items()))
-        lines.append("  gap before the jump (ranges): " + ", ".join(
-            f"{n} {v:.2f}" for n, v in r["gap_ranges"].items()))
+        lines.append(f"{r['case']}: {r['what']}")
+        ref = (f"  w {r['work_of_adhesion']:.4g} J/m2; reference: the report on {r['reference_grid']}, "
+               f"{r['reference'] / 1e3:.2f} kPa")
+        if r["reported"][str(r["reference_grid"])]["rule"] == "own, not pulled in":
+            ref += " (touched: a lower bound)"
+        lines.append(ref)
+        if r["exact"]:
+            lines.append(f"  exact (Johnson): {r['exact'] / 1e3:.2f} kPa")
+        lines.append("  grid   own  gap/rho  reported  estimate  off ref  rule")
+        for n, own in r["own"].items():
+            v = r["reported"].get(n)
+            row = f"  {n:>4} {own / 1e3:5.2f}  {r['gap_ranges'][n]:7.2f}"
+            if v is not None:
+                off = "" if v["off_reference"] is None else f"{100 * v['off_reference']:6.1f} %"
+                flag = "!" if v["off_reference"] is not None and v["off_reference"] > v["estimate"] else " "
+                row += (f"  {v['pressure'] / 1e3:8.2f}  {100 * v['estimate']:6.1f} %  {off:>8}{flag} "
+                        f"{v['rule']}")
+            lines.append(row.rstrip())
         if r["fits"]:
-            best = r["fits"][:3]
             ours = next(f for f in r["fits"] if tuple(f["orders"]) == ASSUMED)
-            rank = r["fits"].index(ours) + 1
-            lines.append(f"  fit of {r['fit_grids']}: orders (1, 3/2) p* {ours['limit'] / 1e3:.2f} kPa, rms "
-                         f"{ours['rms']:.0f} Pa (rank {rank}/10); best: " + "; ".join(
-                             f"({f['orders'][0]:g}, {f['orders'][1]:g}) {f['limit'] / 1e3:.2f} kPa {f['rms']:.0f} Pa"
-                             for f in best))
-        touched = r["reported"][str(r["reference_grid"])]["rule"] == "own, not pulled in"
-        lines.append(f"  reference: the reported transition on {r['reference_grid']}, "
-                     f"{r['reference'] / 1e3:.2f} kPa" + (f"; exact (Johnson) {r['exact'] / 1e3:.2f} kPa"
-                                                          if r["exact"] else "")
-                     + (" (its own, touched: a lower bound while the own transitions rise)" if touched else ""))
-        for g, v in r["reported"].items():
-            if v["off_reference"] is None:
-                continue
-            how = v["rule"]
-            off = v["off_reference"]
-            flag = "ok" if not (off > v["estimate"]) else "NOT within"
-            exact = f"; off exact {100 * v['off_exact']:.1f} %" if v["off_exact"] is not None else ""
-            lines.append(f"  {g}: {v['pressure'] / 1e3:.2f} kPa +- {100 * v['estimate']:.1f} % ({how}); "
-                         f"off the reference {100 * off:.1f} %: {flag}{exact}")
+            grids = f"{r['fit_grids'][0]}-{r['fit_grids'][-1]}"
+            lines.append(f"  fit of {grids}: (1, 3/2) {ours['limit'] / 1e3:.2f} kPa, rms {ours['rms']:.0f} Pa, "
+                         f"rank {r['fits'].index(ours) + 1}/10; best:")
+            lines.append("    " + "; ".join(f"({f['orders'][0]:g}, {f['orders'][1]:g}) {f['limit'] / 1e3:.2f} kPa "
+                                            f"{f['rms']:.0f} Pa" for f in r["fits"][:3]))
+    lines.append("(kPa; gap/rho: the base's gap before the jump in ranges; '!': off the reference")
+    lines.append(" by more than the estimate)")
     return "\n".join(lines)
 
 
