@@ -474,6 +474,18 @@ class AdhesiveUnitCell:
         gap = self._entry["loading"].get("transition_gap")
         return gap is not None and gap > PULL_IN_RANGES * self.law.range
 
+    @property
+    def pull_in_ranges(self) -> float:
+        """The base's least gap at the last solution below the transition, in ranges of the
+        attraction (what :attr:`pulled_in` compares with :data:`PULL_IN_RANGES`; NaN on a flat
+        cell or where the branch met no base): followed from grid to grid, it says whether the
+        pull-in holds as the pixel shrinks (docs/model.md 6.6.1)."""
+        if self.flat:
+            return math.nan
+        self._need()
+        gap = self._entry["loading"].get("transition_gap")
+        return math.nan if gap is None else float(gap) / self.law.range
+
     def adopt_pressure(self, name: str, pressure: float | None) -> None:
         """Report ``pressure`` (Pa) as this cell's pressure of state ``name`` (its zones, critical
         and full-contact loads): the transition extrapolated to a vanishing pixel from this grid

@@ -152,8 +152,28 @@ PULL_IN_METHOD = ("the skin was pulled onto the base from more than a range (doc
                   "extrapolated to a vanishing pixel with the orders 1 and 3/2 removed (Richardson on the grid, "
                   "its half and its quarter; p_N + (p_N - p_{N/2}) where only the half grid was pulled in); its "
                   "estimate |p / p' - 1|, p' the limit one order further with the eighth grid too (else the "
-                  "extrapolation of one order less), at least the bracket's width; the load's: the same carried "
+                  "farther of the extrapolation of one order less and the grid's own), at least the bracket's "
+                  "width; where the grid's own changes shrink faster than those orders allow (a fold of the "
+                  "branch, 6.6.1), the grid's own, compared with the farther of the half grid's and the "
+                  "extrapolation; where the base's gap before the jump (in ranges) falls below 3/4 of the half "
+                  "grid's, compared with the grid's own where that is farther; the load's: the same carried "
                   "through the pad, |F(p) / F(p') - 1|")
+#: The grid's own transitions converge *faster* than the orders 1 and 3/2 allow where their change
+#: from the half grid is at most this fraction of the half grid's change from the quarter grid
+#: (``2^(-3/2)``: what an error of orders 1 and 3/2 of one sign shrinks by at most): the jump is
+#: then a fold of the loading branch, which converges with the branch (Johnson's adhesive
+#: sinusoid: changes shrinking by 0.11-0.27 per doubling, docs/model.md 6.6.1), not the pixel-bound
+#: pull-in (the default cell: 0.6-0.9), and extrapolating at order 1 only amplifies the coarse
+#: grids' error.
+FOLD_RATIO = 2.0**-1.5
+#: The pull-in *fades* where the base's gap before the jump, in ranges
+#: (:attr:`~fingerpad.micro.adhesive_cell.AdhesiveUnitCell.pull_in_ranges`), falls below this
+#: fraction of the half grid's: finer grids may touch the base instead, at a pressure below the
+#: extrapolation (measured, docs/model.md 6.6.1: 0.55 and 0.72 at 128 on the taller caps and on the
+#: default cell at ``w`` 0.15 J/m^2, both touched from 256 on, their limits 14 % and a few per
+#: cent below the extrapolation; 0.93-0.97 on the default cell, 0.80-0.84 on the square lattice,
+#: whose extrapolations hold to 0.1 %).
+FADE_RATIO = 0.75
 
 
 def richardson(values: "list[float]", orders: "tuple[float, ...]" = PULL_IN_ORDERS) -> float:
@@ -183,6 +203,10 @@ def extrapolated_states(fine: Any, coarse: Any, quarter: Any = None,
     contact cannot precede it). Returns per state ``(pressure, compared, error)`` (Pa, Pa, -), the error
     ``|pressure / compared - 1|`` (at least the bracket's relative width):
 
+    * the grid's own changes shrinking faster than the orders 1 and 3/2 allow (by at most
+      :data:`FOLD_RATIO` from the quarter's to the half grid's, :func:`_converges_faster`): a fold
+      of the branch (docs/model.md 6.6.1), the pressure is the grid's own ``p_N``, compared with
+      the farther of ``p_{N/2}`` (the change undivided) and the extrapolation below;
     * ``quarter`` and ``eighth`` pulled in: the pressure :func:`richardson` of ``p_N, p_{N/2},
       p_{N/4}`` (orders 1 and 3/2 removed); compared with the limit the next order
       (:data:`PULL_IN_NEXT_ORDER`) gives with ``p_{N/8}`` as well, which moves it by the change
@@ -190,9 +214,15 @@ def extrapolated_states(fine: Any, coarse: Any, quarter: Any = None,
       four grids do not take the assumed form (:func:`_asymptotic`), compared instead with the
       farther of the half grid's value (the change undivided) and the limit at the order the
       three finest grids' own changes show (:func:`_own_order_limit`, where they show one);
-    * ``quarter`` only: the same pressure, compared with the first-order extrapolation
-      ``p1 = p_N + (p_N - p_{N/2})`` (the last correction);
-    * ``fine`` and ``coarse`` only: ``p1``, compared with the grid's own ``p_N``.
+    * ``quarter`` only: the same pressure, compared with the farther of the first-order
+      extrapolation ``p1 = p_N + (p_N - p_{N/2})`` (the last correction) and the grid's own
+      ``p_N``: three grids cannot tell the assumed form from a fold (6.6.1), whose limit is near
+      ``p_N``;
+    * ``fine`` and ``coarse`` only: ``p1``, compared with the grid's own ``p_N``;
+    * and wherever the pull-in fades from the half grid to the grid (:func:`_fading`: the base's
+      gap before the jump, in ranges, below :data:`FADE_RATIO` of the half grid's), compared with
+      the farther of the above and ``p_N``: finer grids may touch the base at a pressure below
+      the extrapolation (docs/model.md 6.6.1).
 
     Empty where nothing is extrapolated."""
     if coarse is None or not (getattr(fine, "pulled_in", False) and getattr(coarse, "pulled_in", False)):
@@ -208,14 +238,24 @@ def extrapolated_states(fine: Any, coarse: Any, quarter: Any = None,
     if not all(math.isfinite(v) and v > 0 for v in own):
         return {}
     p = richardson(own[:3])
-    if len(own) == 4:
+    if len(own) >= 3 and _converges_faster(own[:3]):
+        # a fold of the branch: the grid's own is the answer, the extrapolation only bounds it
+        p, candidates = own[0], [own[1], richardson(own[:3])]
+        compared = max((c for c in candidates if c > 0), key=lambda c: abs(p / c - 1.0), default=math.nan)
+    elif len(own) == 4:
         if _asymptotic(own):
             compared = richardson(own, PULL_IN_ORDERS + (PULL_IN_NEXT_ORDER,))
         else:
             candidates = [richardson(own[1:4]), _own_order_limit(own[:3])]
             compared = max((c for c in candidates if c > 0), key=lambda c: abs(p / c - 1.0), default=math.nan)
+    elif len(own) == 3:
+        # three grids cannot check the form: the estimate reaches back to the grid's own
+        compared = max((richardson(own[:2]), own[0]), key=lambda c: abs(p / c - 1.0))
     else:
-        compared = richardson(own[:len(own) - 1])  # p1 with the quarter, p_N without
+        compared = own[0]  # p1 = p_N + (p_N - p_{N/2}), compared with p_N
+    if _fading(fine, coarse) and math.isfinite(compared):
+        # a finer grid may touch the base below the extrapolation: the estimate reaches to the own
+        compared = max((compared, own[0]), key=lambda c: abs(p / c - 1.0))
     if not (math.isfinite(p) and p > 0 and math.isfinite(compared) and compared > 0):
         return {}
     error = max(abs(p / compared - 1.0), fine.rtol)
@@ -344,6 +384,21 @@ def _asymptotic(own: "list[float]") -> bool:
     d_fine, d_coarse = e[0] - e[1], e[1] - e[2]
     d_second = richardson(own[:3]) - richardson(own[1:4])
     return abs(d_fine) < 2.0**-0.5 * abs(d_coarse) and abs(d_second) < abs(d_fine)
+
+
+def _fading(fine: Any, coarse: Any) -> bool:
+    """Whether the pull-in fades from ``coarse`` to ``fine`` (the half grid to the grid): the
+    base's gap before the jump, in ranges, falls below :data:`FADE_RATIO` of the half grid's
+    (False where a cell does not say)."""
+    g, gc = (float(getattr(c, "pull_in_ranges", math.nan)) for c in (fine, coarse))
+    return math.isfinite(g) and math.isfinite(gc) and g < FADE_RATIO * gc
+
+
+def _converges_faster(own: "list[float]") -> bool:
+    """Whether three grids' transitions (finest first) converge faster than an error of orders 1
+    and 3/2 of one sign can: the change from the half grid at most :data:`FOLD_RATIO` of the
+    half grid's change from the quarter (both changes zero included: the same bracket)."""
+    return abs(own[0] - own[1]) <= FOLD_RATIO * abs(own[1] - own[2])
 
 
 def _own_order_limit(own: "list[float]") -> float:
