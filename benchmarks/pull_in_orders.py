@@ -11,7 +11,7 @@ resolved range, the cells a prediction prepares):
   pair of orders from {1/2, 1, 3/2, 2, 3} (one degree of freedom: the residual says how well the
   pair fits), the assumed pair (1, 3/2) and the three best;
 * the transition a prediction reports at each grid and its estimate
-  (:func:`fingerpad.micro.resolution.extrapolated_states` from the grid, its half, quarter and
+  (:func:`fingerpad.micro.pull_in.extrapolated_states` from the grid, its half, quarter and
   eighth; where the grid was not pulled in, its own with the adhesive cell's estimate, the change
   from the half grid over ``2^(1/2) - 1``), which rule made it, and how far it lies from the
   reference: the transition reported on the finest grid given (beyond those a prediction takes),
@@ -94,7 +94,7 @@ def fit(dx: np.ndarray, p: np.ndarray, orders: tuple[float, float]) -> tuple[flo
 
 def measure(name: str, case: dict, grids: list[int], modulus: float) -> dict:
     from fingerpad.micro.adhesive_cell import AdhesiveUnitCell
-    from fingerpad.micro.resolution import (_asymptotic, _converges_faster, _fading, extrapolated_states,
+    from fingerpad.micro.pull_in import (_asymptotic, _converges_faster, _fading, extrapolated_states,
                                             order_factor)
 
     need = sorted({g // 2**i for g in grids for i in range(4) if g // 2**i >= 16})

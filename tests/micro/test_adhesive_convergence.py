@@ -23,8 +23,9 @@ from fingerpad.materials import reduced_modulus
 from fingerpad.micro.adhesive_cell import AdhesiveUnitCell
 from fingerpad.micro.bem import BEMUnitCell
 from fingerpad.errors import FingerpadError
-from fingerpad.micro.resolution import (PULL_IN_ORDERS, choose_grid, eighth_of, estimate_method,
-                                        extrapolated_states, halve, order_factor, richardson)
+from fingerpad.micro.companions import halve
+from fingerpad.micro.pull_in import PULL_IN_ORDERS, eighth_of, extrapolated_states, richardson
+from fingerpad.micro.resolution import choose_grid, estimate_method, order_factor
 from fingerpad.textures import spherical_caps
 
 E = reduced_modulus(0.3e6, 0.49, 0.5e9, 0.4)  # the default finger on PE: 0.3945 MPa
@@ -325,7 +326,7 @@ def test_pulled_in_area_ratio_estimate_covers_the_error_against_finer_grids() ->
     # 256's (the transition test above), within the 1.3 % the jump term moves it by.
     from fingerpad.coupling import predict_curve
     from fingerpad.finger import FINGER_PRESETS
-    from fingerpad.micro.resolution import adopt_extrapolated, adopted_ratio_error
+    from fingerpad.micro.pull_in import adopt_extrapolated, adopted_ratio_error
 
     finger = FINGER_PRESETS["default"].with_overrides(work_of_adhesion=0.3)
     loads = np.array([0.1, 0.3, 1.0, 4.0])

@@ -16,7 +16,7 @@ import pytest
 
 from fingerpad.materials import reduced_modulus
 from fingerpad.micro.adhesive_cell import AdhesiveUnitCell
-from fingerpad.micro.resolution import adopt_extrapolated, extrapolated_states
+from fingerpad.micro.pull_in import adopt_extrapolated, extrapolated_states
 from fingerpad.study.run import centre_state
 from fingerpad.textures import spherical_caps
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import fingerpad as fp
-from fingerpad.micro.resolution import MIN_COMPANION_GRID, halve
+from fingerpad.micro.companions import MIN_COMPANION_GRID, halve
 
 
 def test_block_average_is_exact():

@@ -20,7 +20,7 @@ from scipy.optimize import minimize_scalar
 
 from fingerpad.materials import reduced_modulus
 from fingerpad.micro.adhesive_cell import AdhesiveUnitCell
-from fingerpad.micro.resolution import FADE_RATIO, FOLD_RATIO, extrapolated_states, richardson
+from fingerpad.micro.pull_in import FADE_RATIO, FOLD_RATIO, extrapolated_states, richardson
 from fingerpad.textures import sinusoid
 
 E = reduced_modulus(0.3e6, 0.49, 0.5e9, 0.4)  # the default finger on PE: 0.3945 MPa

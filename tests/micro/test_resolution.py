@@ -7,7 +7,8 @@ import math
 import numpy as np
 
 from fingerpad.coupling import couple
-from fingerpad.micro.resolution import choose_grid, halve
+from fingerpad.micro.companions import halve
+from fingerpad.micro.resolution import choose_grid
 from fingerpad.textures import spherical_caps
 
 E = 0.395e6

@@ -213,11 +213,11 @@ def test_the_same_refusal_at_every_door(cache, tmp_path):
 def test_family_nodes_report_a_pulled_in_transition_as_a_single_prediction(tmp_path):
     # the README caps at w 0.15-0.22 J/m2 on grid 32 (its half 16): each node of the family pulled
     # in reports its transition extrapolated by the rule a single prediction's cell follows
-    # (micro.resolution.adopt_extrapolated), not the grid's own; a member's psi jumps where its
+    # (micro.pull_in.adopt_extrapolated), not the grid's own; a member's psi jumps where its
     # states say (~10 s)
     import warnings
 
-    from fingerpad.micro.resolution import extrapolated_states
+    from fingerpad.micro.pull_in import extrapolated_states
     from fingerpad.population.adhesion import member_family
     from fingerpad.study.run import centre_state
 

@@ -38,7 +38,7 @@ contacts pull the skin onto the texture's base from a distance (:attr:`AdhesiveU
 the jump comes when their edges are 2.5-3 pixels short of the base, about three ranges of gap),
 the transition's error is of orders 1 and 3/2 in the pixel, and the prediction reports it
 extrapolated from the grid, its half and its quarter, estimated with the eighth
-(:func:`fingerpad.micro.resolution.adopt_extrapolated`, :meth:`AdhesiveUnitCell.adopt_pressure`),
+(:func:`fingerpad.micro.pull_in.adopt_extrapolated`, :meth:`AdhesiveUnitCell.adopt_pressure`),
 its psi(p) jumping there (docs/model.md 6.6, "The curve with the reported transition"). SI units.
 """
 
@@ -132,7 +132,7 @@ class AdhesiveUnitCell:
     #: The grid's error estimate scales the change from the half grid by ``1 / (2^q - 1)``
     #: (:func:`fingerpad.micro.resolution.order_factor`). A transition the attraction pulled in
     #: (:attr:`pulled_in`) is instead extrapolated with the orders 1 and 3/2 removed and estimated
-    #: against the next order's limit (:func:`fingerpad.micro.resolution.extrapolated_states`).
+    #: against the next order's limit (:func:`fingerpad.micro.pull_in.extrapolated_states`).
     convergence_order = 0.5
 
     def __init__(
@@ -489,7 +489,7 @@ class AdhesiveUnitCell:
     def adopt_pressure(self, name: str, pressure: float | None) -> None:
         """Report ``pressure`` (Pa) as this cell's pressure of state ``name`` (its zones, critical
         and full-contact loads): the transition extrapolated to a vanishing pixel from this grid
-        and the half grid's (:func:`fingerpad.micro.resolution.adopt_extrapolated`); ``None``
+        and the half grid's (:func:`fingerpad.micro.pull_in.adopt_extrapolated`); ``None``
         reports the cell's own again. psi(p) then jumps there too (:meth:`_shifted`: one
         transition per prediction); the brackets and the stored nodes stay the cell's own."""
         if name not in ("transition", "full"):

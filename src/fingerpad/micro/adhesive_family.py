@@ -157,12 +157,12 @@ class AdhesiveFamily:
         """Solve (or read from the cache) every node's cell; ``progress(done, total)`` after each.
 
         A node whose transition was pulled in reports it extrapolated to a vanishing pixel, as
-        a single prediction's cell does (:func:`~fingerpad.micro.resolution.adopt_extrapolated`,
+        a single prediction's cell does (:func:`~fingerpad.micro.pull_in.adopt_extrapolated`,
         docs/model.md 6.6): its half and quarter grids are solved beside it (``make_texture(nx)``
         builds the texture at ``nx`` points along x; ``None``: the cell's heights block-averaged
         2 x 2, :func:`~fingerpad.micro.resolution.companion`)."""
         from .adhesive_cell import AdhesiveUnitCell
-        from .resolution import adopt_extrapolated, pulled_in_companions
+        from .pull_in import adopt_extrapolated, pulled_in_companions
 
         for i, (u, cell) in enumerate(zip(self.nodes, self.cells, strict=True)):
             if not self.flat:

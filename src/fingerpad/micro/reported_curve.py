@@ -2,7 +2,7 @@
 curve with the reported transition").
 
 Where a cell reports a transition other than its grid's own (a pulled-in transition extrapolated
-to a vanishing pixel, :func:`fingerpad.micro.resolution.adopt_extrapolated`), its psi(p) must
+to a vanishing pixel, :func:`fingerpad.micro.pull_in.adopt_extrapolated`), its psi(p) must
 jump there too, so that the zones, the critical load and ``A_re`` of one prediction agree. What
 the grid gets wrong is where the jump comes, not the branch below it, which is grid-converged:
 the own branch is kept below its jump, continued at its slope up to the reported transition, and

@@ -3,7 +3,7 @@
 What :func:`~fingerpad.study.run.run_study` asks of the cell besides its curve: the grid of each
 state pressure (:func:`state_choices`), the adhesive cell on its grid with its companions
 (:func:`resolve_adhesive_cell`) and its state pressures, a pulled-in transition extrapolated to
-a vanishing pixel (:func:`adhesive_states`, :data:`~fingerpad.micro.resolution.PULL_IN_METHOD`), and the report of the
+a vanishing pixel (:func:`adhesive_states`, :data:`~fingerpad.micro.pull_in.PULL_IN_METHOD`), and the report of the
 state brackets: their pressures, the loads they map to at the pad centre (:func:`centre_load`)
 and their estimates (:func:`state_report`, :func:`state_brackets`). SI units.
 """
@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import FingerpadError
 from ..finger import Finger
 from ..micro.bem import STATE_SEARCH_CAP
-from ..micro.resolution import PULL_IN_METHOD
+from ..micro.pull_in import PULL_IN_METHOD
 from ..textures import Texture
 from .spec import Study
 
@@ -161,7 +161,8 @@ def resolve_adhesive_cell(study: Study, grid: int, e1: float, progress: Callable
     A_re/A_fr error (the adhesive pad's, the range following the pixel) exceeds the accuracy."""
     from ..coupling import predict_curve
     from ..micro.adhesive_cell import AdhesiveUnitCell
-    from ..micro.resolution import adopt_extrapolated, choose_grid, pulled_in_companions
+    from ..micro.pull_in import adopt_extrapolated, pulled_in_companions
+    from ..micro.resolution import choose_grid
 
     finger = study.finger
     loads = np.append(study.loads, study.zone_load)
