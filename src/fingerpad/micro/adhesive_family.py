@@ -24,6 +24,14 @@ linearly in ``ln u`` (weights ``1 - t``, ``t``):
   reports it extrapolated to a vanishing pixel, its psi jumping there, by the rule of a single
   prediction's cell (:meth:`AdhesiveFamily.prepare`, docs/model.md 6.6).
 
+**More nodes where psi's jump moves fast** (:meth:`AdhesiveFamily.refine`): where two
+neighbouring nodes' transition (or full-contact) pressures differ by more than
+:data:`REFINE_RATIO`, the interval is halved in ``ln u`` (at most :data:`MAX_REFINE_LEVEL` times,
+at most :data:`MAX_REFINED_CELLS` nodes more): the landmarks carry each node's jump to the
+member's transition, but that transition itself is read between the nodes, and at strong
+adhesion (the skin pulled into full contact, the transition falling towards zero load) it moves
+several times over one global interval.
+
 **The interpolation error** is estimated per member from the same nodes
 (:mod:`fingerpad.population.adhesion`): quadratic interpolants through a third node, each of the
 member's nodes left out, and across a change of regime each node alone. The family always has at
@@ -52,6 +60,13 @@ NODES_PER_DECADE = 6
 MAX_FAMILY_CELLS = 16
 #: Fewest nodes (the error estimate needs a third).
 MIN_FAMILY_CELLS = 3
+#: Refinement (:meth:`AdhesiveFamily.refine`): an interval of ``u`` is halved where its two nodes'
+#: transition (or full-contact) pressures differ by more than this factor, ...
+REFINE_RATIO = 1.2
+#: ... at most this many times (the finest nodes 2^3 = 8 times as close as the global grid's) ...
+MAX_REFINE_LEVEL = 3
+#: ... adding at most this many cells to a family (so at most MAX_FAMILY_CELLS + MAX_REFINED_CELLS).
+MAX_REFINED_CELLS = 8
 
 
 def unit_work(work_of_adhesion: float, modulus: float, length: float) -> float:
@@ -139,7 +154,6 @@ class AdhesiveFamily:
     """
 
     def __init__(self, texture: Any, nodes: Sequence[float], **options: Any) -> None:
-        from .adhesive_cell import AdhesiveUnitCell
         from .bem import periodic_cell
 
         self.nodes = tuple(float(u) for u in nodes)
@@ -148,36 +162,105 @@ class AdhesiveFamily:
         _, _, self.length = periodic_cell(texture, 1.0)
         # every cell at E* = 1 Pa: its pressures are in units of E*, its work of adhesion is u Lx
         self.options = dict(options)
-        self.cells = [AdhesiveUnitCell(texture, 1.0, work_of_adhesion=u * self.length, **options) for u in self.nodes]
+        self.texture = texture
+        self.cells = [self._new_cell(u) for u in self.nodes]
         self.flat = self.cells[0].flat
         self.solves = 0
+        #: Nodes :meth:`refine` added, and the nodes' spacing in ``ln u`` before it (the global grid's).
+        self.refined = 0
+        self.spacing = min(math.log(b / a) for a, b in zip(self.nodes, self.nodes[1:]))
 
     def prepare(self, progress: Callable[[int, int], None] | None = None,
-                make_texture: Callable[[int], Any] | None = None) -> "AdhesiveFamily":
+                make_texture: Callable[[int], Any] | None = None, refine: bool = False) -> "AdhesiveFamily":
         """Solve (or read from the cache) every node's cell; ``progress(done, total)`` after each.
 
         A node whose transition was pulled in reports it extrapolated to a vanishing pixel, as
         a single prediction's cell does (:func:`~fingerpad.micro.pull_in.adopt_extrapolated`,
         docs/model.md 6.6): its half and quarter grids are solved beside it (``make_texture(nx)``
         builds the texture at ``nx`` points along x; ``None``: the cell's heights block-averaged
-        2 x 2, :func:`~fingerpad.micro.resolution.companion`)."""
+        2 x 2, :func:`~fingerpad.micro.resolution.companion`). ``refine``: then add nodes where
+        the neighbours' state pressures differ much (:meth:`refine`)."""
+        for i in range(len(self.cells)):
+            self._settle(i, make_texture)
+            if progress is not None:
+                progress(i + 1, len(self.cells))
+        if refine:
+            self.refine(progress, make_texture)
+        return self
+
+    def _new_cell(self, u: float) -> Any:
+        """The (unprepared) cell of node ``u``, at ``E* = 1 Pa``."""
+        from .adhesive_cell import AdhesiveUnitCell
+
+        return AdhesiveUnitCell(self.texture, 1.0, work_of_adhesion=u * self.length, **self.options)
+
+    def _settle(self, i: int, make_texture: Callable[[int], Any] | None) -> None:
+        """Prepare node ``i``'s cell and its pulled-in companions; adopt the extrapolated transition."""
         from .adhesive_cell import AdhesiveUnitCell
         from .pull_in import adopt_extrapolated, pulled_in_companions
 
-        for i, (u, cell) in enumerate(zip(self.nodes, self.cells, strict=True)):
-            if not self.flat:
-                before = cell.solves
-                cell.prepare()
-                self.solves += cell.solves - before
-                grid = int(cell.texture.shape[0])
-                held: dict[int, Any] = {grid: cell}
-                self.solves += pulled_in_companions(
-                    cell, make_texture,
-                    lambda t, u=u: AdhesiveUnitCell(t, 1.0, work_of_adhesion=u * self.length, **self.options).prepare(),
-                    held)
-                adopt_extrapolated(held, grid)
+        u, cell = self.nodes[i], self.cells[i]
+        if self.flat:
+            return
+        before = cell.solves
+        cell.prepare()
+        self.solves += cell.solves - before
+        grid = int(cell.texture.shape[0])
+        held: dict[int, Any] = {grid: cell}
+        self.solves += pulled_in_companions(
+            cell, make_texture,
+            lambda t, u=u: AdhesiveUnitCell(t, 1.0, work_of_adhesion=u * self.length, **self.options).prepare(),
+            held)
+        adopt_extrapolated(held, grid)
+
+    def jump(self, i: int) -> float:
+        """How far the state pressures of nodes ``i`` and ``i + 1`` lie apart: the largest
+        ``|ln(p_b / p_a)|`` of their reported transition and full-contact pressures (units of
+        ``E*``; ``inf`` where one node has the state at a positive finite pressure and the other
+        at zero load or never; 0 where neither has it at a positive finite pressure)."""
+        out = 0.0
+        for name in ("transition", "full"):
+            a, b = (self.cells[k].reported_state_pressure(name) for k in (i, i + 1))
+            finite = [0 < v < math.inf for v in (a, b)]
+            if all(finite):
+                out = max(out, abs(math.log(b / a)))
+            elif any(finite):
+                out = math.inf
+        return out
+
+    def refine(self, progress: Callable[[int, int], None] | None = None,
+               make_texture: Callable[[int], Any] | None = None) -> "AdhesiveFamily":
+        """Add nodes where the state pressures move fast with ``u`` (prepared family).
+
+        Between two neighbouring nodes whose transition or full-contact pressures differ by more
+        than the factor :data:`REFINE_RATIO` (:meth:`jump`), psi's jump moves far: a member's
+        transition read between them carries a large error. The interval of the largest such
+        difference is halved in ``ln u`` (its midpoint lies on the global grid of twice as many
+        nodes per decade, so the cache's cells serve any population), again and again, until no
+        interval is above the factor, or it was halved :data:`MAX_REFINE_LEVEL` times, or
+        :data:`MAX_REFINED_CELLS` nodes were added (ties: the lower ``u`` first). Depends on the
+        nodes' cells only: the same members give the same family on any machine."""
+        if self.flat:
+            return self
+        base = self.spacing
+        added = 0
+        while added < MAX_REFINED_CELLS:
+            best, at = math.log(REFINE_RATIO), None
+            for i in range(len(self.nodes) - 1):
+                level = round(math.log2(base / math.log(self.nodes[i + 1] / self.nodes[i])))
+                jump = self.jump(i)
+                if level < MAX_REFINE_LEVEL and jump > best:
+                    best, at = jump, i
+            if at is None:
+                break
+            u = math.sqrt(self.nodes[at] * self.nodes[at + 1])
+            self.nodes = (*self.nodes[:at + 1], u, *self.nodes[at + 1:])
+            self.cells.insert(at + 1, self._new_cell(u))
+            self._settle(at + 1, make_texture)
+            added += 1
             if progress is not None:
-                progress(i + 1, len(self.cells))
+                progress(len(self.nodes), len(self.nodes))
+        self.refined = added
         return self
 
     def _bracket(self, u: float) -> int:
@@ -211,11 +294,13 @@ class AdhesiveFamily:
 
     def describe(self) -> dict[str, Any]:
         """JSON-ready: the family's nodes and grid."""
-        return {"unit_work_nodes": list(self.nodes), "cells": len(self.nodes),
+        return {"unit_work_nodes": list(self.nodes), "cells": len(self.nodes), "refined_cells": self.refined,
                 "grid": list(self.cells[0].texture.shape), "cell_length": self.length,
-                "method": "linear in ln(w / (E* Lx)) between the two nodes around each member; error: the largest "
+                "method": "linear in ln(w / (E* Lx)) between the two nodes around each member, psi read at the "
+                          "member's pull-off, transition and full-contact pressures; nodes added where two "
+                          f"neighbours' transitions differ by more than x{REFINE_RATIO:g}; error: the largest "
                           "relative change of A_re at any load to the quadratic interpolants through a third "
-                          "node below or above"}
+                          "node below or above and to each neighbouring node read from its neighbours"}
 
 
 class InterpolatedAdhesiveCell:

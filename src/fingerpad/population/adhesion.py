@@ -23,7 +23,7 @@ import numpy as np
 from ..coupling import CurvePrediction, predict_curve
 from ..errors import FingerpadError
 from ..finger import Finger
-from ..micro.adhesive_family import AdhesiveFamily, family_nodes, unit_work
+from ..micro.adhesive_family import REFINE_RATIO, AdhesiveFamily, family_nodes, unit_work
 
 __all__ = ["ADHESION_MIXED", "AdhesiveMembers", "member_family", "predict_adhesive_members"]
 
@@ -107,8 +107,9 @@ def member_family(study: Any, cell: Any, fingers: Sequence[Finger], moduli: Sequ
         if progress is not None:
             progress(len(nodes), len(nodes))
         return kept
-    # pulled-in nodes extrapolated as a single prediction's cell (study.states, docs/model.md 6.6)
-    family.prepare(progress, texture_maker(study))
+    # pulled-in nodes extrapolated as a single prediction's cell (study.states, docs/model.md 6.6);
+    # more nodes where the transition moves fast with u (AdhesiveFamily.refine)
+    family.prepare(progress, texture_maker(study), refine=True)
     while len(_families) >= FAMILIES_KEPT:
         del _families[next(iter(_families))]
     _families[key] = family
@@ -189,17 +190,24 @@ def _interpolation_error(family: AdhesiveFamily, finger: Finger, modulus: float,
             # the node from its neighbours, linearly in ln u (equally spaced: half each), across twice
             # the spacing: not scaled down to the member's spacing (measured: the nodes' own scatter at
             # a coarse grid, 0.5-1 % of A_re at grid 32, does not shrink with the spacing)
-            left_out = InterpolatedAdhesiveCell(family, family.nodes[i], modulus, w_node, {i - 1: 0.5, i + 1: 0.5})
+            t = _between(family.nodes, i)
+            left_out = InterpolatedAdhesiveCell(family, family.nodes[i], modulus, w_node, {i - 1: 1 - t, i + 1: t})
+            # on a refined family (AdhesiveFamily.refine) the neighbours may lie closer than the
+            # member's nodes: the change is scaled up to the member's spacing (the leading error of
+            # linear interpolation, t (1 - t) H^2 / 2 f'', is h^2 / 2 f'' on equal spacings h),
+            # never down (1 on the global grid)
+            scale = _spacing_scale(family.nodes, i, pair)
             found.append(({_regime(family, i - 1), _regime(family, i + 1)} == regime,
-                          _relative(real_area(at_node, left_out), real_area(at_node, exact)),
-                          abs(left_out.work_of_separation / exact.work_of_separation - 1)))
-    if len(regime) > 1:
+                          scale * _relative(real_area(at_node, left_out), real_area(at_node, exact)),
+                          scale * abs(left_out.work_of_separation / exact.work_of_separation - 1)))
+    if len(regime) > 1 or _unresolved_jump(family, min(pair)):
         # the member's nodes straddle a change of regime, a jump in u: its value is either side's,
-        # so the change to each node alone (read at the member's u) counts too
+        # so the change to each node alone (read at the member's u) counts too (the work of
+        # separation, smooth in u, only across a change of regime)
         for i in pair:
             alone = InterpolatedAdhesiveCell(family, u, modulus, finger.work_of_adhesion, {i: 1.0})
             found.append((True, _relative(ratio, real_area(finger, alone)),
-                          abs(work / alone.work_of_separation - 1)))
+                          abs(work / alone.work_of_separation - 1) if len(regime) > 1 else 0.0))
     # a stencil across a change of regime (adhesion alone holding full contact at zero load: psi = 1
     # at every p >= 0) tells nothing of a member's interval inside one regime; where the member's
     # two nodes straddle it, or no stencil stays inside, every stencil counts
@@ -217,5 +225,40 @@ def _work_scatter(family: AdhesiveFamily, regime: set[bool]) -> float:
     worst = 0.0
     for i in range(1, len(w) - 1):
         if {_regime(family, j) for j in (i - 1, i, i + 1)} == regime:
-            worst = max(worst, abs(math.sqrt(w[i - 1] * w[i + 1]) / w[i] - 1))
+            t = _between(family.nodes, i)
+            worst = max(worst, abs(w[i - 1] ** (1 - t) * w[i + 1] ** t / w[i] - 1) if t != 0.5
+                        else abs(math.sqrt(w[i - 1] * w[i + 1]) / w[i] - 1))
     return worst
+
+
+def _unresolved_jump(family: AdhesiveFamily, j: int) -> bool:
+    """Whether the state pressures of nodes ``j`` and ``j + 1`` still differ by more than the
+    refinement's factor (it stopped at its level or its cap) *and* change in ``ln u`` more than
+    twice as fast as in each neighbouring interval: a step between the two nodes rather than the
+    curvature the other stencils see (measured on the README caps at grid 64, w 0.3 J/m2: the
+    reported transition falls x1.4 within 1/24 decade of u where the extrapolation from the half
+    grids changes form, and x2.2 within 1/48 where the half grid stops being pulled in). A member
+    there may take either node's A_re."""
+    def slope(k: int) -> float:
+        return family.jump(k) / math.log(family.nodes[k + 1] / family.nodes[k])
+
+    if family.jump(j) <= math.log(REFINE_RATIO):
+        return False
+    around = [slope(k) for k in (j - 1, j + 1) if 0 <= k < len(family.nodes) - 1]
+    return not around or slope(j) > 2 * max(around)
+
+
+def _spacing_scale(nodes: Sequence[float], i: int, pair: Sequence[int]) -> float:
+    """How much wider (squared) the member's interval ``pair`` is than the spacings around node
+    ``i`` in ``ln u``: ``max(1, h^2 / (h_1 h_2))``, exactly 1 where they are equal."""
+    h1, h2 = math.log(nodes[i] / nodes[i - 1]), math.log(nodes[i + 1] / nodes[i])
+    h = math.log(nodes[max(pair)] / nodes[min(pair)])
+    scale = h * h / (h1 * h2)
+    return scale if scale > 1 + 1e-9 else 1.0
+
+
+def _between(nodes: Sequence[float], i: int) -> float:
+    """Where node ``i`` lies between its neighbours in ``ln u`` (0.5 on the global grid; a refined
+    family's nodes (:meth:`~fingerpad.micro.adhesive_family.AdhesiveFamily.refine`) need not be)."""
+    t = math.log(nodes[i] / nodes[i - 1]) / math.log(nodes[i + 1] / nodes[i - 1])
+    return 0.5 if abs(t - 0.5) < 1e-9 else t

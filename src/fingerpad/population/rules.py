@@ -85,7 +85,7 @@ ADHESION_RANGE_DRAWN = (
     "docs/model.md 6.6); set adhesion_range on the study's finger")
 #: The note of a population with adhesion (rule 7), said before its family is solved.
 ADHESION_NOTE = ("population: adhesion: each member's adhesive cell is interpolated from one family of at most {cells} "
-                 "adhesive cells in w / (E* Lx) on the nominal cell's grid (each cell ~15 s at grid 128, ~1.5 min at "
+                 "adhesive cells in w / (E* Lx) (and {more} more where the transition moves fast) on the nominal cell's grid (each cell ~15 s at grid 128, ~1.5 min at "
                  "256 on one core, or read from the cache); each member's A_re carries its estimated "
                  "interpolation error (population.adhesion in the JSON)")
 #: The layer values that declare a layered skin on a half-space preset (rule 2's exception).
@@ -239,9 +239,9 @@ def _notes(population: Population, study: Study, quantiles: Sequence[float]) -> 
         notes.append(f"population: a layered skin whose {', '.join(varied)} varies gives each such member a BEM "
                      "unit cell of its own (solved or read from the cache), not one cell for all")
     if study.model != "hertz" and (study.finger.adhesive or "work_of_adhesion" in population.distributions):
-        from ..micro.adhesive_family import MAX_FAMILY_CELLS
+        from ..micro.adhesive_family import MAX_FAMILY_CELLS, MAX_REFINED_CELLS
 
-        notes.append(ADHESION_NOTE.format(cells=MAX_FAMILY_CELLS))
+        notes.append(ADHESION_NOTE.format(cells=MAX_FAMILY_CELLS, more=MAX_REFINED_CELLS))
     n = len(population.measured) or population.size
     outer = [q for q in quantiles if min(q, 1 - q) * n < 1]
     if population.measured and n < FEW_MEMBERS and outer:
