@@ -65,6 +65,7 @@ bench: $(STAMP) bytecode
 	$(PY) benchmarks/bench_analyse.py
 	$(PY) benchmarks/bench_adhesion.py
 	$(PY) benchmarks/bench_population_adhesion.py
+	$(PY) benchmarks/pull_in_orders.py
 	$(PY) benchmarks/bench_deflection.py
 	test ! -f benchmarks/bench_explorer.py || $(PY) benchmarks/bench_explorer.py
 	$(PY) benchmarks/report.py
