@@ -292,8 +292,8 @@ class HalfSpaceSolver:
             raise FingerpadError(f"kernels={kernels!r} needs NumPy arrays")
         if kernels == "numba":
             require("fast", "kernels='numba'", ("numba",))
-        # NumPy arrays: in-place NumPy kernels until the compiled ones pay (see _solve); other
-        # namespaces: the array-API reference.
+        # NumPy arrays: in-place NumPy kernels until the first solve decides (_turns_compiled:
+        # by the grid or the caller, never the history); other namespaces: the array-API reference.
         choice = ("numpy" if self.backend.is_numpy else "array") if kernels in ("auto", "compiled") else kernels
         self._kern = _kernels_for(xp_, choice, texture.shape, self.backend.workers)
         self._compiled = False
